@@ -1,0 +1,45 @@
+# rv-bearing-sweep: `make sweep` and `make test` build .venv on first use.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+SWEEP  ?= sweeps/study.toml
+OUT    ?= results
+TESTARGS ?=
+
+.DEFAULT_GOAL := help
+.PHONY: help venv sweep smoke report test test-all bench clean
+
+help:  ## list the targets
+	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  make %-10s %s\n", $$1, $$2}'
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e '.[test]'
+	touch $(STAMP)
+
+venv: $(STAMP)  ## create .venv and install the package with its test extras
+
+sweep: $(STAMP)  ## run SWEEP (default sweeps/study.toml) into OUT/<name>, then its report
+	$(BIN)/rvsweep sweep $(SWEEP) --out $(OUT)
+	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP))
+
+smoke:  ## the 2x2 smoke sweep (about a minute)
+	$(MAKE) sweep SWEEP=sweeps/smoke.toml
+
+report: $(STAMP)  ## the report for the last sweep of SWEEP
+	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP))
+
+test: $(STAMP)  ## the default test run (slow tests excluded)
+	$(BIN)/python -m pytest -q $(TESTARGS)
+
+test-all: $(STAMP)  ## every test, the slow physics checks included
+	$(BIN)/python -m pytest -q -m "" $(TESTARGS)
+
+bench: $(STAMP)  ## performance figures of the core and the sweep
+	$(BIN)/rvsweep bench
+
+clean:  ## remove build and cache files (keeps .venv and results)
+	rm -rf .pytest_cache .hypothesis build dist
+	find . -name __pycache__ -prune -exec rm -rf {} +

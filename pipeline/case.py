@@ -1,0 +1,170 @@
+"""One case as labelled data: the only place where core arrays become an xarray.Dataset.
+
+The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
+
+- dimension ``elapsed_time`` [s], the output samples;
+- dimension ``phase`` (int8 flags 0 startup, 1 steady, 2 deceleration);
+- scalar coordinates ``speed`` [degree s-1], ``radial_load`` [N], ``axial_load`` [N];
+- time series, over ``elapsed_time`` (names of pipeline.md): ``radial_displacement``,
+  ``axial_displacement``, ``inner_ring_x|y|z``, ``inner_ring_tilt_x|y``,
+  ``applied_radial_load``, ``applied_axial_load``, ``inner_ring_speed``, ``cage_speed``,
+  ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
+  ``max_contact_pressure``;
+- phase metrics, over ``phase``, accumulated at every integrator step:
+  ``radial_displacement_range|mean|std``, ``axial_displacement_range|mean|std``,
+  ``cage_speed_mean``, ``inner_ring_speed_mean``, ``cage_slip``,
+  ``peak_contact_pressure``;
+- global attributes: ``Conventions``, ``title``, ``source``, ``history``,
+  ``references``, ``configuration`` (resolved TOML), ``configuration_hash``,
+  ``git_commit`` (when known), ``bearing``, ``profile``, ``caveats`` (geometry caveats,
+  '' when none) and ``assumptions``.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import math
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from rvcore.profile import PHASES
+
+from . import __version__
+
+REFERENCES = (
+    "Dynamic characteristics of the main bearing of rotary vector reducers under typical "
+    "service conditions (multibody study; speed 120-660 deg/s, radial load 20-40 kN)."
+)
+
+#: name -> (units, long_name) of every time series.
+SERIES = {
+    "radial_displacement": ("m", "inner-ring displacement along the radial-load direction (delta_r)"),
+    "axial_displacement": ("m", "inner-ring displacement along the axial-load direction (delta_a)"),
+    "inner_ring_x": ("m", "inner-ring centre x"),
+    "inner_ring_y": ("m", "inner-ring centre y"),
+    "inner_ring_z": ("m", "inner-ring centre z (axial)"),
+    "inner_ring_tilt_x": ("rad", "inner-ring tilt about x"),
+    "inner_ring_tilt_y": ("rad", "inner-ring tilt about y"),
+    "applied_radial_load": ("N", "radial load applied by the profile"),
+    "applied_axial_load": ("N", "axial load applied by the profile"),
+    "inner_ring_speed": ("rad s-1", "prescribed inner-ring angular speed"),
+    "cage_speed": ("rad s-1", "cage angular speed"),
+    "max_inner_contact_load": ("N", "largest ball to inner-race normal force"),
+    "max_outer_contact_load": ("N", "largest ball to outer-race normal force"),
+    "loaded_ball_count": ("1", "number of balls touching either race"),
+    "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
+}
+
+#: name -> (units, long_name) of every phase metric.
+PHASE_METRICS = {
+    "radial_displacement_range": ("m", "variation range (max - min) of delta_r over the phase"),
+    "radial_displacement_mean": ("m", "time mean of delta_r over the phase"),
+    "radial_displacement_std": ("m", "standard deviation of delta_r over the phase"),
+    "axial_displacement_range": ("m", "variation range (max - min) of delta_a over the phase"),
+    "axial_displacement_mean": ("m", "time mean of delta_a over the phase"),
+    "axial_displacement_std": ("m", "standard deviation of delta_a over the phase"),
+    "cage_speed_mean": ("rad s-1", "time mean of the cage speed over the phase"),
+    "inner_ring_speed_mean": ("rad s-1", "time mean of the inner-ring speed over the phase"),
+    "cage_slip": ("1", "1 - mean cage speed / epicyclic cage speed (0: rolling without slip)"),
+    "peak_contact_pressure": ("Pa", "largest Hertz contact pressure over the phase"),
+}
+
+
+def git_commit() -> str:
+    """The source tree's git commit, or '' outside a git checkout."""
+    here = Path(__file__).resolve().parent
+    try:
+        out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=here, capture_output=True,
+                             text=True, timeout=5)
+        return out.stdout.strip() if out.returncode == 0 else ""
+    except (OSError, subprocess.SubprocessError):
+        return ""
+
+
+def phase_coordinate() -> xr.DataArray:
+    """The int8 ``phase`` coordinate with CF flag attributes."""
+    return xr.DataArray(
+        np.arange(len(PHASES), dtype=np.int8), dims="phase",
+        attrs={"long_name": "phase of the duty cycle",
+               "flag_values": np.arange(len(PHASES), dtype=np.int8),
+               "flag_meanings": " ".join(PHASES)},
+    )
+
+
+def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
+                 configuration: str = "", configuration_hash: str = "",
+                 bearing_name: str = "", profile_name: str = "",
+                 caveats=(), assumptions=(), history: str | None = None) -> xr.Dataset:
+    """Label one :class:`rvcore.driver.CaseResult`.
+
+    Parameters
+    ----------
+    result : rvcore.driver.CaseResult
+    speed : float
+        Operating speed [rad s^-1]; stored as the ``speed`` coordinate in degree s-1.
+    radial_load, axial_load : float
+        Operating loads [N].
+    configuration, configuration_hash : str
+        The resolved configuration as TOML and its hash.
+    caveats, assumptions : sequence of str
+        Geometry caveats (e.g. accepted ball overlap) and assumed parameter names.
+    """
+    t = np.asarray(result.time, dtype=np.float64)
+    coords = {
+        "elapsed_time": ("elapsed_time", t, {"units": "s", "long_name": "simulated time since the start of the cycle"}),
+        "phase": phase_coordinate(),
+        "speed": ((), float(np.degrees(speed)), {"units": "degree s-1", "long_name": "steady inner-ring speed"}),
+        "radial_load": ((), float(radial_load), {"units": "N", "long_name": "steady radial load"}),
+        "axial_load": ((), float(axial_load), {"units": "N", "long_name": "steady axial load"}),
+    }
+    data = {}
+    for name, (units, long_name) in SERIES.items():
+        data[name] = ("elapsed_time", np.asarray(result.series[name], dtype=np.float64),
+                      {"units": units, "long_name": long_name})
+    for name, (units, long_name) in PHASE_METRICS.items():
+        data[name] = ("phase", np.asarray(result.phase_metrics[name], dtype=np.float64),
+                      {"units": units, "long_name": long_name})
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    caveat_text = " | ".join(caveats)
+    attrs = {
+        "Conventions": "CF-1.8",
+        "title": f"RV main-bearing dynamics: {bearing_name}, {profile_name} cycle, "
+                 f"{math.degrees(speed):.6g} deg/s, {radial_load / 1e3:.6g} kN radial, {axial_load / 1e3:.6g} kN axial",
+        "source": f"rv-bearing-sweep {__version__} (rvcore numba contact dynamics)",
+        "history": history or f"{stamp} rvcore.driver.run_case",
+        "references": REFERENCES,
+        "configuration": configuration,
+        "configuration_hash": configuration_hash,
+        "git_commit": git_commit(),
+        "bearing": bearing_name,
+        "profile": profile_name,
+        "caveats": caveat_text,
+        "assumptions": ", ".join(assumptions),
+    }
+    for key, value in result.info.items():
+        if isinstance(value, (int, float, str, np.integer, np.floating)):
+            attrs[f"solver_{key}"] = value
+    return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
+
+
+def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
+    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data."""
+    enc = {}
+    for name, var in ds.variables.items():
+        if name in ds.coords:
+            enc[name] = {"_FillValue": None}
+        else:
+            e = {"zlib": True, "complevel": complevel, "_FillValue": None}
+            if var.dtype.kind == "f":
+                e["dtype"] = "float64"
+            if var.ndim:
+                e["chunksizes"] = var.shape
+            enc[name] = e
+    return enc
+
+
+def write_case(ds: xr.Dataset, path) -> None:
+    """Write a case dataset to ``path`` (plain write; atomic replacement is the sweep's job)."""
+    ds.to_netcdf(path, engine="netcdf4", encoding=encoding_for(ds))
