@@ -1,0 +1,212 @@
+"""Fixed-step RK4 in numba, with per-step phase accumulators and blow-up detection.
+
+Why a fixed step, and how large
+-------------------------------
+The bearing is stiff in two ways, and both set a hard explicit stability limit that an
+adaptive pair would only rediscover by rejecting steps:
+
+1. *Contact oscillation.* A ball between two Hertz contacts has the linearised stiffness
+   ``k = 1.5·K^(2/3)·Q^(1/3)`` per contact. Study bearing at Q = 3.5 kN (40 kN radial):
+   K ≈ 4.5e10 N/m^1.5 → k ≈ 2.9e8 N/m, two contacts on m_b = 0.050 kg give
+   ω_n = √(2k/m_b) ≈ 1.1e5 rad/s. RK4 is stable on the imaginary axis to
+   |λ·dt| ≤ 2√2, so dt ≤ 2.6e-5 s.
+2. *Friction at small slip.* The friction law rises from zero with slope
+   dμ/ds = 1.5·μ_s/v_s = 1.5 s/m, a viscous damper ``c_f = 1.5·μ_s·Q/v_s`` ≈ 5.3e3 N s/m
+   at 3.55 kN (the study's 30 kN + 10 kN). A ball between an inner and an outer contact
+   has two tangential modes: translation (rate 2·c_f/m_b) and rolling-direction rotation
+   (rate 2·c_f·r²/I_b = 5·c_f/m_b, the faster), so λ_f ≈ 5.4e5 1/s on the negative real
+   axis, where RK4 is stable to |λ·dt| ≤ 2.785: dt ≤ 5.2e-6 s.
+
+The friction limit dominates by ~5×, so the step is derived from it at the peak
+quasi-static contact load of the cycle (times a dynamic margin), and is the same at
+every step: deterministic, reproducible bit for bit, four right-hand-side evaluations
+per step and no error norm. ``SolverSettings.step_safety`` scales it; the convergence
+check of model.md §9.6 halves it tenfold. Beyond the limit the friction mode does not always
+diverge: the saturating friction law can bound it into a slip chatter that spoils the
+metrics silently, which is why the step is held below the limit rather than found by
+trial. A step that turns out far too large is caught by the blow-up detection (non-finite state, penetration beyond 10 % of the ball diameter,
+kinetic energy beyond a physical bound) and reported with the time and the body.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_QI,
+                      D_MAX_QO, D_PEN_BALL, rhs)
+from .model import (BALL_STATES, P_LOAD_COS, P_LOAD_SIN, P_RING_IP, P_RING_IT, P_RING_M,
+                    R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_IB, R_MB, R_Z)
+from .profile import channel_value
+
+# output columns
+(O_X, O_Y, O_Z, O_TX, O_TY, O_DR, O_DA, O_FR, O_FA, O_W, O_CAGE, O_QI, O_QO, O_LOADED,
+ O_PMAX) = range(15)
+N_OUT = 15
+# accumulator columns, one line per phase
+(C_W, C_DR_MIN, C_DR_MAX, C_DR_SUM, C_DR_SQ, C_DA_MIN, C_DA_MAX, C_DA_SUM, C_DA_SQ,
+ C_CAGE_SUM, C_RING_SUM, C_P3_MAX) = range(12)
+N_ACC = 12
+
+OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
+
+RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
+RK4_REAL_LIMIT = 2.785
+
+
+def new_accumulators(n_phases: int) -> np.ndarray:
+    acc = np.zeros((n_phases, N_ACC))
+    acc[:, [C_DR_MIN, C_DA_MIN]] = np.inf
+    acc[:, [C_DR_MAX, C_DA_MAX]] = -np.inf
+    return acc
+
+
+@njit(cache=True, nogil=True)
+def kinetic_energy(y, params, rows):
+    """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded)."""
+    e = 0.5 * params[P_RING_M] * (y[5] ** 2 + y[6] ** 2 + y[7] ** 2)
+    e += 0.5 * params[P_RING_IT] * (y[8] ** 2 + y[9] ** 2)
+    for r in range(rows.shape[0]):
+        c0 = int(rows[r, R_CAGE0])
+        e += 0.5 * rows[r, R_CAGE_M] * (y[c0 + 4] ** 2 + y[c0 + 5] ** 2 + y[c0 + 6] ** 2)
+        e += 0.5 * rows[r, R_CAGE_I] * y[c0 + 7] ** 2
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            e += 0.5 * rows[r, R_MB] * (y[b + 3] ** 2 + y[b + 4] ** 2 + y[b + 5] ** 2)
+            e += 0.5 * rows[r, R_IB] * (y[b + 6] ** 2 + y[b + 7] ** 2 + y[b + 8] ** 2)
+    return e
+
+
+@njit(cache=True, nogil=True)
+def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
+              phases, out, acc, diag, bdiag, work, pen_limit, ke_limit):
+    """Advance ``y`` in place by ``n_steps`` RK4 steps of ``dt``.
+
+    Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
+    written (columns ``O_*``). At every step the state at the step's start is added to
+    the accumulator line of the phase it falls in (``phases[k] = (start, end)``).
+
+    Returns
+    -------
+    status : int
+        ``OK`` or the blow-up kind.
+    t_fail : float
+        Simulated time of the failure [s].
+    where : int
+        State index (non-finite) or ball state offset (penetration) of the culprit.
+    n_out : int
+        Lines written to ``out``.
+    """
+    n = y.size
+    k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
+    lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
+    c0 = int(rows[0, R_CAGE0])
+    n_out = 0
+    half = 0.5 * dt
+    for i in range(n_steps + 1):
+        t = t_start + i * dt
+        rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        # blow-up checks on the state at t
+        total = 0.0
+        for m in range(n):
+            total += y[m] + k1[m]
+        if not math.isfinite(total):
+            for m in range(n):
+                if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
+                    return NONFINITE, t, m, n_out
+        if diag[D_MAX_PEN] > pen_limit:
+            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out
+
+        dr = y[0] * lc + y[1] * ls
+        da = y[2]
+        w_ring = channel_value(table, meta, CH_SPEED, t)
+        if i < n_steps:
+            for k in range(phases.shape[0]):
+                if phases[k, 0] <= t < phases[k, 1]:
+                    a = acc[k]
+                    a[0] += 1.0
+                    a[1] = min(a[1], dr)
+                    a[2] = max(a[2], dr)
+                    a[3] += dr
+                    a[4] += dr * dr
+                    a[5] = min(a[5], da)
+                    a[6] = max(a[6], da)
+                    a[7] += da
+                    a[8] += da * da
+                    a[9] += y[c0 + 7]
+                    a[10] += w_ring
+                    a[11] = max(a[11], diag[D_MAX_P3])
+        if i % out_every == 0 or i == n_steps:
+            if kinetic_energy(y, params, rows) > ke_limit:
+                return ENERGY, t, -1, n_out
+            o = out[n_out]
+            o[0], o[1], o[2], o[3], o[4] = y[0], y[1], y[2], y[3], y[4]
+            o[5], o[6] = dr, da
+            o[7] = channel_value(table, meta, CH_RADIAL, t)
+            o[8] = channel_value(table, meta, CH_AXIAL, t)
+            o[9] = w_ring
+            o[10] = y[c0 + 7]
+            o[11], o[12], o[13] = diag[D_MAX_QI], diag[D_MAX_QO], diag[D_LOADED]
+            o[14] = diag[D_MAX_P3] ** (1.0 / 3.0)
+            n_out += 1
+        if i == n_steps:
+            break
+        # classical RK4
+        for m in range(n):
+            tmp[m] = y[m] + half * k1[m]
+        rhs(t + half, tmp, k2, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        for m in range(n):
+            tmp[m] = y[m] + half * k2[m]
+        rhs(t + half, tmp, k3, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        for m in range(n):
+            tmp[m] = y[m] + dt * k3[m]
+        rhs(t + dt, tmp, k4, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        sixth = dt / 6.0
+        for m in range(n):
+            y[m] += sixth * (k1[m] + 2.0 * (k2[m] + k3[m]) + k4[m])
+    return OK, t_start + n_steps * dt, -1, n_out
+
+
+def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
+                     dynamic_margin: float = 1.2) -> float:
+    """The fixed RK4 step [s] from the stiffest contact and friction rates.
+
+    Parameters
+    ----------
+    model : rvcore.model.CompiledBearing
+    peak_contact_load : float
+        Largest quasi-static ball–race load over the cycle [N].
+    safety : float
+        Fraction of the stability limit [-].
+    dynamic_margin : float
+        Factor on the quasi-static load for dynamic overshoot [-].
+
+    Notes
+    -----
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
+    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = 1.5·μ_s·Q/v_s`` and the two race contacts of a
+    ball::
+
+        ω_n = √(2k/m_b)                        (contact oscillation)
+        λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
+        dt  = safety · min(2√2/ω_n, 2.785/λ)
+    """
+    from .model import P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_S, P_V_S, R_HALF_D, R_ARC0, R_NARC
+    from .model import A_K
+
+    q = max(dynamic_margin * peak_contact_load, 1.0)
+    p = model.params
+    dts = []
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
+        k_lin = 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0)
+        omega = math.sqrt(2.0 * k_lin / m)
+        c_f = 1.5 * p[P_MU_S] * q / p[P_V_S] * p[P_FRICTION]
+        lam = 2.0 * (c_f * max(1.0 / m, h * h / i_b) + p[P_DAMP_C] * p[P_DAMPING] / m)
+        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    return safety * min(dts)

@@ -1,0 +1,151 @@
+"""A Bearing compiled into flat float arrays for the numba kernels.
+
+The kernels take no Python objects, so everything they need is packed here once per
+case: global scalars in ``params``, one line per row in ``rows``, one line per groove arc
+in ``arcs``, and the pocket angles in ``pockets``. Index constants name the columns.
+
+State vector layout (all SI)::
+
+    [0:10]   inner ring  x, y, z, tilt_x, tilt_y, vx, vy, vz, tilt_rate_x, tilt_rate_y
+    per row, at rows[r, R_CAGE0]:
+    [+0:8]   cage        x, y, z, angle, vx, vy, vz, angular speed
+    per ball, at rows[r, R_BALL0] + 9·j:
+    [+0:9]   ball        x, y, z, vx, vy, vz, wx, wy, wz
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import hertz
+from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
+                       cage_mass_properties, inner_ring_mass_properties)
+
+RING_STATES = 10
+CAGE_STATES = 8
+BALL_STATES = 9
+
+# params columns
+P_RING_M, P_RING_IP, P_RING_IT = 0, 1, 2
+P_LOAD_COS, P_LOAD_SIN = 3, 4
+P_MOMENT = 5
+P_DAMP_C, P_DAMP_D = 6, 7
+P_POCKET_C, P_LAND_C = 8, 9
+P_MU_S, P_V_S, P_MU_D, P_V_D = 10, 11, 12, 13
+P_FRICTION, P_DAMPING = 14, 15
+N_PARAMS = 16
+
+# rows columns
+(R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
+ R_POCKET_PC, R_CAGE_M, R_CAGE_I, R_CAGE_RI, R_CAGE_RO, R_LAND_CLEAR, R_LAND_K, R_GUIDE,
+ R_ARC0, R_NARC, R_POCKET0) = range(21)
+N_ROWCOLS = 21
+
+# arcs columns
+A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE = range(7)
+N_ARCCOLS = 7
+
+GUIDE_BALL, GUIDE_OUTER_LAND = 0, 1
+
+
+@dataclass(frozen=True)
+class CompiledBearing:
+    """Arrays for the kernels plus the Hertz contacts they were built from."""
+
+    params: np.ndarray
+    rows: np.ndarray
+    arcs: np.ndarray
+    pockets: np.ndarray  # (n_balls_total, 2): cos, sin of 2πj/Z
+    n_states: int
+    n_balls: int
+    hertz_contacts: tuple  # ((row, ring, arc index, HertzContact), ...)
+
+
+def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = True,
+                    moment: float = 0.0, load_angle: float = 0.0) -> CompiledBearing:
+    """Pack ``bearing`` for the kernels; Hertz constants are solved here, once."""
+    m_ring, ip_ring, it_ring = inner_ring_mass_properties(bearing)
+    c = bearing.contact
+    params = np.zeros(N_PARAMS)
+    params[[P_RING_M, P_RING_IP, P_RING_IT]] = m_ring, ip_ring, it_ring
+    params[P_LOAD_COS], params[P_LOAD_SIN] = math.cos(load_angle), math.sin(load_angle)
+    params[P_MOMENT] = moment
+    params[P_DAMP_C], params[P_DAMP_D] = c.damping, c.damping_depth
+    params[P_POCKET_C], params[P_LAND_C] = c.pocket_damping, c.land_damping
+    params[[P_MU_S, P_V_S, P_MU_D, P_V_D]] = c.mu_static, c.v_static, c.mu_dynamic, c.v_dynamic
+    params[P_FRICTION] = 1.0 if friction else 0.0
+    params[P_DAMPING] = 1.0 if damping else 0.0
+
+    e_race = hertz.effective_modulus(bearing.ring_material.youngs_modulus, bearing.ring_material.poisson_ratio,
+                                     bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio)
+    rows = np.zeros((len(bearing.rows), N_ROWCOLS))
+    arcs, contacts, pockets = [], [], []
+    offset = RING_STATES
+    n_balls = 0
+    for r, row in enumerate(bearing.rows):
+        cage = row.cage
+        e_pocket = hertz.effective_modulus(bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio,
+                                           cage.material.youngs_modulus, cage.material.poisson_ratio)
+        pocket = hertz.pocket_contact(row.ball_diameter, row.ball_diameter + cage.pocket_clearance, e_pocket)
+        m_cage, i_cage = cage_mass_properties(row)
+        rows[r, R_Z] = row.ball_count
+        rows[r, R_CAGE0] = offset
+        rows[r, R_BALL0] = offset + CAGE_STATES
+        offset += CAGE_STATES + BALL_STATES * row.ball_count
+        rows[r, R_PITCH_R] = row.pitch_diameter / 2
+        rows[r, R_ZROW] = row.axial_position
+        rows[r, R_HALF_D] = row.ball_diameter / 2
+        rows[r, R_MB] = ball_mass(row, bearing.ball_material)
+        rows[r, R_IB] = ball_inertia(row, bearing.ball_material)
+        rows[r, R_POCKET_R] = (row.ball_diameter + cage.pocket_clearance) / 2
+        rows[r, R_POCKET_K] = pocket.stiffness
+        rows[r, R_POCKET_PC] = pocket.pressure_coefficient**3
+        rows[r, R_CAGE_M], rows[r, R_CAGE_I] = m_cage, i_cage
+        rows[r, R_CAGE_RI], rows[r, R_CAGE_RO] = cage.inner_diameter / 2, cage.outer_diameter / 2
+        rows[r, R_LAND_CLEAR] = cage.land_clearance
+        rows[r, R_LAND_K] = cage.land_stiffness
+        rows[r, R_GUIDE] = GUIDE_OUTER_LAND if cage.guidance == "outer-land" else GUIDE_BALL
+        rows[r, R_ARC0] = len(arcs)
+        rows[r, R_POCKET0] = n_balls
+        for ring, ring_arcs in ((INNER, row.inner_arcs), (OUTER, row.outer_arcs)):
+            for k, arc in enumerate(ring_arcs):
+                cr, cz, rmh, side = arc_geometry(row, arc, ring)
+                hc = hertz.race_contact(row.ball_diameter, row.pitch_diameter, arc.curvature_ratio,
+                                        arc.contact_angle, "inner" if ring == INNER else "outer", e_race)
+                arcs.append((ring, cr, cz, rmh, hc.stiffness, hc.pressure_coefficient**3, side))
+                contacts.append((r, ring, k, hc))
+        rows[r, R_NARC] = len(arcs) - rows[r, R_ARC0]
+        for j in range(row.ball_count):
+            a = 2 * math.pi * j / row.ball_count
+            pockets.append((math.cos(a), math.sin(a)))
+        n_balls += row.ball_count
+    return CompiledBearing(params, rows, np.array(arcs, dtype=float), np.array(pockets, dtype=float),
+                           offset, n_balls, tuple(contacts))
+
+
+def nominal_state(model: CompiledBearing) -> np.ndarray:
+    """Everything centred and at rest: balls at their pocket centres on the pitch circle."""
+    y = np.zeros(model.n_states)
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        b0, z, p0 = int(row[R_BALL0]), int(row[R_Z]), int(row[R_POCKET0])
+        for j in range(z):
+            cs, sn = model.pockets[p0 + j]
+            b = b0 + BALL_STATES * j
+            y[b:b + 3] = row[R_PITCH_R] * cs, row[R_PITCH_R] * sn, row[R_ZROW]
+    return y
+
+
+def body_name(model: CompiledBearing, state_index: int) -> str:
+    """Human name of the body that owns ``state_index`` ("ball 12 of row 0", "cage of row 0", ...)."""
+    if state_index < RING_STATES:
+        return "inner ring"
+    for r in range(model.rows.shape[0]):
+        c0, b0, z = int(model.rows[r, R_CAGE0]), int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z])
+        if c0 <= state_index < b0:
+            return f"cage of row {r}"
+        if b0 <= state_index < b0 + BALL_STATES * z:
+            return f"ball {(state_index - b0) // BALL_STATES} of row {r}"
+    return "unknown body"

@@ -1,0 +1,281 @@
+"""Quasi-static equilibrium of the inner ring on rigid rings with Hertz contacts.
+
+Unknowns: the inner ring's x, y, z and tilts about x and y. Every ball sits at its pocket
+azimuth ψ_j = 2πj/Z and finds its own equilibrium in the meridian plane (radial and
+axial position) between the arcs of both rings; the ring is then in equilibrium when
+the contact reactions balance the applied load and moment.
+
+Notes
+-----
+With ``δ_k = |P − C_k| − (f_k − ½)·D`` at every arc k (the same geometry as the
+dynamics, :func:`rvcore.kernels.arc_penetration`) and ``Q_k = K_k·δ_k^1.5``, a ball's
+potential energy ``V_j(P) = Σ_k ⅖·K_k·max(δ_k, 0)^2.5`` is convex in P and in the ring
+pose u (δ is a norm minus a constant, C affine in u for small tilts). Hence
+
+    V(u) = Σ_j min_P V_j(P, u) − F·u − M·θ
+
+is convex, its gradient is minus the force balance of the ring (envelope theorem) and
+the equilibrium is its unique minimiser whenever the balls carry the load. The solver
+minimises V (BFGS) and polishes the force balance with a Newton-type root finder
+(MINPACK hybrd). Lift-off, four-point contact (several arcs per ring) and several rows
+need no special case: they are just more terms in the sums.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from scipy import optimize
+
+from .geometry import Bearing
+from .kernels import arc_penetration
+from .model import (A_CR, A_CZ, A_K, A_PC3, A_RING, A_RMH, A_SIDE, R_ARC0, R_HALF_D,
+                    R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW, CompiledBearing,
+                    compile_bearing)
+
+
+class NoEquilibriumError(ValueError):
+    """The load cannot be carried: every ball is unloaded or the ring runs away."""
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _ring_transform(u):
+    ca, sa, cb, sb = math.cos(u[3]), math.sin(u[3]), math.cos(u[4]), math.sin(u[4])
+    return (cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca)
+
+
+@njit(cache=True, nogil=True)
+def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
+    """Forces of every arc on a ball at P; fills q_out[j, k] and n_out[j, k, :] (global normal)."""
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
+    h = rows[r, R_HALF_D]
+    zrow = rows[r, R_ZROW]
+    a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
+    dxg, dyg, dzg = px - u[0], py - u[1], pz - u[2]
+    plx = r00 * dxg + r10 * dyg + r20 * dzg
+    ply = r01 * dxg + r11 * dyg + r21 * dzg
+    plz = r02 * dxg + r12 * dyg + r22 * dzg - zrow
+    energy = 0.0
+    for k in range(na):
+        a = a0 + k
+        if arcs[a, A_RING] == 0.0:
+            d, nlx, nly, nlz = arc_penetration(plx, ply, plz, arcs[a, A_CR], arcs[a, A_CZ], arcs[a, A_RMH],
+                                               arcs[a, A_SIDE], h)
+            nx = r00 * nlx + r01 * nly + r02 * nlz
+            ny = r10 * nlx + r11 * nly + r12 * nlz
+            nz = r20 * nlx + r21 * nly + r22 * nlz
+        else:
+            d, nx, ny, nz = arc_penetration(px, py, pz - zrow, arcs[a, A_CR], arcs[a, A_CZ], arcs[a, A_RMH],
+                                            arcs[a, A_SIDE], h)
+        n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
+        n_out[j, k, 3] = d + arcs[a, A_RMH]  # |P − C|
+        if d > 0.0:
+            q_out[j, k] = arcs[a, A_K] * d * math.sqrt(d)
+            energy += 0.4 * q_out[j, k] * d
+        else:
+            q_out[j, k] = 0.0
+    return energy
+
+
+@njit(cache=True, nogil=True)
+def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol):
+    """Equilibrate every ball for ring pose ``u``; return the balls' force/moment on the ring.
+
+    ``ball_rz[j]`` (radial, axial position of ball j) is the warm start and the result.
+    Returns ``(fx, fy, fz, mx, my, potential_energy)``.
+    """
+    rot = _ring_transform(u)
+    fx = fy = fz = mx = my = 0.0
+    energy = 0.0
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        na = int(rows[r, R_NARC])
+        a0 = int(rows[r, R_ARC0])
+        for jj in range(int(rows[r, R_Z])):
+            j = p0 + jj
+            ex, ey = pockets[j, 0], pockets[j, 1]
+            rho, z = ball_rz[j, 0], ball_rz[j, 1]
+            # damped Newton on the convex ball energy in the meridian plane (e, ẑ)
+            for it in range(200):
+                e0 = _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, q_out, n_out, j)
+                g0 = g1 = 0.0
+                h00 = h01 = h11 = 0.0
+                for k in range(na):
+                    q = q_out[j, k]
+                    if q <= 0.0:
+                        continue
+                    ne = n_out[j, k, 0] * ex + n_out[j, k, 1] * ey
+                    nz = n_out[j, k, 2]
+                    d = n_out[j, k, 3] - arcs[a0 + k, A_RMH]
+                    kn = 1.5 * arcs[a0 + k, A_K] * math.sqrt(d)
+                    kt = q / n_out[j, k, 3]
+                    g0 += q * ne           # gradient of the energy = −force on the ball
+                    g1 += q * nz
+                    h00 += kn * ne * ne + kt * (1.0 - ne * ne)
+                    h01 += (kn - kt) * ne * nz
+                    h11 += kn * nz * nz + kt * (1.0 - nz * nz)
+                if g0 == 0.0 and g1 == 0.0:
+                    break
+                lam = 1e-12 * (h00 + h11) + 1e-300
+                det = (h00 + lam) * (h11 + lam) - h01 * h01
+                s0 = -((h11 + lam) * g0 - h01 * g1) / det
+                s1 = -((h00 + lam) * g1 - h01 * g0) / det
+                # backtrack until the energy decreases (convex: a full step usually does)
+                step_len = 1.0
+                for _ in range(60):
+                    e1 = _ball_contacts((rho + step_len * s0) * ex, (rho + step_len * s0) * ey,
+                                        z + step_len * s1, u, rot, r, rows, arcs, q_out, n_out, j)
+                    if e1 <= e0:
+                        break
+                    step_len *= 0.5
+                rho += step_len * s0
+                z += step_len * s1
+                if abs(step_len * s0) + abs(step_len * s1) < tol:
+                    break
+            ball_rz[j, 0], ball_rz[j, 1] = rho, z
+            energy += _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, q_out, n_out, j)
+            # reactions on the inner ring at its contact points
+            h = rows[r, R_HALF_D]
+            for k in range(na):
+                q = q_out[j, k]
+                if q <= 0.0 or arcs[a0 + k, A_RING] != 0.0:
+                    continue
+                nx, ny, nzz = n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2]
+                cx, cy, cz = rho * ex + h * nx - u[0], rho * ey + h * ny - u[1], z + h * nzz - u[2]
+                fx += q * nx
+                fy += q * ny
+                fz += q * nzz
+                mx += cy * q * nzz - cz * q * ny
+                my += cz * q * nx - cx * q * nzz
+    return fx, fy, fz, mx, my, energy
+
+
+@dataclass
+class StaticResult:
+    """Quasi-static equilibrium, SI.
+
+    ``ball_loads[j, k]`` and ``contact_angles[j, k]`` are per ball j (all rows, in order)
+    and per arc k of its row (inner arcs first, then outer, as in the bearing file).
+    """
+
+    displacement: np.ndarray      # x, y, z [m], tilt_x, tilt_y [rad]
+    radial_displacement: float    # along the radial load direction [m]
+    axial_displacement: float     # [m]
+    ball_positions: np.ndarray    # (n_balls, 2): radial, axial [m]
+    azimuths: np.ndarray          # [rad]
+    ball_loads: np.ndarray        # [N]
+    contact_angles: np.ndarray    # [rad], NaN where unloaded
+    arc_rings: np.ndarray         # 0 inner / 1 outer, per arc column
+    loaded_ball_count: int
+    max_contact_load: float       # [N]
+    max_contact_pressure: float   # [Pa]
+    residual: np.ndarray          # force/moment imbalance on the ring [N, N m]
+    applied: np.ndarray           # applied fx, fy, fz [N], mx, my [N m]
+
+
+_SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
+
+
+def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
+                  moment: float = 0.0, load_angle: float = 0.0, *, x0=None) -> StaticResult:
+    """Equilibrium of the inner ring under the given loads.
+
+    Parameters
+    ----------
+    bearing_or_model : Bearing or CompiledBearing
+    radial_load : float
+        [N], applied along ``load_angle`` in the x–y plane.
+    axial_load : float
+        [N], positive towards +z.
+    moment : float
+        Tilting moment about the axis normal to the radial load, (−sin ψ, cos ψ, 0) [N m].
+    load_angle : float
+        ψ [rad].
+    x0 : array_like, optional
+        Initial guess of the pose (x, y, z, tilt_x, tilt_y).
+
+    Raises
+    ------
+    NoEquilibriumError
+        When no ball carries the load or the ring moves away without finding support.
+    """
+    model = bearing_or_model if isinstance(bearing_or_model, CompiledBearing) else compile_bearing(bearing_or_model)
+    rows, arcs, pockets = model.rows, model.arcs, model.pockets
+    n_arcs = int(rows[:, R_NARC].max())
+    nb = model.n_balls
+    q_out = np.zeros((nb, n_arcs))
+    n_out = np.zeros((nb, n_arcs, 4))
+    ball_rz = np.zeros((nb, 2))
+    for r in range(rows.shape[0]):
+        p0, z = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
+        ball_rz[p0:p0 + z, 0] = rows[r, R_PITCH_R]
+        ball_rz[p0:p0 + z, 1] = rows[r, R_ZROW]
+    c, s = math.cos(load_angle), math.sin(load_angle)
+    applied = np.array([radial_load * c, radial_load * s, axial_load, -moment * s, moment * c])
+    load_scale = max(np.abs(applied[:3]).sum(), np.abs(applied[3:]).sum() / 0.1, 1.0)
+    d_max = float(rows[:, R_HALF_D].max()) * 2
+
+    def balance(v):
+        u = v * _SCALE
+        fx, fy, fz, mx, my, e = ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)
+        return np.array([fx, fy, fz, mx, my]) + applied, e
+
+    def objective(v):
+        res, e = balance(v)
+        u = v * _SCALE
+        return (e - applied @ u) / load_scale / 1e-5, -res * _SCALE / load_scale / 1e-5
+
+    if not np.any(applied):
+        v = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
+    else:
+        v0 = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
+        if x0 is None:
+            # start a few microns along the load so that some contacts are engaged
+            f = applied[:3] / max(np.linalg.norm(applied[:3]), 1e-300)
+            v0[:3] = f * 1.0
+        opt = optimize.minimize(objective, v0, jac=True, method="BFGS",
+                                options={"gtol": 1e-10, "maxiter": 2000})
+        v = opt.x
+        sol = optimize.root(lambda x: balance(x)[0] / load_scale, v, method="hybr",
+                            options={"xtol": 1e-14, "maxfev": 2000})
+        if np.all(np.isfinite(sol.x)) and np.abs(balance(sol.x)[0]).max() <= np.abs(balance(v)[0]).max():
+            v = sol.x
+    u = v * _SCALE
+    res, _ = balance(v)
+    if np.linalg.norm(u[:3]) > d_max:
+        raise NoEquilibriumError(
+            f"no equilibrium: the inner ring moved {np.linalg.norm(u[:3]) * 1e3:.3g} mm, more than a ball "
+            f"diameter, without the balls carrying F_r = {radial_load:.6g} N, F_a = {axial_load:.6g} N, "
+            f"M = {moment:.6g} N m")
+    loaded = (q_out > 0).any(axis=1)
+    if np.any(applied) and not loaded.any():
+        raise NoEquilibriumError(
+            f"no equilibrium: every ball is unloaded under F_r = {radial_load:.6g} N, "
+            f"F_a = {axial_load:.6g} N, M = {moment:.6g} N m")
+    rings = np.full(n_arcs, -1)
+    angles = np.full_like(q_out, np.nan)
+    pc3 = np.zeros(n_arcs)
+    azim = np.zeros(nb)
+    for r in range(rows.shape[0]):
+        p0, z, a0, na = (int(rows[r, R_POCKET0]), int(rows[r, R_Z]), int(rows[r, R_ARC0]),
+                         int(rows[r, R_NARC]))
+        rings[:na] = arcs[a0:a0 + na, A_RING]
+        pc3[:na] = np.maximum(pc3[:na], arcs[a0:a0 + na, A_PC3])
+        for j in range(p0, p0 + z):
+            ex, ey = pockets[j]
+            azim[j] = math.atan2(ey, ex)
+            for k in range(na):
+                if q_out[j, k] > 0:
+                    ne = n_out[j, k, 0] * ex + n_out[j, k, 1] * ey
+                    nz = n_out[j, k, 2]
+                    sign = -1.0 if arcs[a0 + k, A_RING] == 0 else 1.0
+                    angles[j, k] = math.atan2(sign * nz, sign * ne)
+    p_max = float(np.max(np.cbrt(pc3[None, :] * q_out))) if q_out.size else 0.0
+    return StaticResult(
+        displacement=u, radial_displacement=float(u[0] * c + u[1] * s), axial_displacement=float(u[2]),
+        ball_positions=ball_rz.copy(), azimuths=azim, ball_loads=q_out.copy(), contact_angles=angles,
+        arc_rings=rings, loaded_ball_count=int(loaded.sum()), max_contact_load=float(q_out.max(initial=0.0)),
+        max_contact_pressure=p_max, residual=res, applied=applied,
+    )
