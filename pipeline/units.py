@@ -6,6 +6,7 @@ parsed here with pint, or plain numbers which are taken as SI.
 from __future__ import annotations
 
 import functools
+import re
 
 import pint
 
@@ -30,6 +31,9 @@ SI_UNITS = {
     "frequency": "Hz",
     "dimensionless": "dimensionless",
 }
+
+
+_TORQUE = re.compile(r"(?<![A-Za-z])([kM]?)Nm\b")
 
 
 @functools.lru_cache(maxsize=1)
@@ -63,8 +67,10 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
     if not isinstance(value, str):
         raise ConfigError(file, key, value, f"expected a number or a string with units of {target}")
     ureg = registry()
+    # Engineers write torque as "Nm"/"kNm"; pint would not read that as newton·metre.
+    text = _TORQUE.sub(lambda m: f"{m.group(1) or ''}N*m", value.strip())
     try:
-        q = ureg.Quantity(value.strip())
+        q = ureg.Quantity(text)
     except Exception as exc:  # pint raises several types for unparsable strings
         raise ConfigError(file, key, value, f"cannot read as a quantity ({exc.__class__.__name__}: {exc})") from None
     try:

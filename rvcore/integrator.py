@@ -170,7 +170,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
 
 
 def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
-                     dynamic_margin: float = 1.2) -> float:
+                     dynamic_margin: float = 1.0) -> float:
     """The fixed RK4 step [s] from the stiffest contact and friction rates.
 
     Parameters

@@ -86,13 +86,15 @@ def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
-def arc_penetration(plx, ply, plz, cr, cz, rmh, side, half_d):
+def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
     """Penetration of a ball into one groove arc, in the ring's own frame.
 
     Parameters
     ----------
     plx, ply, plz : float
         Ball centre in the ring frame, axial coordinate relative to the row plane [m].
+    rho, inv_rho : float
+        ``√(plx² + ply²)`` and its inverse (computed once per ring, not per arc).
     cr, cz : float
         Arc centre: distance from the axis and axial offset [m].
     rmh : float
@@ -109,7 +111,6 @@ def arc_penetration(plx, ply, plz, cr, cz, rmh, side, half_d):
     nx, ny, nz : float
         Unit normal C→P in the ring frame.
     """
-    rho = math.sqrt(plx * plx + ply * ply)
     dr = rho - cr
     dz = plz - cz
     dist = math.sqrt(dr * dr + dz * dz)
@@ -117,7 +118,6 @@ def arc_penetration(plx, ply, plz, cr, cz, rmh, side, half_d):
     inv = 1.0 / dist
     nr = dr * inv
     nz = dz * inv
-    inv_rho = 1.0 / rho
     nx = nr * plx * inv_rho
     ny = nr * ply * inv_rho
     if side != 0.0 and side * (plz + half_d * nz) < 0.0:
@@ -186,7 +186,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             wx, wy, wz = y[b + 6], y[b + 7], y[b + 8]
             fbx, fby, fbz, mbx, mby, mbz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             qi_sum, qo_sum, fi_rad, fo_rad = 0.0, 0.0, 0.0, 0.0
-            inv_rho_b = 1.0 / math.sqrt(px * px + py * py)
+            rho_b = math.sqrt(px * px + py * py)
+            inv_rho_b = 1.0 / rho_b
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
             # ball centre in the inner ring's frame: Rᵀ·(p − r_i)
@@ -194,15 +195,17 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             plx = r00 * dxg + r10 * dyg + r20 * dzg
             ply = r01 * dxg + r11 * dyg + r21 * dzg
             plz = r02 * dxg + r12 * dyg + r22 * dzg - zrow
+            rho_l = math.sqrt(plx * plx + ply * ply)
+            inv_rho_l = 1.0 / rho_l
 
             for a in range(a0, a0 + na):
                 inner = arcs[a, A_RING] == 0.0
                 if inner:
-                    delta, nlx, nly, nlz = arc_penetration(plx, ply, plz, arcs[a, A_CR], arcs[a, A_CZ],
-                                                           arcs[a, A_RMH], arcs[a, A_SIDE], h)
+                    delta, nlx, nly, nlz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, arcs[a, A_CR],
+                                                           arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], h)
                 else:
-                    delta, nlx, nly, nlz = arc_penetration(px, py, pz - zrow, arcs[a, A_CR], arcs[a, A_CZ],
-                                                           arcs[a, A_RMH], arcs[a, A_SIDE], h)
+                    delta, nlx, nly, nlz = arc_penetration(px, py, pz - zrow, rho_b, inv_rho_b, arcs[a, A_CR],
+                                                           arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], h)
                 if delta <= 0.0:
                     continue
                 if delta > max_pen:
@@ -283,7 +286,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             a_sec = math.sqrt(max(h * h - station * station, 0.0))
             delta = dperp + a_sec - pocket_r
             qp = 0.0
-            if delta > 0.0 and dperp > 0.0:
+            if delta > 0.0 and dperp > 0.0 and a_sec > 1e-3 * h:
                 if delta > max_pen:
                     max_pen = delta
                     pen_ball = b
@@ -291,17 +294,23 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 nx = (-tan * sth) * inv
                 ny = (tan * cth) * inv
                 nz = dzp * inv
+                # arm from the ball centre to the contact; the force is −Q·∇δ, which lies
+                # along the arm (a sphere's normal passes through its centre)
                 ax = a_sec * nx + station * cth
                 ay = a_sec * ny + station * sth
                 az = a_sec * nz
+                gx, gy, gz = ax / a_sec, ay / a_sec, az / a_sec
                 cx, cy, cz = px + ax, py + ay, pz + az
                 ux = vx + wy * az - wz * ay - (vxc - wc * (cy - yc))
                 uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
                 uz = vz + wx * ay - wy * ax - vzc
-                un = ux * nx + uy * ny + uz * nz
+                un = ux * gx + uy * gy + uz * gz
                 qp = normal_force(delta, un, k_pocket, c_pocket, d_race)
                 if qp > 0.0:
-                    fx, fy, fz = -qp * nx, -qp * ny, -qp * nz
+                    fx, fy, fz = -qp * gx, -qp * gy, -qp * gz
+                    inv_h = 1.0 / h
+                    nx, ny, nz = ax * inv_h, ay * inv_h, az * inv_h
+                    un = ux * nx + uy * ny + uz * nz
                     if friction_on:
                         tx_, ty_, tz_ = ux - un * nx, uy - un * ny, uz - un * nz
                         s = math.sqrt(tx_ * tx_ + ty_ * ty_ + tz_ * tz_)
@@ -397,3 +406,62 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     diag[D_MAX_P3] = max_p3
     diag[D_MAX_PEN] = max_pen
     diag[D_PEN_BALL] = pen_ball
+
+
+@njit(cache=True, nogil=True)
+def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
+    """Elastic energy of every contact minus the work potential of the applied loads [J].
+
+    ``Σ ⅖·K·δ^2.5`` over ball–race, ball–pocket and cage–land contacts, minus
+    ``F·r_ring + M·θ`` with the loads at ``t`` held constant. With the kinetic energy
+    (:func:`rvcore.integrator.kinetic_energy`) it is conserved when friction and damping
+    are off, the loads are constant and the ring does not spin.
+    """
+    fr = channel_value(table, meta, CH_RADIAL, t)
+    fa = channel_value(table, meta, CH_AXIAL, t)
+    lc, ls, moment = params[P_LOAD_COS], params[P_LOAD_SIN], params[P_MOMENT]
+    xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
+    ca, sa, cb, sb = math.cos(tx), math.sin(tx), math.cos(ty), math.sin(ty)
+    r00, r01, r02 = cb, sb * sa, sb * ca
+    r10, r11, r12 = 0.0, ca, -sa
+    r20, r21, r22 = -sb, cb * sa, cb * ca
+    e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
+    for r in range(rows.shape[0]):
+        b0, c0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_CAGE0]), int(rows[r, R_POCKET0])
+        a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
+        zrow, h = rows[r, R_ZROW], rows[r, R_HALF_D]
+        xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            px, py, pz = y[b], y[b + 1], y[b + 2]
+            dxg, dyg, dzg = px - xi, py - yi, pz - zi
+            plx = r00 * dxg + r10 * dyg + r20 * dzg
+            ply = r01 * dxg + r11 * dyg + r21 * dzg
+            plz = r02 * dxg + r12 * dyg + r22 * dzg - zrow
+            rho_l = math.sqrt(plx * plx + ply * ply)
+            rho_b = math.sqrt(px * px + py * py)
+            for a in range(a0, a0 + na):
+                if arcs[a, A_RING] == 0.0:
+                    d, _, _, _ = arc_penetration(plx, ply, plz, rho_l, 1.0 / rho_l, arcs[a, A_CR], arcs[a, A_CZ],
+                                                 arcs[a, A_RMH], arcs[a, A_SIDE], h)
+                else:
+                    d, _, _, _ = arc_penetration(px, py, pz - zrow, rho_b, 1.0 / rho_b, arcs[a, A_CR],
+                                                 arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], h)
+                if d > 0.0:
+                    e += 0.4 * arcs[a, A_K] * d * d * math.sqrt(d)
+            cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
+            cth = cphi * cs0 - sphi * sn0
+            sth = sphi * cs0 + cphi * sn0
+            dxp, dyp, dzp = px - xc, py - yc, pz - zc - zrow
+            rad = dxp * cth + dyp * sth
+            tan = -dxp * sth + dyp * cth
+            station = min(max(rad, rows[r, R_CAGE_RI]), rows[r, R_CAGE_RO]) - rad
+            d = math.sqrt(tan * tan + dzp * dzp) + math.sqrt(max(h * h - station * station, 0.0)) - rows[r, R_POCKET_R]
+            if d > 0.0:
+                e += 0.4 * rows[r, R_POCKET_K] * d * d * math.sqrt(d)
+        if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
+            d = math.sqrt(xc * xc + yc * yc) - rows[r, R_LAND_CLEAR]
+            if d > 0.0:
+                e += 0.4 * rows[r, R_LAND_K] * d * d * math.sqrt(d)
+    return e

@@ -57,18 +57,20 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
     plx = r00 * dxg + r10 * dyg + r20 * dzg
     ply = r01 * dxg + r11 * dyg + r21 * dzg
     plz = r02 * dxg + r12 * dyg + r22 * dzg - zrow
+    rho_l = math.sqrt(plx * plx + ply * ply)
+    rho_b = math.sqrt(px * px + py * py)
     energy = 0.0
     for k in range(na):
         a = a0 + k
         if arcs[a, A_RING] == 0.0:
-            d, nlx, nly, nlz = arc_penetration(plx, ply, plz, arcs[a, A_CR], arcs[a, A_CZ], arcs[a, A_RMH],
-                                               arcs[a, A_SIDE], h)
+            d, nlx, nly, nlz = arc_penetration(plx, ply, plz, rho_l, 1.0 / rho_l, arcs[a, A_CR], arcs[a, A_CZ],
+                                               arcs[a, A_RMH], arcs[a, A_SIDE], h)
             nx = r00 * nlx + r01 * nly + r02 * nlz
             ny = r10 * nlx + r11 * nly + r12 * nlz
             nz = r20 * nlx + r21 * nly + r22 * nlz
         else:
-            d, nx, ny, nz = arc_penetration(px, py, pz - zrow, arcs[a, A_CR], arcs[a, A_CZ], arcs[a, A_RMH],
-                                            arcs[a, A_SIDE], h)
+            d, nx, ny, nz = arc_penetration(px, py, pz - zrow, rho_b, 1.0 / rho_b, arcs[a, A_CR], arcs[a, A_CZ],
+                                            arcs[a, A_RMH], arcs[a, A_SIDE], h)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
         n_out[j, k, 3] = d + arcs[a, A_RMH]  # |P − C|
         if d > 0.0:

@@ -1,0 +1,182 @@
+"""Performance figures: the core on the study bearing, a scipy comparison, sweep scaling.
+
+Everything is measured in one run, side by side, and reported as figures; nothing here
+asserts a time (these machines are noisy).
+
+- ``full_cycle``: the study bearing (51 balls) through the whole 4.6 s cycle at
+  660 deg/s, 30 kN radial and 10 kN axial, on one core.
+- ``scipy_ratio``: ``scipy.integrate.solve_ivp`` (DOP853) on the same numba right-hand
+  side over the same short window of steady running, at a tolerance whose error against
+  a fine reference is no larger than ours, timed (median of repeats) against our RK4 over
+  that window. Both start from the same state; the reference is our RK4 at a step 8x
+  smaller.
+- ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
+  serial wall / (workers x parallel wall).
+"""
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+STUDY_BEARING = ROOT / "sweeps" / "bearings" / "rv-main-study.toml"
+STUDY_PROFILE = ROOT / "sweeps" / "profiles" / "study.toml"
+SMOKE_SWEEP = ROOT / "sweeps" / "smoke.toml"
+
+
+def _study():
+    from rvcore.profile import OperatingPoint
+
+    from .config import load_bearing, load_profile
+
+    return (load_bearing(STUDY_BEARING), load_profile(STUDY_PROFILE),
+            OperatingPoint(math.radians(660.0), 30e3, 10e3))
+
+
+def full_cycle() -> dict:
+    """The study bearing through the full cycle on one core."""
+    from rvcore.driver import SolverSettings, run_case, warm_up
+
+    warm_up()
+    bearing, profile, op = _study()
+    t0 = time.perf_counter()
+    r = run_case(bearing, profile, op, SolverSettings())
+    wall = time.perf_counter() - t0
+    n_balls = r.info["ball_count"]
+    return {
+        "full_cycle_wall_s": wall,
+        "integrator_wall_s": r.info["wall_time"],
+        "simulated_s": float(r.time[-1] - r.time[0]),
+        "steps": int(r.info["steps"]),
+        "time_step_s": float(r.info["time_step"]),
+        "rhs_evaluations": int(r.info["rhs_evaluations"]),
+        "ball_count": int(n_balls),
+        "ns_per_ball_rhs": r.info["wall_time"] / r.info["rhs_evaluations"] / n_balls * 1e9,
+        "simulated_s_per_wall_s": float(r.time[-1] - r.time[0]) / wall,
+    }
+
+
+def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 3) -> dict:
+    """Our RK4 against solve_ivp(DOP853) on the same right-hand side and window."""
+    from scipy.integrate import solve_ivp
+
+    from rvcore import integrator as ig
+    from rvcore.driver import initial_state, peak_contact_load
+    from rvcore.kernels import N_BDIAG, N_DIAG, rhs
+    from rvcore.model import R_BALL0, compile_bearing
+
+    bearing, profile, op = _study()
+    model = compile_bearing(bearing)
+    resolved = profile.resolve(op)
+    table, meta = resolved.arrays()
+    y0 = initial_state(model, resolved, t_start)
+    dt_ours = ig.stable_time_step(model, peak_contact_load(model, resolved))
+    diag = np.zeros(N_DIAG)
+    bdiag = np.zeros((model.n_balls, N_BDIAG))
+    args = (model.params, model.rows, model.arcs, model.pockets, table, meta)
+
+    def ours(dt):
+        y = y0.copy()
+        n = int(math.ceil(window / dt))
+        out = np.zeros((n + 2, ig.N_OUT))
+        acc = ig.new_accumulators(0)
+        phases = np.zeros((0, 2))
+        work = np.zeros((5, y.size))
+        t0 = time.perf_counter()
+        status, *_ = ig.integrate(y, t_start, window / n, n, n, *args, phases, out, acc, diag, bdiag,
+                                  work, 1.0, 1e30)
+        wall = time.perf_counter() - t0
+        assert status == ig.OK
+        return y, wall
+
+    ours(dt_ours)  # compile / warm
+    reference, _ = ours(dt_ours / 8)
+    y_ours, _ = ours(dt_ours)
+    ours_walls = [ours(dt_ours)[1] for _ in range(repeats)]
+
+    def error(y):
+        # inner-ring displacement and every ball centre: the positions that matter [m]
+        b0 = int(model.rows[0, R_BALL0])
+        pos = np.r_[0:3, [b0 + 9 * j + k for j in range(model.n_balls) for k in range(3)]].astype(int)
+        return float(np.max(np.abs(y[pos] - reference[pos])))
+
+    err_ours = error(y_ours)
+    dy = np.zeros_like(y0)
+
+    def fun(t, y):
+        rhs(t, y, dy, *args, diag, bdiag)
+        return dy.copy()
+
+    scale = np.maximum(np.abs(y0), 1e-3)
+    chosen = None
+    for rtol in (1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
+        sol = solve_ivp(fun, (t_start, t_start + window), y0, method="DOP853", rtol=rtol,
+                        atol=rtol * scale * 1e-3)
+        if not sol.success:
+            continue
+        err = error(sol.y[:, -1])
+        if err <= err_ours:
+            chosen = (rtol, err, sol.nfev)
+            break
+    if chosen is None:
+        return {"scipy_ratio": float("nan"), "scipy_note": "DOP853 did not reach our accuracy"}
+    rtol = chosen[0]
+    scipy_walls = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        solve_ivp(fun, (t_start, t_start + window), y0, method="DOP853", rtol=rtol, atol=rtol * scale * 1e-3)
+        scipy_walls.append(time.perf_counter() - t0)
+    ours_med, scipy_med = statistics.median(ours_walls), statistics.median(scipy_walls)
+    return {
+        "scipy_ratio": scipy_med / ours_med,
+        "scipy_window_s": window,
+        "scipy_wall_s": scipy_med,
+        "ours_window_wall_s": ours_med,
+        "scipy_rtol": rtol,
+        "scipy_rhs_evaluations": int(chosen[2]),
+        "ours_window_rhs_evaluations": 4 * int(math.ceil(window / dt_ours)) + 1,
+        "ours_position_error_m": err_ours,
+        "scipy_position_error_m": chosen[1],
+    }
+
+
+def parallel_efficiency(workers: int = 2) -> dict:
+    """The smoke sweep serially and on a LocalCluster of ``workers`` processes."""
+    from .sweep import run_sweep
+    from .sweepfile import load_sweep
+
+    sweep = load_sweep(SMOKE_SWEEP)
+    tmp = Path(tempfile.mkdtemp(prefix="rvsweep-bench-"))
+    try:
+        t0 = time.perf_counter()
+        run_sweep(sweep, tmp / "serial", serial=True, progress=False, resume=False)
+        serial = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        run_sweep(sweep, tmp / "parallel", workers=workers, progress=False, resume=False)
+        parallel = time.perf_counter() - t0
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return {
+        "smoke_cases": len(sweep.cases),
+        "smoke_serial_wall_s": serial,
+        "smoke_parallel_wall_s": parallel,
+        "smoke_workers": workers,
+        "parallel_efficiency": serial / (workers * parallel),
+        "cpu_count": os.cpu_count(),
+    }
+
+
+def run_all(*, quick: bool = False) -> dict:
+    out = {}
+    out.update(full_cycle())
+    out.update(scipy_comparison())
+    if not quick:
+        out.update(parallel_efficiency())
+    return out
