@@ -115,7 +115,8 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     coords = {
         "elapsed_time": ("elapsed_time", t, {"units": "s", "long_name": "simulated time since the start of the cycle"}),
         "phase": phase_coordinate(),
-        "speed": ((), float(np.degrees(speed)), {"units": "degree s-1", "long_name": "steady inner-ring speed"}),
+        # rounded to 12 significant digits so that 120 deg/s reads back as 120, not 119.99999999999999
+        "speed": ((), float(f"{np.degrees(speed):.12g}"), {"units": "degree s-1", "long_name": "steady inner-ring speed"}),
         "radial_load": ((), float(radial_load), {"units": "N", "long_name": "steady radial load"}),
         "axial_load": ((), float(axial_load), {"units": "N", "long_name": "steady axial load"}),
     }

@@ -184,7 +184,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
 
     from . import integrator as ig
     from .geometry import epicyclic_cage_ratio
-    from .model import body_name, compile_bearing, R_HALF_D, R_MB, R_IB, R_CAGE_M, R_CAGE_RO, R_Z
+    from .model import body_name, compile_bearing, R_HALF_D, R_MB, R_IB, R_CAGE_M, R_PITCH_R, R_Z
     from .kernels import N_BDIAG, N_DIAG
 
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
@@ -203,9 +203,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     q_peak = peak_contact_load(model, resolved)
     dt_max = settings.time_step if settings.time_step > 0 else ig.stable_time_step(
         model, q_peak, safety=settings.step_safety)
-    n_steps = int(math.ceil((t_end - t_start) / dt_max - 1e-9))
-    dt = (t_end - t_start) / n_steps
-    out_every = max(1, int(round(1.0 / (settings.output_rate * dt))))
+    # The step divides the output interval exactly, so every case of a sweep samples at
+    # the same times t_start + k/output_rate whatever its own stability limit.
+    out_every = max(1, int(math.ceil(1.0 / (settings.output_rate * dt_max) - 1e-9)))
+    dt = 1.0 / (settings.output_rate * out_every)
+    n_steps = int(math.ceil((t_end - t_start) / dt - 1e-6))
     n_out_max = n_steps // out_every + 2
     out = np.zeros((n_out_max, ig.N_OUT))
     acc = ig.new_accumulators(resolved.phases.shape[0])
@@ -234,7 +236,8 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
                               f"(time step {dt:.3g} s; try a smaller solver.step_safety)")
     out = out[:n_out]
-    time = out[:, 0] * 0 + t_start + dt * np.minimum(np.arange(n_out) * out_every, n_steps)
+    k = np.minimum(np.arange(n_out) * out_every, n_steps)
+    time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
     names = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_tilt_x", "inner_ring_tilt_y",
              "radial_displacement", "axial_displacement", "applied_radial_load", "applied_axial_load",
              "inner_ring_speed", "cage_speed", "max_inner_contact_load", "max_outer_contact_load",
@@ -257,7 +260,9 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         metrics["cage_slip"] = 1.0 - metrics["cage_speed_mean"] / (ratio * metrics["inner_ring_speed_mean"])
         metrics["peak_contact_pressure"] = np.where(w > 0, np.cbrt(acc[:, ig.C_P3_MAX]), np.nan)
     info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": 4 * n_steps + 1, "wall_time": wall,
-            "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak}
+            "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
+            "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
+            "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0])}
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy())
 

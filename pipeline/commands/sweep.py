@@ -1,12 +1,64 @@
-"""rvsweep sweep (not implemented yet)."""
+"""rvsweep sweep: run a sweep file's cases (resumable) and combine them into sweep.nc."""
+from __future__ import annotations
+
+import signal
+import sys
+from pathlib import Path
+
 from ..errors import UserError
 
-HELP = "sweep (not implemented yet)"
+HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
 
 
 def add_arguments(parser):
-    pass
+    parser.add_argument("sweep_file", metavar="SWEEP.toml", help="the sweep file (e.g. sweeps/study.toml)")
+    parser.add_argument("--out", metavar="DIR", default="results",
+                        help="results go under DIR/<sweep name>/ (default: results)")
+    parser.add_argument("--workers", type=int, metavar="N", default=None,
+                        help="processes of the local cluster (default: one per core)")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on an existing dask cluster, e.g. tcp://10.0.0.5:8786")
+    where.add_argument("--scheduler-file", metavar="F",
+                       help="run on the existing dask cluster described by this scheduler file")
+    where.add_argument("--serial", action="store_true",
+                       help="run the cases one after the other in this process (no dask)")
+    parser.add_argument("--rerun", action="store_true",
+                        help="recompute every case, even those whose file exists")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
-def run(args):
-    raise UserError("'sweep' is not implemented yet")
+def _terminate_as_interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def run(args) -> int:
+    from ..sweep import run_sweep, summary
+    from ..sweepfile import load_sweep
+
+    if args.workers is not None:
+        if args.workers < 1:
+            raise UserError(f"--workers {args.workers}: must be at least 1")
+        if args.scheduler or args.scheduler_file or args.serial:
+            raise UserError("--workers sizes the local cluster; it does not apply with "
+                            "--scheduler, --scheduler-file or --serial")
+    sweep = load_sweep(args.sweep_file)          # every ConfigError before any case runs
+    out = Path(args.out) / sweep.name
+    previous = signal.getsignal(signal.SIGTERM)
+    try:
+        signal.signal(signal.SIGTERM, _terminate_as_interrupt)   # a kill saves like Ctrl-C
+    except ValueError:  # not the main thread
+        previous = None
+    try:
+        result = run_sweep(sweep, out, workers=args.workers, scheduler=args.scheduler,
+                           scheduler_file=args.scheduler_file, serial=args.serial,
+                           progress=not args.no_progress, resume=not args.rerun)
+    except KeyboardInterrupt as exc:
+        if exc.args:
+            print(exc.args[0], file=sys.stderr)
+        raise
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+    print(summary(result))
+    return 0 if result.ok else 1
