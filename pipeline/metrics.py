@@ -1,0 +1,252 @@
+"""Phase metrics of a sweep (``metrics.nc``), from the core's phase accumulators.
+
+The core accumulates, at every integrator step, the range, mean and standard deviation
+of δ_r and δ_a per phase, the mean cage and inner-ring speeds, the cage slip against the
+epicyclic speed and the peak Hertz pressure (``pipeline.case.PHASE_METRICS``). This
+module gathers them from ``sweep.nc`` (or, when no ``sweep.nc`` was written, from the
+case files) into one dataset over ``(speed, radial_load, phase)``, plus any extra sweep
+dimension, with the case status alongside. Missing or failed cases are NaN.
+"""
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from rvcore.profile import PHASES
+
+from .case import PHASE_METRICS, phase_coordinate
+from .errors import UserError
+
+#: Flag meanings of ``case_status`` in flag-value order.
+CASE_STATES = ("ok", "failed", "not_run")
+
+#: Phase-metric variables in ``metrics.nc`` (those the sweep holds).
+METRICS = tuple(PHASE_METRICS)
+
+#: Derived variable: epicyclic cage speed implied by the measured cage speed and slip.
+EPICYCLIC = "epicyclic_cage_speed"
+
+_DISPLACEMENT_METRICS = tuple(m for m in METRICS if "displacement" in m)
+
+
+def _stamp() -> str:
+    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+
+
+def _drop_encoding(ds: xr.Dataset) -> xr.Dataset:
+    ds = ds.copy()
+    for v in ds.variables.values():
+        v.encoding = {}
+    return ds
+
+
+def load_status(directory) -> dict:
+    """``status.json`` of a sweep folder, or ``{}`` when there is none.
+
+    Raises
+    ------
+    UserError
+        When the file exists but is not valid JSON.
+    """
+    path = Path(directory) / "status.json"
+    if not path.exists():
+        return {}
+    try:
+        data = json.loads(path.read_text())
+    except json.JSONDecodeError as exc:
+        raise UserError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
+    if not isinstance(data, dict):
+        raise UserError(f"{path}: expected an object mapping case ids to their state")
+    return data
+
+
+def load_sweep(directory) -> xr.Dataset:
+    """The combined sweep of a results folder, loaded into memory.
+
+    Reads ``sweep.nc``; when it is absent (a sweep killed before combining), combines the
+    finished ``cases/*.nc`` over ``speed`` and ``radial_load`` (and ``axial_load`` when it
+    varies), missing grid points NaN.
+
+    Parameters
+    ----------
+    directory : path-like
+        The sweep's output folder.
+
+    Raises
+    ------
+    UserError
+        When the folder holds neither ``sweep.nc`` nor any case file.
+    """
+    directory = Path(directory)
+    if not directory.is_dir():
+        raise UserError(f"{directory}: no such sweep folder")
+    path = directory / "sweep.nc"
+    if path.exists():
+        try:
+            with xr.open_dataset(path, engine="netcdf4") as ds:
+                return _drop_encoding(ds.load())
+        except OSError as exc:
+            raise UserError(f"{path}: cannot read as NetCDF ({exc})") from None
+    files = sorted((directory / "cases").glob("*.nc"))
+    if not files:
+        raise UserError(f"{directory}: neither sweep.nc nor any cases/*.nc to report on")
+    cases = []
+    for f in files:
+        try:
+            with xr.open_dataset(f, engine="netcdf4") as ds:
+                cases.append(_drop_encoding(ds.load()))
+        except OSError as exc:
+            raise UserError(f"{f}: cannot read as NetCDF ({exc})") from None
+    axial = {float(c["axial_load"]) for c in cases if "axial_load" in c.coords}
+    dims = ["speed", "radial_load"] + (["axial_load"] if len(axial) > 1 else [])
+    expanded = [c.expand_dims(dims) for c in cases]
+    combined = xr.merge(expanded, compat="no_conflicts", join="outer", combine_attrs="override")
+    combined = combined.sortby(dims)
+    ok = np.zeros([combined.sizes[d] for d in dims], dtype=bool)
+    for name in _DISPLACEMENT_METRICS:
+        if name in combined:
+            ok |= combined[name].notnull().any("phase").transpose(*dims).values
+    status = np.where(ok, 0, 2).astype(np.int8)
+    combined["case_status"] = (dims, status, _status_attrs())
+    combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n")
+                                 + f"\n{_stamp()} pipeline.metrics.load_sweep: combined {len(files)} case files").lstrip("\n")
+    return combined
+
+
+def _status_attrs() -> dict:
+    return {"long_name": "state of the case",
+            "flag_values": np.arange(len(CASE_STATES), dtype=np.int8),
+            "flag_meanings": " ".join(CASE_STATES), "units": "1"}
+
+
+def case_states(sweep: xr.Dataset) -> xr.DataArray:
+    """Case status over the grid as names (``"ok"``, ``"failed"``, ``"not_run"``, ``"no_data"``).
+
+    ``case_status`` flags are read with their ``flag_meanings``; a case flagged ok whose
+    displacement metrics are all NaN is reported as ``"no_data"``; without ``case_status``,
+    a case is ok when it has data and ``"not_run"`` otherwise.
+    """
+    has = None
+    for name in _DISPLACEMENT_METRICS:
+        if name in sweep:
+            v = sweep[name].notnull().any("phase")
+            has = v if has is None else (has | v)
+    if has is None:
+        raise UserError("the sweep holds none of the phase-metric variables "
+                        f"({', '.join(_DISPLACEMENT_METRICS)})")
+    if "case_status" in sweep:
+        cs = sweep["case_status"]
+        meanings = str(cs.attrs.get("flag_meanings", " ".join(CASE_STATES))).split()
+        values = np.asarray(cs.attrs.get("flag_values", np.arange(len(meanings)))).ravel().tolist()
+        lookup = {int(v): m for v, m in zip(values, meanings)}
+        names = np.vectorize(lambda v: lookup.get(int(v), f"flag_{int(v)}") if np.isfinite(v) else "not_run",
+                             otypes=[object])(cs.values.astype(float))
+        st = xr.DataArray(names, dims=cs.dims, coords=cs.coords)
+        st, has = xr.broadcast(st, has)
+    else:
+        st = xr.DataArray(np.where(has.values, "ok", "not_run").astype(object), dims=has.dims, coords=has.coords)
+    st = st.where(~((st == "ok") & ~has), "no_data")
+    return st.transpose(*has.dims)
+
+
+def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
+    """The ``metrics.nc`` dataset of a combined sweep.
+
+    Parameters
+    ----------
+    sweep : xarray.Dataset
+        ``sweep.nc`` content: the phase-metric variables over ``(speed, radial_load,
+        phase)`` (plus extra dimensions), coordinate ``speed`` [degree s-1] and
+        ``radial_load`` [N].
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``(speed, radial_load, [extra...], phase)``: every phase metric present with
+        its CF ``units``/``long_name``, the derived ``epicyclic_cage_speed`` [rad s-1] and
+        ``case_status`` (int8 flags ok/failed/not_run). The ``phase`` coordinate is the
+        int8 flag coordinate of :func:`pipeline.case.phase_coordinate`.
+
+    Notes
+    -----
+    ``cage_slip = 1 − ω̄_c/ω_epi`` (the core's definition), so the epicyclic cage speed the
+    slip was measured against is ``ω_epi = ω̄_c/(1 − cage_slip)``; it is NaN where the
+    slip is 1 (cage at rest) or missing.
+    """
+    for axis in ("speed", "radial_load"):
+        if axis not in sweep.dims:
+            raise UserError(f"the sweep has no '{axis}' dimension (dims: {', '.join(map(str, sweep.dims))})")
+    if "phase" not in sweep.dims:
+        raise UserError("the sweep has no 'phase' dimension: no phase metrics to report")
+    present = [m for m in METRICS if m in sweep.data_vars]
+    if not any(m in present for m in _DISPLACEMENT_METRICS):
+        raise UserError("the sweep holds none of the phase-metric variables "
+                        f"({', '.join(_DISPLACEMENT_METRICS)})")
+    extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time")]
+    order = ["speed", "radial_load", *extra, "phase"]
+    data = {}
+    for name, da in zip(present, xr.broadcast(*[sweep[m] for m in present])):
+        da = da.transpose(*[d for d in order if d in da.dims])
+        units, long_name = PHASE_METRICS[name]
+        data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
+                                  attrs={"units": units, "long_name": long_name})
+    if "cage_speed_mean" in data and "cage_slip" in data:
+        denom = 1.0 - data["cage_slip"]
+        epi = (data["cage_speed_mean"] / denom.where(denom != 0.0))
+        epi.attrs = {"units": "rad s-1",
+                     "long_name": "epicyclic cage speed the cage slip is measured against "
+                                  "(cage_speed_mean / (1 - cage_slip))"}
+        data[EPICYCLIC] = epi
+    coords = {}
+    for c in order:
+        if c == "phase":
+            continue
+        coords[c] = (c, np.asarray(sweep[c].values), dict(sweep[c].attrs))
+    coords["speed"][2].setdefault("units", "degree s-1")
+    coords["speed"][2].setdefault("long_name", "steady inner-ring speed")
+    coords["radial_load"][2].setdefault("units", "N")
+    coords["radial_load"][2].setdefault("long_name", "steady radial load")
+    pc = phase_coordinate()
+    if sweep.sizes["phase"] != pc.size:
+        raise UserError(f"the sweep has {sweep.sizes['phase']} phases; expected {pc.size} ({', '.join(PHASES)})")
+    coords["phase"] = pc
+    for name, c in sweep.coords.items():
+        if name not in coords and c.ndim == 0:
+            coords[name] = ((), c.values, dict(c.attrs))
+    ds = xr.Dataset(data, coords=coords)
+    states = case_states(sweep)
+    states = states.transpose(*[d for d in order if d in states.dims])
+    codes = {s: i for i, s in enumerate(CASE_STATES)}
+    status = np.vectorize(lambda s: codes.get(s, codes["not_run"]), otypes=[np.int8])(states.values)
+    ds["case_status"] = (states.dims, status.astype(np.int8), _status_attrs())
+    ds.attrs = {k: v for k, v in sweep.attrs.items()}
+    ds.attrs["Conventions"] = "CF-1.8"
+    ds.attrs["title"] = (f"RV main-bearing phase metrics: {sweep.attrs.get('bearing', '') or 'unnamed bearing'}, "
+                         f"{sweep.attrs.get('profile', '') or 'unnamed'} cycle, {sweep.sizes['speed']} speeds x "
+                         f"{sweep.sizes['radial_load']} radial loads")
+    ds.attrs["history"] = (str(sweep.attrs.get("history", "")).rstrip("\n")
+                           + f"\n{_stamp()} pipeline.metrics.phase_metrics").lstrip("\n")
+    ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a per phase, from "
+                           "the core's phase accumulators (every integrator step); missing or "
+                           "failed cases are NaN (see case_status).")
+    return ds
+
+
+def write_metrics(metrics: xr.Dataset, path) -> None:
+    """Write ``metrics.nc`` (netCDF4, zlib, float64, no ``_FillValue`` on coordinates)."""
+    from .fits import _write
+
+    _write(metrics, path)
+
+
+def nearest(values, target: float) -> float:
+    """The element of ``values`` nearest to ``target`` (first on ties); NaN if empty."""
+    values = np.asarray(values, dtype=np.float64)
+    if values.size == 0 or not math.isfinite(target):
+        return math.nan
+    return float(values[int(np.argmin(np.abs(values - target)))])
