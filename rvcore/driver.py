@@ -232,9 +232,13 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         what = {ig.NONFINITE: "a non-finite state value",
                 ig.PENETRATION: f"a penetration beyond {pen_limit * 1e3:.3g} mm (10 % of the ball diameter)",
                 ig.ENERGY: f"kinetic energy beyond the physical bound {ke_limit:.3g} J"}[status]
-        body = body_name(model, where) if where >= 0 else "the whole bearing"
+        if where < 0:  # energy bound: name the body holding the most kinetic energy
+            where = _most_energetic_state(model, y)
+        body = body_name(model, where)
+        hint = ("try a smaller solver.time_step" if settings.time_step > 0
+                else "try a smaller solver.step_safety")
         raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
-                              f"(time step {dt:.3g} s; try a smaller solver.step_safety)")
+                              f"(time step {dt:.3g} s; {hint})")
     out = out[:n_out]
     k = np.minimum(np.arange(n_out) * out_every, n_steps)
     time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
@@ -265,6 +269,23 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0])}
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy())
+
+
+def _most_energetic_state(model, y) -> int:
+    """First state index of the body with the largest kinetic energy in ``y``."""
+    from .model import BALL_STATES, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_IB, R_MB, R_Z
+
+    p = model.params
+    best = (0.5 * p[0] * float(y[5:8] @ y[5:8]) + 0.5 * p[2] * float(y[8:10] @ y[8:10]), 0)
+    for row in model.rows:
+        c0 = int(row[R_CAGE0])
+        e = 0.5 * row[R_CAGE_M] * float(y[c0 + 4:c0 + 7] @ y[c0 + 4:c0 + 7]) + 0.5 * row[R_CAGE_I] * y[c0 + 7] ** 2
+        best = max(best, (e, c0))
+        for j in range(int(row[R_Z])):
+            b = int(row[R_BALL0]) + BALL_STATES * j
+            e = 0.5 * row[R_MB] * float(y[b + 3:b + 6] @ y[b + 3:b + 6]) + 0.5 * row[R_IB] * float(y[b + 6:b + 9] @ y[b + 6:b + 9])
+            best = max(best, (e, b))
+    return best[1]
 
 
 def warm_up() -> None:

@@ -132,6 +132,23 @@ def normal_force(delta, delta_rate, k, c_max, d_max):
     return q if q > 0.0 else 0.0
 
 
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+def friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d):
+    """Coulomb friction on the ball for slip velocity ``u`` at a contact of normal ``n``.
+
+    ``un = u·n``; the slip is ``v_t = u − un·n`` and the force ``−μ(|v_t|)·q·v_t/|v_t|``
+    (zero at zero slip) [N].
+    """
+    tx = ux - un * nx
+    ty = uy - un * ny
+    tz = uz - un * nz
+    s = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if s > 0.0:
+        g = -friction_coefficient(s, mu_s, v_s, mu_d, v_d) * q / s
+        return g * tx, g * ty, g * tz
+    return 0.0, 0.0, 0.0
+
+
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``."""
@@ -235,17 +252,13 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     continue
                 fx, fy, fz = -q * nx, -q * ny, -q * nz
                 if friction_on:
-                    tx_, ty_, tz_ = ux - un * nx, uy - un * ny, uz - un * nz
-                    s = math.sqrt(tx_ * tx_ + ty_ * ty_ + tz_ * tz_)
-                    if s > 0.0:
-                        g = -friction_coefficient(s, mu_s, v_s, mu_d, v_d) * q / s
-                        ftx, fty, ftz = g * tx_, g * ty_, g * tz_
-                        fx += ftx
-                        fy += fty
-                        fz += ftz
-                        mbx += ay * ftz - az * fty
-                        mby += az * ftx - ax * ftz
-                        mbz += ax * fty - ay * ftx
+                    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d)
+                    fx += ftx
+                    fy += fty
+                    fz += ftz
+                    mbx += ay * ftz - az * fty
+                    mby += az * ftx - ax * ftz
+                    mbz += ax * fty - ay * ftx
                 fbx += fx
                 fby += fy
                 fbz += fz
@@ -280,12 +293,16 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             rad = dxp * cth + dyp * sth            # ball station along the pocket axis
             tan = -dxp * sth + dyp * cth           # offset across it, circumferential
             dperp = math.sqrt(tan * tan + dzp * dzp)
-            # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at the
-            # station nearest its centre, where its section radius is a_sec
-            station = min(max(rad, cage_ri), cage_ro) - rad
-            a_sec = math.sqrt(max(h * h - station * station, 0.0))
-            delta = dperp + a_sec - pocket_r
             qp = 0.0
+            # the ball's section is never wider than h: no contact unless dperp + h > pocket_r
+            if dperp + h > pocket_r:
+                # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at
+                # the station nearest its centre, where its section radius is a_sec
+                station = min(max(rad, cage_ri), cage_ro) - rad
+                a_sec = math.sqrt(max(h * h - station * station, 0.0))
+                delta = dperp + a_sec - pocket_r
+            else:
+                station, a_sec, delta = 0.0, h, -1.0
             if delta > 0.0 and dperp > 0.0 and a_sec > 1e-3 * h:
                 if delta > max_pen:
                     max_pen = delta
@@ -308,21 +325,17 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 qp = normal_force(delta, un, k_pocket, c_pocket, d_race)
                 if qp > 0.0:
                     fx, fy, fz = -qp * gx, -qp * gy, -qp * gz
-                    inv_h = 1.0 / h
-                    nx, ny, nz = ax * inv_h, ay * inv_h, az * inv_h
-                    un = ux * nx + uy * ny + uz * nz
                     if friction_on:
-                        tx_, ty_, tz_ = ux - un * nx, uy - un * ny, uz - un * nz
-                        s = math.sqrt(tx_ * tx_ + ty_ * ty_ + tz_ * tz_)
-                        if s > 0.0:
-                            g = -friction_coefficient(s, mu_s, v_s, mu_d, v_d) * qp / s
-                            ftx, fty, ftz = g * tx_, g * ty_, g * tz_
-                            fx += ftx
-                            fy += fty
-                            fz += ftz
-                            mbx += ay * ftz - az * fty
-                            mby += az * ftx - ax * ftz
-                            mbz += ax * fty - ay * ftx
+                        inv_h = 1.0 / h
+                        nx, ny, nz = ax * inv_h, ay * inv_h, az * inv_h
+                        un = ux * nx + uy * ny + uz * nz
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, qp, mu_s, v_s, mu_d, v_d)
+                        fx += ftx
+                        fy += fty
+                        fz += ftz
+                        mbx += ay * ftz - az * fty
+                        mby += az * ftx - ax * ftz
+                        mbz += ax * fty - ay * ftx
                     fbx += fx
                     fby += fy
                     fbz += fz
@@ -366,14 +379,11 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     fxc -= ql * nx
                     fyc -= ql * ny
                     if friction_on:
-                        tx_, ty_, tz_ = ux - un * nx, uy - un * ny, uz
-                        s = math.sqrt(tx_ * tx_ + ty_ * ty_ + tz_ * tz_)
-                        if s > 0.0:
-                            g = -friction_coefficient(s, mu_s, v_s, mu_d, v_d) * ql / s
-                            fxc += g * tx_
-                            fyc += g * ty_
-                            fzc += g * tz_
-                            tzc += cage_ro * (nx * g * ty_ - ny * g * tx_)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, un, ql, mu_s, v_s, mu_d, v_d)
+                        fxc += ftx
+                        fyc += fty
+                        fzc += ftz
+                        tzc += cage_ro * (nx * fty - ny * ftx)
 
         mc = rows[r, R_CAGE_M]
         dy[c0] = vxc

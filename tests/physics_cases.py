@@ -1,0 +1,156 @@
+"""Reduced bearings and constant-load profiles, built in code, for the physics tests.
+
+Nothing here computes an expected value: the tests derive those themselves. This module
+only assembles :class:`rvcore.geometry.Bearing` and :class:`rvcore.profile.Profile`
+objects small enough that a dynamic case runs in a few seconds, plus the textbook
+relations the tests share (Hertz stiffness of a ball between two races in series).
+
+Everything is SI (m, kg, s, N, rad).
+"""
+from __future__ import annotations
+
+import math
+
+from rvcore.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row
+from rvcore.profile import Channel, Profile
+
+STEEL = Material(7800.0, 208e9, 0.3)
+BRASS = Material(8500.0, 100e9, 0.34)
+
+#: The study's ring section (rv-main-bearing-study.md, Table 2) [m].
+STUDY_BORE, STUDY_OD, STUDY_WIDTH = 0.320, 0.383, 0.030
+STUDY_D, STUDY_DM = 0.023, 0.3515
+
+
+def section_bearing(z: int = 12, *, alpha: float = math.radians(15.0), fi: float = 0.52,
+                    fo: float = 0.53, clearance: float = 0.0, four_point: bool = False,
+                    damping: float = 250.0, pocket_damping: float = 150.0,
+                    land_damping: float = 150.0, mu_static: float = 0.1,
+                    name: str = "section") -> Bearing:
+    """The study's ring section with ``z`` balls (not the study's 51: cheap to integrate).
+
+    Parameters
+    ----------
+    z : int
+        Ball count [-].
+    alpha : float
+        Nominal contact angle of the arcs [rad]; 0 gives a deep-groove raceway.
+    fi, fo : float
+        Inner and outer groove curvature ratios [-].
+    clearance : float
+        Radial internal clearance P_d [m].
+    four_point : bool
+        Two arcs per ring at ±alpha (gothic arch) instead of one at alpha.
+    damping, pocket_damping, land_damping : float
+        ``c_max`` of the ball–race, ball–pocket and cage–land contacts [N s m^-1].
+    mu_static : float
+        Static friction coefficient [-] (the study's law otherwise).
+    name : str
+        Bearing name.
+
+    Returns
+    -------
+    rvcore.geometry.Bearing
+    """
+    if four_point:
+        inner = (Arc(fi, alpha), Arc(fi, -alpha))
+        outer = (Arc(fo, alpha), Arc(fo, -alpha))
+    else:
+        inner, outer = (Arc(fi, alpha),), (Arc(fo, alpha),)
+    cage = Cage(0.3545, 0.366, 0.028, 0.5e-3, 0.4e-3, "outer-land", BRASS, 1e9)
+    row = Row(z, STUDY_D, STUDY_DM, 0.0, inner, outer, cage, clearance)
+    return Bearing(name, STUDY_BORE, STUDY_OD, STUDY_WIDTH, (row,), STEEL, STEEL, InnerRing(0.340),
+                   ContactLaw(damping, 1e-6, pocket_damping, land_damping, mu_static=mu_static))
+
+
+def constant_profile(t_ramp: float, t_end: float, *, speed_ramp: float = 0.0,
+                     phases=None, name: str = "constant") -> Profile:
+    """Loads ramp 0 → 1 over ``[0, t_ramp]`` then hold; speed constant or ramped.
+
+    All channels are fractions of the operating point.
+
+    Parameters
+    ----------
+    t_ramp : float
+        Load ramp time [s]; 0 applies the loads at once (held from t = 0).
+    t_end : float
+        Cycle end [s].
+    speed_ramp : float
+        0: the speed is the operating point's from t = 0 (so a run starts rolling);
+        otherwise it ramps 0 → 1 over ``[0, speed_ramp]`` [s].
+    phases : tuple of (name, start, end), optional
+        Default: the three phases start-up ``[0, t_end/3)``, steady ``[t_end/3, 2t_end/3)``,
+        deceleration ``[2t_end/3, t_end)`` (the names only label windows here).
+    name : str
+
+    Returns
+    -------
+    rvcore.profile.Profile
+    """
+    if t_ramp > 0:
+        load = Channel((0.0, t_ramp), (0.0, 1.0))
+    else:
+        load = Channel((0.0,), (1.0,))
+    if speed_ramp > 0:
+        speed = Channel((0.0, speed_ramp), (0.0, 1.0))
+    else:
+        speed = Channel((0.0,), (1.0,))
+    if phases is None:
+        phases = (("startup", 0.0, t_end / 3), ("steady", t_end / 3, 2 * t_end / 3),
+                  ("deceleration", 2 * t_end / 3, t_end))
+    return Profile(name, load, load, speed, tuple(phases), t_end)
+
+
+def series_stiffness(k_inner: float, k_outer: float) -> float:
+    """Load–approach constant of a ball between two Hertz contacts in series [N m^-1.5].
+
+    Notes
+    -----
+    ``Q = K_i δ_i^1.5 = K_o δ_o^1.5`` and ``δ = δ_i + δ_o`` give ``Q = K_n δ^1.5`` with
+    ``K_n = (K_i^(-2/3) + K_o^(-2/3))^(-3/2)``.
+    """
+    return (k_inner ** (-2.0 / 3.0) + k_outer ** (-2.0 / 3.0)) ** (-1.5)
+
+
+def ramp_profile(t_load: float, t_speed0: float, t_speed1: float, t_end: float, phases,
+                 name: str = "ramp") -> Profile:
+    """Loads ramp 0 → 1 over ``[0, t_load]``; speed ramps 0 → 1 over ``[t_speed0, t_speed1]``.
+
+    Parameters
+    ----------
+    t_load : float
+        End of the load ramp [s].
+    t_speed0, t_speed1 : float
+        Start and end of the speed ramp [s].
+    t_end : float
+        Cycle end [s].
+    phases : tuple of (name, start, end)
+        The three named windows [s].
+    name : str
+
+    Returns
+    -------
+    rvcore.profile.Profile
+    """
+    load = Channel((0.0, t_load), (0.0, 1.0))
+    speed = Channel((t_speed0, t_speed1), (0.0, 1.0))
+    return Profile(name, load, load, speed, tuple(phases), t_end)
+
+
+def ball_states(model, y):
+    """Per-ball state rows of row 0, shape (Z, 9): x, y, z, vx, vy, vz, wx, wy, wz (SI).
+
+    The layout is rvcore.model's: ball j of row r starts at ``rows[r, R_BALL0] + 9·j``.
+    """
+    from rvcore.model import BALL_STATES, R_BALL0, R_Z
+
+    b0, z = int(model.rows[0, R_BALL0]), int(model.rows[0, R_Z])
+    return y[b0:b0 + BALL_STATES * z].reshape(z, BALL_STATES)
+
+
+def cage_state(model, y):
+    """Cage state of row 0: x, y, z, angle, vx, vy, vz, angular speed (SI)."""
+    from rvcore.model import CAGE_STATES, R_CAGE0
+
+    c0 = int(model.rows[0, R_CAGE0])
+    return y[c0:c0 + CAGE_STATES]
