@@ -339,6 +339,32 @@ def _warm_up(case_fn) -> float:
     return time.perf_counter() - t0
 
 
+def _load_kernels_on_worker() -> None:
+    """Import the core and load its numba cache in a worker, once, before any case."""
+    from rvcore.driver import warm_up
+
+    warm_up()
+
+
+def estimated_cost(spec: CaseSpec) -> float:
+    """A relative cost of a case, to start the longest ones first [-].
+
+    The integrator's fixed step is inversely proportional to the peak contact load (the
+    friction-mode limit, ``rvcore.integrator.stable_time_step``), and each step costs in
+    proportion to the number of balls, so the cost scales as
+    ``balls × simulated time × peak load``. The peak load is taken as the larger of the
+    radial and axial loads (enough to order cases; it is not used for anything else).
+    """
+    balls = sum(row.ball_count for row in spec.bearing.rows)
+    s = spec.settings
+    duration = (s.end_time or spec.profile.duration) - s.start_time
+    op = spec.operating_point
+    peak = max(abs(op.radial_load), abs(op.axial_load), 1.0)
+    if s.time_step > 0:
+        return balls * duration / s.time_step
+    return balls * duration * peak / max(s.step_safety, 1e-9)
+
+
 def _serial(todo, case_fn):
     for spec in todo:
         yield spec, compute_case(spec, case_fn)
@@ -377,6 +403,9 @@ def _client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
         # One task per worker thread at a time: a worker that dies takes only its own
         # case with it (others are not marked suspicious), and long cases balance.
         "distributed.scheduler.worker-saturation": 1.0,
+        # The workers' sampling profiler wakes every 10 ms; on a machine with one core
+        # per worker it takes its time from the cases.
+        "distributed.worker.profile.enabled": False,
     }
     with dask.config.set(settings):
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
@@ -398,7 +427,8 @@ def _on_cluster(client, todo, case_fn, allowed_failures):
 
     token = uuid.uuid4().hex[:8]
     futures = {}
-    for spec in todo:
+    # longest cases first: with one case per worker at a time, this balances the load
+    for spec in sorted(todo, key=estimated_cost, reverse=True):
         fut = client.submit(compute_case, spec, case_fn, key=f"rvsweep-{spec.case_id}-{token}",
                             pure=False)
         futures[fut] = spec
@@ -515,6 +545,10 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
                     workers=workers, scheduler=scheduler, scheduler_file=scheduler_file,
                     n_cases=len(todo), allowed_failures=allowed_failures))
                 n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+                if case_fn is None:
+                    # every worker loads the kernels now (part of starting the cluster),
+                    # not inside its first case
+                    client.run(_load_kernels_on_worker)
                 outcomes = _on_cluster(client, todo, case_fn, allowed_failures)
             # One bar, whatever runs the cases; its rate and ETA count this run's cases.
             bar = tqdm(total=len(sweep.cases), initial=n_reused, desc=sweep.name, unit="case",

@@ -88,7 +88,7 @@ from .units import SI_UNITS, parse_quantity, registry
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-MODEL_VERSION = 1
+MODEL_VERSION = 2
 
 #: Operating-point keys and their kinds (pipeline.units.SI_UNITS).
 OPERATING_POINT = {

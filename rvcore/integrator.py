@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit
 
 from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_QI,
-                      D_MAX_QO, D_PEN_BALL, rhs)
+                      D_MAX_QO, D_PEN_BALL, FAST, rhs)
 from .model import (BALL_STATES, P_LOAD_COS, P_LOAD_SIN, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_IB, R_MB, R_Z)
 from .profile import channel_value
@@ -79,7 +79,9 @@ def kinetic_energy(y, params, rows):
     return e
 
 
-@njit(cache=True, nogil=True)
+# FAST keeps NaN and Inf semantics, so the non-finite check below still works while
+# the per-step passes over the state (and the check's sum) vectorise.
+@njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, out, acc, diag, bdiag, work, pen_limit, ke_limit):
     """Advance ``y`` in place by ``n_steps`` RK4 steps of ``dt``.

@@ -126,27 +126,48 @@ def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
-def normal_force(delta, delta_rate, k, c_max, d_max):
-    """Hertz force with the IMPACT damper, clipped at zero [N]."""
-    q = k * delta * math.sqrt(delta) + step(delta, 0.0, 0.0, d_max, c_max) * delta_rate
+def normal_force(delta, delta_rate, k, c_max, inv_dmax):
+    """Hertz force with the IMPACT damper, clipped at zero [N] (δ > 0).
+
+    ``STEP(δ, 0, 0, d_max, c_max)`` written with ``inv_dmax = 1/d_max`` so that no
+    division is left in the contact loop.
+    """
+    d = delta * inv_dmax
+    c = c_max if d >= 1.0 else c_max * d * d * (3.0 - 2.0 * d)
+    q = k * delta * math.sqrt(delta) + c * delta_rate
     return q if q > 0.0 else 0.0
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
-def friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d):
+def friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d, inv_vs, inv_dv):
     """Coulomb friction on the ball for slip velocity ``u`` at a contact of normal ``n``.
 
     ``un = u·n``; the slip is ``v_t = u − un·n`` and the force ``−μ(|v_t|)·q·v_t/|v_t|``
-    (zero at zero slip) [N].
+    (zero at zero slip) [N]. ``inv_vs = 1/v_s`` and ``inv_dv = 1/(v_d − v_s)``.
+
+    Notes
+    -----
+    Below ``v_s`` the law of :func:`friction_coefficient` is, with ``x = s/v_s``,
+    ``STEP(s, −v_s, −μ_s, v_s, μ_s) = μ_s·(1.5·x − 0.5·x³)``, so
+    ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs neither ``s`` nor a division: the rolling
+    contacts, whose slip is small, cost no square root here.
     """
     tx = ux - un * nx
     ty = uy - un * ny
     tz = uz - un * nz
-    s = math.sqrt(tx * tx + ty * ty + tz * tz)
-    if s > 0.0:
-        g = -friction_coefficient(s, mu_s, v_s, mu_d, v_d) * q / s
-        return g * tx, g * ty, g * tz
-    return 0.0, 0.0, 0.0
+    s2 = tx * tx + ty * ty + tz * tz
+    x2 = s2 * inv_vs * inv_vs
+    if x2 < 1.0:
+        g = -q * mu_s * (1.5 - 0.5 * x2) * inv_vs
+    else:
+        s = math.sqrt(s2)
+        if s <= v_d:
+            d = (s - v_s) * inv_dv
+            mu = mu_s + (mu_d - mu_s) * d * d * (3.0 - 2.0 * d)
+        else:
+            mu = mu_d
+        g = -mu * q / s
+    return g * tx, g * ty, g * tz
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -158,10 +179,11 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     w_ring = channel_value(table, meta, CH_SPEED, t)
     dw_ring = channel_rate(table, meta, CH_SPEED, t)
     mu_s, v_s, mu_d, v_d = params[P_MU_S], params[P_V_S], params[P_MU_D], params[P_V_D]
+    inv_vs, inv_dv = 1.0 / v_s, 1.0 / (v_d - v_s)
     friction_on = params[P_FRICTION] != 0.0
     damp_scale = params[P_DAMPING]
     c_race = params[P_DAMP_C] * damp_scale
-    d_race = params[P_DAMP_D]
+    inv_dmax = 1.0 / params[P_DAMP_D]
 
     # ---- inner ring pose R = Ry(θy)·Rx(θx)
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
@@ -247,12 +269,12 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     uy -= vyi + w_ring * qx - wxi * qz
                     uz -= vzi + wxi * qy - wyi * qx
                 un = ux * nx + uy * ny + uz * nz
-                q = normal_force(delta, un, arcs[a, A_K], c_race, d_race)
+                q = normal_force(delta, un, arcs[a, A_K], c_race, inv_dmax)
                 if q <= 0.0:
                     continue
                 fx, fy, fz = -q * nx, -q * ny, -q * nz
                 if friction_on:
-                    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d)
+                    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, q, mu_s, v_s, mu_d, v_d, inv_vs, inv_dv)
                     fx += ftx
                     fy += fty
                     fz += ftz
@@ -292,10 +314,12 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             dxp, dyp, dzp = px - xc, py - yc, pz - zc - zrow
             rad = dxp * cth + dyp * sth            # ball station along the pocket axis
             tan = -dxp * sth + dyp * cth           # offset across it, circumferential
-            dperp = math.sqrt(tan * tan + dzp * dzp)
+            dperp2 = tan * tan + dzp * dzp
+            dperp = 0.0
             qp = 0.0
             # the ball's section is never wider than h: no contact unless dperp + h > pocket_r
-            if dperp + h > pocket_r:
+            if dperp2 > (pocket_r - h) * (pocket_r - h):
+                dperp = math.sqrt(dperp2)
                 # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at
                 # the station nearest its centre, where its section radius is a_sec
                 station = min(max(rad, cage_ri), cage_ro) - rad
@@ -322,14 +346,14 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
                 uz = vz + wx * ay - wy * ax - vzc
                 un = ux * gx + uy * gy + uz * gz
-                qp = normal_force(delta, un, k_pocket, c_pocket, d_race)
+                qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
                 if qp > 0.0:
                     fx, fy, fz = -qp * gx, -qp * gy, -qp * gz
                     if friction_on:
                         inv_h = 1.0 / h
                         nx, ny, nz = ax * inv_h, ay * inv_h, az * inv_h
                         un = ux * nx + uy * ny + uz * nz
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, qp, mu_s, v_s, mu_d, v_d)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, un, qp, mu_s, v_s, mu_d, v_d, inv_vs, inv_dv)
                         fx += ftx
                         fy += fty
                         fz += ftz
@@ -374,12 +398,12 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uy = vyc + wc * cage_ro * nx
                 uz = vzc
                 un = ux * nx + uy * ny
-                ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, d_race)
+                ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, inv_dmax)
                 if ql > 0.0:
                     fxc -= ql * nx
                     fyc -= ql * ny
                     if friction_on:
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, un, ql, mu_s, v_s, mu_d, v_d)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, un, ql, mu_s, v_s, mu_d, v_d, inv_vs, inv_dv)
                         fxc += ftx
                         fyc += fty
                         fzc += ftz
