@@ -147,33 +147,41 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
     }
 
 
-def parallel_efficiency(workers: int = 2) -> dict:
-    """The smoke sweep serially and on a LocalCluster of ``workers`` processes."""
+def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
+    """The smoke sweep serially and on a LocalCluster of ``workers`` processes.
+
+    Serial and parallel runs alternate ``repeats`` times; the medians are reported.
+    ``wall_time`` counts from the first case submitted to the last one finished; the
+    totals add the numba warm-up and the cluster's start and stop.
+    """
     from .sweep import run_sweep
     from .sweepfile import load_sweep
 
     sweep = load_sweep(SMOKE_SWEEP)
     tmp = Path(tempfile.mkdtemp(prefix="rvsweep-bench-"))
+    ser, par, ser_tot, par_tot = [], [], [], []
     try:
-        t0 = time.perf_counter()
-        ser = run_sweep(sweep, tmp / "serial", serial=True, progress=False, resume=False)
-        serial_total = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        par = run_sweep(sweep, tmp / "parallel", workers=workers, progress=False, resume=False)
-        parallel_total = time.perf_counter() - t0
+        for k in range(repeats):
+            t0 = time.perf_counter()
+            ser.append(run_sweep(sweep, tmp / f"serial{k}", serial=True, progress=False, resume=False).wall_time)
+            ser_tot.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            par.append(run_sweep(sweep, tmp / f"parallel{k}", workers=workers, progress=False,
+                                 resume=False).wall_time)
+            par_tot.append(time.perf_counter() - t0)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    # wall_time: first case submitted to last case finished (cases only); the totals add
-    # the numba warm-up, the cluster's start and its shutdown.
+    med = statistics.median
     return {
         "smoke_cases": len(sweep.cases),
-        "smoke_serial_wall_s": ser.wall_time,
-        "smoke_parallel_wall_s": par.wall_time,
-        "smoke_serial_total_s": serial_total,
-        "smoke_parallel_total_s": parallel_total,
+        "smoke_repeats": repeats,
+        "smoke_serial_wall_s": med(ser),
+        "smoke_parallel_wall_s": med(par),
+        "smoke_serial_total_s": med(ser_tot),
+        "smoke_parallel_total_s": med(par_tot),
         "smoke_workers": workers,
-        "parallel_efficiency": ser.wall_time / (workers * par.wall_time),
-        "parallel_efficiency_total": serial_total / (workers * parallel_total),
+        "parallel_efficiency": med(ser) / (workers * med(par)),
+        "parallel_efficiency_total": med(ser_tot) / (workers * med(par_tot)),
         "cpu_count": os.cpu_count(),
     }
 

@@ -30,7 +30,7 @@ def run(args):
           f"ours {f.get('ours_window_wall_s', float('nan')):.3f} s; rtol {f.get('scipy_rtol')}, "
           f"errors {f.get('scipy_position_error_m', float('nan')):.2e} vs {f.get('ours_position_error_m', float('nan')):.2e} m)")
     if "parallel_efficiency" in f:
-        print(f"Smoke sweep ({f['smoke_cases']} cases), first case submitted to last finished: serial "
+        print(f"Smoke sweep ({f['smoke_cases']} cases, median of {f['smoke_repeats']}), first case submitted to last finished: serial "
               f"{f['smoke_serial_wall_s']:.1f} s, {f['smoke_workers']} workers {f['smoke_parallel_wall_s']:.1f} s")
         print(f"  parallel efficiency     {f['parallel_efficiency']:8.2f}  "
               f"(with warm-up and cluster start/stop: {f['parallel_efficiency_total']:.2f}, "
