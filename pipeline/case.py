@@ -11,9 +11,16 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
   ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
   ``max_contact_pressure``;
 - phase metrics, over ``phase``, accumulated at every integrator step:
-  ``radial_displacement_range|mean|std``, ``axial_displacement_range|mean|std``,
-  ``cage_speed_mean``, ``inner_ring_speed_mean``, ``cage_slip``,
-  ``peak_contact_pressure``;
+  ``radial_displacement_range|mean|std|min_time|max_time|range_at_edge`` and the same for
+  ``axial_displacement``, ``cage_speed_mean``, ``inner_ring_speed_mean``,
+  ``epicyclic_cage_speed``, ``cage_slip``, ``cage_slip_nominal``,
+  ``peak_contact_pressure``, and the windows ``phase_start``/``phase_end``;
+- with virtual sensors, dimension ``sensor`` (int8 flags named by the sensors) with
+  coordinates ``sensor_position_x|y|z`` and ``sensor_direction_x|y|z``:
+  ``sensor_displacement`` over ``(elapsed_time, sensor)`` and
+  ``sensor_displacement_range|mean|std|min_time|max_time|range_at_edge`` over
+  ``(phase, sensor)``;
+- scalar coordinate ``realization`` (the seed of the random start; −1 centred);
 - global attributes: ``Conventions``, ``title``, ``source``, ``history``,
   ``references``, ``configuration`` (resolved TOML), ``configuration_hash``,
   ``git_commit`` (when known), ``bearing``, ``profile``, ``caveats`` (geometry caveats,
@@ -57,18 +64,48 @@ SERIES = {
     "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
 }
 
+def _extreme_metrics(name: str, what: str) -> dict:
+    """The six per-phase metrics of one displacement signal (units, long_name)."""
+    return {
+        f"{name}_range": ("m", f"variation range (max - min) of {what} over the phase"),
+        f"{name}_mean": ("m", f"time mean of {what} over the phase"),
+        f"{name}_std": ("m", f"standard deviation of {what} over the phase"),
+        f"{name}_min_time": ("s", f"elapsed time at which {what} is smallest in the phase"),
+        f"{name}_max_time": ("s", f"elapsed time at which {what} is largest in the phase"),
+        f"{name}_range_at_edge": ("1", f"1 where an extreme of {what} lies within one output interval of "
+                                       "the phase window's edge (the range may be cut off by the window)"),
+    }
+
+
 #: name -> (units, long_name) of every phase metric.
 PHASE_METRICS = {
-    "radial_displacement_range": ("m", "variation range (max - min) of delta_r over the phase"),
-    "radial_displacement_mean": ("m", "time mean of delta_r over the phase"),
-    "radial_displacement_std": ("m", "standard deviation of delta_r over the phase"),
-    "axial_displacement_range": ("m", "variation range (max - min) of delta_a over the phase"),
-    "axial_displacement_mean": ("m", "time mean of delta_a over the phase"),
-    "axial_displacement_std": ("m", "standard deviation of delta_a over the phase"),
+    **_extreme_metrics("radial_displacement", "delta_r at the ring centre"),
+    **_extreme_metrics("axial_displacement", "delta_a at the ring centre"),
     "cage_speed_mean": ("rad s-1", "time mean of the cage speed over the phase"),
     "inner_ring_speed_mean": ("rad s-1", "time mean of the inner-ring speed over the phase"),
-    "cage_slip": ("1", "1 - mean cage speed / epicyclic cage speed (0: rolling without slip)"),
+    "epicyclic_cage_speed": ("rad s-1", "time mean of the epicyclic cage speed 0.5*(1 - D*cos(alpha)/d_m)*omega "
+                                        "at the loaded balls' actual mean cos(alpha)"),
+    "cage_slip": ("1", "1 - mean cage speed / epicyclic cage speed at the balls' actual contact angles "
+                       "(0: rolling without slip)"),
+    "cage_slip_nominal": ("1", "1 - mean cage speed / epicyclic cage speed at the nominal contact angle"),
     "peak_contact_pressure": ("Pa", "largest Hertz contact pressure over the phase"),
+    "phase_start": ("s", "start of the phase window"),
+    "phase_end": ("s", "end of the phase window"),
+}
+
+#: Sensor variables: name -> (units, long_name); series over (elapsed_time, sensor).
+SENSOR_SERIES = {
+    "sensor_displacement": ("m", "inner-ring displacement read by each virtual sensor along its direction"),
+}
+#: Sensor phase metrics over (phase, sensor).
+SENSOR_METRICS = _extreme_metrics("sensor_displacement", "the sensor reading")
+
+#: Every labelled variable: name -> (dims, units, long_name).
+VARIABLES = {
+    **{k: (("elapsed_time",), *v) for k, v in SERIES.items()},
+    **{k: (("elapsed_time", "sensor"), *v) for k, v in SENSOR_SERIES.items()},
+    **{k: (("phase",), *v) for k, v in PHASE_METRICS.items()},
+    **{k: (("phase", "sensor"), *v) for k, v in SENSOR_METRICS.items()},
 }
 
 
@@ -93,10 +130,27 @@ def phase_coordinate() -> xr.DataArray:
     )
 
 
+def sensor_coordinates(sensors) -> dict:
+    """The ``sensor`` dimension's coordinates for a sequence of ``rvcore.driver.Sensor``."""
+    names = [s.name.replace(" ", "_") for s in sensors]
+    rows = np.array([s.as_row() for s in sensors], dtype=np.float64).reshape(-1, 6)
+    coords = {"sensor": ("sensor", np.arange(len(names), dtype=np.int8),
+                         {"long_name": "virtual displacement sensor",
+                          "flag_values": np.arange(len(names), dtype=np.int8),
+                          "flag_meanings": " ".join(names)})}
+    for k, axis in enumerate("xyz"):
+        coords[f"sensor_position_{axis}"] = ("sensor", rows[:, k], {
+            "units": "m", "long_name": f"{axis} of the ring point each sensor reads (unloaded ring, bearing frame)"})
+        coords[f"sensor_direction_{axis}"] = ("sensor", rows[:, 3 + k], {
+            "units": "1", "long_name": f"{axis} component of each sensor's unit measuring direction"})
+    return coords
+
+
 def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
                  configuration: str = "", configuration_hash: str = "",
                  bearing_name: str = "", profile_name: str = "",
-                 caveats=(), assumptions=(), history: str | None = None) -> xr.Dataset:
+                 caveats=(), assumptions=(), history: str | None = None,
+                 sensors=(), realization: int = -1) -> xr.Dataset:
     """Label one :class:`rvcore.driver.CaseResult`.
 
     Parameters
@@ -110,6 +164,10 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         The resolved configuration as TOML and its hash.
     caveats, assumptions : sequence of str
         Geometry caveats (e.g. accepted ball overlap) and assumed parameter names.
+    sensors : sequence of rvcore.driver.Sensor
+        The sensors the case was run with (labels the ``sensor`` dimension).
+    realization : int
+        Seed of the random start (−1: balls at their pocket centres).
     """
     t = np.asarray(result.time, dtype=np.float64)
     coords = {
@@ -119,14 +177,16 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         "speed": ((), float(f"{np.degrees(speed):.12g}"), {"units": "degree s-1", "long_name": "steady inner-ring speed"}),
         "radial_load": ((), float(radial_load), {"units": "N", "long_name": "steady radial load"}),
         "axial_load": ((), float(axial_load), {"units": "N", "long_name": "steady axial load"}),
+        "realization": ((), np.int32(realization), {
+            "long_name": "seed of the random start of the balls in their pockets (-1: centred start)"}),
     }
+    if len(sensors):
+        coords.update(sensor_coordinates(sensors))
     data = {}
-    for name, (units, long_name) in SERIES.items():
-        data[name] = ("elapsed_time", np.asarray(result.series[name], dtype=np.float64),
-                      {"units": units, "long_name": long_name})
-    for name, (units, long_name) in PHASE_METRICS.items():
-        data[name] = ("phase", np.asarray(result.phase_metrics[name], dtype=np.float64),
-                      {"units": units, "long_name": long_name})
+    for name, (dims, units, long_name) in VARIABLES.items():
+        source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
+        if name in source and ("sensor" not in dims or len(sensors)):
+            data[name] = (dims, np.asarray(source[name], dtype=np.float64), {"units": units, "long_name": long_name})
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     caveat_text = " | ".join(caveats)
     attrs = {

@@ -70,7 +70,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from rvcore.geometry import (Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row,
+from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row,
                              geometry_problems)
 from rvcore.profile import INTERPOLATIONS, PHASES, Channel, Profile
 
@@ -374,7 +374,7 @@ def _join(names, quote=False):
 # --------------------------------------------------------------------------- bearing
 
 _TOP_KEYS = ("name", "description", "source", "allow_ball_overlap", "assumptions",
-             "envelope", "material", "ring_material", "ball_material", "inner_ring",
+             "mounting", "gravity", "envelope", "material", "ring_material", "ball_material", "inner_ring",
              "contact", "friction", "rows")
 _MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 _ROW_KEYS = ("pitch_diameter", "axial_position", "radial_clearance", "balls",
@@ -511,6 +511,26 @@ def _assumptions(top: _Table, raw: dict) -> tuple:
     return tuple(dict.fromkeys(v))
 
 
+def _gravity(top: _Table, file) -> tuple:
+    """Gravity in the bearing frame [m s^-2]: ``mounting`` by name, or ``gravity`` as a vector.
+
+    ``mounting = "horizontal"`` (the default: axis horizontal, gravity along −y) or
+    ``"vertical"`` (gravity along −z); ``gravity = ["0 m/s^2", "-9.81 m/s^2", "0 m/s^2"]``
+    gives any other direction. Switching gravity off is a solver setting
+    (``solver.gravity = false``), not a mounting.
+    """
+    if top.has("gravity"):
+        if top.has("mounting"):
+            raise ConfigError(file, "gravity", None, "give either mounting or a gravity vector, not both")
+        vec = top.raw("gravity")
+        if not isinstance(vec, list) or len(vec) != 3:
+            raise ConfigError(file, "gravity", _short(vec),
+                              'must be a list of three accelerations, e.g. ["0 m/s^2", "-9.81 m/s^2", "0 m/s^2"]')
+        return tuple(parse_quantity(v, "acceleration", file=file, key=f"gravity[{i}]") for i, v in enumerate(vec))
+    mounting = top.string("mounting", "horizontal", choices=tuple(MOUNTINGS))
+    return MOUNTINGS[mounting]
+
+
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     """Validate a bearing file's contents and build the :class:`rvcore.geometry.Bearing`.
 
@@ -582,10 +602,11 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
 
     rows = tuple(_row(t) for t in top.tables("rows", _ROW_KEYS))
     assumptions = _assumptions(top, raw)
+    gravity = _gravity(top, file)
 
     bearing = Bearing(name=name, bore=bore, outer_diameter=od, width=width, rows=rows,
                       ring_material=ring_mat, ball_material=ball_mat, inner_ring=inner_ring,
-                      contact=contact, allow_ball_overlap=allow_overlap,
+                      contact=contact, allow_ball_overlap=allow_overlap, gravity=gravity,
                       assumptions=assumptions, source=source, description=description)
 
     warnings = []

@@ -91,6 +91,64 @@ _AXIS_LONG = {"speed": "steady inner-ring speed", "radial_load": "steady radial 
 # --------------------------------------------------------------------------- single fits
 
 
+def weighted_linear_fit(x, y, sigma, level: float = LEVEL) -> dict:
+    """Weighted least-squares line ``y = intercept + slope·x`` with weights ``1/σ²``.
+
+    Parameters
+    ----------
+    x, y : array_like
+        Abscissae and ordinates (ensemble means) [any unit]; NaN points are skipped.
+    sigma : array_like
+        Standard error of each ``y`` [unit of y]. Where any finite point lacks a positive
+        finite σ, the fit falls back to :func:`linear_fit` (ordinary least squares).
+    level : float
+        Confidence level of the intervals [1].
+
+    Returns
+    -------
+    dict
+        The keys of :data:`LINE_STATS`.
+
+    Notes
+    -----
+    With ``W = diag(1/σ²)`` and ``X = [1, x]``: ``β = (XᵀWX)⁻¹XᵀWy``. The covariance is
+    ``s²·(XᵀWX)⁻¹`` with ``s² = Σ wᵢrᵢ²/(n − 2)`` (the weights fix the relative
+    precision; the scatter about the line sets the scale, as ``curve_fit`` does with
+    ``absolute_sigma=False``). R² is the weighted coefficient of determination.
+    """
+    x = np.asarray(x, dtype=np.float64).ravel()
+    y = np.asarray(y, dtype=np.float64).ravel()
+    sg = np.asarray(sigma, dtype=np.float64).ravel()
+    ok = np.isfinite(x) & np.isfinite(y)
+    if not np.all(np.isfinite(sg[ok]) & (sg[ok] > 0)):
+        return linear_fit(x, y, level)
+    n = int(ok.sum())
+    out = {k: math.nan for k in LINE_STATS}
+    out["n"] = n
+    xs, ys, w = x[ok], y[ok], 1.0 / sg[ok] ** 2
+    if n < 3 or np.ptp(xs) == 0.0:
+        return out
+    design = np.column_stack([np.ones(n), xs])
+    normal = design.T @ (w[:, None] * design)
+    beta = np.linalg.solve(normal, design.T @ (w * ys))
+    resid = ys - design @ beta
+    s2 = float(np.sum(w * resid**2) / (n - 2))
+    cov = s2 * np.linalg.inv(normal)
+    se_a, se_b = math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1])
+    t = float(stats.t.ppf(0.5 + level / 2.0, n - 2))
+    ybar = np.sum(w * ys) / np.sum(w)
+    sst = float(np.sum(w * (ys - ybar) ** 2))
+    intercept, slope = float(beta[0]), float(beta[1])
+    out.update(
+        slope=slope, intercept=intercept, slope_stderr=se_b, intercept_stderr=se_a,
+        slope_intercept_covariance=float(cov[0, 1]),
+        slope_ci95_lower=slope - t * se_b, slope_ci95_upper=slope + t * se_b,
+        intercept_ci95_lower=intercept - t * se_a, intercept_ci95_upper=intercept + t * se_a,
+        rsquared=1.0 - float(np.sum(w * resid**2)) / sst if sst > 0 else math.nan,
+    )
+    return out
+
+
 def linear_fit(x, y, level: float = LEVEL) -> dict:
     """Ordinary least-squares line ``y = intercept + slope·x``, NaN-safe.
 
@@ -384,6 +442,17 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
     """
     if names is None:
         names = [m for m in FIT_METRICS if m in metrics.data_vars]
+    sigmas = {}
+    if "realization" in metrics.dims:
+        # fit the ensemble means, weighted by their standard errors
+        means = {}
+        for m in names:
+            mean = metrics.get(f"{m}_ensemble_mean")
+            means[m] = (mean if mean is not None else metrics[m].mean("realization", keep_attrs=True))
+            means[m].attrs = dict(metrics[m].attrs)
+            if f"{m}_ensemble_stderr" in metrics:
+                sigmas[m] = metrics[f"{m}_ensemble_stderr"]
+        metrics = metrics.drop_dims("realization").assign(means)
     axis_units = {a: str(metrics[a].attrs.get("units", "1")) for a in AXES if a in metrics.coords}
     groups = _groups(metrics, names)
     data = {}
@@ -393,6 +462,8 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
             flag = xr.DataArray(np.arange(len(members), dtype=np.int8), dims=DISPLACEMENT_COORD)
             da = xr.concat([metrics[m] for m in members], dim=flag, coords="minimal", compat="override")
             da = da.transpose(DISPLACEMENT_COORD, *[d for d in da.dims if d != DISPLACEMENT_COORD])
+            sd = (xr.concat([sigmas[m] for m in members], dim=flag, coords="minimal", compat="override")
+                  .transpose(*da.dims) if all(m in sigmas for m in members) else None)
             coords_attrs[DISPLACEMENT_COORD] = {
                 "long_name": "displacement metric (the fitted phase metric of metrics.nc)",
                 "flag_values": np.arange(len(members), dtype=np.int8),
@@ -401,13 +472,19 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
             mlong = f"the displacement metric named by {DISPLACEMENT_COORD}"
         else:
             da = metrics[members[0]]
+            sd = sigmas[members[0]].transpose(*da.dims) if members[0] in sigmas else None
             mu = str(da.attrs.get("units", "1"))
             mlong = str(da.attrs.get("long_name", group))
         for axis in AXES:
             if axis not in da.dims:
                 continue
             x = np.asarray(metrics[axis].values, dtype=np.float64)
-            res = _along(da, (axis,), lambda v, x=x: linear_fit(x, v, level))
+            if sd is None:
+                res = _along(da, (axis,), lambda v, x=x: linear_fit(x, v, level))
+            else:   # value and standard error side by side along a helper dimension
+                pair = xr.concat([da, sd], dim="_value_stderr")
+                res = _along(pair, (axis, "_value_stderr"),
+                             lambda v, x=x: weighted_linear_fit(x, v[:, 0], v[:, 1], level))
             for stat in LINE_STATS:
                 v = res[stat]
                 v.attrs = _line_attrs(group, mu, mlong, axis, axis_units[axis], stat)
@@ -433,7 +510,8 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
     ds.attrs["comment"] = (
         "Per metric M (the six displacement metrics packed as M = displacement along the "
         "displacement_metric flag coordinate): M_vs_<axis>_<stat> are ordinary least-squares lines "
-        "(scipy.stats.linregress) against <axis> at every value of the other axes; M_plane_<stat> is the plane "
+        "(scipy.stats.linregress) against <axis> at every value of the other axes; with realizations, the "
+        "lines fit the ensemble means weighted by 1/stderr^2 (weighted least squares); M_plane_<stat> is the plane "
         "z = a + b*speed + c*radial_load + d*speed*radial_load (numpy.linalg.lstsq). Missing cases are "
         "skipped; n counts the points used; fewer than 3 (line) or 5 (plane) points give NaN."
     )

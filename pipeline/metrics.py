@@ -19,19 +19,22 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
-from .case import PHASE_METRICS, phase_coordinate
+from .case import PHASE_METRICS, SENSOR_METRICS, VARIABLES, phase_coordinate
 from .errors import UserError
 
 #: Flag meanings of ``case_status`` in flag-value order.
 CASE_STATES = ("ok", "failed", "not_run")
 
 #: Phase-metric variables in ``metrics.nc`` (those the sweep holds).
-METRICS = tuple(PHASE_METRICS)
+METRICS = tuple(PHASE_METRICS) + tuple(SENSOR_METRICS)
 
-#: Derived variable: epicyclic cage speed implied by the measured cage speed and slip.
-EPICYCLIC = "epicyclic_cage_speed"
+#: The ensemble dimension (``realizations = N`` in the sweep file).
+REALIZATION = "realization"
 
-_DISPLACEMENT_METRICS = tuple(m for m in METRICS if "displacement" in m)
+#: Metrics whose ensemble mean and standard error ``metrics.nc`` adds over realizations.
+ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_std")) and "displacement" in m)
+
+_DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
 
 
 def _stamp() -> str:
@@ -187,21 +190,17 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     if not any(m in present for m in _DISPLACEMENT_METRICS):
         raise UserError("the sweep holds none of the phase-metric variables "
                         f"({', '.join(_DISPLACEMENT_METRICS)})")
-    extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time")]
+    extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", "sensor")]
     order = ["speed", "radial_load", *extra, "phase"]
     data = {}
-    for name, da in zip(present, xr.broadcast(*[sweep[m] for m in present])):
-        da = da.transpose(*[d for d in order if d in da.dims])
-        units, long_name = PHASE_METRICS[name]
+    for name in present:
+        da = sweep[name]
+        da = da.transpose(*[d for d in order if d in da.dims], *[d for d in da.dims if d not in order])
+        _, units, long_name = VARIABLES[name]
         data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
                                   attrs={"units": units, "long_name": long_name})
-    if "cage_speed_mean" in data and "cage_slip" in data:
-        denom = 1.0 - data["cage_slip"]
-        epi = (data["cage_speed_mean"] / denom.where(denom != 0.0))
-        epi.attrs = {"units": "rad s-1",
-                     "long_name": "epicyclic cage speed the cage slip is measured against "
-                                  "(cage_speed_mean / (1 - cage_slip))"}
-        data[EPICYCLIC] = epi
+    if REALIZATION in sweep.dims:
+        data.update(ensemble_statistics(data))
     coords = {}
     for c in order:
         if c == "phase":
@@ -216,8 +215,8 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         raise UserError(f"the sweep has {sweep.sizes['phase']} phases; expected {pc.size} ({', '.join(PHASES)})")
     coords["phase"] = pc
     for name, c in sweep.coords.items():
-        if name not in coords and c.ndim == 0:
-            coords[name] = ((), c.values, dict(c.attrs))
+        if name not in coords and (c.ndim == 0 or c.dims == ("sensor",)):
+            coords[name] = (c.dims, c.values, dict(c.attrs))
     ds = xr.Dataset(data, coords=coords)
     states = case_states(sweep)
     states = states.transpose(*[d for d in order if d in states.dims])
@@ -231,10 +230,41 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                          f"{sweep.sizes['radial_load']} radial loads")
     ds.attrs["history"] = (str(sweep.attrs.get("history", "")).rstrip("\n")
                            + f"\n{_stamp()} pipeline.metrics.phase_metrics").lstrip("\n")
-    ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a per phase, from "
-                           "the core's phase accumulators (every integrator step); missing or "
-                           "failed cases are NaN (see case_status).")
+    ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a (ring centre) and of "
+                           "each virtual sensor per phase, with the times of the extremes and a flag where an "
+                           "extreme lies within one output interval of the window's edge, from the core's phase "
+                           "accumulators (every integrator step); with realizations, the ensemble mean and "
+                           "standard error over the random starts; missing or failed cases are NaN "
+                           "(see case_status).")
     return ds
+
+
+def ensemble_statistics(data: dict) -> dict:
+    """Ensemble mean and standard error over ``realization`` of :data:`ENSEMBLE_METRICS`.
+
+    ``M_ensemble_mean = mean_k M_k`` and ``M_ensemble_stderr = s/√n`` with ``s`` the sample
+    standard deviation (ddof 1) of the n finite realizations; NaN where n < 2. Plus
+    ``M_at_edge_fraction``: the fraction of realizations whose range is flagged at the
+    window's edge.
+    """
+    out = {}
+    for name in ENSEMBLE_METRICS:
+        if name not in data or REALIZATION not in data[name].dims:
+            continue
+        da = data[name]
+        n = da.notnull().sum(REALIZATION)
+        mean = da.mean(REALIZATION, skipna=True)
+        se = (da.std(REALIZATION, ddof=1, skipna=True) / np.sqrt(n)).where(n >= 2)
+        units = da.attrs.get("units", "m")
+        what = da.attrs.get("long_name", name)
+        out[f"{name}_ensemble_mean"] = mean.assign_attrs(units=units, long_name=f"ensemble mean over realizations of: {what}")
+        out[f"{name}_ensemble_stderr"] = se.assign_attrs(
+            units=units, long_name=f"standard error of the ensemble mean over realizations of: {what}")
+        flag = name.replace("_range", "_range_at_edge")
+        if name.endswith("_range") and flag in data:
+            out[f"{flag}_fraction"] = data[flag].mean(REALIZATION, skipna=True).assign_attrs(
+                units="1", long_name=f"fraction of realizations whose {name} has an extreme at the window's edge")
+    return out
 
 
 def write_metrics(metrics: xr.Dataset, path) -> None:

@@ -45,7 +45,7 @@ import numpy as np
 import xarray as xr
 
 from . import __version__
-from .case import PHASE_METRICS, REFERENCES, SERIES, case_dataset, git_commit, phase_coordinate
+from .case import REFERENCES, VARIABLES, case_dataset, git_commit, phase_coordinate
 from .errors import UserError
 from .netcdf import (CASE_STATUS, UDUNITS, case_status_variable, combined_encoding, history_line,
                      remove_stale_temporaries, write_atomic, write_text_atomic)
@@ -127,13 +127,13 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
     spec : pipeline.sweepfile.CaseSpec
         The resolved case (SI).
     case_fn : callable, optional
-        ``case_fn(bearing, profile, op, settings) -> CaseResult``; default
+        ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
         ``rvcore.driver.run_case``.
     """
     t0 = time.perf_counter()
     fn = case_fn if case_fn is not None else _default_case_fn()
     try:
-        result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings)
+        result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
     except Exception as exc:  # the case failed: record why and let the others go on
         return CaseOutcome(spec.case_id, False, None, _reason(exc), traceback.format_exc(),
                            time.perf_counter() - t0)
@@ -160,7 +160,8 @@ def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case"
         result, speed=op.speed, radial_load=op.radial_load, axial_load=op.axial_load,
         configuration=spec.configuration, configuration_hash=spec.case_id,
         bearing_name=spec.bearing.name, profile_name=spec.profile.name,
-        caveats=spec.bearing.warnings, assumptions=spec.bearing.assumptions, history=history)
+        caveats=spec.bearing.warnings, assumptions=spec.bearing.assumptions, history=history,
+        sensors=spec.sensors, realization=int(spec.settings.seed))
 
 
 def _with_info(result, info):
@@ -180,7 +181,7 @@ def _source_name(case_fn) -> str:
 def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
     """Build, run and label one case (in this process); raises if the case fails."""
     fn = case_fn if case_fn is not None else _default_case_fn()
-    result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings)
+    result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
     return label_case(spec, result, source=_source_name(case_fn))
 
 
@@ -744,15 +745,19 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         elapsed = np.zeros(0)
     n_t, n_p = len(elapsed), len(phase_coordinate())
 
-    def attrs_of(name, table):
+    def attrs_of(name):
         for ds in loaded.values():
             if name in ds:
                 return dict(ds[name].attrs)
-        units, long_name = table[name]
+        _, units, long_name = VARIABLES[name]
         return {"units": units, "long_name": long_name}
 
-    series = {k: np.full(shape + (n_t,), np.nan) for k in SERIES} if n_t else {}
-    metrics = {k: np.full(shape + (n_p,), np.nan) for k in PHASE_METRICS}
+    # every case of a sweep has the same sensors: the first case file labels them
+    sensor_case = next((ds for ds in loaded.values() if "sensor" in ds.dims), None)
+    n_s = sensor_case.sizes["sensor"] if sensor_case is not None else 0
+    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s}
+    arrays = {k: np.full(shape + tuple(sizes[d] for d in dims), np.nan) for k, (dims, _, _) in VARIABLES.items()
+              if all(sizes[d] for d in dims)}
     status = np.full(shape, CASE_STATUS.index("not_run"), dtype=np.int8)
     for spec in sweep.cases:
         at = tuple(index[d][spec.point[key]] for d, (_, key, _, _) in enumerate(dims))
@@ -761,15 +766,14 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         if ds is not None:
             status[at] = CASE_STATUS.index("ok")
             t = ds["elapsed_time"].values
-            for k in series:
-                if k in ds:
-                    if resampled:
-                        series[k][at] = np.interp(elapsed, t, ds[k].values, left=np.nan, right=np.nan)
-                    else:
-                        series[k][at] = ds[k].values
-            for k in metrics:
-                if k in ds:
-                    metrics[k][at] = ds[k].values
+            for k, arr in arrays.items():
+                if k not in ds:
+                    continue
+                v = ds[k].transpose(*VARIABLES[k][0]).values
+                if resampled and VARIABLES[k][0][0] == "elapsed_time":
+                    v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
+                                  for col in v.reshape(len(t), -1).T], axis=-1).reshape((n_t,) + v.shape[1:])
+                arr[at] = v
         elif st is not None and st.state == "failed":
             status[at] = CASE_STATUS.index("failed")
 
@@ -784,14 +788,16 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         if key in OPERATING_POINT and key not in LEADING:
             coords[key] = xr.DataArray(float(value), attrs={"units": UDUNITS[OPERATING_POINT[key]],
                                                             "long_name": _OP_LONG_NAMES[key]})
+    if sensor_case is not None:
+        for name, c in sensor_case.coords.items():
+            if c.dims == ("sensor",):
+                coords[name] = xr.DataArray(c.values, dims="sensor", attrs=dict(c.attrs))
     data = {}
-    for k, arr in series.items():
-        attrs = attrs_of(k, SERIES)
-        if resampled:
+    for k, arr in arrays.items():
+        attrs = attrs_of(k)
+        if resampled and VARIABLES[k][0][0] == "elapsed_time":
             attrs["comment"] = RESAMPLED_COMMENT
-        data[k] = xr.DataArray(arr, dims=case_dims + ("elapsed_time",), attrs=attrs)
-    for k, arr in metrics.items():
-        data[k] = xr.DataArray(arr, dims=case_dims + ("phase",), attrs=attrs_of(k, PHASE_METRICS))
+        data[k] = xr.DataArray(arr, dims=case_dims + VARIABLES[k][0], attrs=attrs)
     data["case_status"] = case_status_variable(status, case_dims)
 
     previous = []

@@ -23,6 +23,16 @@ A sweep file is TOML::
     output_rate = "1000 Hz"
     time_step = "0 s"                       # 0: derived from the stiffest contact
     step_safety = 0.8
+    gravity = true                          # false only for conservation checks
+
+    realizations = 4                        # optional: 4 random starts per grid point,
+    seed = 0                                # seeds 0..3 (axis ``realization``); default 1
+                                            # and no seed: every ball at its pocket centre
+
+    [[sensors]]                             # optional virtual displacement sensors
+    name = "radial"
+    position = ["160 mm", "0 mm", "0 mm"]   # the ring point it reads (bearing frame)
+    direction = [1, 0, 0]                   # measuring direction
 
 Instead of ``[axes]``, a list of explicit cases may be given, each a table of values
 (keys as in ``[axes]``; values missing from a case come from ``[fixed]``)::
@@ -88,7 +98,7 @@ from .units import SI_UNITS, parse_quantity, registry
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-MODEL_VERSION = 2
+MODEL_VERSION = 3
 
 #: Operating-point keys and their kinds (pipeline.units.SI_UNITS).
 OPERATING_POINT = {
@@ -125,7 +135,11 @@ _KEY_KINDS = {
     "duration": "time",
 }
 
-TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases")
+TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
+            "realizations", "seed", "sensors")
+#: The ensemble axis: realization k of ``realizations = N`` runs with ``solver.seed = seed + k``.
+REALIZATION = "realization"
+_SENSOR_KEYS = ("name", "position", "direction")
 _RANGE_KEYS = ("start", "stop", "step")
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
 
@@ -201,6 +215,8 @@ class CaseSpec:
     settings : rvcore.driver.SolverSettings
     configuration : str
         The resolved case as TOML (SI), stored in the case file.
+    sensors : tuple of rvcore.driver.Sensor
+        The sweep's virtual sensors.
     """
 
     case_id: str
@@ -210,6 +226,7 @@ class CaseSpec:
     operating_point: OperatingPoint
     settings: SolverSettings
     configuration: str
+    sensors: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -235,6 +252,8 @@ class Sweep:
     explicit: bool
     configuration: str
     configuration_hash: str
+    sensors: tuple = ()
+    realizations: int = 1
 
     def axis(self, key: str) -> Axis | None:
         for a in self.axes:
@@ -273,12 +292,69 @@ def hash_id(obj) -> str:
 
 
 def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
-                       settings: SolverSettings) -> dict:
-    """Everything that determines a case's result, as plain SI data (hashed for the id)."""
+                       settings: SolverSettings, sensors=()) -> dict:
+    """Everything that determines a case's result, as plain SI data (hashed for the id).
+
+    The solver settings carry the seed of the random start, so each realization of an
+    ensemble has its own id.
+    """
     b = {k: v for k, v in plain(bearing).items() if k not in _BEARING_METADATA}
     p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}
-    return {"model_version": MODEL_VERSION, "operating_point": plain(op),
+    conf = {"model_version": MODEL_VERSION, "operating_point": plain(op),
             "solver": plain(settings), "bearing": b, "profile": p}
+    if sensors:
+        conf["sensors"] = plain(list(sensors))
+    return conf
+
+
+def _sensors(raw, file) -> tuple:
+    """``[[sensors]]``: name, position (three lengths) and direction (three numbers)."""
+    from rvcore.driver import Sensor
+
+    if raw is None:
+        return ()
+    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
+        raise ConfigError(file, "sensors", None, "must be an array of tables ([[sensors]] sections)")
+    out, names = [], set()
+    for i, t in enumerate(raw):
+        where = f"sensors[{i}]"
+        for k in t:
+            if k not in _SENSOR_KEYS:
+                raise ConfigError(file, f"{where}.{k}", _short(t[k]), f"unknown key (allowed: {', '.join(_SENSOR_KEYS)})")
+        for k in _SENSOR_KEYS:
+            if k not in t:
+                raise ConfigError(file, where, None, f"'{k}' is missing")
+        name = t["name"]
+        if not isinstance(name, str) or not _NAME.match(name):
+            raise ConfigError(file, f"{where}.name", name, "must be a name of letters, digits, '.', '_' and '-'")
+        if name in names:
+            raise ConfigError(file, f"{where}.name", name, "duplicate sensor name")
+        names.add(name)
+        vec = {}
+        for k, kind in (("position", "length"), ("direction", "dimensionless")):
+            v = t[k]
+            if not isinstance(v, list) or len(v) != 3:
+                raise ConfigError(file, f"{where}.{k}", _short(v), "must be a list of three values (x, y, z)")
+            vec[k] = tuple(_quantity(x, kind, file, f"{where}.{k}[{j}]") for j, x in enumerate(v))
+        if not any(vec["direction"]):
+            raise ConfigError(file, f"{where}.direction", t["direction"], "must not be the zero vector")
+        out.append(Sensor(name, vec["position"], vec["direction"]))
+    return tuple(out)
+
+
+def _realization_axis(raw: dict, file) -> Axis | None:
+    """The ``realization`` axis of ``realizations = N`` (and ``seed``), or None for N = 1
+    without a seed (every ball at its pocket centre)."""
+    n = raw.get("realizations", 1)
+    if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+        raise ConfigError(file, "realizations", n, "must be a whole number of at least 1")
+    seed = raw.get("seed")
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
+        raise ConfigError(file, "seed", seed, "must be a whole number of at least 0")
+    if n == 1 and seed is None:
+        return None
+    seeds = tuple(float((seed or 0) + k) for k in range(n))
+    return Axis(REALIZATION, "solver", seeds, seeds, "dimensionless")
 
 
 def _flatten(table: dict, prefix: str, file, where: str, ranges: bool) -> dict:
@@ -306,6 +382,8 @@ def _target(key: str, file, where: str) -> tuple:
     """(target, key inside the target) of a sweep key; ConfigError if unknown."""
     if key in OPERATING_POINT:
         return "operating_point", key
+    if key == REALIZATION:
+        return "solver", "seed"
     head, _, rest = key.partition(".")
     if head == "solver" and rest:
         fields = {f.name for f in dataclasses.fields(SolverSettings)}
@@ -679,6 +757,11 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         if not flat:
             raise ConfigError(file, "axes", None, "empty: give at least one axis")
         axes = tuple(_axis(k, v, file) for k, v in flat.items())
+        ensemble = _realization_axis(raw, file)
+        if ensemble is not None:
+            if any(a.key == REALIZATION for a in axes):
+                raise ConfigError(file, "realizations", raw.get("realizations"), "the realization axis is also in [axes]")
+            axes = axes + (ensemble,)
         for a in axes:
             if a.key in fixed:
                 raise ConfigError(file, f"fixed.{a.key}", None, "is also an axis in [axes]")
@@ -690,6 +773,9 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         explicit = False
     else:
         cases_raw = raw["cases"]
+        if _realization_axis(raw, file) is not None:
+            raise ConfigError(file, "realizations", raw.get("realizations"),
+                              "ensembles need a grid: give [axes] rather than [[cases]]")
         if not isinstance(cases_raw, list) or not all(isinstance(c, dict) for c in cases_raw):
             raise ConfigError(file, "cases", None, "must be an array of tables ([[cases]] sections)")
         if not cases_raw:
@@ -723,6 +809,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         axes = tuple(axes)
         explicit = True
 
+    sensors = _sensors(raw.get("sensors"), file)
     base_settings = SolverSettings(**solver_values)
     _check_settings(base_settings, file, "solver")
     base_bearing = resolver.bearing(tuple((inner, value, f"fixed.{k}")
@@ -742,13 +829,14 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         op = OperatingPoint(**op_values)
         solver_over = {inner: value for (t, inner, value, _, _) in merged.values() if t == "solver"}
         settings = dataclasses.replace(base_settings, **solver_over)
+        settings = dataclasses.replace(settings, seed=int(settings.seed))
         if solver_over:
             _check_settings(settings, file, next(w for (t, _, _, _, w) in merged.values() if t == "solver"))
         bearing = resolver.bearing(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
                                          if t == "bearing"))
         profile = resolver.profile(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
                                          if t == "profile"))
-        conf = case_configuration(bearing, profile, op, settings)
+        conf = case_configuration(bearing, profile, op, settings, sensors)
         case_id = hash_id(conf)
         if case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
@@ -758,7 +846,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         point.update({k: v[3] for k, v in pt.items()})
         cases.append(CaseSpec(case_id=case_id, point=point, bearing=bearing, profile=profile,
                               operating_point=op, settings=settings,
-                              configuration=tomli_w.dumps(conf)))
+                              configuration=tomli_w.dumps(conf), sensors=sensors))
 
     sweep_conf = {
         "model_version": MODEL_VERSION,
@@ -773,6 +861,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "case_ids": [c.case_id for c in cases],
         "bearing": {k: v for k, v in plain(base_bearing).items() if k != "extra"},
         "profile": plain(base_profile),
+        "sensors": plain(list(sensors)),
     }
     return Sweep(name=name, file=file, description=description, bearing_file=bearing_file,
                  profile_file=profile_file, axes=axes,
@@ -780,7 +869,8 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
                  settings=base_settings, bearing=base_bearing, profile=base_profile,
                  cases=tuple(cases), explicit=explicit,
                  configuration=tomli_w.dumps(plain(sweep_conf)),
-                 configuration_hash=hash_id(sweep_conf))
+                 configuration_hash=hash_id(sweep_conf), sensors=sensors,
+                 realizations=int(raw.get("realizations", 1)))
 
 
 def _sort_key(c):

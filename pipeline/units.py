@@ -22,6 +22,7 @@ SI_UNITS = {
     "angle": "rad",
     "angular_speed": "rad/s",
     "speed": "m/s",
+    "acceleration": "m/s**2",
     "density": "kg/m**3",
     "pressure": "Pa",
     "stiffness_hertz": "N/m**1.5",

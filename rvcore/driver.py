@@ -5,9 +5,12 @@ Takes a bearing, a profile, an operating point and solver settings; returns a
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from .kernels import arc_penetration, ring_angular_velocity, ring_rotation
 
 
 @dataclass(frozen=True)
@@ -30,6 +33,13 @@ class SolverSettings:
         Friction on (False switches every friction force off, for conservation checks).
     damping : bool
         Contact damping on.
+    gravity : bool
+        Gravity on every body, along the bearing's mounting (False only for the
+        conservation checks of model.md §9).
+    seed : int
+        −1: every ball starts at its pocket centre. Otherwise the seed of the random
+        start: each ball starts at a uniformly drawn position within its pocket's
+        circumferential play (one realization of an ensemble).
     """
 
     output_rate: float = 1000.0
@@ -39,14 +49,45 @@ class SolverSettings:
     end_time: float = 0.0
     friction: bool = True
     damping: bool = True
+    gravity: bool = True
+    seed: int = -1
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """A displacement sensor fixed in space, aimed at the inner ring's bore or face.
+
+    Parameters
+    ----------
+    name : str
+    position : tuple of float
+        The point of the (unloaded, centred) ring the sensor reads, in the bearing
+        frame [m].
+    direction : tuple of float
+        Measuring direction [-] (normalised here): the reading is the ring's displacement
+        at ``position`` along it (``rvcore.integrator.sensor_reading``).
+    """
+
+    name: str
+    position: tuple
+    direction: tuple
+
+    def as_row(self) -> np.ndarray:
+        d = np.asarray(self.direction, dtype=float)
+        norm = float(np.linalg.norm(d))
+        if not norm > 0.0:
+            raise ValueError(f"sensor {self.name!r}: the direction must not be zero")
+        return np.concatenate([np.asarray(self.position, dtype=float), d / norm])
 
 
 @dataclass
 class CaseResult:
     """Arrays of one case, SI.
 
-    ``series`` maps a pipeline.md variable name to an array over ``time``.
-    ``phase_metrics`` maps a metric name to an array over the phases (PHASES order).
+    ``series`` maps a pipeline.md variable name to an array over ``time``; with sensors,
+    ``series["sensor_displacement"]`` is over ``(time, sensor)``.
+    ``phase_metrics`` maps a metric name to an array over the phases (PHASES order), or
+    over ``(phase, sensor)`` for the ``sensor_displacement_*`` metrics.
     ``final_state`` is the integrator state at the end, to continue a run.
     """
 
@@ -62,58 +103,118 @@ class SimulationError(RuntimeError):
     """The integration blew up; the message gives the simulated time and the body."""
 
 
+def _tangent_rows(n, arm):
+    """Two rows ``t·[I, −[arm]×]``: the tangential parts of ``v + w × arm`` at normal n."""
+    e = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    t1 = np.cross(n, e)
+    t1 /= np.linalg.norm(t1)
+    t2 = np.cross(n, t1)
+    skew = np.array([[0.0, -arm[2], arm[1]], [arm[2], 0.0, -arm[0]], [-arm[1], arm[0], 0.0]])
+    return np.array([np.concatenate([t, -t @ skew]) for t in (t1, t2)]), (t1, t2)
+
+
+def race_contacts(model, y, r, j):
+    """The deepest inner and outer arc contacts of ball j of row r at state ``y``.
+
+    Returns ``((n_inner, c_inner), (n_outer, c_outer))``: unit normals (C→P, global) and
+    contact points [m], from the same geometry as the right-hand side.
+    """
+    from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, BALL_STATES, R_ARC0, R_BALL0, R_HALF_D, R_NARC, R_ZROW
+
+    row = model.rows[r]
+    h, zrow = row[R_HALF_D], row[R_ZROW]
+    b = int(row[R_BALL0]) + BALL_STATES * j
+    p = y[b:b + 3]
+    rot = np.array(ring_rotation(y[3], y[4])).reshape(3, 3)
+    pl = rot.T @ (p - y[0:3])
+    pl[2] -= zrow
+    rho_l, rho_b = math.hypot(pl[0], pl[1]), math.hypot(p[0], p[1])
+    best = {0: (-np.inf, None), 1: (-np.inf, None)}
+    for a in range(int(row[R_ARC0]), int(row[R_ARC0] + row[R_NARC])):
+        ring = int(model.arcs[a, A_RING])
+        geo = (model.arcs[a, A_CR], model.arcs[a, A_CZ], model.arcs[a, A_RMH], model.arcs[a, A_SIDE], h)
+        if ring == 0:
+            d, nx, ny, nz = arc_penetration(pl[0], pl[1], pl[2], rho_l, 1.0 / rho_l, *geo)
+            n = rot @ np.array([nx, ny, nz])
+        else:
+            d, nx, ny, nz = arc_penetration(p[0], p[1], p[2] - zrow, rho_b, 1.0 / rho_b, *geo)
+            n = np.array([nx, ny, nz])
+        if d > best[ring][0]:
+            best[ring] = (d, n)
+    return tuple((best[k][1], p + h * best[k][1]) for k in (0, 1))
+
+
+def inner_race_velocity(y, omega, point):
+    """Velocity of the inner race's material point at ``point`` [m s^-1].
+
+    ``v_ring + Ω × (point − r_ring)`` with the ring's full angular velocity
+    (:func:`rvcore.kernels.ring_angular_velocity`): spin about its tilted axis plus the
+    tilt rates, as in the right-hand side.
+    """
+    r00, _, r02, _, _, r12, r20, _, r22 = ring_rotation(y[3], y[4])
+    om = np.array(ring_angular_velocity(omega, y[8], y[9], r00, r20, r02, r12, r22))
+    return y[5:8] + np.cross(om, np.asarray(point) - y[0:3])
+
+
 def _rolling_velocities(model, y, omega):
     """Set ball and cage velocities for rolling without slip at inner-ring speed ``omega``.
 
-    Each ball's centre velocity v and angular velocity w solve, in least squares (the
-    spin about the contact line is left at its minimum norm), the no-slip conditions
-    ``v + w×(c_i − P) = ω ẑ×c_i`` at the inner contact and ``v + w×(c_o − P) = 0`` at the
-    outer one, with the contacts at the row's nominal angle.
+    Each ball's centre velocity v and angular velocity w solve, exactly and with the
+    least norm, the four tangential no-slip conditions at its deepest inner and outer
+    contacts (:func:`race_contacts`): ``(v + w × (c_i − P))_t = (v_race(c_i))_t`` with the
+    race velocity of :func:`inner_race_velocity`, and ``(v + w × (c_o − P))_t = 0``. The
+    cage takes the balls' mean orbital speed.
     """
-    from .model import BALL_STATES, R_BALL0, R_CAGE0, R_HALF_D, R_Z, R_ARC0, R_NARC, R_ZROW, A_RING, A_CR, A_CZ
-
-    def skew(a):
-        return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    from .model import BALL_STATES, R_BALL0, R_CAGE0, R_Z
 
     for r in range(model.rows.shape[0]):
         row = model.rows[r]
-        h = row[R_HALF_D]
         b0, z = int(row[R_BALL0]), int(row[R_Z])
-        a0 = int(row[R_ARC0])
         orbit = []
         for j in range(z):
             b = b0 + BALL_STATES * j
-            p = y[b:b + 3]
-            rho = np.hypot(p[0], p[1])
-            er = np.array([p[0] / rho, p[1] / rho, 0.0])
-            normals = []
-            for ring in (0, 1):
-                arc = next(k for k in range(a0, a0 + int(row[R_NARC])) if model.arcs[k, A_RING] == ring)
-                c = model.arcs[arc, A_CR] * er + np.array([0, 0, model.arcs[arc, A_CZ] + row[R_ZROW]])
-                n = p - c
-                normals.append(n / np.linalg.norm(n))
-            ci, co = p + h * normals[0], p + h * normals[1]
-            a = np.zeros((6, 6))
-            rhs_ = np.zeros(6)
-            a[:3, :3] = np.eye(3)
-            a[:3, 3:] = -skew(ci - p)
-            rhs_[:3] = np.cross([0.0, 0.0, omega], ci)
-            a[3:, :3] = np.eye(3)
-            a[3:, 3:] = -skew(co - p)
-            sol = np.linalg.lstsq(a, rhs_, rcond=None)[0]
+            p = y[b:b + 3].copy()
+            (n_i, c_i), (n_o, c_o) = race_contacts(model, y, r, j)
+            a_i, t_i = _tangent_rows(n_i, c_i - p)
+            a_o, _ = _tangent_rows(n_o, c_o - p)
+            v_race = inner_race_velocity(y, omega, c_i)
+            rhs_ = np.array([t_i[0] @ v_race, t_i[1] @ v_race, 0.0, 0.0])
+            sol = np.linalg.lstsq(np.vstack([a_i, a_o]), rhs_, rcond=None)[0]
             y[b + 3:b + 9] = sol
-            orbit.append(np.cross(p, sol[:3])[2] / rho**2)
+            orbit.append(np.cross(p, sol[:3])[2] / (p[0] ** 2 + p[1] ** 2))
         y[int(row[R_CAGE0]) + 7] = float(np.mean(orbit))
 
 
-def initial_state(model, resolved, t_start):
-    """Quasi-static equilibrium of the loads at ``t_start``, balls at their pocket centres.
+def _random_start(model, y, seed: int) -> None:
+    """Turn every ball about the axis by a uniform draw within its pocket's play.
 
-    Balls take the equilibrium radial and axial positions at their pocket azimuths; when
-    the prescribed speed at ``t_start`` is not zero, every ball starts rolling without
-    slip and the cage at the balls' mean orbital speed.
+    The circumferential play of a ball in its pocket is ``±(pocket diameter − D)/2``; the
+    ball keeps its quasi-static radial and axial position (the load changes by a
+    negligible amount over such an angle).
     """
-    from .model import nominal_state, BALL_STATES, R_BALL0, R_Z, R_POCKET0
+    from .model import BALL_STATES, R_BALL0, R_HALF_D, R_POCKET_R, R_Z
+
+    rng = np.random.default_rng(seed)
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        play = row[R_POCKET_R] - row[R_HALF_D]
+        for j in range(int(row[R_Z])):
+            b = int(row[R_BALL0]) + BALL_STATES * j
+            px, py = y[b], y[b + 1]
+            turn = rng.uniform(-play, play) / math.hypot(px, py)
+            c, s = math.cos(turn), math.sin(turn)
+            y[b], y[b + 1] = c * px - s * py, s * px + c * py
+
+
+def initial_state(model, resolved, t_start, seed: int = -1):
+    """Quasi-static equilibrium of the loads (and the ring's weight) at ``t_start``.
+
+    Balls take the equilibrium radial and axial positions at their pocket azimuths, or,
+    with ``seed`` ≥ 0, at a random position within their pocket play
+    (:func:`_random_start`); when the prescribed speed at ``t_start`` is not zero, every
+    ball starts rolling without slip and the cage at the balls' mean orbital speed.
+    """
+    from .model import nominal_state, BALL_STATES, P_GX, P_GY, P_GZ, R_BALL0, R_Z, R_POCKET0
     from .quasistatic import solve_statics
 
     table, meta = resolved.arrays()
@@ -125,7 +226,7 @@ def initial_state(model, resolved, t_start):
     y = nominal_state(model)
     lc, ls = model.params[3], model.params[4]
     moment = model.params[5]
-    if fr != 0.0 or fa != 0.0 or moment != 0.0:
+    if fr != 0.0 or fa != 0.0 or moment != 0.0 or np.any(model.params[[P_GX, P_GY, P_GZ]]):
         st = solve_statics(model, fr, fa, moment, float(np.arctan2(ls, lc)))
         y[0:5] = st.displacement
         for r in range(model.rows.shape[0]):
@@ -135,29 +236,36 @@ def initial_state(model, resolved, t_start):
                 cs, sn = model.pockets[p0 + j]
                 rho, zz = st.ball_positions[p0 + j]
                 y[b:b + 3] = rho * cs, rho * sn, zz
+    if seed >= 0:
+        _random_start(model, y, seed)
     if w != 0.0:
         _rolling_velocities(model, y, w)
     return y
 
 
 def peak_contact_load(model, resolved) -> float:
-    """Largest quasi-static ball–race load at the cycle's peak loads plus the centrifugal force [N]."""
+    """Largest quasi-static ball–race load at the cycle's peak loads (and the ring's weight)
+    plus the centrifugal force [N]."""
     from .quasistatic import solve_statics
     from .model import R_MB, R_PITCH_R
+
+    from .model import P_GX, P_GY, P_GZ
 
     fr = float(np.max(np.abs(resolved.radial[1])))
     fa = float(np.max(np.abs(resolved.axial[1])))
     w = float(np.max(np.abs(resolved.speed[1])))
     lc, ls = model.params[3], model.params[4]
     q = 0.0
-    if fr or fa or model.params[5]:
+    # the ring's weight alone loads the balls too (solve_statics adds it from the model)
+    if fr or fa or model.params[5] or np.any(model.params[[P_GX, P_GY, P_GZ]]):
         q = solve_statics(model, fr, float(np.max(resolved.axial[1]) if fa else 0.0), model.params[5],
                           float(np.arctan2(ls, lc))).max_contact_load
     centrifugal = float(np.max(model.rows[:, R_MB] * model.rows[:, R_PITCH_R] * (0.5 * w) ** 2))
     return q + centrifugal
 
 
-def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None) -> CaseResult:
+def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,
+             sensors=()) -> CaseResult:
     """Integrate one case through its duty cycle.
 
     Parameters
@@ -168,7 +276,10 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     settings : SolverSettings
     initial_state_vector : ndarray, optional
         A previous ``CaseResult.final_state`` to continue from; default: quasi-static
-        equilibrium at ``settings.start_time``.
+        equilibrium at ``settings.start_time`` (random ball positions with
+        ``settings.seed`` ≥ 0).
+    sensors : sequence of Sensor
+        Virtual displacement sensors; each adds a reading over time and its phase metrics.
 
     Returns
     -------
@@ -179,7 +290,6 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     SimulationError
         On blow-up, naming the simulated time and the body.
     """
-    import math
     import time as _time
 
     from . import integrator as ig
@@ -188,7 +298,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     from .kernels import N_BDIAG, N_DIAG
 
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
-                            moment=op.moment, load_angle=op.load_angle)
+                            moment=op.moment, load_angle=op.load_angle, gravity=settings.gravity)
     resolved = profile.resolve(op)
     table, meta = resolved.arrays()
     t_start = settings.start_time
@@ -196,7 +306,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if t_end <= t_start:
         raise ValueError(f"end time {t_end} s is not after start time {t_start} s")
     y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
-         else initial_state(model, resolved, t_start))
+         else initial_state(model, resolved, t_start, seed=int(settings.seed)))
     if y.shape != (model.n_states,):
         raise ValueError(f"initial state has {y.size} values; this bearing needs {model.n_states}")
 
@@ -209,8 +319,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     dt = 1.0 / (settings.output_rate * out_every)
     n_steps = int(math.ceil((t_end - t_start) / dt - 1e-6))
     n_out_max = n_steps // out_every + 2
-    out = np.zeros((n_out_max, ig.N_OUT))
-    acc = ig.new_accumulators(resolved.phases.shape[0])
+    sensor_rows = (np.array([s.as_row() for s in sensors], dtype=float) if len(sensors)
+                   else np.zeros((0, 6)))
+    n_sensors = sensor_rows.shape[0]
+    out = np.zeros((n_out_max, ig.N_OUT + n_sensors))
+    sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0], n_sensors)
     diag = np.zeros(N_DIAG)
     bdiag = np.zeros((model.n_balls, N_BDIAG))
     work = np.zeros((5, model.n_states))
@@ -226,7 +339,8 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     t0 = _time.perf_counter()
     status, t_fail, where, n_out = ig.integrate(
         y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
-        table, meta, resolved.phases, out, acc, diag, bdiag, work, pen_limit, ke_limit)
+        table, meta, resolved.phases, sensor_rows, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
+        math.cos(bearing.rows[0].nominal_contact_angle))
     wall = _time.perf_counter() - t0
     if status != ig.OK:
         what = {ig.NONFINITE: "a non-finite state value",
@@ -242,33 +356,63 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     out = out[:n_out]
     k = np.minimum(np.arange(n_out) * out_every, n_steps)
     time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
-    names = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_tilt_x", "inner_ring_tilt_y",
-             "radial_displacement", "axial_displacement", "applied_radial_load", "applied_axial_load",
-             "inner_ring_speed", "cage_speed", "max_inner_contact_load", "max_outer_contact_load",
-             "loaded_ball_count", "max_contact_pressure")
-    series = {name: out[:, k].copy() for k, name in enumerate(names)}
-
-    w = acc[:, ig.C_W]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        wn = np.where(w > 0, w, np.nan)
-        metrics = {}
-        for name, c_min, c_max, c_sum, c_sq in (("radial_displacement", ig.C_DR_MIN, ig.C_DR_MAX, ig.C_DR_SUM, ig.C_DR_SQ),
-                                                ("axial_displacement", ig.C_DA_MIN, ig.C_DA_MAX, ig.C_DA_SUM, ig.C_DA_SQ)):
-            mean = acc[:, c_sum] / wn
-            metrics[f"{name}_range"] = np.where(w > 0, acc[:, c_max] - acc[:, c_min], np.nan)
-            metrics[f"{name}_mean"] = mean
-            metrics[f"{name}_std"] = np.sqrt(np.maximum(acc[:, c_sq] / wn - mean**2, 0.0))
-        metrics["cage_speed_mean"] = acc[:, ig.C_CAGE_SUM] / wn
-        metrics["inner_ring_speed_mean"] = acc[:, ig.C_RING_SUM] / wn
-        ratio = epicyclic_cage_ratio(bearing.rows[0])
-        metrics["cage_slip"] = 1.0 - metrics["cage_speed_mean"] / (ratio * metrics["inner_ring_speed_mean"])
-        metrics["peak_contact_pressure"] = np.where(w > 0, np.cbrt(acc[:, ig.C_P3_MAX]), np.nan)
+    series = {name: out[:, k].copy() for k, name in enumerate(ig.OUTPUT_SERIES)}
+    if n_sensors:
+        series["sensor_displacement"] = out[:, ig.N_OUT:].copy()
+    metrics = phase_metrics(sig_acc, acc, resolved.phases, 1.0 / settings.output_rate)
     info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": 4 * n_steps + 1, "wall_time": wall,
             "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
-            "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0])}
+            "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
+            "seed": int(settings.seed)}
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy())
+
+
+def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
+    """Phase metrics from the integrator's accumulators (names of ``pipeline.case``).
+
+    For δ_r, δ_a and (over a trailing sensor axis) each sensor: ``_range`` (max − min),
+    ``_mean``, ``_std``, ``_min_time`` and ``_max_time`` (when the extremes occur) and
+    ``_range_at_edge``: 1 where either extreme lies within ``edge_tolerance`` [s] (one
+    output interval) of its phase window's start or end, so the range may be cut off by
+    the window. Plus the mean cage and ring speeds, the cage slip against the epicyclic
+    speed at the balls' actual contact angles (``cage_slip``) and at the nominal angle
+    (``cage_slip_nominal``), the peak Hertz pressure and the windows themselves.
+    """
+    from . import integrator as ig
+
+    n = acc[:, ig.C_N]
+    start, end = phases[:, 0], phases[:, 1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        nn = np.where(n > 0, n, np.nan)
+        out = {}
+        groups = (("radial_displacement", sig_acc[:, ig.SIG_DR]), ("axial_displacement", sig_acc[:, ig.SIG_DA]),
+                  ("sensor_displacement", sig_acc[:, ig.SIG_SENSOR0:]))
+        for name, a in groups:
+            if a.ndim == 3 and a.shape[1] == 0:
+                continue
+            cnt = a[..., ig.S_N]
+            ok = cnt > 0
+            tmin, tmax = a[..., ig.S_TMIN], a[..., ig.S_TMAX]
+            s0 = start if a.ndim == 2 else start[:, None]
+            s1 = end if a.ndim == 2 else end[:, None]
+            near = lambda t: (np.abs(t - s0) <= edge_tolerance) | (np.abs(s1 - t) <= edge_tolerance)
+            out[f"{name}_range"] = np.where(ok, a[..., ig.S_MAX] - a[..., ig.S_MIN], np.nan)
+            out[f"{name}_mean"] = np.where(ok, a[..., ig.S_MEAN], np.nan)
+            out[f"{name}_std"] = np.where(ok, np.sqrt(np.maximum(a[..., ig.S_M2], 0.0) / np.where(ok, cnt, 1.0)), np.nan)
+            out[f"{name}_min_time"] = np.where(ok, tmin, np.nan)
+            out[f"{name}_max_time"] = np.where(ok, tmax, np.nan)
+            out[f"{name}_range_at_edge"] = np.where(ok, (near(tmin) | near(tmax)).astype(float), np.nan)
+        out["cage_speed_mean"] = acc[:, ig.C_CAGE_SUM] / nn
+        out["inner_ring_speed_mean"] = acc[:, ig.C_RING_SUM] / nn
+        out["cage_slip"] = 1.0 - acc[:, ig.C_CAGE_SUM] / acc[:, ig.C_EPI_SUM]
+        out["cage_slip_nominal"] = 1.0 - acc[:, ig.C_CAGE_SUM] / acc[:, ig.C_EPI_NOMINAL_SUM]
+        out["epicyclic_cage_speed"] = acc[:, ig.C_EPI_SUM] / nn
+        out["peak_contact_pressure"] = np.where(n > 0, np.cbrt(acc[:, ig.C_P3_MAX]), np.nan)
+    out["phase_start"] = start.astype(float).copy()
+    out["phase_end"] = end.astype(float).copy()
+    return out
 
 
 def _most_energetic_state(model, y) -> int:

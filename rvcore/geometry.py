@@ -39,6 +39,14 @@ from dataclasses import dataclass, field
 INNER = 0
 OUTER = 1
 
+#: Standard acceleration of gravity [m s^-2] (CGPM 1901).
+STANDARD_GRAVITY = 9.80665
+
+#: Gravity vectors of the named mountings, in the bearing frame (z along the axis) [m s^-2].
+#: A horizontal axis has gravity along −y; a vertical one along −z.
+MOUNTINGS = {"horizontal": (0.0, -STANDARD_GRAVITY, 0.0),
+             "vertical": (0.0, 0.0, -STANDARD_GRAVITY)}
+
 
 @dataclass(frozen=True)
 class Material:
@@ -191,7 +199,8 @@ class ContactLaw:
 class Bearing:
     """A whole bearing: envelope, rows, rings, materials and contact law.
 
-    ``warnings`` carries caveats that every output of a run must repeat (for example a
+    ``gravity`` is the gravitational acceleration in the bearing frame [m s^-2], set by
+    the mounting (:data:`MOUNTINGS`; horizontal axis by default). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
     dotted keys whose values the source does not give.
     """
@@ -206,6 +215,7 @@ class Bearing:
     inner_ring: InnerRing
     contact: ContactLaw
     allow_ball_overlap: bool = False
+    gravity: tuple = (0.0, -STANDARD_GRAVITY, 0.0)
     warnings: tuple = ()
     assumptions: tuple = ()
     source: str = ""

@@ -34,20 +34,35 @@ import math
 import numpy as np
 from numba import njit
 
-from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_QI,
-                      D_MAX_QO, D_PEN_BALL, FAST, rhs)
+from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_COS_ALPHA, D_LOADED, D_MAX_P3, D_MAX_PEN,
+                      D_MAX_QI, D_MAX_QO, D_PEN_BALL, FAST, friction_slope_at_zero_slip, rhs,
+                      ring_rotation)
 from .model import (BALL_STATES, P_LOAD_COS, P_LOAD_SIN, P_RING_IP, P_RING_IT, P_RING_M,
-                    R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_IB, R_MB, R_Z)
+                    R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z)
 from .profile import channel_value
 
-# output columns
+#: Output columns of ``out``, in order, by their pipeline.md names; the sensor readings
+#: follow in columns ``N_OUT + s``. The driver labels the columns from this tuple alone.
+OUTPUT_SERIES = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_tilt_x",
+                 "inner_ring_tilt_y", "radial_displacement", "axial_displacement",
+                 "applied_radial_load", "applied_axial_load", "inner_ring_speed", "cage_speed",
+                 "max_inner_contact_load", "max_outer_contact_load", "loaded_ball_count",
+                 "max_contact_pressure")
 (O_X, O_Y, O_Z, O_TX, O_TY, O_DR, O_DA, O_FR, O_FA, O_W, O_CAGE, O_QI, O_QO, O_LOADED,
- O_PMAX) = range(15)
-N_OUT = 15
-# accumulator columns, one line per phase
-(C_W, C_DR_MIN, C_DR_MAX, C_DR_SUM, C_DR_SQ, C_DA_MIN, C_DA_MAX, C_DA_SUM, C_DA_SQ,
- C_CAGE_SUM, C_RING_SUM, C_P3_MAX) = range(12)
-N_ACC = 12
+ O_PMAX) = range(len(OUTPUT_SERIES))
+N_OUT = len(OUTPUT_SERIES)
+
+#: Tracked signals, one accumulator block each per phase: δ_r, δ_a, then sensor s at
+#: ``SIG_SENSOR0 + s``.
+SIG_DR, SIG_DA, SIG_SENSOR0 = 0, 1, 2
+#: Columns of a signal's accumulator: samples, extremes, the times of the extremes, and
+#: the running mean and sum of squared deviations (Welford: no cancellation).
+S_N, S_MIN, S_MAX, S_TMIN, S_TMAX, S_MEAN, S_M2 = range(7)
+N_SACC = 7
+#: Columns of the per-phase scalar accumulators: samples, Σω_cage, Σω_ring, Σ epicyclic
+#: cage speed at the balls' actual contact angles, Σ the same at the nominal angle, peak p³.
+C_N, C_CAGE_SUM, C_RING_SUM, C_EPI_SUM, C_EPI_NOMINAL_SUM, C_P3_MAX = range(6)
+N_ACC = 6
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 
@@ -55,11 +70,47 @@ RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_LIMIT = 2.785
 
 
-def new_accumulators(n_phases: int) -> np.ndarray:
-    acc = np.zeros((n_phases, N_ACC))
-    acc[:, [C_DR_MIN, C_DA_MIN]] = np.inf
-    acc[:, [C_DR_MAX, C_DA_MAX]] = -np.inf
-    return acc
+def new_accumulators(n_phases: int, n_sensors: int = 0):
+    """Empty ``(signal_acc, scalar_acc)`` for ``n_phases`` phases and ``n_sensors`` sensors."""
+    sig = np.zeros((n_phases, SIG_SENSOR0 + n_sensors, N_SACC))
+    sig[:, :, S_MIN] = np.inf
+    sig[:, :, S_MAX] = -np.inf
+    sig[:, :, S_TMIN] = np.nan
+    sig[:, :, S_TMAX] = np.nan
+    return sig, np.zeros((n_phases, N_ACC))
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST)
+def sensor_reading(y, sensor):
+    """Displacement of the inner ring at a fixed sensor, along its direction [m].
+
+    ``sensor = (px, py, pz, dx, dy, dz)``: the point of the ring's bore or face the
+    sensor aims at, in the nominal (unloaded) ring, and the unit measuring direction.
+    The reading is ``d·(r_ring + (R − I)·p)``, the displacement of the ring's material
+    point at p (its spin about its own axis moves a bore or face within itself, so it is
+    left out). To first order in the tilt this is what a laser on a rig reads.
+    """
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(y[3], y[4])
+    px, py, pz = sensor[0], sensor[1], sensor[2]
+    ux = y[0] + (r00 - 1.0) * px + r01 * py + r02 * pz
+    uy = y[1] + r10 * px + (r11 - 1.0) * py + r12 * pz
+    uz = y[2] + r20 * px + r21 * py + (r22 - 1.0) * pz
+    return sensor[3] * ux + sensor[4] * uy + sensor[5] * uz
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _track(a, x, t):
+    """Add sample ``x`` at time ``t`` to one signal's accumulator line ``a``."""
+    a[S_N] += 1.0
+    if x < a[S_MIN]:
+        a[S_MIN] = x
+        a[S_TMIN] = t
+    if x > a[S_MAX]:
+        a[S_MAX] = x
+        a[S_TMAX] = t
+    d = x - a[S_MEAN]
+    a[S_MEAN] += d / a[S_N]
+    a[S_M2] += d * (x - a[S_MEAN])
 
 
 @njit(cache=True, nogil=True)
@@ -83,12 +134,16 @@ def kinetic_energy(y, params, rows):
 # the per-step passes over the state (and the check's sum) vectorise.
 @njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
-              phases, out, acc, diag, bdiag, work, pen_limit, ke_limit):
+              phases, sensors, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
+              cos_nominal):
     """Advance ``y`` in place by ``n_steps`` RK4 steps of ``dt``.
 
     Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
-    written (columns ``O_*``). At every step the state at the step's start is added to
-    the accumulator line of the phase it falls in (``phases[k] = (start, end)``).
+    written (columns :data:`OUTPUT_SERIES`, then one per sensor). At every step the
+    state at the step's start is added to the accumulators of the phase it falls in
+    (``phases[k] = (start, end)``): ``sig_acc[k, signal]`` for δ_r, δ_a and each sensor
+    of ``sensors`` (rows ``(px, py, pz, dx, dy, dz)``), ``acc[k]`` for the speeds and the
+    peak pressure. ``cos_nominal`` is cos α of row 0's nominal contact angle.
 
     Returns
     -------
@@ -102,9 +157,11 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         Lines written to ``out``.
     """
     n = y.size
+    n_sensors = sensors.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
     c0 = int(rows[0, R_CAGE0])
+    gamma0 = rows[0, R_HALF_D] / rows[0, R_PITCH_R]     # D/d_m of row 0
     n_out = 0
     half = 0.5 * dt
     for i in range(n_steps + 1):
@@ -127,31 +184,32 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if i < n_steps:
             for k in range(phases.shape[0]):
                 if phases[k, 0] <= t < phases[k, 1]:
+                    _track(sig_acc[k, SIG_DR], dr, t)
+                    _track(sig_acc[k, SIG_DA], da, t)
+                    for s in range(n_sensors):
+                        _track(sig_acc[k, SIG_SENSOR0 + s], sensor_reading(y, sensors[s]), t)
                     a = acc[k]
-                    a[0] += 1.0
-                    a[1] = min(a[1], dr)
-                    a[2] = max(a[2], dr)
-                    a[3] += dr
-                    a[4] += dr * dr
-                    a[5] = min(a[5], da)
-                    a[6] = max(a[6], da)
-                    a[7] += da
-                    a[8] += da * da
-                    a[9] += y[c0 + 7]
-                    a[10] += w_ring
-                    a[11] = max(a[11], diag[D_MAX_P3])
+                    cos_a = diag[D_COS_ALPHA] if diag[D_LOADED] > 0.0 else cos_nominal
+                    a[C_N] += 1.0
+                    a[C_CAGE_SUM] += y[c0 + 7]
+                    a[C_RING_SUM] += w_ring
+                    a[C_EPI_SUM] += 0.5 * (1.0 - gamma0 * cos_a) * w_ring
+                    a[C_EPI_NOMINAL_SUM] += 0.5 * (1.0 - gamma0 * cos_nominal) * w_ring
+                    a[C_P3_MAX] = max(a[C_P3_MAX], diag[D_MAX_P3])
         if i % out_every == 0 or i == n_steps:
             if kinetic_energy(y, params, rows) > ke_limit:
                 return ENERGY, t, -1, n_out
             o = out[n_out]
-            o[0], o[1], o[2], o[3], o[4] = y[0], y[1], y[2], y[3], y[4]
-            o[5], o[6] = dr, da
-            o[7] = channel_value(table, meta, CH_RADIAL, t)
-            o[8] = channel_value(table, meta, CH_AXIAL, t)
-            o[9] = w_ring
-            o[10] = y[c0 + 7]
-            o[11], o[12], o[13] = diag[D_MAX_QI], diag[D_MAX_QO], diag[D_LOADED]
-            o[14] = diag[D_MAX_P3] ** (1.0 / 3.0)
+            o[O_X], o[O_Y], o[O_Z], o[O_TX], o[O_TY] = y[0], y[1], y[2], y[3], y[4]
+            o[O_DR], o[O_DA] = dr, da
+            o[O_FR] = channel_value(table, meta, CH_RADIAL, t)
+            o[O_FA] = channel_value(table, meta, CH_AXIAL, t)
+            o[O_W] = w_ring
+            o[O_CAGE] = y[c0 + 7]
+            o[O_QI], o[O_QO], o[O_LOADED] = diag[D_MAX_QI], diag[D_MAX_QO], diag[D_LOADED]
+            o[O_PMAX] = diag[D_MAX_P3] ** (1.0 / 3.0)
+            for s in range(n_sensors):
+                o[N_OUT + s] = sensor_reading(y, sensors[s])
             n_out += 1
         if i == n_steps:
             break
@@ -188,7 +246,8 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     Notes
     -----
     Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
-    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = 1.5·μ_s·Q/v_s`` and the two race contacts of a
+    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = Q·dμ/ds`` at zero slip
+    (:func:`rvcore.kernels.friction_slope_at_zero_slip`) and the two race contacts of a
     ball::
 
         ω_n = √(2k/m_b)                        (contact oscillation)
@@ -208,7 +267,7 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
         k_lin = 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0)
         omega = math.sqrt(2.0 * k_lin / m)
-        c_f = 1.5 * p[P_MU_S] * q / p[P_V_S] * p[P_FRICTION]
+        c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
         lam = 2.0 * (c_f * max(1.0 / m, h * h / i_b) + p[P_DAMP_C] * p[P_DAMPING] / m)
         dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
     return safety * min(dts)

@@ -26,14 +26,24 @@ relative to the other body's, tangential part only::
          = μ_d                                 s > v_d
     F_t = −μ(s)·Q·v_t/s on the ball, −F_t on the other body, moment r_c × F_t.
 
-Equations of motion (inertial frame; no centrifugal or gyroscopic term is added — they
-come out of these)::
+Inner-ring kinematics (model.md §1). The ring's pose is ``R = Ry(θy)·Rx(θx)`` and it
+spins at the prescribed ω about its own (tilted) axis ``R·ẑ``, so its angular velocity
+in the inertial frame is (:func:`ring_angular_velocity`)::
 
-    ball:   m_b·dv/dt = ΣF,     I_b·dω/dt = ΣM           (sphere: I isotropic)
-    ring:   m·dv/dt = F_ext + ΣF
+    Ω = θ̇y·ŷ + θ̇x·Ry(θy)·x̂ + ω·R·ẑ = (θ̇x·cos θy + ω·R₀₂,  θ̇y + ω·R₁₂,  −θ̇x·sin θy + ω·R₂₂)
+
+≈ (θ̇x + ω·θy, θ̇y − ω·θx, ω) for small tilts — the angular velocity whose momentum the
+small-tilt Euler equations below differentiate. Every inner-race contact velocity is
+``v_ring + Ω × (c − r_ring)``, here and in the initial rolling state.
+
+Equations of motion (inertial frame; no centrifugal or gyroscopic term is added — they
+come out of these; ``g`` is the gravity vector of the bearing's mounting)::
+
+    ball:   m_b·dv/dt = ΣF + m_b·g,     I_b·dω/dt = ΣM           (sphere: I isotropic)
+    ring:   m·dv/dt = F_ext + ΣF + m·g
             I_t·θ̈x + I_p·(ω̇·θy + ω·θ̇y) = M_x            (small-tilt Euler equations of a
             I_t·θ̈y − I_p·(ω̇·θx + ω·θ̇x) = M_y             ring spinning at the prescribed ω)
-    cage:   m_c·dv/dt = ΣF,     I_c·dφ̇/dt = ΣT_z
+    cage:   m_c·dv/dt = ΣF + m_c·g,     I_c·dφ̇/dt = ΣT_z
 """
 from __future__ import annotations
 
@@ -42,7 +52,8 @@ import math
 from numba import njit
 
 from .model import (A_CR, A_CZ, A_K, A_PC3, A_RING, A_RMH, A_SIDE, BALL_STATES,
-                    GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_FRICTION, P_LAND_C,
+                    GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_FRICTION, P_GX, P_GY,
+                    P_GZ, P_LAND_C,
                     P_LOAD_COS, P_LOAD_SIN, P_MOMENT, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP,
                     P_RING_IT, P_RING_M, P_V_D, P_V_S, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I,
                     R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_LAND_CLEAR,
@@ -52,7 +63,10 @@ from .profile import channel_rate, channel_value
 
 # diag slots written by rhs()
 D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
-N_DIAG = 6
+# mean over row 0's loaded balls of cos α (each ball's race contacts averaged): the
+# epicyclic cage speed at the balls' actual contact angles uses it
+D_COS_ALPHA = 6
+N_DIAG = 7
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -83,6 +97,38 @@ def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
     if s <= v_d:
         return step(s, v_s, mu_s, v_d, mu_d)
     return mu_d
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+def friction_slope_at_zero_slip(mu_s, v_s):
+    """dμ/ds at s = 0 of :func:`friction_coefficient` [s m^-1]: ``1.5·μ_s/v_s``.
+
+    The friction law acts as a viscous damper of ``c_f = Q·dμ/ds`` at small slip; the
+    explicit step is sized from it (:func:`rvcore.integrator.stable_time_step`).
+    """
+    return 1.5 * mu_s / v_s
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+def ring_rotation(tilt_x, tilt_y):
+    """Rotation matrix ``R = Ry(θy)·Rx(θx)`` of the inner ring, row by row [-].
+
+    Returns ``(r00, r01, r02, r10, r11, r12, r20, r21, r22)``; a point fixed in the ring
+    at ``p`` (ring frame) is at ``r_ring + R·p``.
+    """
+    ca, sa, cb, sb = math.cos(tilt_x), math.sin(tilt_x), math.cos(tilt_y), math.sin(tilt_y)
+    return cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+def ring_angular_velocity(w_ring, tilt_rate_x, tilt_rate_y, r00, r20, r02, r12, r22):
+    """Inertial angular velocity Ω of the inner ring [rad s^-1] (module notes).
+
+    ``w_ring`` is the prescribed spin about the ring's own axis ``R·ẑ = (r02, r12, r22)``;
+    ``r00 = cos θy`` and ``r20 = −sin θy`` turn the tilt rate about x into Ry(θy)·x̂.
+    """
+    return (tilt_rate_x * r00 + w_ring * r02, tilt_rate_y + w_ring * r12,
+            tilt_rate_x * r20 + w_ring * r22)
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
@@ -185,16 +231,17 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     c_race = params[P_DAMP_C] * damp_scale
     inv_dmax = 1.0 / params[P_DAMP_D]
 
-    # ---- inner ring pose R = Ry(θy)·Rx(θx)
+    gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
+
+    # ---- inner ring pose and its full angular velocity (spin about its tilted axis)
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
     vxi, vyi, vzi, wxi, wyi = y[5], y[6], y[7], y[8], y[9]
-    ca, sa, cb, sb = math.cos(tx), math.sin(tx), math.cos(ty), math.sin(ty)
-    r00, r01, r02 = cb, sb * sa, sb * ca
-    r10, r11, r12 = 0.0, ca, -sa
-    r20, r21, r22 = -sb, cb * sa, cb * ca
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
+    omx, omy, omz = ring_angular_velocity(w_ring, wxi, wyi, r00, r20, r02, r12, r22)
 
     fxi, fyi, fzi, mxi, myi = 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
+    cos_sum, cos_balls = 0.0, 0.0
 
     for r in range(rows.shape[0]):
         nz_balls = int(rows[r, R_Z])
@@ -225,6 +272,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             wx, wy, wz = y[b + 6], y[b + 7], y[b + 8]
             fbx, fby, fbz, mbx, mby, mbz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             qi_sum, qo_sum, fi_rad, fo_rad = 0.0, 0.0, 0.0, 0.0
+            cos_b, n_b = 0.0, 0.0
             rho_b = math.sqrt(px * px + py * py)
             inv_rho_b = 1.0 / rho_b
             erx, ery = px * inv_rho_b, py * inv_rho_b
@@ -264,10 +312,11 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uy = vy + wz * ax - wx * az
                 uz = vz + wx * ay - wy * ax
                 if inner:
+                    # the race's material point: v_ring + Ω × (c − r_ring)
                     qx, qy, qz = cx - xi, cy - yi, cz - zi
-                    ux -= vxi + wyi * qz - w_ring * qy
-                    uy -= vyi + w_ring * qx - wxi * qz
-                    uz -= vzi + wxi * qy - wyi * qx
+                    ux -= vxi + omy * qz - omz * qy
+                    uy -= vyi + omz * qx - omx * qz
+                    uz -= vzi + omx * qy - omy * qx
                 un = ux * nx + uy * ny + uz * nz
                 q = normal_force(delta, un, arcs[a, A_K], c_race, inv_dmax)
                 if q <= 0.0:
@@ -284,6 +333,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 fbx += fx
                 fby += fy
                 fbz += fz
+                cos_b += abs(nx * erx + ny * ery)
+                n_b += 1.0
                 p3 = arcs[a, A_PC3] * q
                 if p3 > max_p3:
                     max_p3 = p3
@@ -302,6 +353,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
 
             if qi_sum > 0.0 or qo_sum > 0.0:
                 loaded += 1.0
+                if r == 0:
+                    cos_sum += cos_b / n_b
+                    cos_balls += 1.0
             if qi_sum > max_qi:
                 max_qi = qi_sum
             if qo_sum > max_qo:
@@ -340,15 +394,16 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 ax = a_sec * nx + station * cth
                 ay = a_sec * ny + station * sth
                 az = a_sec * nz
-                gx, gy, gz = ax / a_sec, ay / a_sec, az / a_sec
+                # ∇δ (not named gx…: those hold gravity)
+                dgx, dgy, dgz = ax / a_sec, ay / a_sec, az / a_sec
                 cx, cy, cz = px + ax, py + ay, pz + az
                 ux = vx + wy * az - wz * ay - (vxc - wc * (cy - yc))
                 uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
                 uz = vz + wx * ay - wy * ax - vzc
-                un = ux * gx + uy * gy + uz * gz
+                un = ux * dgx + uy * dgy + uz * dgz
                 qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
                 if qp > 0.0:
-                    fx, fy, fz = -qp * gx, -qp * gy, -qp * gz
+                    fx, fy, fz = -qp * dgx, -qp * dgy, -qp * dgz
                     if friction_on:
                         inv_h = 1.0 / h
                         nx, ny, nz = ax * inv_h, ay * inv_h, az * inv_h
@@ -380,9 +435,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             dy[b] = vx
             dy[b + 1] = vy
             dy[b + 2] = vz
-            dy[b + 3] = fbx * inv_mb
-            dy[b + 4] = fby * inv_mb
-            dy[b + 5] = fbz * inv_mb
+            dy[b + 3] = fbx * inv_mb + gx
+            dy[b + 4] = fby * inv_mb + gy
+            dy[b + 5] = fbz * inv_mb + gz
             dy[b + 6] = mbx * inv_ib
             dy[b + 7] = mby * inv_ib
             dy[b + 8] = mbz * inv_ib
@@ -414,9 +469,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
         dy[c0 + 1] = vyc
         dy[c0 + 2] = vzc
         dy[c0 + 3] = wc
-        dy[c0 + 4] = fxc / mc
-        dy[c0 + 5] = fyc / mc
-        dy[c0 + 6] = fzc / mc
+        dy[c0 + 4] = fxc / mc + gx
+        dy[c0 + 5] = fyc / mc + gy
+        dy[c0 + 6] = fzc / mc + gz
         dy[c0 + 7] = tzc / rows[r, R_CAGE_I]
 
     # ---- inner ring: applied loads, contact reactions, small-tilt Euler equations
@@ -428,9 +483,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     dy[2] = vzi
     dy[3] = wxi
     dy[4] = wyi
-    dy[5] = (fxi + fr * lc) / m_ring
-    dy[6] = (fyi + fr * ls) / m_ring
-    dy[7] = (fzi + fa) / m_ring
+    dy[5] = (fxi + fr * lc) / m_ring + gx
+    dy[6] = (fyi + fr * ls) / m_ring + gy
+    dy[7] = (fzi + fa) / m_ring + gz
     dy[8] = (mxi - moment * ls - ip * (dw_ring * ty + w_ring * wyi)) / it
     dy[9] = (myi + moment * lc + ip * (dw_ring * tx + w_ring * wxi)) / it
 
@@ -440,6 +495,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     diag[D_MAX_P3] = max_p3
     diag[D_MAX_PEN] = max_pen
     diag[D_PEN_BALL] = pen_ball
+    diag[D_COS_ALPHA] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
 
 
 @njit(cache=True, nogil=True)
@@ -447,28 +503,30 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     """Elastic energy of every contact minus the work potential of the applied loads [J].
 
     ``Σ ⅖·K·δ^2.5`` over ball–race, ball–pocket and cage–land contacts, minus
-    ``F·r_ring + M·θ`` with the loads at ``t`` held constant. With the kinetic energy
+    ``F·r_ring + M·θ`` with the loads at ``t`` held constant, minus ``Σ m·g·r`` of every
+    body (gravity). With the kinetic energy
     (:func:`rvcore.integrator.kinetic_energy`) it is conserved when friction and damping
     are off, the loads are constant and the ring does not spin.
     """
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
     lc, ls, moment = params[P_LOAD_COS], params[P_LOAD_SIN], params[P_MOMENT]
+    gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
-    ca, sa, cb, sb = math.cos(tx), math.sin(tx), math.cos(ty), math.sin(ty)
-    r00, r01, r02 = cb, sb * sa, sb * ca
-    r10, r11, r12 = 0.0, ca, -sa
-    r20, r21, r22 = -sb, cb * sa, cb * ca
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
     e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
+    e -= params[P_RING_M] * (gx * xi + gy * yi + gz * zi)
     for r in range(rows.shape[0]):
         b0, c0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_CAGE0]), int(rows[r, R_POCKET0])
         a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
         zrow, h = rows[r, R_ZROW], rows[r, R_HALF_D]
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
         cphi, sphi = math.cos(phi), math.sin(phi)
+        e -= rows[r, R_CAGE_M] * (gx * xc + gy * yc + gz * zc)
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             px, py, pz = y[b], y[b + 1], y[b + 2]
+            e -= rows[r, R_MB] * (gx * px + gy * py + gz * pz)
             dxg, dyg, dzg = px - xi, py - yi, pz - zi
             plx = r00 * dxg + r10 * dyg + r20 * dzg
             ply = r01 * dxg + r11 * dyg + r21 * dzg
@@ -491,8 +549,11 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             rad = dxp * cth + dyp * sth
             tan = -dxp * sth + dyp * cth
             station = min(max(rad, rows[r, R_CAGE_RI]), rows[r, R_CAGE_RO]) - rad
-            d = math.sqrt(tan * tan + dzp * dzp) + math.sqrt(max(h * h - station * station, 0.0)) - rows[r, R_POCKET_R]
-            if d > 0.0:
+            a_sec = math.sqrt(max(h * h - station * station, 0.0))
+            d = math.sqrt(tan * tan + dzp * dzp) + a_sec - rows[r, R_POCKET_R]
+            # the same guard as rhs(): no pocket contact where the ball's section at the
+            # cage ring has shrunk to nothing (the ball is past the ring's edge)
+            if d > 0.0 and a_sec > 1e-3 * h:
                 e += 0.4 * rows[r, R_POCKET_K] * d * d * math.sqrt(d)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
             d = math.sqrt(xc * xc + yc * yc) - rows[r, R_LAND_CLEAR]

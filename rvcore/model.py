@@ -35,7 +35,8 @@ P_DAMP_C, P_DAMP_D = 6, 7
 P_POCKET_C, P_LAND_C = 8, 9
 P_MU_S, P_V_S, P_MU_D, P_V_D = 10, 11, 12, 13
 P_FRICTION, P_DAMPING = 14, 15
-N_PARAMS = 16
+P_GX, P_GY, P_GZ = 16, 17, 18      # gravitational acceleration in the bearing frame [m s^-2]
+N_PARAMS = 19
 
 # rows columns
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
@@ -64,8 +65,12 @@ class CompiledBearing:
 
 
 def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = True,
-                    moment: float = 0.0, load_angle: float = 0.0) -> CompiledBearing:
-    """Pack ``bearing`` for the kernels; Hertz constants are solved here, once."""
+                    moment: float = 0.0, load_angle: float = 0.0,
+                    gravity: bool = True) -> CompiledBearing:
+    """Pack ``bearing`` for the kernels; Hertz constants are solved here, once.
+
+    ``gravity`` False zeroes the bearing's gravity vector (model.md §9 conservation checks).
+    """
     m_ring, ip_ring, it_ring = inner_ring_mass_properties(bearing)
     c = bearing.contact
     params = np.zeros(N_PARAMS)
@@ -77,6 +82,8 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     params[[P_MU_S, P_V_S, P_MU_D, P_V_D]] = c.mu_static, c.v_static, c.mu_dynamic, c.v_dynamic
     params[P_FRICTION] = 1.0 if friction else 0.0
     params[P_DAMPING] = 1.0 if damping else 0.0
+    if gravity:
+        params[[P_GX, P_GY, P_GZ]] = bearing.gravity
 
     e_race = hertz.effective_modulus(bearing.ring_material.youngs_modulus, bearing.ring_material.poisson_ratio,
                                      bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio)

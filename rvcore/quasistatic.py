@@ -30,10 +30,10 @@ from numba import njit
 from scipy import optimize
 
 from .geometry import Bearing
-from .kernels import arc_penetration
-from .model import (A_CR, A_CZ, A_K, A_PC3, A_RING, A_RMH, A_SIDE, R_ARC0, R_HALF_D,
-                    R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW, CompiledBearing,
-                    compile_bearing)
+from .kernels import arc_penetration, ring_rotation
+from .model import (A_CR, A_CZ, A_K, A_PC3, A_RING, A_RMH, A_SIDE, P_GX, P_GY, P_GZ,
+                    P_RING_M, R_ARC0, R_HALF_D, R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW,
+                    CompiledBearing, compile_bearing)
 
 
 class NoEquilibriumError(ValueError):
@@ -42,8 +42,7 @@ class NoEquilibriumError(ValueError):
 
 @njit(cache=True, nogil=True, inline="always")
 def _ring_transform(u):
-    ca, sa, cb, sb = math.cos(u[3]), math.sin(u[3]), math.cos(u[4]), math.sin(u[4])
-    return (cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca)
+    return ring_rotation(u[3], u[4])
 
 
 @njit(cache=True, nogil=True)
@@ -174,15 +173,16 @@ class StaticResult:
     max_contact_load: float       # [N]
     max_contact_pressure: float   # [Pa]
     residual: np.ndarray          # force/moment imbalance on the ring [N, N m]
-    applied: np.ndarray           # applied fx, fy, fz [N], mx, my [N m]
+    applied: np.ndarray           # applied fx, fy, fz [N], mx, my [N m], the ring's weight included
 
 
 _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
 
 
 def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
-                  moment: float = 0.0, load_angle: float = 0.0, *, x0=None) -> StaticResult:
-    """Equilibrium of the inner ring under the given loads.
+                  moment: float = 0.0, load_angle: float = 0.0, *, x0=None,
+                  gravity: bool = True) -> StaticResult:
+    """Equilibrium of the inner ring under the given loads and its own weight.
 
     Parameters
     ----------
@@ -197,13 +197,18 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         ψ [rad].
     x0 : array_like, optional
         Initial guess of the pose (x, y, z, tilt_x, tilt_y).
+    gravity : bool
+        Include the inner ring's weight ``m·g`` (the mounting's gravity vector; a
+        ``CompiledBearing`` carries its own, zero when compiled without gravity). The
+        balls' weights (a fraction of a newton each) are left out of the statics.
 
     Raises
     ------
     NoEquilibriumError
         When no ball carries the load or the ring moves away without finding support.
     """
-    model = bearing_or_model if isinstance(bearing_or_model, CompiledBearing) else compile_bearing(bearing_or_model)
+    model = (bearing_or_model if isinstance(bearing_or_model, CompiledBearing)
+             else compile_bearing(bearing_or_model, gravity=gravity))
     rows, arcs, pockets = model.rows, model.arcs, model.pockets
     n_arcs = int(rows[:, R_NARC].max())
     nb = model.n_balls
@@ -216,6 +221,8 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         ball_rz[p0:p0 + z, 1] = rows[r, R_ZROW]
     c, s = math.cos(load_angle), math.sin(load_angle)
     applied = np.array([radial_load * c, radial_load * s, axial_load, -moment * s, moment * c])
+    if gravity:
+        applied[:3] += model.params[P_RING_M] * model.params[[P_GX, P_GY, P_GZ]]
     load_scale = max(np.abs(applied[:3]).sum(), np.abs(applied[3:]).sum() / 0.1, 1.0)
     d_max = float(rows[:, R_HALF_D].max()) * 2
 

@@ -45,6 +45,8 @@ def synthetic_result(speed: float, radial_load: float, axial_load: float = 10e3,
     metrics["cage_speed_mean"] = np.array([0.234, 0.468, 0.234]) * speed
     metrics["inner_ring_speed_mean"] = np.array([0.5, 1.0, 0.5]) * speed
     metrics["cage_slip"] = np.array([0.01, 0.005, 0.01])
+    # the cage slip's definition, 1 - mean cage speed / epicyclic speed, fixes the latter
+    metrics["epicyclic_cage_speed"] = metrics["cage_speed_mean"] / (1.0 - metrics["cage_slip"])
     metrics["peak_contact_pressure"] = np.full(len(PHASES), 1e9 + radial_load * 1e4)
     return CaseResult(time=t, series=series, phase_metrics=metrics, final_state=np.zeros(3),
                       info={"steps": 1000})

@@ -1,5 +1,9 @@
 """The contact-dynamics core (rvcore.kernels/integrator/driver) on reduced bearings (model.md §9).
 
+These checks run weightless (``gravity=False``, model.md §1): their reference values —
+quasi-static equilibria, symmetric responses, conserved energy — are derived for a
+bearing without body forces. Gravity has its own checks in test_truth.py.
+
 Each check runs the real equations of motion on a small bearing built in code
 (tests/physics_cases.py: the study's ring section with 8–12 balls) over tens of
 milliseconds, and compares with a value derived here:
@@ -65,8 +69,8 @@ def test_damped_response_settles_to_quasistatic(z, f_r, f_a, load_angle):
     bearing = section_bearing(z)
     t_end = 0.12
     res = run_case(bearing, constant_profile(0.01, t_end), OperatingPoint(0.0, f_r, f_a, load_angle=load_angle),
-                   SolverSettings(output_rate=2e4))
-    st = solve_statics(bearing, f_r, f_a, 0.0, load_angle)
+                   SolverSettings(output_rate=2e4, gravity=False))
+    st = solve_statics(bearing, f_r, f_a, 0.0, load_angle, gravity=False)
     dr, da = res.series["radial_displacement"], res.series["axial_displacement"]
     # it really started away from equilibrium (unloaded, centred)
     assert dr[0] == 0.0 and da[0] == 0.0
@@ -109,8 +113,8 @@ def test_kinematics_cage_speed_and_ball_spin(f_r, f_a):
     row = bearing.rows[0]
     phases = (("startup", 0.01, 0.03), ("steady", 0.05, 0.13), ("deceleration", 0.13, 0.13))
     res = run_case(bearing, ramp_profile(0.01, 0.01, 0.03, 0.13, phases), OperatingPoint(omega, f_r, f_a),
-                   SolverSettings(output_rate=1e4))
-    st = solve_statics(bearing, f_r, f_a)
+                   SolverSettings(output_rate=1e4, gravity=False))
+    st = solve_statics(bearing, f_r, f_a, gravity=False)
     alpha_ball = np.nanmean(st.contact_angles, axis=1)  # per ball, operating
     alpha_nom = row.nominal_contact_angle
     d, dm = row.ball_diameter, row.pitch_diameter
@@ -122,7 +126,7 @@ def test_kinematics_cage_speed_and_ball_spin(f_r, f_a):
     w_cage = res.phase_metrics["cage_speed_mean"][1]
     assert abs(w_cage / w_op - 1) < 0.02
     assert abs(w_cage / w_nom - 1) < 0.02
-    model = compile_bearing(bearing)
+    model = compile_bearing(bearing, gravity=False)
     balls = ball_states(model, res.final_state)
     rho = np.hypot(balls[:, 0], balls[:, 1])
     w_orbit = (balls[:, 0] * balls[:, 4] - balls[:, 1] * balls[:, 3]) / rho**2
@@ -171,7 +175,7 @@ def test_energy_conserved_without_friction_and_damping():
     like dt^2.6 here (3.9e-6 at 0.5 µs, 6e-7 at 0.25 µs, 2.1e-7 at 0.125 µs).
     """
     bearing = section_bearing(12)
-    model = compile_bearing(bearing, friction=False, damping=False)
+    model = compile_bearing(bearing, friction=False, damping=False, gravity=False)
     t_end, dt, chunks = 0.02, 1.25e-7, 200
     resolved = constant_profile(0.0, t_end).resolve(OperatingPoint(0.0, 10e3, 5e3))
     table, meta = resolved.arrays()
@@ -184,7 +188,7 @@ def test_energy_conserved_without_friction_and_damping():
     cage[4], cage[7] = 0.08, 0.3
     per = int(round(t_end / dt)) // chunks
     out = np.zeros((per + 2, ig.N_OUT))
-    acc = ig.new_accumulators(resolved.phases.shape[0])
+    sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0])
     diag, bdiag = np.zeros(N_DIAG), np.zeros((model.n_balls, N_BDIAG))
     work = np.zeros((5, model.n_states))
 
@@ -198,7 +202,8 @@ def test_energy_conserved_without_friction_and_damping():
     t = 0.0
     for _ in range(chunks):
         status, *_ = ig.integrate(y, t, dt, per, per, model.params, model.rows, model.arcs, model.pockets,
-                                  table, meta, resolved.phases, out, acc, diag, bdiag, work, 1e-3, 1e9)
+                                  table, meta, resolved.phases, np.zeros((0, 6)), out, sig_acc, acc, diag, bdiag,
+                                  work, 1e-3, 1e9, 1.0)
         assert status == ig.OK
         t += per * dt
         pocket_hits += np.count_nonzero(bdiag[:, 4])
@@ -216,8 +221,8 @@ def test_energy_dissipated_with_damping():
     """The same start with damping and friction on loses energy (the check can fail)."""
     bearing = section_bearing(12)
     res = run_case(bearing, constant_profile(0.0, 0.01), OperatingPoint(0.0, 10e3, 5e3),
-                   SolverSettings(output_rate=1e3), initial_state_vector=nominal_state(compile_bearing(bearing)))
-    model = compile_bearing(bearing)
+                   SolverSettings(output_rate=1e3, gravity=False), initial_state_vector=nominal_state(compile_bearing(bearing, gravity=False)))
+    model = compile_bearing(bearing, gravity=False)
     table, meta = constant_profile(0.0, 0.01).resolve(OperatingPoint(0.0, 10e3, 5e3)).arrays()
     y = res.final_state
     e_end = ig.kinetic_energy(y, model.params, model.rows) + potential_energy(
@@ -232,7 +237,7 @@ def test_pure_thrust_no_radial_displacement_constant_speed():
     """Pure axial load, ring spinning at 660°/s from the start (rolling), 100 ms."""
     bearing = section_bearing(12)
     res = run_case(bearing, constant_profile(0.0, 0.1), OperatingPoint(STUDY_SPEED, 0.0, 10e3),
-                   SolverSettings(output_rate=1e4))
+                   SolverSettings(output_rate=1e4, gravity=False))
     assert np.abs(res.series["radial_displacement"]).max() < 1e-9
     assert np.hypot(res.series["inner_ring_x"], res.series["inner_ring_y"]).max() < 1e-9
     for name in ("radial_displacement_range", "radial_displacement_mean", "radial_displacement_std"):
@@ -252,7 +257,7 @@ def test_pure_thrust_no_radial_displacement_startup():
     """
     bearing = section_bearing(12)
     res = run_case(bearing, scaled_study_profile(0.2), OperatingPoint(STUDY_SPEED, 0.0, 10e3),
-                   SolverSettings(output_rate=500))
+                   SolverSettings(output_rate=500, gravity=False))
     assert np.abs(res.series["radial_displacement"]).max() < 1e-9
     for name in ("radial_displacement_range", "radial_displacement_mean", "radial_displacement_std"):
         assert np.all(np.abs(res.phase_metrics[name]) < 1e-9)
@@ -261,11 +266,19 @@ def test_pure_thrust_no_radial_displacement_startup():
 
 @pytest.mark.parametrize("k", [1, 5])
 def test_load_angle_rotates_response(k):
-    """Turning F_r by k ball spacings turns the (x, y) history by the same angle."""
+    """Turning F_r by k ball spacings turns the (x, y) history by the same angle.
+
+    The two runs are the same problem in rotated coordinates, so they differ only by
+    round-off (and the quasi-static starts by the solver's ~4e-8 precision), which the
+    ball–pocket impacts of the start amplify: measured 2.5e-5 of the response after
+    60 ms (3e-7 before the ring's spin acted through its tilt; that coupling carries the
+    balls' axial slip into the ring). A real asymmetry gives differences of order 1.
+    """
+    tol = 1e-4
     z = 12
     bearing = section_bearing(z)
     prof = constant_profile(0.005, 0.06)
-    settings = SolverSettings(output_rate=1e4)
+    settings = SolverSettings(output_rate=1e4, gravity=False)
     phi = 2 * math.pi * k / z
     a = run_case(bearing, prof, OperatingPoint(STUDY_SPEED, 20e3, 10e3), settings)
     b = run_case(bearing, prof, OperatingPoint(STUDY_SPEED, 20e3, 10e3, load_angle=phi), settings)
@@ -273,15 +286,15 @@ def test_load_angle_rotates_response(k):
     scale = np.hypot(xa, ya).max()
     c, s = math.cos(phi), math.sin(phi)
     # (the quasi-static start differs by its ~4e-8 solver precision; it stays ~3e-7)
-    assert np.abs(c * xa - s * ya - b.series["inner_ring_x"]).max() < 1e-5 * scale
-    assert np.abs(s * xa + c * ya - b.series["inner_ring_y"]).max() < 1e-5 * scale
+    assert np.abs(c * xa - s * ya - b.series["inner_ring_x"]).max() < tol * scale
+    assert np.abs(s * xa + c * ya - b.series["inner_ring_y"]).max() < tol * scale
     for name in ("radial_displacement", "axial_displacement", "cage_speed"):
         ref = np.abs(a.series[name]).max()
-        assert np.abs(a.series[name] - b.series[name]).max() < 1e-5 * ref
+        assert np.abs(a.series[name] - b.series[name]).max() < tol * ref
     for name in ("radial_displacement_mean", "axial_displacement_mean", "cage_speed_mean"):
-        assert b.phase_metrics[name] == pytest.approx(a.phase_metrics[name], rel=1e-5)
+        assert b.phase_metrics[name] == pytest.approx(a.phase_metrics[name], rel=tol)
     for name in ("radial_displacement_range", "axial_displacement_range"):
-        assert np.abs(b.phase_metrics[name] - a.phase_metrics[name]).max() < 1e-5 * scale
+        assert np.abs(b.phase_metrics[name] - a.phase_metrics[name]).max() < tol * scale
     # (that a rotation by a non-multiple of the spacing is *not* a symmetry is checked
     # in test_quasistatic.py; with the ring spinning the balls pass the load line and
     # the time means hardly depend on the angle)
@@ -294,7 +307,9 @@ def _metric_changes(coarse, fine):
     """Relative change of every displacement, speed and pressure metric; absolute of the slip."""
     out = {}
     for name, v in fine.phase_metrics.items():
-        if name == "cage_slip":
+        if name.endswith(("_time", "_at_edge")) or name.startswith("phase_"):
+            continue   # when an extreme occurs, and whether at an edge, are locators, not magnitudes
+        if name.startswith("cage_slip"):
             out[name] = np.abs(coarse.phase_metrics[name] - v)
         elif name != "inner_ring_speed_mean":  # prescribed
             out[name] = np.abs(coarse.phase_metrics[name] / v - 1)
@@ -305,8 +320,8 @@ def _convergence(scale, z):
     bearing = section_bearing(z)
     op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
     prof = scaled_study_profile(scale)
-    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3))
-    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08))
+    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, gravity=False))
+    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=False))
     assert fine.info["time_step"] == pytest.approx(coarse.info["time_step"] / 10, rel=1e-3)
     return _metric_changes(coarse, fine)
 
@@ -345,7 +360,7 @@ def test_convergence_tenfold_smaller_step_longer_cycle():
 def _orbiting(alpha_deg, f_a, omega, settings):
     bearing = section_bearing(12, alpha=math.radians(alpha_deg))
     res = run_case(bearing, constant_profile(0.0, 0.02), OperatingPoint(omega, 0.0, f_a), settings)
-    model = compile_bearing(bearing)
+    model = compile_bearing(bearing, gravity=False)
     balls = ball_states(model, res.final_state)
     rho = np.hypot(balls[:, 0], balls[:, 1])
     w_orbit = (balls[:, 0] * balls[:, 4] - balls[:, 1] * balls[:, 3]) / rho**2
@@ -365,7 +380,7 @@ def test_centrifugal_radial_balance(alpha_deg, f_a, step_safety, tol):
     step-locked ball oscillation leaves 1.3 % (5°) / 0.5 % (15°): see the report.)
     """
     bearing, model, res, rho, w_orbit, m_b = _orbiting(alpha_deg, f_a, 300.0,
-                                                       SolverSettings(output_rate=1e3, step_safety=step_safety))
+                                                       SolverSettings(output_rate=1e3, step_safety=step_safety, gravity=False))
     diag = res.ball_diag
     assert np.all(diag[:, 4] == 0.0)  # no pocket force on any ball
     w_cage = cage_state(model, res.final_state)[7]
@@ -391,7 +406,7 @@ def test_centrifugal_load_difference(step_safety):
     too, to 0.3 % with the finer step.
     """
     bearing, model, res, rho, w_orbit, m_b = _orbiting(5.0, 2e3, 300.0,
-                                                       SolverSettings(output_rate=1e3, step_safety=step_safety))
+                                                       SolverSettings(output_rate=1e3, step_safety=step_safety, gravity=False))
     diag = res.ball_diag
     q_i, q_o = diag[:, 0], diag[:, 1]
     f_c_nominal = m_b * STUDY_DM / 2 * w_orbit**2
@@ -415,7 +430,7 @@ def test_blow_up_names_time_and_body():
     bearing = section_bearing(12)
     with pytest.raises(SimulationError) as err:
         run_case(bearing, constant_profile(0.005, 0.03, speed_ramp=0.01), OperatingPoint(10.0, 20e3, 8e3),
-                 SolverSettings(time_step=2e-4))
+                 SolverSettings(time_step=2e-4, gravity=False))
     msg = str(err.value)
     m = re.search(r"t = ([0-9.eE+-]+) s", msg)
     assert m and 0.0 <= float(m.group(1)) <= 0.03
@@ -427,7 +442,7 @@ def test_blow_up_by_energy_names_a_body():
     bearing = section_bearing(12)
     with pytest.raises(SimulationError) as err:
         run_case(bearing, constant_profile(0.005, 0.03, speed_ramp=0.01), OperatingPoint(10.0, 20e3, 8e3),
-                 SolverSettings(time_step=1e-3))
+                 SolverSettings(time_step=1e-3, gravity=False))
     msg = str(err.value)
     assert re.search(r"t = [0-9.eE+-]+ s", msg)
     assert re.search(BODY, msg), msg
@@ -442,7 +457,7 @@ def test_phase_metrics_match_dense_series():
     dt = 2e-6
     phases = (("startup", 0.005, 0.012), ("steady", 0.012, 0.02), ("deceleration", 0.02, 0.026))
     prof = ramp_profile(0.005, 0.005, 0.012, 0.026, phases)
-    res = run_case(bearing, prof, OperatingPoint(10.0, 10e3, 5e3), SolverSettings(output_rate=1.0 / dt, time_step=dt))
+    res = run_case(bearing, prof, OperatingPoint(10.0, 10e3, 5e3), SolverSettings(output_rate=1.0 / dt, time_step=dt, gravity=False))
     assert res.info["time_step"] == pytest.approx(dt, rel=1e-12)
     t = res.time
     assert np.allclose(np.diff(t), dt, rtol=1e-9, atol=0)
@@ -462,7 +477,7 @@ def test_phase_metrics_match_dense_series():
         assert res.phase_metrics["peak_contact_pressure"][k] == pytest.approx(
             res.series["max_contact_pressure"][m].max(), rel=1e-9)
     # sparser output only sees a subset of the steps: its range cannot exceed the metric's
-    coarse = run_case(bearing, prof, OperatingPoint(10.0, 10e3, 5e3), SolverSettings(output_rate=2e3, time_step=dt))
+    coarse = run_case(bearing, prof, OperatingPoint(10.0, 10e3, 5e3), SolverSettings(output_rate=2e3, time_step=dt, gravity=False))
     for k, (_, start, end) in enumerate(phases):
         m = (coarse.time >= start) & (coarse.time < end)
         x = coarse.series["radial_displacement"][m]

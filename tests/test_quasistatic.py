@@ -102,7 +102,7 @@ def test_pure_axial_matches_jones(z, alpha0_deg, clearance, f_a):
     alpha0 = math.radians(alpha0_deg)
     bearing = section_bearing(z, alpha=alpha0, clearance=clearance)
     row = bearing.rows[0]
-    res = solve_statics(bearing, 0.0, f_a)
+    res = solve_statics(bearing, 0.0, f_a, gravity=False)
 
     # symmetry: no radial displacement, equal loads on every ball and both races
     assert abs(res.radial_displacement) < 1e-12
@@ -158,7 +158,7 @@ def rigid_ring_radial(k_n, psi, load, load_angle):
 def test_stribeck_deep_groove_zero_clearance():
     z, f_r = 18, 20e3
     bearing = section_bearing(z, alpha=0.0)
-    res = solve_statics(bearing, f_r, 0.0)
+    res = solve_statics(bearing, f_r, 0.0, gravity=False)
     psi = 2 * np.pi * np.arange(z) / z
     # Rigid rings, zero clearance: δ_j = δ_r·cos ψ_j, so Q_j = Q_max·cos^1.5 ψ_j in the
     # ±90° zone and F_r = Σ Q_j cos ψ_j = Q_max·Σ cos^2.5 ψ_j.
@@ -188,7 +188,7 @@ def test_radial_direction_deep_groove_against_rigid_ring(load_angle):
     """Any load angle (on a ball, between balls, or neither) against a 2-D solve here."""
     z, f_r = 12, 20e3
     bearing = section_bearing(z, alpha=0.0)
-    res = solve_statics(bearing, f_r, 0.0, 0.0, load_angle)
+    res = solve_statics(bearing, f_r, 0.0, 0.0, load_angle, gravity=False)
     k_n = series_stiffness(*race_stiffnesses(bearing.rows[0]))
     u = rigid_ring_radial(k_n, 2 * np.pi * np.arange(z) / z, f_r, load_angle)
     # the model keeps the exact geometry (the ring's sideways shift moves each ball by
@@ -208,8 +208,8 @@ def test_radial_compliance_depends_on_ball_position():
     bearing = section_bearing(z, alpha=0.0)
     k_n = series_stiffness(*race_stiffnesses(bearing.rows[0]))
     psi = 2 * np.pi * np.arange(z) / z
-    on = solve_statics(bearing, f_r, 0.0, 0.0, 0.0)
-    mid = solve_statics(bearing, f_r, 0.0, 0.0, math.pi / z)
+    on = solve_statics(bearing, f_r, 0.0, 0.0, 0.0, gravity=False)
+    mid = solve_statics(bearing, f_r, 0.0, 0.0, math.pi / z, gravity=False)
     ratio_exp = (np.linalg.norm(rigid_ring_radial(k_n, psi, f_r, math.pi / z))
                  / np.linalg.norm(rigid_ring_radial(k_n, psi, f_r, 0.0)))
     ratio = np.linalg.norm(mid.displacement[:2]) / np.linalg.norm(on.displacement[:2])
@@ -229,8 +229,8 @@ def test_radial_direction_rotates_response(base, k):
     bearing = section_bearing(z)
     f_r, f_a = 20e3, 8e3
     phi = 2 * math.pi * k / z
-    a = solve_statics(bearing, f_r, f_a, 0.0, base)
-    b = solve_statics(bearing, f_r, f_a, 0.0, base + phi)
+    a = solve_statics(bearing, f_r, f_a, 0.0, base, gravity=False)
+    b = solve_statics(bearing, f_r, f_a, 0.0, base + phi, gravity=False)
     scale = np.linalg.norm(a.displacement[:3])
     # (1e-7: the solver's own precision is ~4e-8 of the displacement)
     assert np.linalg.norm(rot_z(phi)[:2, :2] @ a.displacement[:2] - b.displacement[:2]) < 1e-7 * scale
@@ -253,8 +253,8 @@ def test_radial_direction_mirror_symmetry():
     """Loads mirrored about a ball's plane give mirrored poses (any angle, not a multiple)."""
     z, theta = 12, 0.2
     bearing = section_bearing(z)
-    plus = solve_statics(bearing, 20e3, 8e3, 0.0, theta)
-    minus = solve_statics(bearing, 20e3, 8e3, 0.0, -theta)
+    plus = solve_statics(bearing, 20e3, 8e3, 0.0, theta, gravity=False)
+    minus = solve_statics(bearing, 20e3, 8e3, 0.0, -theta, gravity=False)
     x, y = plus.displacement[:2]
     scale = np.linalg.norm(plus.displacement[:2])
     assert abs(y) > 1e-3 * scale  # off a mirror plane the response leaves the load line
@@ -320,7 +320,7 @@ def test_force_balance_combined_loads(f_r, f_a, m, psi, four_point):
     z = 16 if four_point else 12
     bearing = (section_bearing(z, alpha=math.radians(30), fi=0.53, clearance=40e-6, four_point=True)
                if four_point else section_bearing(z))
-    res = solve_statics(bearing, f_r, f_a, m, psi)
+    res = solve_statics(bearing, f_r, f_a, m, psi, gravity=False)
     f_app = np.array([f_r * math.cos(psi), f_r * math.sin(psi), f_a])
     m_app = m * np.array([-math.sin(psi), math.cos(psi)])
     f_scale = np.linalg.norm(f_app)
@@ -368,7 +368,7 @@ def test_four_point_radial_load_uses_all_four_arcs():
     assert len(row.inner_arcs) == 2 and len(row.outer_arcs) == 2
     alpha = abs(row.inner_arcs[0].contact_angle)
     f_r = 30e3
-    res = solve_statics(bearing, f_r, 0.0)
+    res = solve_statics(bearing, f_r, 0.0, gravity=False)
     q = res.ball_loads  # columns: inner +α, inner −α, outer +α, outer −α (file order)
     signs = [np.sign(a.contact_angle) for a in row.inner_arcs + row.outer_arcs]
     # by mirror symmetry about the groove mid-plane the ring does not move axially
@@ -405,7 +405,7 @@ def test_four_point_axial_load_uses_one_diagonal(f_a):
     bearing = four_point_bearing()
     row = bearing.rows[0]
     z = row.ball_count
-    res = solve_statics(bearing, 0.0, f_a)
+    res = solve_statics(bearing, 0.0, f_a, gravity=False)
     arcs = row.inner_arcs + row.outer_arcs
     # a thrust towards +z is carried by the arcs at +α on both rings (the diagonal whose
     # reaction on the inner ring points to −z), a thrust towards −z by those at −α
@@ -437,7 +437,7 @@ def test_lift_off_angular_contact():
     bearing = section_bearing(z)
     f_r, f_a = 30e3, 2e3
     assert f_r * math.tan(math.radians(15)) / f_a > 3.0
-    res = solve_statics(bearing, f_r, f_a)
+    res = solve_statics(bearing, f_r, f_a, gravity=False)
     q = res.ball_loads.max(axis=1)
     assert 0 < res.loaded_ball_count < z
     assert res.loaded_ball_count == int(np.count_nonzero(q > 0))
@@ -457,7 +457,7 @@ def test_zero_load_gives_zero_response():
     """Every groove in these tests is closed, so zero load is the only trivial case."""
     for bearing in (section_bearing(12), section_bearing(12, clearance=40e-6),
                     section_bearing(16, alpha=math.radians(30), fi=0.53, clearance=40e-6, four_point=True)):
-        res = solve_statics(bearing, 0.0, 0.0)
+        res = solve_statics(bearing, 0.0, 0.0, gravity=False)
         assert np.all(res.displacement == 0.0)
         assert np.all(res.ball_loads == 0.0)
         assert res.loaded_ball_count == 0
@@ -484,8 +484,8 @@ def test_open_groove_cannot_carry_reverse_thrust():
         row, inner_arcs=(Arc(0.52, math.radians(15)), Arc(0.52, math.radians(40))),
         outer_arcs=(Arc(0.53, math.radians(15)), Arc(0.53, math.radians(40))))
     bearing = dataclasses.replace(base, rows=(row,))
-    ok = solve_statics(bearing, 0.0, 10e3)
+    ok = solve_statics(bearing, 0.0, 10e3, gravity=False)
     assert ok.loaded_ball_count == 12
     assert np.linalg.norm(ok.residual[:3]) <= 1e-6 * 10e3
     with pytest.raises(NoEquilibriumError, match="no equilibrium"):
-        solve_statics(bearing, 0.0, -10e3)
+        solve_statics(bearing, 0.0, -10e3, gravity=False)

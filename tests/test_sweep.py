@@ -32,19 +32,19 @@ SPEEDS = (math.radians(120), math.radians(660))
 LOADS = (20e3, 40e3)
 
 
-def synthetic_case(bearing, profile, op, settings):
+def synthetic_case(bearing, profile, op, settings, sensors=()):
     """A made-up but well-formed CaseResult of the operating point (no dynamics)."""
     return synthetic_result(op.speed, op.radial_load, op.axial_load, n=47)
 
 
-def failing_case(bearing, profile, op, settings):
+def failing_case(bearing, profile, op, settings, sensors=()):
     """Like synthetic_case, but the 660 deg/s, 40 kN case blows up."""
     if op.speed > 10 and op.radial_load > 30e3:
         raise rvcore.driver.SimulationError("simulation blew up at t = 0.1 s (test)")
     return synthetic_case(bearing, profile, op, settings)
 
 
-def worker_killing_case(bearing, profile, op, settings):
+def worker_killing_case(bearing, profile, op, settings, sensors=()):
     """Like synthetic_case, but the 120 deg/s, 40 kN case kills its worker process."""
     if op.speed < 3 and op.radial_load > 30e3:
         os._exit(13)
@@ -59,7 +59,7 @@ class Counting:
         self.calls = []
         self.interrupt_after = interrupt_after
 
-    def __call__(self, bearing, profile, op, settings):
+    def __call__(self, bearing, profile, op, settings, sensors=()):
         if self.interrupt_after is not None and len(self.calls) == self.interrupt_after:
             raise KeyboardInterrupt
         self.calls.append((op.speed, op.radial_load))
@@ -224,7 +224,7 @@ def test_stale_temporaries_of_dead_writers_are_removed(grid_sweep, tmp_path):
     assert len(case_files(out)) == 4
 
 
-def ramp_case(bearing, profile, op, settings):
+def ramp_case(bearing, profile, op, settings, sensors=()):
     """inner_ring_z = 1 um/s * t, sampled at 31 or 47 points depending on the load."""
     r = synthetic_result(op.speed, op.radial_load, op.axial_load, n=31 if op.radial_load > 30e3 else 47)
     r.series["inner_ring_z"] = 1e-6 * r.time

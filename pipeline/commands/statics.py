@@ -15,6 +15,8 @@ HELP = "quasi-static equilibrium: displacements, contact angles and ball loads"
 def add_arguments(parser):
     add_load_arguments(parser, speed=False)
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
+    parser.add_argument("--no-gravity", action="store_true",
+                        help="leave out the inner ring's weight (it is included by default, along the mounting)")
 
 
 def run(args):
@@ -24,7 +26,8 @@ def run(args):
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
     try:
-        st = solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle)
+        st = solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
+                           gravity=not args.no_gravity)
     except NoEquilibriumError as exc:
         raise UserError(str(exc)) from None
     for w in bearing.warnings:
@@ -50,12 +53,18 @@ def run(args):
             "ball_contact_angle_rad": [[None if math.isnan(a) else a for a in row] for row in st.contact_angles],
             "ball_inner_load_N": q_in.tolist(), "ball_outer_load_N": q_out.tolist(),
             "force_residual": st.residual.tolist(),
+            "gravity_m_per_s2": [0.0, 0.0, 0.0] if args.no_gravity else list(bearing.gravity),
+            "applied_force_with_ring_weight_N": st.applied[:3].tolist(),
             "warnings": list(bearing.warnings),
         }
         print(json.dumps(obj, indent=1))
         return 0
     print(f"bearing {bearing.name}: F_r = {op.radial_load / 1e3:.6g} kN at {math.degrees(op.load_angle):.4g} deg, "
           f"F_a = {op.axial_load / 1e3:.6g} kN, M = {op.moment:.6g} N m")
+    weight = st.applied[:3] - np.array([op.radial_load * math.cos(op.load_angle),
+                                        op.radial_load * math.sin(op.load_angle), op.axial_load])
+    print("  ring weight          " + ("left out (--no-gravity)" if args.no_gravity else
+                                      "(" + ", ".join(f"{w:.4g}" for w in weight) + ") N, included"))
     print(f"  radial displacement  {st.radial_displacement * 1e6:10.4f} um")
     print(f"  axial displacement   {st.axial_displacement * 1e6:10.4f} um")
     print(f"  tilt x, y            {st.displacement[3] * 1e3:10.5f}, {st.displacement[4] * 1e3:.5f} mrad")
