@@ -106,7 +106,11 @@ def load_sweep(directory) -> xr.Dataset:
         except OSError as exc:
             raise UserError(f"{f}: cannot read as NetCDF ({exc})") from None
     axial = {float(c["axial_load"]) for c in cases if "axial_load" in c.coords}
-    dims = ["speed", "radial_load"] + (["axial_load"] if len(axial) > 1 else [])
+    seeds = {int(c["realization"]) for c in cases if "realization" in c.coords}
+    dims = (["speed", "radial_load"] + (["axial_load"] if len(axial) > 1 else [])
+            + ([REALIZATION] if len(seeds) > 1 else []))
+    if REALIZATION not in dims:
+        cases = [c.drop_vars(REALIZATION, errors="ignore") for c in cases]
     expanded = [c.expand_dims(dims) for c in cases]
     combined = xr.merge(expanded, compat="no_conflicts", join="outer", combine_attrs="override")
     combined = combined.sortby(dims)

@@ -1,20 +1,29 @@
 """``rvsweep report`` on a small synthetic sweep: sections, figures, the 12-row table, caveats,
-missing cases, the computed physics paragraph and reproducibility."""
+missing cases, the computed physics paragraph and reproducibility; and on a synthetic
+ensemble sweep with virtual sensors (sensor table and figures, ensemble captions, the
+window-edge section, both cage-slip definitions)."""
 from __future__ import annotations
 
 import math
 import re
+import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
+import rvcore.driver
 from pipeline.cli import main
 from pipeline.fits import default_reference_path, load_reference_fits
-from pipeline.report import build_report
+from pipeline.report import build_report, ensemble_statistics, sensors
+from pipeline.sweep import run_sweep
+from rvcore.profile import PHASES, study_profile
+from tests.synthetic import synthetic_result
 from tests.test_metrics import CAVEAT, FAILED_REASON, FILE_STYLE_CONFIG, build_synthetic_sweep
 
 SECTIONS = ("# Sweep report", "## Bearing, profile and parameters", "## Cases", "## Time histories",
-            "## Metrics against speed and load", "## Fits beside the study's (Tables 3 and 4)",
+            "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",
             "## Where our physics agrees with the study and where it does not", "## Files")
 
 
@@ -31,7 +40,7 @@ def test_every_section_and_figure(built):
         assert s in md
     assert (d / "metrics.nc").exists() and (d / "fits.nc").exists()
     names = sorted(p.name for p in (d / "report" / "figures").glob("*.png"))
-    expected = ["time_histories.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
+    expected = ["time_histories.png", "cage_slip_steady.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
         ("startup", "radial", "range"), ("deceleration", "radial", "range"), ("steady", "radial", "mean"),
         ("startup", "axial", "range"), ("deceleration", "axial", "range"), ("steady", "axial", "mean"))]
     assert names == sorted(expected)
@@ -42,6 +51,9 @@ def test_every_section_and_figure(built):
         assert f"](figures/{name})" in md
         assert f'src="figures/{name}"' in html
     assert "<h2>Cases</h2>" in html and "<table>" in html
+    # no sensors, no ensemble: none of their sections or wording
+    assert "## Displacement sensors" not in md and "realization" not in md
+    assert "δ_r and δ_a at the ring centre of the extreme cases" in md
 
 
 def test_comparison_table_has_the_twelve_rows(built):
@@ -130,7 +142,7 @@ def test_report_is_reproducible_and_works_without_caveat_or_phase_table(tmp_path
     first = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     build_report(d)
     second = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
-    assert first == second and len(first) == 9
+    assert first == second and len(first) == 10  # report.md, report.html and 8 figures
     md = first["report.md"].decode()
     # the centrifugal estimate reads the file-style keys too (pitch diameter given)
     m_b = 7800.0 * math.pi / 6.0 * 0.023**3
@@ -170,3 +182,195 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
     assert main(["report", str(d), "--reference", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "rig.toml: foo" in err
+
+
+# --------------------------------------------------------------------------- ensemble with sensors
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: A 3 x 3 grid, 2 realizations (seeds 0 and 1), two virtual sensors; run with ensemble_case.
+ENSEMBLE_SWEEP = f"""\
+name = "ens"
+bearing = "{REPO / 'sweeps' / 'bearings' / 'reduced-test.toml'}"
+profile = "{REPO / 'sweeps' / 'profiles' / 'short.toml'}"
+realizations = 2
+
+[axes]
+speed = ["120 deg/s", "390 deg/s", "660 deg/s"]
+radial_load = ["20 kN", "30 kN", "40 kN"]
+
+[fixed]
+axial_load = "10 kN"
+
+[[sensors]]
+name = "radial_bore"
+position = ["160 mm", "0 mm", "0 mm"]
+direction = [1, 0, 0]
+
+[[sensors]]
+name = "axial_face"
+position = ["175.75 mm", "0 mm", "15 mm"]
+direction = [0, 0, 1]
+"""
+
+ENSEMBLE_FAILED = "SimulationError: synthetic failure of seed 1 at 390 deg/s, 20 kN"
+
+
+def ensemble_case(bearing, profile, op, settings, sensors=()):
+    """:func:`tests.synthetic.synthetic_result` with the new phase metrics and sensor readings.
+
+    Made-up but checkable: the seed adds 1e-7 m to the steady means and 0.001 to both
+    cage slips (nominal = actual + 0.002); the start-up δ_r range is flagged at the window's
+    edge for seed 0 at 660 deg/s, every steady range of sensor ``axial_face`` is flagged,
+    nothing else; seed 1 at 390 deg/s, 20 kN fails.
+    """
+    seed = int(settings.seed)
+    if seed == 1 and abs(op.speed - math.radians(390.0)) < 1e-6 and op.radial_load == 20e3:
+        raise rvcore.driver.SimulationError(ENSEMBLE_FAILED.removeprefix("SimulationError: "))
+    r = synthetic_result(op.speed, op.radial_load, op.axial_load, n=47)
+    t = r.time
+    windows = [(a, b) for _, a, b in study_profile().phases]
+    pm = r.phase_metrics
+    pm["phase_start"] = np.array([a for a, _ in windows])
+    pm["phase_end"] = np.array([b for _, b in windows])
+    for name in ("radial_displacement", "axial_displacement"):
+        pm[f"{name}_mean"] = pm[f"{name}_mean"] + 1e-7 * seed
+        pm[f"{name}_min_time"] = pm["phase_start"].copy()
+        pm[f"{name}_max_time"] = pm["phase_end"].copy()
+        pm[f"{name}_range_at_edge"] = np.zeros(len(PHASES))
+    if op.speed > 10.0 and seed == 0:
+        pm["radial_displacement_range_at_edge"][0] = 1.0
+    pm["cage_slip"] = pm["cage_slip"] + 0.001 * seed
+    pm["cage_slip_nominal"] = pm["cage_slip"] + 0.002
+    pm["epicyclic_cage_speed"] = pm["cage_speed_mean"] / (1.0 - pm["cage_slip"])
+    rows = np.array([s.as_row() for s in sensors]).reshape(-1, 6)
+    reading = (r.series["radial_displacement"][:, None] * rows[:, 3]
+               + r.series["axial_displacement"][:, None] * rows[:, 5] + 1e-7 * seed)
+    r.series["sensor_displacement"] = reading
+    stats = {k: np.zeros((len(PHASES), len(sensors))) for k in ("range", "mean", "std", "min_time", "max_time")}
+    for k, (a, b) in enumerate(windows):
+        w = (t >= a) & (t < b)
+        stats["range"][k] = np.ptp(reading[w], axis=0)
+        stats["mean"][k] = reading[w].mean(axis=0)
+        stats["std"][k] = reading[w].std(axis=0)
+        stats["min_time"][k] = t[w][np.argmin(reading[w], axis=0)]
+        stats["max_time"][k] = t[w][np.argmax(reading[w], axis=0)]
+    edge = np.zeros((len(PHASES), len(sensors)))
+    edge[PHASES.index("steady"), 1] = 1.0
+    for k, v in stats.items():
+        pm[f"sensor_displacement_{k}"] = v
+    pm["sensor_displacement_range_at_edge"] = edge
+    return r
+
+
+@pytest.fixture(scope="module")
+def ensemble(tmp_path_factory):
+    """The synthetic ensemble sweep, run serially, and its report (built with warnings as errors)."""
+    folder = tmp_path_factory.mktemp("ens")
+    path = folder / "ens.toml"
+    path.write_text(ENSEMBLE_SWEEP)
+    run_sweep(path, folder / "out", serial=True, case_fn=ensemble_case, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        files = build_report(folder / "out")
+    return folder / "out", files, files.markdown.read_text(), files.html.read_text()
+
+
+def _section(md: str, heading: str) -> str:
+    """The text under ``heading`` up to the next heading of any level."""
+    return re.split(r"\n#{1,6} ", md.split(f"\n{heading}\n", 1)[1], maxsplit=1)[0]
+
+
+def _table(text: str) -> list:
+    """Rows of the first Markdown table in ``text`` as lists of cells (header first)."""
+    lines = [ln for ln in text.splitlines() if ln.startswith("|") and not ln.startswith("|---")]
+    return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines]
+
+
+def test_ensemble_sensor_table_and_figures(ensemble):
+    d, files, md, html = ensemble
+    text = _section(md, "## Displacement sensors")
+    assert _table(text) == [["sensor", "position [mm]", "direction"],
+                            ["`radial_bore`", "(160, 0, 0)", "(1, 0, 0)"],
+                            ["`axial_face`", "(175.75, 0, 15)", "(0, 0, 1)"]]
+    assert "laser" in text and "tilt" in text
+    names = sorted(p.name for p in files.figures)
+    for name in ("sensor_time_histories.png", "sensor_startup_range.png", "sensor_deceleration_range.png",
+                 "sensor_steady_mean.png", "cage_slip_steady.png", "time_histories.png"):
+        assert name in names
+        assert f"](figures/{name})" in md and f'src="figures/{name}"' in html
+    # every sensor figure names its sensors with position and direction
+    for ln in md.splitlines():
+        if ln.startswith("The virtual sensors' readings") or ln.startswith("Readings of the virtual sensors"):
+            assert "sensor `radial_bore` at (160, 0, 0) mm along (1, 0, 0)" in ln
+            assert "sensor `axial_face` at (175.75, 0, 15) mm along (0, 0, 1)" in ln
+    # the ring-centre figures say so
+    headings = [ln for ln in md.splitlines() if ln.startswith("### ")]
+    assert len(headings) == 9 and sum(h.endswith(", at the ring centre") for h in headings) == 6
+    # phase windows from phase_start/phase_end, not from the configuration's (short) profile
+    assert "Phase windows from the sweep's `phase_start`/`phase_end`: start-up 0.3–0.8 s, steady 0.8–3.8 s" in md
+    assert [s_.name for s_ in sensors(xr.open_dataset(files.metrics))] == ["radial_bore", "axial_face"]
+
+
+def test_ensemble_captions_give_n_and_error_bars(ensemble):
+    d, files, md, _ = ensemble
+    captions = [ln for ln in md.splitlines() if "Ensemble mean of" in ln]
+    assert len(captions) == 9  # six at the ring centre, three of the sensors
+    for c in captions:
+        assert "Ensemble mean of N = 2 realizations (seeds 0, 1) per case with ±1 standard-error bars" in c
+        assert "individual realizations as faint small points" in c and "weighted least-squares" in c
+    assert "the first realization (seed 0) of N = 2" in _section(md, "## Time histories")
+    assert "× N = 2 realizations (seeds 0, 1): 9 grid points, 18 runs, 17 finished ok, 1 failed or missing" in md
+    row = next(r for r in _table(_section(md, "## Cases")) if r[0] == "390 °/s")
+    assert row[1:5] == ["20 kN", "seed 1", "failed", ENSEMBLE_FAILED]
+    assert files.missing == 1
+
+
+def test_ensemble_statistics_match_metrics_nc(ensemble):
+    _, files, _, _ = ensemble
+    with xr.open_dataset(files.metrics) as m:
+        for name in ("radial_displacement_mean", "sensor_displacement_range"):
+            mean, se = ensemble_statistics(m[name])
+            xr.testing.assert_allclose(mean, m[f"{name}_ensemble_mean"].drop_attrs())
+            xr.testing.assert_allclose(se, m[f"{name}_ensemble_stderr"].drop_attrs())
+        # the seed adds 1e-7 m to the steady mean: standard error 0.5e-7 m where both finished
+        se = ensemble_statistics(m["radial_displacement_mean"])[1].sel(phase=1)
+        assert int(se.isnull().sum()) == 1 and np.allclose(se.values[np.isfinite(se.values)], 0.5e-7)
+
+
+def test_window_edge_section_lists_flagged_ranges(ensemble):
+    _, _, md, html = ensemble
+    text = _section(md, "## Ranges cut off by the phase window")
+    assert "cut off by the window and is a lower bound" in text
+    rows = _table(text)
+    assert rows[0][:3] == ["phase", "metric", "extreme at the window's edge"]
+    flagged = {(r[0], r[1]): r for r in rows[1:]}
+    assert set(flagged) == {("start-up", "range of δ_r at the ring centre"),
+                            ("steady", "range of sensor `axial_face` at (175.75, 0, 15) mm along (0, 0, 1)")}
+    r = flagged[("start-up", "range of δ_r at the ring centre")]
+    assert r[2] == "3 of 17 runs (17.6 % of realizations), at 3 of 9 grid points"
+    assert r[3] == "660 °/s, 20 kN (1 of 2); 660 °/s, 30 kN (1 of 2); 660 °/s, 40 kN (1 of 2)"
+    r = flagged[("steady", "range of sensor `axial_face` at (175.75, 0, 15) mm along (0, 0, 1)")]
+    assert r[2] == "17 of 17 runs (100 % of realizations), at 9 of 9 grid points"
+    assert "No other range has an extreme at the edge of its window." in text
+    # the figure holds one flagged realization: seed 0 at 660 °/s in the panel at 30 kN
+    caption = _section(md, "### start-up radial displacement variation range, at the ring centre")
+    assert "Hollow markers (1 realization and the mean it belongs to)" in caption
+    assert "No range drawn here has an extreme" in _section(md, "### start-up sensor reading variation range")
+    assert "<h2>Ranges cut off by the phase window</h2>" in html
+
+
+def test_both_cage_slip_definitions(ensemble):
+    _, _, md, _ = ensemble
+    text = _section(md, "## Cage slip")
+    assert "`cage_slip` = 1 − ω̄_c/ω_epi" in text and "actual contact angles" in text
+    assert re.search(r"`cage_slip_nominal` against the epicyclic speed at the nominal contact angle α = [\d.]+°", text)
+    rows = _table(text)
+    assert rows[0][3:5] == ["`cage_slip` (actual contact angles) [%]",
+                            "`cage_slip_nominal` (nominal contact angle) [%]"]
+    # 120 °/s, 20 kN, steady: slip 0.005 + 0.001·seed, nominal 0.002 more; mean ± standard error in %
+    row = next(r for r in rows if r[:3] == ["120 °/s", "20 kN", "steady"])
+    assert row[3:5] == ["0.55 ± 0.05", "0.75 ± 0.05"]
+    assert "cage_slip_steady.png" in text
+    files = _section(md, "## Files")
+    assert "`cage_slip`" in files and "`cage_slip_nominal`" in files

@@ -53,18 +53,22 @@ def test_study_sweep_is_the_studys_grid():
     speeds_deg = np.arange(120, 661, 60)            # 120, 180, ..., 660 deg/s: 10 values
     loads_kn = np.arange(20, 41, 5)                 # 20, 25, ..., 40 kN: 5 values
     assert len(speeds_deg) == 10 and len(loads_kn) == 5
-    assert len(s.cases) == 50
+    n = s.realizations                              # random starts per grid point
+    assert n >= 1 and len(s.cases) == 50 * n
     expected = sorted((math.radians(w), f * 1e3) for w, f in itertools.product(speeds_deg, loads_kn))
-    got = sorted((w, f) for w, f, _ in ops(s))
+    got = sorted({(w, f) for w, f, _ in ops(s)})
     np.testing.assert_allclose(np.array(got), np.array(expected), rtol=1e-14)
     assert {a for _, _, a in ops(s)} == {10e3}
+    # every grid point has its n realizations, each with its own seed (and case id)
+    assert sorted({c.settings.seed for c in s.cases}) == list(range(n)) or n == 1
+    assert len({c.case_id for c in s.cases}) == len(s.cases)
     # both of the study's one-dimensional sweeps are in it
-    assert sum(math.isclose(f, 30e3) for _, f, _ in ops(s)) == 10
-    assert sum(math.isclose(w, math.radians(120), rel_tol=1e-12) for w, _, _ in ops(s)) == 5
+    assert sum(math.isclose(f, 30e3) for _, f, _ in ops(s)) == 10 * n
+    assert sum(math.isclose(w, math.radians(120), rel_tol=1e-12) for w, _, _ in ops(s)) == 5 * n
     assert s.bearing.name == "rv-main-study"
     assert s.profile.name == "study"
     assert s.settings.output_rate == 1000.0
-    assert len({c.case_id for c in s.cases}) == 50
+    assert len({c.case_id for c in s.cases}) == 50 * n
 
 
 def test_smoke_sweep_is_a_2x2_grid_on_the_reduced_bearing():
