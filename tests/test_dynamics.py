@@ -1,8 +1,13 @@
 """The contact-dynamics core (rvcore.kernels/integrator/driver) on reduced bearings (model.md §9).
 
-These checks run weightless (``gravity=False``, model.md §1): their reference values —
-quasi-static equilibria, symmetric responses, conserved energy — are derived for a
-bearing without body forces. Gravity has its own checks in test_truth.py.
+Most checks here run weightless (``gravity=False``, model.md §1): their references
+(statics without the balls' and cage's weights, conserved energy, symmetric responses,
+the centrifugal load difference) hold for a bearing without body forces. The kinematics
+check runs in gravity. The convergence checks on this 12-ball bearing at 20× the
+study's acceleration run weightless: in gravity its steady and deceleration ranges move
+by 2–4 % under a 10× smaller step (see the README's known limits); the study bearing's
+start-up ranges converge in gravity (tests/test_truth.py, slow). Gravity has its own
+checks in test_truth.py.
 
 Each check runs the real equations of motion on a small bearing built in code
 (tests/physics_cases.py: the study's ring section with 8–12 balls) over tens of
@@ -77,10 +82,11 @@ def test_damped_response_settles_to_quasistatic(z, f_r, f_a, load_angle):
     late = res.time >= 0.10
     assert np.abs(dr[late] / st.radial_displacement - 1).max() < 0.01
     assert np.abs(da[late] / st.axial_displacement - 1).max() < 0.01
-    # and it moved along the load direction only
-    transverse = (-res.series["inner_ring_x"] * math.sin(load_angle)
-                  + res.series["inner_ring_y"] * math.cos(load_angle))
-    assert np.abs(transverse[late]).max() < 1e-3 * st.radial_displacement
+    # and it moved along the load direction only (the statics' transverse is 0)
+    c, s = math.cos(load_angle), math.sin(load_angle)
+    transverse = -res.series["inner_ring_x"] * s + res.series["inner_ring_y"] * c
+    st_transverse = -st.displacement[0] * s + st.displacement[1] * c
+    assert np.abs(transverse[late] - st_transverse).max() < 1e-3 * st.radial_displacement
 
 
 # --------------------------------------------------------------------------- kinematics
@@ -113,8 +119,8 @@ def test_kinematics_cage_speed_and_ball_spin(f_r, f_a):
     row = bearing.rows[0]
     phases = (("startup", 0.01, 0.03), ("steady", 0.05, 0.13), ("deceleration", 0.13, 0.13))
     res = run_case(bearing, ramp_profile(0.01, 0.01, 0.03, 0.13, phases), OperatingPoint(omega, f_r, f_a),
-                   SolverSettings(output_rate=1e4, gravity=False))
-    st = solve_statics(bearing, f_r, f_a, gravity=False)
+                   SolverSettings(output_rate=1e4))
+    st = solve_statics(bearing, f_r, f_a)
     alpha_ball = np.nanmean(st.contact_angles, axis=1)  # per ball, operating
     alpha_nom = row.nominal_contact_angle
     d, dm = row.ball_diameter, row.pitch_diameter
@@ -126,7 +132,7 @@ def test_kinematics_cage_speed_and_ball_spin(f_r, f_a):
     w_cage = res.phase_metrics["cage_speed_mean"][1]
     assert abs(w_cage / w_op - 1) < 0.02
     assert abs(w_cage / w_nom - 1) < 0.02
-    model = compile_bearing(bearing, gravity=False)
+    model = compile_bearing(bearing)
     balls = ball_states(model, res.final_state)
     rho = np.hypot(balls[:, 0], balls[:, 1])
     w_orbit = (balls[:, 0] * balls[:, 4] - balls[:, 1] * balls[:, 3]) / rho**2

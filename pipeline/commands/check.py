@@ -111,6 +111,7 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
         "outer_diameter_m": bearing.outer_diameter,
         "width_m": bearing.width,
         "inner_ring_mass_kg": inner_mass,
+        "gravity_m_per_s2": list(bearing.gravity),
         "allow_ball_overlap": bearing.allow_ball_overlap,
         "rows": rows,
         "assumptions": list(bearing.assumptions),
@@ -236,7 +237,8 @@ def _format_bearing(s: dict) -> list:
             f"    ball mass {r['ball_mass_kg']:.4g} kg; epicyclic cage speed / inner-ring speed "
             f"{r['cage_speed_ratio']:.5f}; cage {r['cage_guidance']} guided, {r['cage_mass_kg']:.3g} kg",
         ]
-    lines.append(f"  inner ring mass {s['inner_ring_mass_kg']:.4g} kg (with attachments)")
+    lines.append(f"  inner ring mass {s['inner_ring_mass_kg']:.4g} kg (with attachments); gravity "
+                 f"({', '.join(f'{g:.4g}' for g in s['gravity_m_per_s2'])}) m/s^2 in the bearing frame")
     if s["assumptions"]:
         lines.append(f"  assumptions ({len(s['assumptions'])}): {', '.join(s['assumptions'])}")
     for w in s["warnings"]:
