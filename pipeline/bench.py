@@ -86,12 +86,13 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
         y = y0.copy()
         n = int(math.ceil(window / dt))
         out = np.zeros((n + 2, ig.N_OUT))
-        acc = ig.new_accumulators(0)
+        sig_acc, acc = ig.new_accumulators(0)
         phases = np.zeros((0, 2))
+        sensors = np.zeros((0, 6))
         work = np.zeros((5, y.size))
         t0 = time.perf_counter()
-        status, *_ = ig.integrate(y, t_start, window / n, n, n, *args, phases, out, acc, diag, bdiag,
-                                  work, 1.0, 1e30)
+        status, *_ = ig.integrate(y, t_start, window / n, n, n, *args, phases, sensors, out, sig_acc, acc,
+                                  diag, bdiag, work, 1.0, 1e30, 1.0)
         wall = time.perf_counter() - t0
         assert status == ig.OK
         return y, wall
