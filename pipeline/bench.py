@@ -25,16 +25,17 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-STUDY_BEARING = ROOT / "sweeps" / "bearings" / "rv-main-study.toml"
-STUDY_PROFILE = ROOT / "sweeps" / "profiles" / "study.toml"
-SMOKE_SWEEP = ROOT / "sweeps" / "smoke.toml"
+from .schema.shipped import DEFAULT_BEARING, DEFAULT_PROFILE, shipped_file
+
+STUDY_BEARING = shipped_file(DEFAULT_BEARING)
+STUDY_PROFILE = shipped_file(DEFAULT_PROFILE)
+SMOKE_SWEEP = shipped_file("smoke.toml")
 
 
 def _study():
     from rvcore.profile import OperatingPoint
 
-    from .config import load_bearing, load_profile
+    from .schema import load_bearing, load_profile
 
     return (load_bearing(STUDY_BEARING), load_profile(STUDY_PROFILE),
             OperatingPoint(math.radians(660.0), 30e3, 10e3))
@@ -155,8 +156,8 @@ def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
     ``wall_time`` counts from the first case submitted to the last one finished; the
     totals add the numba warm-up and the cluster's start and stop.
     """
-    from .sweep import run_sweep
-    from .sweepfile import load_sweep
+    from .run import run_sweep
+    from .schema import load_sweep
 
     sweep = load_sweep(SMOKE_SWEEP)
     tmp = Path(tempfile.mkdtemp(prefix="rvsweep-bench-"))

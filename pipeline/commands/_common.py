@@ -37,7 +37,7 @@ def parse_sets(items) -> dict:
 
 def one_case_sweep(args, *, profile: str | None):
     """A one-case sweep built from the command line, validated like a sweep file."""
-    from ..sweepfile import sweep_from_dict
+    from ..schema import sweep_from_dict
 
     fixed = {"speed": getattr(args, "speed", "0 deg/s"), "radial_load": args.radial_load,
              "axial_load": args.axial_load, "moment": args.moment, "load_angle": args.load_angle}
@@ -55,4 +55,6 @@ def one_case_sweep(args, *, profile: str | None):
 
 def default_profile() -> Path:
     """The study's cycle shipped with the project."""
-    return Path(__file__).resolve().parents[2] / "sweeps" / "profiles" / "study.toml"
+    from ..schema.shipped import DEFAULT_PROFILE, shipped_file
+
+    return shipped_file(DEFAULT_PROFILE)

@@ -23,7 +23,7 @@ import sys
 from rvcore import geometry as geo
 from rvcore.profile import PHASES
 
-from ..config import bearing_from_dict, profile_from_dict, read_toml
+from ..schema import bearing_from_dict, profile_from_dict, read_toml
 from ..errors import ConfigError, UserError
 
 HELP = "validate bearing, profile and sweep files and print what they imply"

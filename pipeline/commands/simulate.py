@@ -19,8 +19,8 @@ def add_arguments(parser):
 
 def run(args):
     from rvcore.driver import SimulationError
-    from ..netcdf import write_atomic
-    from ..sweep import run_one_case
+    from ..io import write_atomic
+    from ..run import run_one_case
 
     sweep = one_case_sweep(args, profile=args.profile)
     spec = sweep.cases[0]

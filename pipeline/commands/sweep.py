@@ -33,8 +33,8 @@ def _terminate_as_interrupt(signum, frame):
 
 
 def run(args) -> int:
-    from ..sweep import run_sweep, summary
-    from ..sweepfile import load_sweep
+    from ..run import run_sweep, summary
+    from ..schema import load_sweep
 
     if args.workers is not None:
         if args.workers < 1:

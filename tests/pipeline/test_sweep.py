@@ -20,12 +20,12 @@ import xarray as xr
 
 import rvcore.driver
 from pipeline.cli import main
-from pipeline.sweep import read_status, run_sweep, status_counts
-from pipeline.sweepfile import load_sweep
-from tests.synthetic import synthetic_result
-from tests.test_sweepfile import GRID, make_sweep
+from pipeline.run import read_status, run_sweep, status_counts
+from pipeline.schema import load_sweep
+from tests.pipeline.synthetic import synthetic_result
+from tests.schema.test_sweepfile import GRID, make_sweep
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 # the 2 x 2 grid of GRID
 SPEEDS = (math.radians(120), math.radians(660))

@@ -19,8 +19,8 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
-from .case import PHASE_METRICS, SENSOR_METRICS, VARIABLES, phase_coordinate
-from .errors import UserError
+from ..io import PHASE_METRICS, SENSOR_METRICS, VARIABLES, phase_coordinate
+from ..errors import UserError
 
 #: Flag meanings of ``case_status`` in flag-value order.
 CASE_STATES = ("ok", "failed", "not_run")

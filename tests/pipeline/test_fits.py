@@ -9,8 +9,8 @@ import pytest
 import xarray as xr
 from scipy import stats
 
-from pipeline.case import phase_coordinate
-from pipeline.fits import (LINE_STATS, PLANE_STATS, compose_units, fit_metrics, fit_statistic,
+from pipeline.io import phase_coordinate
+from pipeline.analysis import (LINE_STATS, PLANE_STATS, compose_units, fit_metrics, fit_statistic,
                            line_band, linear_fit, plane_fit)
 
 SPEEDS = np.array([120.0, 255.0, 390.0, 525.0, 660.0])  # degree s-1

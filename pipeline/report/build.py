@@ -33,12 +33,12 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
-from .errors import ConfigError
-from .fits import (DISPLACEMENT_COORD, fit_metrics, fit_statistic, line_band, load_reference_fits,
+from ..errors import ConfigError
+from ..analysis import (DISPLACEMENT_COORD, fit_metrics, fit_statistic, line_band, load_reference_fits,
                    udunits_to_pint, write_fits)
-from .metrics import (REALIZATION, case_states, load_status, load_sweep, nearest, phase_metrics,
+from ..analysis import (REALIZATION, case_states, load_status, load_sweep, nearest, phase_metrics,
                       write_metrics)
-from .units import parse_quantity, registry
+from ..schema import parse_quantity, registry
 
 #: The virtual-sensor dimension of sweep.nc and metrics.nc.
 SENSOR = "sensor"
@@ -1698,7 +1698,7 @@ def build_report(directory, reference=None) -> ReportFiles:
     write_metrics(metrics, directory / "metrics.nc")
     write_fits(fits, directory / "fits.nc")
     config, err = _parse_config(str(sweep.attrs.get("configuration", "")))
-    from .fits import default_reference_path
+    from ..analysis import default_reference_path
 
     ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
                   status=load_status(directory), references=refs,

@@ -46,9 +46,9 @@ from scipy import stats
 
 from rvcore.profile import PHASES
 
-from .case import encoding_for
-from .errors import ConfigError, UserError
-from .units import parse_quantity, registry
+from ..io import encoding_for
+from ..errors import ConfigError, UserError
+from ..schema import parse_quantity, registry
 
 #: The sweep axes a line is fitted against, in this order.
 AXES = ("speed", "radial_load")
@@ -671,8 +671,10 @@ class ReferenceFit:
 
 
 def default_reference_path() -> Path:
-    """``sweeps/reference/study-fits.toml`` of this source tree."""
-    return Path(__file__).resolve().parent.parent / "sweeps" / "reference" / "study-fits.toml"
+    """The study's published fits, ``sweeps/reference/study-fits.toml``, as shipped."""
+    from ..schema.shipped import REFERENCE_FITS, shipped_file
+
+    return shipped_file(REFERENCE_FITS)
 
 
 def load_reference_fits(path=None) -> list:

@@ -12,12 +12,12 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.config import (apply_override, bearing_from_dict, load_bearing, load_profile,
+from pipeline.schema import (apply_override, bearing_from_dict, load_bearing, load_profile,
                              lookup, profile_from_dict, read_toml, resolve_path)
 from pipeline.errors import ConfigError
 from rvcore.profile import scaled_study_profile, study_profile
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BEARINGS = ROOT / "sweeps" / "bearings"
 PROFILES = ROOT / "sweeps" / "profiles"
 FILE = "some/bearing.toml"

@@ -44,13 +44,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
-from .case import REFERENCES, VARIABLES, case_dataset, git_commit, phase_coordinate
-from .errors import UserError
-from .netcdf import (CASE_STATUS, UDUNITS, case_status_variable, combined_encoding, history_line,
+from .. import __version__
+from ..io import REFERENCES, VARIABLES, case_dataset, git_commit, phase_coordinate
+from ..errors import UserError
+from ..io import (CASE_STATUS, UDUNITS, case_status_variable, combined_encoding, history_line,
                      remove_stale_temporaries, write_atomic, write_text_atomic)
-from .sweepfile import MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, load_sweep
-from .units import format_quantity
+from ..schema import MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, load_sweep
+from ..schema import format_quantity
 
 __all__ = [
     "CaseOutcome", "CaseState", "SweepResult", "run_sweep", "compute_case", "label_case",

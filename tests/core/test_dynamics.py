@@ -39,7 +39,7 @@ from rvcore.kernels import N_BDIAG, N_DIAG, potential_energy
 from rvcore.model import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.quasistatic import solve_statics
-from tests.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
+from tests.core.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
                                  ramp_profile, section_bearing)
 
 STUDY_SPEED = math.radians(660.0)  # the study's top speed [rad/s]

@@ -28,9 +28,9 @@ from scipy.optimize import brentq
 from rvcore import hertz
 from rvcore.geometry import Arc
 from rvcore.quasistatic import NoEquilibriumError, solve_statics
-from tests.physics_cases import STEEL, section_bearing, series_stiffness
+from tests.core.physics_cases import STEEL, section_bearing, series_stiffness
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 FOUR_POINT_FILE = REPO / "sweeps" / "bearings" / "four-point-example.toml"
 E_STEEL = hertz.effective_modulus(STEEL.youngs_modulus, STEEL.poisson_ratio)
 
@@ -356,7 +356,7 @@ def test_force_balance_combined_loads(f_r, f_a, m, psi, four_point):
 
 def four_point_bearing():
     if FOUR_POINT_FILE.exists():
-        from pipeline.config import load_bearing
+        from pipeline.schema import load_bearing
         return load_bearing(FOUR_POINT_FILE)
     return section_bearing(42, alpha=math.radians(30), fi=0.53, fo=0.53, clearance=40e-6,
                            four_point=True)

@@ -33,9 +33,9 @@ from rvcore.geometry import ball_mass, cage_mass_properties, inner_ring_mass_pro
 from rvcore.kernels import N_BDIAG, N_DIAG, rhs
 from rvcore.model import compile_bearing
 from rvcore.profile import OperatingPoint, scaled_study_profile, study_profile
-from tests.physics_cases import ball_states, cage_state, constant_profile, section_bearing
+from tests.core.physics_cases import ball_states, cage_state, constant_profile, section_bearing
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 STUDY_SPEED = math.radians(660.0)  # the study's top speed [rad/s]
 EZ = np.array([0.0, 0.0, 1.0])
 B_QP = 4  # per-ball diagnostic column: pocket load [N] (rvcore.kernels.B_QP)
@@ -508,7 +508,7 @@ def test_study_startup_ranges_converge_with_step():
     start-up phase's δ_r and δ_a ranges within 2 %: they are what the sweeps report,
     and the fixed step is sized from a stability limit, not from an error estimate.
     """
-    from pipeline.config import load_bearing
+    from pipeline.schema import load_bearing
 
     bearing = load_bearing(REPO / "sweeps" / "bearings" / "rv-main-study.toml")
     prof = study_profile()

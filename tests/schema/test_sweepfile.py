@@ -10,11 +10,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import pipeline.sweepfile as sweepfile
+import pipeline.schema.sweepfile as sweepfile
 from pipeline.errors import ConfigError
-from pipeline.sweepfile import load_sweep
+from pipeline.schema import load_sweep
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 SWEEPS = REPO / "sweeps"
 
 HEADER = 'bearing = "bearings/reduced-test.toml"\nprofile = "profiles/short.toml"\n'

@@ -15,10 +15,10 @@ import xarray as xr
 from compliance_checker.runner import CheckSuite, ComplianceChecker
 
 from pipeline.cli import main
-from pipeline.sweep import run_sweep
-from pipeline.sweepfile import load_sweep
-from tests.test_sweep import GRID, REPO, synthetic_case
-from tests.test_sweepfile import make_sweep
+from pipeline.run import run_sweep
+from pipeline.schema import load_sweep
+from tests.pipeline.test_sweep import GRID, REPO, synthetic_case
+from tests.schema.test_sweepfile import make_sweep
 
 CHECKER = "cf:1.8"
 

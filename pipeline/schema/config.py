@@ -74,7 +74,7 @@ from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRin
                              geometry_problems)
 from rvcore.profile import INTERPOLATIONS, PHASES, Channel, Profile
 
-from .errors import ConfigError
+from ..errors import ConfigError
 from .units import parse_quantity
 
 __all__ = [

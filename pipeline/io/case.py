@@ -38,7 +38,7 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
-from . import __version__
+from .. import __version__
 
 REFERENCES = (
     "Dynamic characteristics of the main bearing of rotary vector reducers under typical "

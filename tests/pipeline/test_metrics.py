@@ -16,12 +16,12 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pipeline.case import case_dataset, write_case
+from pipeline.io import case_dataset, write_case
 from pipeline.errors import ConfigError
-from pipeline.fits import default_reference_path, load_reference_fits
-from pipeline.metrics import load_sweep, phase_metrics, write_metrics
+from pipeline.analysis import default_reference_path, load_reference_fits
+from pipeline.analysis import load_sweep, phase_metrics, write_metrics
 from rvcore.profile import PHASES
-from tests.synthetic import synthetic_result
+from tests.pipeline.synthetic import synthetic_result
 
 STUDY = Path("/work/shared/reference/rv-main-bearing-study.md")
 
@@ -144,7 +144,7 @@ def build_synthetic_sweep(directory, speeds_deg=(120.0, 390.0, 660.0), loads=(20
                             {"long_name": "state of the case", "flag_values": np.array([0, 1, 2], np.int8),
                              "flag_meanings": "ok failed not_run"})
     if with_sweep_nc:
-        from pipeline.case import encoding_for
+        from pipeline.io import encoding_for
 
         sweep.to_netcdf(directory / "sweep.nc", engine="netcdf4", encoding=encoding_for(sweep))
     if not flat_status:  # the layout pipeline.sweep writes
@@ -229,7 +229,7 @@ def test_metrics_from_case_files_when_no_sweep_nc(tmp_path):
 def test_metrics_and_fits_pass_cf_checker(metrics_file, tmp_path):
     from compliance_checker.runner import CheckSuite, ComplianceChecker
 
-    from pipeline.fits import fit_metrics, write_fits
+    from pipeline.analysis import fit_metrics, write_fits
 
     with xr.open_dataset(metrics_file) as m:
         write_fits(fit_metrics(m.load()), tmp_path / "fits.nc")

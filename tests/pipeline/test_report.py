@@ -15,12 +15,12 @@ import xarray as xr
 
 import rvcore.driver
 from pipeline.cli import main
-from pipeline.fits import default_reference_path, load_reference_fits
+from pipeline.analysis import default_reference_path, load_reference_fits
 from pipeline.report import build_report, ensemble_statistics, sensors
-from pipeline.sweep import run_sweep
+from pipeline.run import run_sweep
 from rvcore.profile import PHASES, study_profile
-from tests.synthetic import synthetic_result
-from tests.test_metrics import CAVEAT, FAILED_REASON, FILE_STYLE_CONFIG, build_synthetic_sweep
+from tests.pipeline.synthetic import synthetic_result
+from tests.pipeline.test_metrics import CAVEAT, FAILED_REASON, FILE_STYLE_CONFIG, build_synthetic_sweep
 
 SECTIONS = ("# Sweep report", "## Bearing, profile and parameters", "## Cases", "## Time histories",
             "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",
@@ -186,7 +186,7 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
 
 # --------------------------------------------------------------------------- ensemble with sensors
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 
 #: A 3 x 3 grid, 2 realizations (seeds 0 and 1), two virtual sensors; run with ensemble_case.
 ENSEMBLE_SWEEP = f"""\

@@ -12,7 +12,7 @@ import pytest
 
 from pipeline.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 STUDY = ROOT / "sweeps" / "bearings" / "rv-main-study.toml"
 BUILDABLE = ROOT / "sweeps" / "bearings" / "rv-main-buildable.toml"
 FOUR_POINT = ROOT / "sweeps" / "bearings" / "four-point-example.toml"

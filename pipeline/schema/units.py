@@ -10,7 +10,7 @@ import re
 
 import pint
 
-from .errors import ConfigError
+from ..errors import ConfigError
 
 # The SI unit each physical kind is converted to. The key is what callers ask for.
 SI_UNITS = {

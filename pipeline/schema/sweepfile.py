@@ -92,8 +92,8 @@ from rvcore.geometry import Bearing
 from rvcore.profile import OperatingPoint, Profile
 
 from . import config
-from .errors import ConfigError
-from .netcdf import UDUNITS, cf_name
+from ..errors import ConfigError
+from ..io import UDUNITS, cf_name
 from .units import SI_UNITS, parse_quantity, registry
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a

@@ -1,0 +1,6 @@
+"""The file formats: bearing, profile and sweep TOML files, units, shipped files."""
+from .config import (apply_override, bearing_from_dict, load_bearing, load_profile, lookup,
+                     profile_from_dict, read_toml, resolve_path)
+from .sweepfile import (MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, load_sweep,
+                        sweep_from_dict)
+from .units import SI_UNITS, format_quantity, parse_quantity, registry
