@@ -48,26 +48,6 @@ def _drop_encoding(ds: xr.Dataset) -> xr.Dataset:
     return ds
 
 
-def load_status(directory) -> dict:
-    """``status.json`` of a sweep folder, or ``{}`` when there is none.
-
-    Raises
-    ------
-    UserError
-        When the file exists but is not valid JSON.
-    """
-    path = Path(directory) / "status.json"
-    if not path.exists():
-        return {}
-    try:
-        data = json.loads(path.read_text())
-    except json.JSONDecodeError as exc:
-        raise UserError(f"{path}: not valid JSON ({exc.msg} at line {exc.lineno})") from None
-    if not isinstance(data, dict):
-        raise UserError(f"{path}: expected an object mapping case ids to their state")
-    return data
-
-
 def load_sweep(directory) -> xr.Dataset:
     """The combined sweep of a results folder, loaded into memory.
 

@@ -1,5 +1,7 @@
-"""Variables, NetCDF files and results folders."""
+"""Variables, NetCDF files, atomic writing and the results folder's status."""
 from .case import (PHASE_METRICS, REFERENCES, SENSOR_METRICS, VARIABLES, case_dataset, encoding_for,
                    git_commit, phase_coordinate, write_case)
-from .netcdf import (CASE_STATUS, UDUNITS, case_status_variable, cf_name, combined_encoding,
-                     history_line, remove_stale_temporaries, write_atomic, write_text_atomic)
+from .files import (history_line, remove_stale_temporaries, utc_stamp, write_atomic,
+                    write_bytes_atomic, write_text_atomic)
+from .netcdf import CASE_STATUS, UDUNITS, case_status_variable, cf_name, combined_encoding
+from .status import STATUS_FILE, CaseState, read_status, status_counts, write_status

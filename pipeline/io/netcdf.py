@@ -1,9 +1,6 @@
 """Shared NetCDF writing: atomic replacement, encodings and CF attributes.
 
-Every file the pipeline writes goes through :func:`write_atomic` (or
-:func:`write_text_atomic`): the content is written to a temporary name in the target's
-own folder, flushed to disk, and then renamed onto the final name with ``os.replace``,
-so a killed process leaves either the old file or the new one, never half a file.
+Files are written by :mod:`pipeline.io.files` (atomic replacement).
 
 The conventions (pipeline.md, "NetCDF conventions"): CF-1.8, UDUNITS unit strings, no
 ``_FillValue`` on coordinates, zlib compression, one case per chunk, float64 data, the
@@ -11,10 +8,7 @@ netCDF4 engine.
 """
 from __future__ import annotations
 
-import datetime as _dt
-import os
 import re
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -43,19 +37,7 @@ UDUNITS = {
 #: Flag values and meanings of the ``case_status`` variable of a combined sweep.
 CASE_STATUS = ("ok", "failed", "not_run")
 
-TEMP_SUFFIX = ".tmp"
-
 _CF_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-
-
-def utc_stamp() -> str:
-    """The current UTC time as ``YYYY-MM-DDThh:mm:ssZ`` (the ``history`` line prefix)."""
-    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-
-
-def history_line(text: str) -> str:
-    """One timestamped ``history`` line (CF: one line per processing step)."""
-    return f"{utc_stamp()} {text}"
 
 
 def cf_name(key: str) -> str:
@@ -71,112 +53,6 @@ def cf_name(key: str) -> str:
         name = "axis_" + name
     assert _CF_NAME.match(name), name
     return name
-
-
-def _temp_path(path: Path) -> Path:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.{os.getpid()}.",
-                               suffix=TEMP_SUFFIX)
-    os.close(fd)
-    return Path(tmp)
-
-
-def _fsync(path: Path) -> None:
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
-    """Write ``ds`` to ``path`` atomically with the netCDF4 engine.
-
-    Parameters
-    ----------
-    ds : xarray.Dataset
-        The data [-].
-    path : str or Path
-        The final file name; its folder must exist [-].
-    encoding : dict, optional
-        Per-variable netCDF encoding (default :func:`pipeline.case.encoding_for`).
-
-    Notes
-    -----
-    The data go to a temporary file ``.<name>.<pid>.<random>.tmp`` in the same folder
-    (so that the rename is within one file system), are fsync'ed, and the temporary
-    file is then renamed onto ``path`` with ``os.replace``, which is atomic on POSIX
-    and Windows. On any error the temporary file is removed and ``path`` is untouched.
-    """
-    from .case import encoding_for
-
-    path = Path(path)
-    tmp = _temp_path(path)
-    try:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                     encoding=encoding_for(ds) if encoding is None else encoding)
-        _fsync(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
-
-
-def write_text_atomic(path, text: str) -> Path:
-    """Write ``text`` (UTF-8) to ``path`` atomically (temporary file, fsync, ``os.replace``)."""
-    path = Path(path)
-    tmp = _temp_path(path)
-    try:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
-
-
-def remove_stale_temporaries(folder) -> list:
-    """Delete temporary files left in ``folder`` by killed writers on this host.
-
-    A temporary file carries its writer's process id (see :func:`write_atomic`); it
-    is removed only when that process no longer exists, so a writer still at work
-    keeps its file.
-
-    Returns
-    -------
-    list of Path
-        The files removed.
-    """
-    removed = []
-    folder = Path(folder)
-    if not folder.is_dir():
-        return removed
-    for tmp in folder.glob(f".*{TEMP_SUFFIX}"):
-        m = re.match(r"^\..+\.(\d+)\.[^.]+" + re.escape(TEMP_SUFFIX) + "$", tmp.name)
-        if not m:
-            continue
-        pid = int(m.group(1))
-        if pid != os.getpid() and _alive(pid):
-            continue
-        try:
-            tmp.unlink()
-            removed.append(tmp)
-        except OSError:
-            pass
-    return removed
-
-
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def combined_encoding(ds: xr.Dataset, case_dims, *, complevel: int = 4) -> dict:

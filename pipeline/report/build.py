@@ -34,9 +34,10 @@ import xarray as xr
 from rvcore.profile import PHASES
 
 from ..errors import ConfigError
+from ..io import read_status
 from ..analysis import (DISPLACEMENT_COORD, fit_metrics, fit_statistic, line_band, load_reference_fits,
                    udunits_to_pint, write_fits)
-from ..analysis import (REALIZATION, case_states, load_status, load_sweep, nearest, phase_metrics,
+from ..analysis import (REALIZATION, case_states, load_sweep, nearest, phase_metrics,
                       write_metrics)
 from ..schema import parse_quantity, registry
 
@@ -1701,7 +1702,7 @@ def build_report(directory, reference=None) -> ReportFiles:
     from ..analysis import default_reference_path
 
     ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
-                  status=load_status(directory), references=refs,
+                  status=read_status(directory), references=refs,
                   reference_path=Path(reference) if reference else default_reference_path(),
                   config=config, config_error=err)
     outdir = directory / "report"

@@ -1,2 +1,3 @@
-"""Running a sweep: cases, scheduling on dask, status."""
-from .runner import read_status, run_one_case, run_sweep, status_counts, summary
+"""Running a sweep: cases, scheduling on dask."""
+from ..io import read_status, status_counts  # noqa: F401  (status lives in pipeline.io)
+from .runner import run_one_case, run_sweep, summary

@@ -47,8 +47,8 @@ import xarray as xr
 from .. import __version__
 from ..io import REFERENCES, VARIABLES, case_dataset, git_commit, phase_coordinate
 from ..errors import UserError
-from ..io import (CASE_STATUS, UDUNITS, case_status_variable, combined_encoding, history_line,
-                     remove_stale_temporaries, write_atomic, write_text_atomic)
+from ..io import (CASE_STATUS, UDUNITS, CaseState, case_status_variable, combined_encoding, history_line,
+                  read_status, remove_stale_temporaries, write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, load_sweep
 from ..schema import format_quantity
 
@@ -186,64 +186,6 @@ def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
 
 
 # --------------------------------------------------------------------------- status
-
-
-@dataclass
-class CaseState:
-    """Where one case stands: ``state`` is 'ok', 'failed' or 'not_run'."""
-
-    case_id: str
-    index: int
-    point: dict
-    state: str = "not_run"
-    reason: str = ""
-    traceback: str = ""
-    seconds: float | None = None
-    computed: bool = False
-
-    def as_json(self) -> dict:
-        d = dict(self.point)
-        d["state"] = self.state
-        if self.state == "failed":
-            d["reason"] = self.reason
-            d["traceback"] = self.traceback
-        if self.seconds is not None:
-            d["seconds"] = round(self.seconds, 3)
-        d["index"] = self.index
-        return d
-
-
-def _write_status(out: Path, states: dict) -> None:
-    doc = {cid: st.as_json() for cid, st in states.items()}
-    write_text_atomic(out / "status.json", json.dumps(doc, indent=1) + "\n")
-
-
-def status_counts(status: dict) -> dict:
-    """``{"ok": n, "failed": n, "not_run": n}`` of a :func:`read_status` mapping."""
-    counts = {s: 0 for s in CASE_STATUS}
-    for entry in status.values():
-        counts[entry.get("state", "not_run")] += 1
-    return counts
-
-
-def read_status(out_dir) -> dict:
-    """``status.json`` of a sweep folder ({} when there is none).
-
-    It maps each case id to its values and state::
-
-        {"<case id>": {"speed": 2.0944, "radial_load": 20000.0, "axial_load": 10000.0,
-                       "<axis key>": ..., "state": "ok" | "failed" | "not_run",
-                       "reason": "...", "traceback": "...",  (failed only)
-                       "seconds": 12.3, "index": 0}, ...}
-
-    Values are SI (speed in rad s-1, loads in N), as in ``CaseSpec.point``; ``seconds``
-    is the case's wall time on its worker and ``index`` its position in the sweep.
-    """
-    p = Path(out_dir) / "status.json"
-    if not p.is_file():
-        return {}
-    with open(p, encoding="utf-8") as fh:
-        return json.load(fh)
 
 
 # --------------------------------------------------------------------------- result
@@ -525,7 +467,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
     history = [history_line(
         f"rvsweep {__version__} sweep {sweep.file}: {len(sweep.cases)} cases, "
         f"{n_reused} reused, {len(todo)} to compute")]
-    _write_status(out, states)
+    write_status(out, states)
 
     warm = _warm_up(case_fn) if todo else 0.0
     source = _source_name(case_fn)
@@ -575,7 +517,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
                     if st.state == "failed":
                         n_failed += 1
                         bar.set_postfix(failed=n_failed, refresh=False)
-                    _write_status(out, states)
+                    write_status(out, states)
                     bar.update(1)
             finally:
                 wall = time.perf_counter() - t0
@@ -593,7 +535,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
         f"rvsweep sweep {sweep.name}: {ok} ok, {failed} failed, "
         f"{len(states) - ok - failed} not run{' (interrupted)' if interrupted else ''}; "
         f"{scheduler_text}, {wall:.1f} s"))
-    _write_status(out, states)
+    write_status(out, states)
     combined = None
     if combine_at_end:
         combined = combine(sweep, out, states=states, history=history)

@@ -18,6 +18,7 @@ import xarray as xr
 
 from pipeline.io import case_dataset, write_case
 from pipeline.errors import ConfigError
+from pipeline.io import CaseState, write_status
 from pipeline.analysis import default_reference_path, load_reference_fits
 from pipeline.analysis import load_sweep, phase_metrics, write_metrics
 from rvcore.profile import PHASES
@@ -114,15 +115,11 @@ def build_synthetic_sweep(directory, speeds_deg=(120.0, 390.0, 660.0), loads=(20
         for f in loads:
             cid = f"case-{s:g}-{f / 1e3:g}"
             failed = (s, f) in missing
-            if flat_status:
-                status[cid] = {"state": "failed" if failed else "ok",
-                               "reason": FAILED_REASON if failed else "",
-                               "speed": s, "radial_load": f, "axial_load": 10e3}
-            else:
-                status[cid] = {"index": len(status), "state": "failed" if failed else "ok",
-                               "point": {"speed": math.radians(s), "radial_load": f, "axial_load": 10e3}}
-                if failed:
-                    status[cid].update(reason=FAILED_REASON, traceback="Traceback ...")
+            status[cid] = CaseState(cid, len(status), {"speed": math.radians(s), "radial_load": f,
+                                                      "axial_load": 10e3},
+                                    state="failed" if failed else "ok",
+                                    reason=FAILED_REASON if failed else "",
+                                    traceback="Traceback ..." if failed else "")
             ds = case_dataset(synthetic_result(math.radians(s), f), speed=math.radians(s),
                               radial_load=f, axial_load=10e3, configuration=config,
                               configuration_hash="abc123", bearing_name="study-table2",
@@ -147,10 +144,7 @@ def build_synthetic_sweep(directory, speeds_deg=(120.0, 390.0, 660.0), loads=(20
         from pipeline.io import encoding_for
 
         sweep.to_netcdf(directory / "sweep.nc", engine="netcdf4", encoding=encoding_for(sweep))
-    if not flat_status:  # the layout pipeline.sweep writes
-        status = {"sweep": "synthetic", "units": {"speed": "rad s-1", "radial_load": "N", "axial_load": "N"},
-                  "cases": status}
-    (directory / "status.json").write_text(json.dumps(status, indent=1))
+    write_status(directory, status)  # the one layout, written by the pipeline's own writer
     return directory
 
 
