@@ -4,3 +4,4 @@ from .config import (apply_override, bearing_from_dict, load_bearing, load_profi
 from .sweepfile import (MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, load_sweep,
                         sweep_from_dict)
 from .units import SI_UNITS, format_quantity, parse_quantity, registry
+from .stored import StoredConfiguration, stored_configuration

@@ -1,0 +1,178 @@
+"""The resolved configuration a sweep stores, read back into the core's dataclasses.
+
+:func:`pipeline.schema.load_sweep` writes the sweep's resolved configuration as the TOML
+global attribute ``configuration`` of ``sweep.nc`` (and of every case file): the plain
+form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.geometry.Bearing`,
+:class:`rvcore.profile.Profile`, :class:`rvcore.driver.SolverSettings` and
+:class:`rvcore.driver.Sensor`, plus ``name``, ``axes``, ``fixed``, ``case_ids`` and
+``model_version``. :func:`stored_configuration` rebuilds those dataclasses field by field:
+nothing is guessed, and a text this version did not write is a
+:class:`pipeline.errors.ConfigError` naming the key and the reason.
+"""
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+import typing
+from dataclasses import dataclass
+
+from rvcore.driver import Sensor, SolverSettings
+from rvcore.geometry import Arc, Bearing, Row
+from rvcore.profile import Profile
+
+from ..errors import ConfigError
+from .sweepfile import MODEL_VERSION
+
+#: Where the configuration comes from, in error messages.
+WHERE = "configuration"
+
+#: Element types of the tuple fields that hold dataclasses.
+_ELEMENTS = {(Bearing, "rows"): Row, (Row, "inner_arcs"): Arc, (Row, "outer_arcs"): Arc}
+
+#: Keys of the stored configuration besides the dataclasses (read or ignored on purpose).
+_BOOKKEEPING = ("description", "sweep_file", "bearing_file", "profile_file", "case_ids")
+
+
+@dataclass(frozen=True)
+class StoredConfiguration:
+    """A sweep's resolved configuration (SI), as stored in ``sweep.nc``.
+
+    Parameters
+    ----------
+    name : str
+        The sweep's name.
+    model_version : int
+        :data:`pipeline.schema.MODEL_VERSION` of the version that wrote it.
+    bearing : rvcore.geometry.Bearing
+    profile : rvcore.profile.Profile
+    settings : rvcore.driver.SolverSettings
+    sensors : tuple of rvcore.driver.Sensor
+    axes : dict
+        Axis key -> list of coordinate values (SI).
+    fixed : dict
+        Fixed key -> coordinate value (SI).
+    """
+
+    name: str
+    model_version: int
+    bearing: Bearing
+    profile: Profile
+    settings: SolverSettings
+    sensors: tuple
+    axes: dict
+    fixed: dict
+
+
+def _tuple(value):
+    """Lists (nested) as tuples, the plain form's inverse for tuple fields."""
+    if isinstance(value, list):
+        return tuple(_tuple(v) for v in value)
+    return value
+
+
+def _scalar(value, hint, key: str):
+    if hint is bool:
+        if not isinstance(value, bool):
+            raise ConfigError(WHERE, key, value, "must be true or false")
+        return value
+    if hint is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ConfigError(WHERE, key, value, "must be an integer")
+        return value
+    if hint is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ConfigError(WHERE, key, value, "must be a number")
+        return float(value)
+    if hint is str:
+        if not isinstance(value, str):
+            raise ConfigError(WHERE, key, value, "must be a string")
+        return value
+    if hint is tuple:
+        if not isinstance(value, list):
+            raise ConfigError(WHERE, key, value, "must be an array")
+        return _tuple(value)
+    if hint is dict:
+        if not isinstance(value, dict):
+            raise ConfigError(WHERE, key, value, "must be a table")
+        return value
+    return value
+
+
+def rebuild(cls, data, key: str):
+    """An instance of dataclass ``cls`` from its plain form ``data`` (``key`` names it)."""
+    if not isinstance(data, dict):
+        raise ConfigError(WHERE, key, None, f"must be a table ({cls.__name__})")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    for k in data:
+        if k not in fields:
+            raise ConfigError(WHERE, f"{key}.{k}", None, f"unknown field of {cls.__name__}")
+    hints = typing.get_type_hints(cls)
+    kwargs = {}
+    for name, f in fields.items():
+        where = f"{key}.{name}"
+        if name not in data:
+            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+                raise ConfigError(WHERE, where, None, f"missing (a required field of {cls.__name__})")
+            continue
+        value, hint = data[name], hints[name]
+        element = _ELEMENTS.get((cls, name))
+        if element is not None:
+            if not isinstance(value, list):
+                raise ConfigError(WHERE, where, None, f"must be an array of {element.__name__} tables")
+            kwargs[name] = tuple(rebuild(element, v, f"{where}[{i}]") for i, v in enumerate(value))
+        elif dataclasses.is_dataclass(hint):
+            kwargs[name] = rebuild(hint, value, where)
+        else:
+            kwargs[name] = _scalar(value, hint, where)
+    try:
+        return cls(**kwargs)
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(WHERE, key, None, f"not a valid {cls.__name__} ({exc})") from None
+
+
+def _table(doc: dict, key: str) -> dict:
+    if key not in doc:
+        raise ConfigError(WHERE, key, None, "missing")
+    if not isinstance(doc[key], dict):
+        raise ConfigError(WHERE, key, None, "must be a table")
+    return doc[key]
+
+
+def stored_configuration(text: str) -> StoredConfiguration:
+    """The sweep configuration ``text`` (TOML, as ``sweep.nc`` stores it) as dataclasses.
+
+    Raises
+    ------
+    pipeline.errors.ConfigError
+        Naming the key and the reason when ``text`` is not a configuration this version
+        of the pipeline wrote (not TOML, another model version, a missing or unknown field,
+        a value of the wrong type).
+    """
+    if not text:
+        raise ConfigError(WHERE, None, None, "empty: the sweep carries no configuration")
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(WHERE, None, None, f"not valid TOML ({exc})") from None
+    version = doc.get("model_version")
+    if version != MODEL_VERSION:
+        raise ConfigError(WHERE, "model_version", version,
+                          f"written by another model version (this one is {MODEL_VERSION})")
+    known = {"model_version", "name", "axes", "fixed", "solver", "bearing", "profile", "sensors",
+             *_BOOKKEEPING}
+    for k in doc:
+        if k not in known:
+            raise ConfigError(WHERE, k, None, "unknown key")
+    name = doc.get("name")
+    if not isinstance(name, str):
+        raise ConfigError(WHERE, "name", name, "must be a string")
+    sensors = doc.get("sensors", [])
+    if not isinstance(sensors, list):
+        raise ConfigError(WHERE, "sensors", None, "must be an array of tables")
+    return StoredConfiguration(
+        name=name, model_version=version,
+        bearing=rebuild(Bearing, _table(doc, "bearing"), "bearing"),
+        profile=rebuild(Profile, _table(doc, "profile"), "profile"),
+        settings=rebuild(SolverSettings, _table(doc, "solver"), "solver"),
+        sensors=tuple(rebuild(Sensor, s, f"sensors[{i}]") for i, s in enumerate(sensors)),
+        axes=dict(_table(doc, "axes")), fixed=dict(_table(doc, "fixed")))
