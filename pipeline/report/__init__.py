@@ -1,2 +1,3 @@
 """The fit report: Markdown and HTML with PNG figures."""
-from .build import build_report, ensemble_statistics, sensors
+from .build import build_report
+from .context import ensemble_statistics, sensors

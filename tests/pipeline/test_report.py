@@ -1,11 +1,13 @@
 """``rvsweep report`` on a small synthetic sweep: sections, figures, the 12-row table, caveats,
-missing cases, the computed physics paragraph and reproducibility; and on a synthetic
+missing cases, the computed physics paragraph and reproducibility; on a synthetic
 ensemble sweep with virtual sensors (sensor table and figures, ensemble captions, the
-window-edge section, both cage-slip definitions)."""
+window-edge section, both cage-slip definitions); on a real (tiny) run of the core; and
+the stored configuration read back into the core's dataclasses."""
 from __future__ import annotations
 
 import math
 import re
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -14,13 +16,53 @@ import pytest
 import xarray as xr
 
 import rvcore.driver
+import tests.pipeline.test_metrics as synthetic_sweeps
 from pipeline.cli import main
 from pipeline.analysis import default_reference_path, load_reference_fits
+from pipeline.errors import ConfigError
 from pipeline.report import build_report, ensemble_statistics, sensors
 from pipeline.run import run_sweep
+from pipeline.schema import load_sweep, stored_configuration, sweep_from_dict
 from rvcore.profile import PHASES, study_profile
 from tests.pipeline.synthetic import synthetic_result
-from tests.pipeline.test_metrics import CAVEAT, FAILED_REASON, FILE_STYLE_CONFIG, build_synthetic_sweep
+from tests.pipeline.test_metrics import CAVEAT, FAILED_REASON, build_synthetic_sweep
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+
+def _study_grid_configuration() -> str:
+    """The stored configuration of the study's sweep on the synthetic 3 x 3 grid, without its
+    ensemble and sensors (51 balls of 23 mm on a 351.5 mm pitch circle, ball density
+    7800 kg/m^3, the assumptions marked), as sweep.nc stores it."""
+    study = REPO / "sweeps" / "study.toml"
+    raw = {k: v for k, v in tomllib.loads(study.read_text()).items()
+           if k not in ("realizations", "seed", "sensors")}
+    raw["axes"] = {"speed": ["120 deg/s", "390 deg/s", "660 deg/s"], "radial_load": ["20 kN", "30 kN", "40 kN"]}
+    return sweep_from_dict(raw, study).configuration
+
+
+#: A real stored configuration (see :func:`_study_grid_configuration`).
+STUDY_CONFIG = _study_grid_configuration()
+
+
+def _with_windows(speed, radial_load, axial_load=10e3, **kw):
+    """:func:`synthetic_result` with the study's phase windows as ``phase_start``/``phase_end``,
+    as every real case writes them."""
+    r = synthetic_result(speed, radial_load, axial_load, **kw)
+    r.phase_metrics["phase_start"] = np.array([a for _, a, _ in study_profile().phases])
+    r.phase_metrics["phase_end"] = np.array([b for _, _, b in study_profile().phases])
+    return r
+
+
+def synthetic_sweep(directory, windows: bool = True, **kw):
+    """``build_synthetic_sweep`` with a real stored configuration and, with ``windows``, the
+    phase windows in the data."""
+    kw.setdefault("config", STUDY_CONFIG)
+    with pytest.MonkeyPatch.context() as mp:
+        if windows:
+            mp.setattr(synthetic_sweeps, "synthetic_result", _with_windows)
+        return build_synthetic_sweep(directory, **kw)
 
 SECTIONS = ("# Sweep report", "## Bearing, profile and parameters", "## Cases", "## Time histories",
             "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",
@@ -29,7 +71,7 @@ SECTIONS = ("# Sweep report", "## Bearing, profile and parameters", "## Cases", 
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    d = build_synthetic_sweep(tmp_path_factory.mktemp("rep"))  # 3x3, 390 °/s at 20 kN failed
+    d = synthetic_sweep(tmp_path_factory.mktemp("rep"))  # 3x3, 390 °/s at 20 kN failed
     files = build_report(d)
     return d, files, (d / "report" / "report.md").read_text(), (d / "report" / "report.html").read_text()
 
@@ -94,7 +136,9 @@ def test_parameters_with_assumptions_marked(built):
     line = next(ln for ln in md.splitlines() if ln.startswith("| `bearing.rows[0].outer_arcs[0].contact_angle`"))
     assert "**assumed**" in line
     line = next(ln for ln in md.splitlines() if ln.startswith("| `bearing.rows[0].ball_diameter`"))
-    assert "assumed" not in line
+    assert "| 0.023 m |" in line and "assumed" not in line
+    assert "| `bearing.rows[0].ball_count` | 51 |  |" in md
+    assert "| `bearing.ball_material.density` | 7800 kg/m³ |  |" in md
     assert "case_ids" not in md
 
 
@@ -134,32 +178,45 @@ def test_physics_paragraph_numbers_are_computed(built):
     assert f"ours at the same point is {ours_mm:.3g} mm" in text
 
 
-def test_report_is_reproducible_and_works_without_caveat_or_phase_table(tmp_path):
-    # no phase table (windows from the speed ramps), bearing keys as in a bearing file
-    d = build_synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=(),
-                              caveat="", config=FILE_STYLE_CONFIG)
+def test_report_is_reproducible_and_works_without_caveat(tmp_path):
+    d = synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=(), caveat="")
     build_report(d)
     first = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     build_report(d)
     second = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     assert first == second and len(first) == 10  # report.md, report.html and 8 figures
+    assert not [p for p in (d / "report").rglob("*.tmp")]  # written atomically, nothing left over
     md = first["report.md"].decode()
-    # the centrifugal estimate reads the file-style keys too (pitch diameter given)
     m_b = 7800.0 * math.pi / 6.0 * 0.023**3
     assert f"m_b = {m_b:.3g} kg" in md and "d_m/2 = 175.8 mm" in md
     assert "Geometry caveat" not in md
     assert "Every case of the grid finished." in md
-    m = re.search(r"where the inner-ring speed ramps.*?: start-up ([\d.]+)–([\d.]+) s, steady ([\d.]+)–([\d.]+) s, "
-                  r"deceleration ([\d.]+)–([\d.]+) s", md)
-    assert m, md
-    got = np.array([float(x) for x in m.groups()])
-    dt = 4.6 / 460  # the synthetic output step
-    np.testing.assert_allclose(got, [0.3, 0.8, 0.8, 3.8, 3.8, 4.3], atol=dt * 1.01)
+    assert ("Phase windows from the sweep's `phase_start`/`phase_end`: start-up 0.3–0.8 s, steady 0.8–3.8 s, "
+            "deceleration 3.8–4.3 s.") in md
+
+
+def test_report_says_when_the_data_hold_no_phase_windows(tmp_path):
+    """No guessing: without ``phase_start``/``phase_end`` the report says so and shades nothing."""
+    d = synthetic_sweep(tmp_path, windows=False, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=())
+    md = build_report(d).markdown.read_text()
+    assert "The data hold no phase windows (`phase_start`/`phase_end`)" in md
+    assert "Phase windows from" not in md
+
+
+def test_report_names_an_unreadable_configuration(tmp_path):
+    """A configuration this version did not write: the report says why and leaves the table out."""
+    d = synthetic_sweep(tmp_path, config='model_version = 1\nname = "old"\n', speeds_deg=(120.0, 660.0),
+                        loads=(30e3, 40e3), missing=())
+    md = build_report(d).markdown.read_text()
+    text = _section(md, "## Bearing, profile and parameters")
+    assert "model_version = 1: written by another model version" in text
+    assert "| key | value |" not in text
+    assert "The centrifugal force on a ball could not be estimated" in md
 
 
 def test_cli_on_a_partial_sweep_of_case_files(tmp_path, capsys):
-    d = build_synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3),
-                              missing=((660.0, 40e3),), with_sweep_nc=False, flat_status=True)
+    d = synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3),
+                        missing=((660.0, 40e3),), with_sweep_nc=False)
     assert main(["report", str(d)]) == 0
     out = capsys.readouterr().out
     assert "report.md" in out and "1 case(s) failed or missing" in out
@@ -178,15 +235,13 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
     assert "neither sweep.nc nor any cases" in capsys.readouterr().err
     bad = tmp_path / "rig.toml"
     bad.write_text("title = 'x'\nfoo = 1\n")
-    d = build_synthetic_sweep(tmp_path / "s", speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=())
+    d = synthetic_sweep(tmp_path / "s", speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=())
     assert main(["report", str(d), "--reference", str(bad)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "rig.toml: foo" in err
 
 
 # --------------------------------------------------------------------------- ensemble with sensors
-
-REPO = Path(__file__).resolve().parents[2]
 
 #: A 3 x 3 grid, 2 realizations (seeds 0 and 1), two virtual sensors; run with ensemble_case.
 ENSEMBLE_SWEEP = f"""\
@@ -374,3 +429,90 @@ def test_both_cage_slip_definitions(ensemble):
     assert "cage_slip_steady.png" in text
     files = _section(md, "## Files")
     assert "`cage_slip`" in files and "`cage_slip_nominal`" in files
+
+
+# --------------------------------------------------------------------------- the stored configuration
+
+
+@pytest.mark.parametrize("name", ["study.toml", "smoke.toml"])
+def test_stored_configuration_round_trips(name):
+    sweep = load_sweep(REPO / "sweeps" / name)
+    conf = stored_configuration(sweep.configuration)
+    assert conf.bearing == sweep.bearing and conf.profile == sweep.profile
+    assert conf.settings == sweep.settings and conf.sensors == sweep.sensors
+    assert conf.name == sweep.name and conf.fixed == sweep.fixed
+    assert conf.axes == {a.key: list(a.coords) for a in sweep.axes}
+    assert isinstance(conf.bearing.rows[0].outer_arcs[0], type(sweep.bearing.rows[0].outer_arcs[0]))
+
+
+def test_stored_configuration_round_trips_sensors():
+    sweep_file = Path(__file__).parent / "ens.toml"
+    try:
+        sweep_file.write_text(ENSEMBLE_SWEEP)
+        sweep = load_sweep(sweep_file)
+    finally:
+        sweep_file.unlink(missing_ok=True)
+    conf = stored_configuration(sweep.configuration)
+    assert conf.sensors == sweep.sensors and len(conf.sensors) == 2
+
+
+@pytest.mark.parametrize("text, key, reason", [
+    ("", None, "empty"),
+    ("model_version = [", None, "not valid TOML"),
+    ('model_version = 1\nname = "x"\n', "model_version", "another model version"),
+    (STUDY_CONFIG.replace("ball_diameter = ", "ball_diametre = "), "bearing.rows[0].ball_diametre",
+     "unknown field of Row"),
+    (STUDY_CONFIG.replace("ball_count = ", "ball_count = 'x' #"), "bearing.rows[0].ball_count", "integer"),
+    ("extra_key = 1\n" + STUDY_CONFIG, "extra_key", "unknown key"),
+])
+def test_stored_configuration_errors_name_key_and_reason(text, key, reason):
+    with pytest.raises(ConfigError) as info:
+        stored_configuration(text)
+    assert info.value.key == key and reason in str(info.value)
+
+
+# --------------------------------------------------------------------------- a real run
+
+
+REAL_SWEEP = f"""\
+name = "real"
+bearing = "{REPO / 'sweeps' / 'bearings' / 'reduced-test.toml'}"
+profile = "{REPO / 'sweeps' / 'profiles' / 'short.toml'}"
+
+[axes]
+speed = ["120 deg/s", "660 deg/s"]
+
+[fixed]
+radial_load = "20 kN"
+axial_load = "10 kN"
+
+[solver]
+output_rate = "500 Hz"
+end_time = "0.1 s"
+"""
+
+
+def test_report_of_a_real_run(tmp_path):
+    """The real core on the 12-ball test bearing, 2 cases of a cut-short cycle, reported."""
+    path = tmp_path / "real.toml"
+    path.write_text(REAL_SWEEP)
+    result = run_sweep(path, tmp_path / "out", serial=True, progress=False)
+    assert result.ok
+    files = build_report(result.out_dir)
+    md, html = files.markdown.read_text(), files.html.read_text()
+    for heading in (f"# Sweep report: {result.out_dir.name}", "## Bearing, profile and parameters", "## Cases", "## Time histories",
+                    "## Metrics against speed and load", "## Fits beside the study's (Tables 3 and 4)",
+                    "## Where our physics agrees with the study and where it does not", "## Files"):
+        assert heading in md
+    assert "Every case of the grid finished." in md
+    assert "Phase windows from the sweep's `phase_start`/`phase_end`: start-up 0.03–0.08 s" in md
+    names = {p.name for p in files.figures}
+    assert "time_histories.png" in names and "metric_steady_radial_mean.png" in names
+    for p in files.figures:
+        assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+        assert f"](figures/{p.name})" in md and f'src="figures/{p.name}"' in html
+    table = _table(_section(md, "## Bearing, profile and parameters"))
+    values = {r[0]: r[1:] for r in table[1:]}
+    assert values["`bearing.rows[0].ball_count`"] == ["12", ""]
+    assert values["`bearing.rows[0].ball_diameter`"] == ["0.023 m", ""]
+    assert values["`bearing.rows[0].radial_clearance`"][1] == "**assumed**"

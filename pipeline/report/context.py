@@ -1,0 +1,277 @@
+"""The results folder loaded into a :class:`Context`: the combined sweep, its metrics and
+fits, ``status.json``, the reference fits and the stored configuration; and what is read
+off them everywhere in the report (phase windows, extra dimensions, ensembles, sensors,
+the bearing's numbers, status entries matched to the grid)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from rvcore.geometry import ball_mass
+from rvcore.profile import PHASES
+
+from ..analysis import DISPLACEMENT_COORD, REALIZATION
+from ..errors import ConfigError
+from ..schema import StoredConfiguration, stored_configuration
+from .render import _g
+
+#: The virtual-sensor dimension of sweep.nc and metrics.nc.
+SENSOR = "sensor"
+
+
+@dataclass
+class Context:
+    """Everything the report is built from.
+
+    ``configuration`` is the sweep's stored configuration
+    (:func:`pipeline.schema.stored_configuration`), None when it could not be read; then
+    ``config_error`` says why.
+    """
+
+    directory: Path
+    sweep: xr.Dataset
+    metrics: xr.Dataset
+    fits: xr.Dataset
+    status: dict
+    references: list
+    reference_path: Path
+    configuration: StoredConfiguration | None = None
+    config_error: str = ""
+    #: Line fits of the sensor metrics (made for the figures; not written to fits.nc).
+    sensor_fits: xr.Dataset = field(default_factory=xr.Dataset)
+
+
+def read_configuration(sweep: xr.Dataset):
+    """``(StoredConfiguration or None, error text)`` from ``sweep.nc``'s ``configuration``."""
+    try:
+        return stored_configuration(str(sweep.attrs.get("configuration", ""))), ""
+    except ConfigError as exc:
+        return None, str(exc)
+
+
+def phase_windows(ctx: Context):
+    """Phase windows ``{name: (start, end)}`` [s] and a note on them.
+
+    Only from the data's ``phase_start``/``phase_end`` (the windows the core accumulated
+    the phase metrics over; every case writes them): those of the first finished case,
+    the note saying so when other cases differ. ``{}`` and a note saying they are absent
+    when the data hold none.
+    """
+    for ds in (ctx.metrics, ctx.sweep):
+        if "phase_start" not in ds or "phase_end" not in ds:
+            continue
+        windows, differ = {}, False
+        for k, name in enumerate(PHASES):
+            a = ds["phase_start"].sel(phase=ds["phase"].values[k]).values.ravel()
+            b = ds["phase_end"].sel(phase=ds["phase"].values[k]).values.ravel()
+            ok = np.isfinite(a) & np.isfinite(b)
+            if not ok.any():
+                break
+            windows[name] = (float(a[ok][0]), float(b[ok][0]))
+            differ |= bool(np.ptp(a[ok]) > 1e-9 or np.ptp(b[ok]) > 1e-9)
+        if len(windows) == len(PHASES):
+            return windows, ("the sweep's `phase_start`/`phase_end`"
+                             + (" (they differ between cases; those of the first finished case are shown)"
+                                if differ else ""))
+    return {}, ""
+
+
+def _extra_dims(ds) -> list:
+    """Extra sweep dimensions of ``ds``: all but the grid axes, phase, time, the packed
+    displacement metrics, the ensemble (``realization``) and the sensors."""
+    return [d for d in ds.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", DISPLACEMENT_COORD,
+                                            REALIZATION, SENSOR)]
+
+
+def _base(ds, first_realization: bool = True):
+    """``ds`` at the first value of every extra sweep dimension.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset or xarray.DataArray
+    first_realization : bool
+        Also take the first realization (for time series); False keeps the ``realization``
+        dimension (for ensemble statistics). The ``sensor`` dimension is always kept.
+    """
+    sel = {d: 0 for d in _extra_dims(ds)}
+    if first_realization and REALIZATION in ds.dims:
+        sel[REALIZATION] = 0
+    return ds.isel(sel) if sel else ds
+
+
+# --------------------------------------------------------------------------- ensembles and sensors
+
+
+def realizations(ds):
+    """Seeds of the ``realization`` dimension (float array), or None without one."""
+    if REALIZATION not in ds.dims:
+        return None
+    if REALIZATION in ds.coords:
+        return np.asarray(ds[REALIZATION].values, dtype=np.float64)
+    return np.arange(ds.sizes[REALIZATION], dtype=np.float64)
+
+
+def _ensemble_text(ctx: Context) -> str:
+    """'N = 2 realizations (seeds 0, 1)'; '' without an ensemble."""
+    seeds = realizations(ctx.metrics)
+    if seeds is None:
+        return ""
+    shown = ", ".join(_g(v, 6) for v in seeds[:8]) + (", …" if seeds.size > 8 else "")
+    return f"N = {seeds.size} realization{'s' if seeds.size != 1 else ''} (seed{'s' if seeds.size != 1 else ''} {shown})"
+
+
+def _first_realization_text(ctx: Context) -> str:
+    """'the first realization (seed 0) of N = 2'; '' without an ensemble."""
+    seeds = realizations(ctx.sweep)
+    if seeds is None:
+        return ""
+    return f"the first realization (seed {_g(seeds[0], 6)}) of N = {seeds.size}"
+
+
+def ensemble_statistics(da: xr.DataArray):
+    """Mean and standard error of the mean over ``realization``, NaN-safe and silent.
+
+    Parameters
+    ----------
+    da : xarray.DataArray
+        With a ``realization`` dimension [any unit].
+
+    Returns
+    -------
+    mean, stderr : xarray.DataArray
+        ``mean = Σ x_k / n`` and ``stderr = s/√n`` with ``s`` the sample standard deviation
+        (ddof 1) of the n finite realizations [unit of ``da``]; NaN where n = 0 (mean) or
+        n < 2 (stderr), as ``pipeline.metrics.ensemble_statistics``.
+    """
+    n = da.notnull().sum(REALIZATION)
+    mean = da.sum(REALIZATION, skipna=True) / n.where(n > 0)
+    var = ((da - mean) ** 2).sum(REALIZATION, skipna=True) / (n - 1).where(n >= 2)
+    return mean, np.sqrt(var / n.where(n >= 2))
+
+
+def _ensemble_of(m: xr.Dataset, name: str, sel: dict):
+    """Ensemble mean and standard error of metric ``name`` at ``sel``.
+
+    ``metrics.nc``'s ``<name>_ensemble_mean``/``_ensemble_stderr`` where it has them,
+    otherwise :func:`ensemble_statistics` of the realizations.
+    """
+    mean_name, se_name = f"{name}_ensemble_mean", f"{name}_ensemble_stderr"
+    if mean_name in m and se_name in m:
+        return m[mean_name].sel(sel), m[se_name].sel(sel)
+    return ensemble_statistics(m[name].sel(sel))
+
+
+def _edge_flag(m: xr.Dataset, name: str, sel: dict):
+    """``<x>_range_at_edge`` at ``sel`` for a range metric ``<x>_range``, else None."""
+    if not name.endswith("_range"):
+        return None
+    flag = name.removesuffix("_range") + "_range_at_edge"
+    return m[flag].sel(sel) if flag in m else None
+
+
+@dataclass(frozen=True)
+class SensorInfo:
+    """One virtual displacement sensor of the sweep.
+
+    Parameters
+    ----------
+    value : int
+        Its flag value on the ``sensor`` coordinate.
+    name : str
+        Its name (from the coordinate's ``flag_meanings``).
+    position : tuple of float
+        The ring point it reads, bearing frame [m].
+    direction : tuple of float
+        Its unit measuring direction [1].
+    """
+
+    value: int
+    name: str
+    position: tuple
+    direction: tuple
+
+    def where(self) -> str:
+        """'at (x, y, z) mm along (dx, dy, dz)'."""
+        pos = ", ".join(_g(v * 1e3 + 0.0, 5) for v in self.position)
+        d = ", ".join(_g(v + 0.0, 3) for v in self.direction)
+        return f"at ({pos}) mm along ({d})"
+
+    def label(self, code: bool = True) -> str:
+        """'sensor `name` at (x, y, z) mm along (dx, dy, dz)' (name in backticks with ``code``)."""
+        name = f"`{self.name}`" if code else self.name
+        return f"sensor {name} {self.where()}"
+
+
+def sensors(ds) -> list:
+    """The sensors of ``ds``'s ``sensor`` dimension as :class:`SensorInfo`, [] without one."""
+    if SENSOR not in ds.dims:
+        return []
+    c = ds[SENSOR]
+    values = [int(v) for v in np.asarray(c.values).ravel()]
+    meanings = str(c.attrs.get("flag_meanings", "")).split()
+    flags = [int(v) for v in np.atleast_1d(c.attrs.get("flag_values", values))]
+    out = []
+    for k, v in enumerate(values):
+        name = meanings[flags.index(v)] if v in flags and flags.index(v) < len(meanings) else f"{SENSOR}_{v}"
+
+        def vec(prefix):
+            return tuple(float(ds[f"{prefix}_{a}"].values[k]) if f"{prefix}_{a}" in ds.coords else math.nan
+                         for a in "xyz")
+
+        out.append(SensorInfo(v, name, vec("sensor_position"), vec("sensor_direction")))
+    return out
+
+
+
+def bearing_numbers(ctx: Context) -> dict:
+    """The first row's ball diameter ``D`` [m], ball density ``rho`` [kg m-3], ball mass
+    ``m_b`` [kg], pitch diameter ``d_m`` [m] and nominal (outer) contact angle ``alpha``
+    [rad], read from the stored configuration's :class:`rvcore.geometry.Bearing`; NaN each
+    without a readable configuration."""
+    conf = ctx.configuration
+    if conf is None:
+        return dict.fromkeys(("D", "rho", "m_b", "d_m", "alpha"), math.nan)
+    b = conf.bearing
+    row = b.rows[0]
+    return {"D": row.ball_diameter, "rho": b.ball_material.density, "m_b": ball_mass(row, b.ball_material),
+            "d_m": row.pitch_diameter,
+            "alpha": row.outer_arcs[0].contact_angle if row.outer_arcs else math.nan}
+
+
+#: Keys of a status.json entry that are not axis values.
+_STATUS_KEYS = ("state", "reason", "traceback", "seconds", "index")
+
+
+def status_lookup(ctx: Context):
+    """status.json entries matched to the grid by their SI point values.
+
+    Returns ``({(speed °/s, load N, seed or None): (state, reason, id)}, [(id, state,
+    reason, axis values)])``: the matched entries and those not on the grid. ``seed`` is
+    the entry's ``realization`` when the grid has that dimension and names that seed.
+    """
+    speeds = ctx.metrics["speed"].values
+    loads = ctx.metrics["radial_load"].values
+    seeds = realizations(ctx.metrics)
+    matched, unmatched = {}, []
+
+    def on_grid(values, x):
+        hit = [float(v) for v in values if math.isclose(v, x, rel_tol=1e-6)]
+        return hit[0] if hit else None
+
+    for cid, e in sorted(ctx.status.items()):
+        values = {k: v for k, v in e.items() if k not in _STATUS_KEYS}
+        state, reason = str(e.get("state", "")), str(e.get("reason", "") or "")
+        speed, load = values.get("speed"), values.get("radial_load")
+        s = on_grid(speeds, math.degrees(speed)) if isinstance(speed, (int, float)) else None
+        l = on_grid(loads, float(load)) if isinstance(load, (int, float)) else None
+        r = values.get(REALIZATION)
+        seed = (on_grid(seeds, float(r)) if seeds is not None and isinstance(r, (int, float)) else None)
+        if s is not None and l is not None:
+            matched.setdefault((s, l, seed), (state, reason, cid))
+        else:
+            unmatched.append((cid, state, reason, values))
+    return matched, unmatched

@@ -1,0 +1,277 @@
+"""The report's figures: time histories, metrics against speed and load with fit lines
+and bands, the sensors' readings and the cage slip. PNGs carry no software or time
+metadata and are written atomically."""
+from __future__ import annotations
+
+import io
+import math
+from pathlib import Path
+
+import numpy as np
+
+from rvcore.profile import PHASES
+
+from ..analysis import REALIZATION, line_band
+from ..io import write_bytes_atomic
+from .context import SENSOR, Context, _base, _edge_flag, _ensemble_of, _first_realization_text, realizations, sensors
+from .render import _AXIS_TITLE, _CENTRE, _METRIC_TITLE, _PHASE_TITLE, _dps, _g, _kn
+from .select import _fit_at, _fixed_choice
+
+#: Keyword arguments of every ``savefig``: no software, no timestamps in the PNG.
+PNG_KWARGS = {"dpi": 100, "format": "png", "metadata": {"Software": None}}
+
+def _new_figure(nrows: int, ncols: int, size):
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    return fig, axes
+
+
+def _save(fig, path: Path):
+    """``fig`` as a PNG at ``path``, written atomically."""
+    buf = io.BytesIO()
+    fig.savefig(buf, **PNG_KWARGS)
+    write_bytes_atomic(path, buf.getvalue())
+
+
+def _shade(ax, windows):
+    colours = {"startup": "#4c72b0", "steady": "#55a868", "deceleration": "#c44e52"}
+    for name, (a, b) in windows.items():
+        ax.axvspan(a, b, color=colours.get(name, "#999999"), alpha=0.12, lw=0,
+                   label=f"{_PHASE_TITLE.get(name, name)} window")
+
+
+def _legend_outside(fig, ax) -> None:
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=7, loc="outside right upper")
+
+
+def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
+    """δ_r and δ_a at the ring centre of ``cases`` [(speed °/s, load N)] against time, in µm.
+
+    The first realization of an ensemble; the phase ``windows`` [s] shaded.
+    """
+    sw = _base(ctx.sweep)
+    fig, axes = _new_figure(2, 1, (10.0, 6.0))
+    t = sw["elapsed_time"].values
+    for k, (name, label) in enumerate((("radial_displacement", "δ_r at the ring centre [µm]"),
+                                       ("axial_displacement", "δ_a at the ring centre [µm]"))):
+        ax = axes[k, 0]
+        _shade(ax, windows)
+        if name in sw:
+            for (s, l) in cases:
+                y = sw[name].sel(speed=s, radial_load=l).values * 1e6
+                ax.plot(t, y, lw=1.0, label=f"{_dps(s)}, {_kn(l)}")
+        ax.set_ylabel(label)
+        ax.grid(True, lw=0.3)
+    axes[1, 0].set_xlabel("elapsed time [s]")
+    _legend_outside(fig, axes[0, 0])
+    first = _first_realization_text(ctx)
+    axes[0, 0].set_title("Inner-ring displacements at the ring centre of the extreme cases, phase windows shaded"
+                         + (f"\n{first}" if first else ""), fontsize=10)
+    _save(fig, path)
+
+
+def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> None:
+    """The virtual sensors' readings of ``cases`` against time, one panel per sensor, in µm.
+
+    The first realization of an ensemble; the phase ``windows`` [s] shaded.
+    """
+    sw = _base(ctx.sweep)
+    sens = sensors(ctx.sweep)
+    fig, axes = _new_figure(len(sens), 1, (10.0, 1.0 + 2.5 * len(sens)))
+    t = sw["elapsed_time"].values
+    for k, sn in enumerate(sens):
+        ax = axes[k, 0]
+        _shade(ax, windows)
+        for (s, l) in cases:
+            y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
+            ax.plot(t, y, lw=1.0, label=f"{_dps(s)}, {_kn(l)}")
+        ax.set_title(sn.label(code=False), fontsize=8)
+        ax.set_ylabel(f"{sn.name} [µm]")
+        ax.grid(True, lw=0.3)
+    axes[-1, 0].set_xlabel("elapsed time [s]")
+    _legend_outside(fig, axes[0, 0])
+    first = _first_realization_text(ctx)
+    fig.suptitle("Virtual sensor readings of the extreme cases, phase windows shaded"
+                 + (f"\n{first}" if first else ""), fontsize=10)
+    _save(fig, path)
+
+
+def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed: float, phase: str, *,
+                  sensor=None, scale: float = 1e6, colour: str = "k", marker: str = "o",
+                  label: str = "cases", realization_label: str | None = "individual realizations",
+                  dodge: float = 0.0) -> int:
+    """Plot one phase metric against ``axis`` at ``fixed`` on ``ax``; return the hollow markers drawn.
+
+    Without an ensemble: one marker per case. With one: the ensemble mean with ±1
+    standard-error bars and each realization as a faint small marker, drawn 2.5 % of the
+    axis span to the left of its mean so that the bars do not hide it. A range whose
+    ``_range_at_edge`` flag is set is drawn hollow (a mean marker when any of its
+    realizations is). Values are multiplied by ``scale`` (1e6: m to µm; 100: 1 to %);
+    ``axis`` values in °/s or kN, shifted by ``dodge`` times the axis span (to set two
+    series side by side).
+    """
+    m = _base(ctx.metrics, first_realization=False)
+    if name not in m:
+        return 0
+    sel = {fixed_axis: fixed, "phase": PHASES.index(phase)}
+    if sensor is not None:
+        sel[SENSOR] = sensor
+    da = m[name].sel(sel)
+    if not bool(da.notnull().any()):
+        ax.text(0.5, 0.5, "no data in this phase's window", transform=ax.transAxes, ha="center",
+                va="center", fontsize=8, color="0.4")
+        return 0
+    flag = _edge_flag(m, name, sel)
+    x = m[axis].values.astype(float)
+    xs = x / 1e3 if axis == "radial_load" else x
+    span = float(np.ptp(xs)) if xs.size > 1 and np.ptp(xs) > 0 else max(abs(float(xs[0])), 1.0)
+    xs = xs + dodge * span
+    def points(xv, yv, hollow, **kw):
+        if not xv.size:
+            return
+        style = dict(ls="none", marker=marker, color=colour, **kw)
+        if hollow:
+            style.update(mfc="none", mec=colour)
+        ax.plot(xv, yv, **style)
+
+    if REALIZATION in da.dims:
+        vals = da.transpose(axis, REALIZATION).values * scale
+        fl = (flag.transpose(axis, REALIZATION).values == 1) if flag is not None else np.zeros(vals.shape, bool)
+        xr_ = xs - 0.025 * span
+        for k in range(vals.shape[1]):
+            points(xr_[~fl[:, k]], vals[~fl[:, k], k], False, ms=2.5, alpha=0.35)
+            points(xr_[fl[:, k]], vals[fl[:, k], k], True, ms=2.5, alpha=0.5)
+        mean, se = _ensemble_of(m, name, sel)
+        mean = mean.transpose(axis).values * scale
+        se = se.transpose(axis).values * scale
+        any_fl = fl.any(axis=1)
+        ax.errorbar(xs, mean, yerr=se, fmt="none", ecolor=colour, elinewidth=1.0, capsize=3)
+        points(xs[~any_fl], mean[~any_fl], False, ms=5)
+        points(xs[any_fl], mean[any_fl], True, ms=5, mew=1.2)
+        ax.plot([], [], ls="none", marker=marker, color=colour, ms=5, label=label)   # legend keys, filled
+        if realization_label:
+            ax.plot([], [], ls="none", marker=marker, ms=2.5, color=colour, alpha=0.35, label=realization_label)
+        return int(fl.sum())
+    y = da.transpose(axis).values * scale
+    fl = (flag.transpose(axis).values == 1) if flag is not None else np.zeros(y.shape, bool)
+    points(xs[~fl], y[~fl], False, ms=4)
+    points(xs[fl], y[fl], True, ms=4, mew=1.2)
+    ax.plot([], [], ls="none", marker=marker, color=colour, ms=4, label=label)   # legend key, filled
+    return int(fl.sum())
+
+
+def _fit_line(ax, ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: float, phase: str,
+              sensor=None) -> None:
+    """Our fitted line of ``variable`` and its 95 % band on ``ax`` [µm against °/s or kN]."""
+    fit = _fit_at(ctx, variable, axis, fixed_axis, fixed, phase, sensor)
+    if fit and math.isfinite(fit["slope"]):
+        x = ctx.metrics[axis].values.astype(float)
+        grid = np.linspace(np.nanmin(x), np.nanmax(x), 50)
+        yl, lo, hi = line_band(fit, grid)
+        gs = grid / 1e3 if axis == "radial_load" else grid
+        seeds = realizations(ctx.metrics)
+        kind = "WLS" if seeds is not None and seeds.size >= 2 else "OLS"
+        ax.plot(gs, yl * 1e6, "-", color="C0", lw=1.2, label=f"{kind} fit (R² = {_g(fit['rsquared'])})")
+        ax.fill_between(gs, lo * 1e6, hi * 1e6, color="C0", alpha=0.2, lw=0, label="95 % band")
+
+
+def _finish_panel(ax, axis: str, ylabel: str, title: str, hollow: int) -> None:
+    """Axis labels, title, grid and legend of a metric panel (and the hollow-marker key)."""
+    if hollow:
+        ax.plot([], [], ls="none", marker="o", mfc="none", mec="0.3", label="extreme at window edge")
+    ax.set_xlabel("steady speed [°/s]" if axis == "speed" else "radial load [kN]")
+    ax.set_ylabel(ylabel)
+    ax.ticklabel_format(axis="y", useOffset=False)
+    ax.set_title(title, fontsize=8)
+    ax.grid(True, lw=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
+
+
+def _ensemble_label(ctx: Context) -> str:
+    return "ensemble mean ± 1 SE" if realizations(ctx.metrics) is not None else "cases"
+
+
+def figure_metric(ctx: Context, refs, path: Path):
+    """One panel per reference axis of a (phase, displacement, metric) group, at the ring centre.
+
+    Returns
+    -------
+    notes : list of str
+        Where each panel's other axis is held ('against speed at 30 kN').
+    hollow : int
+        Markers drawn hollow (range with an extreme at the window's edge).
+    """
+    r0 = refs[0]
+    fig, axes = _new_figure(1, len(refs), (4.6 * len(refs), 3.6))
+    notes, hollow = [], 0
+    sym = "δ_r" if r0.displacement == "radial" else "δ_a"
+    for k, ref in enumerate(refs):
+        ax = axes[0, k]
+        fixed, note = _fixed_choice(ctx, ref.fixed_axis, ref.fixed_coordinate)
+        notes.append(f"against {_AXIS_TITLE[ref.axis]} {note}")
+        n = _metric_panel(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase,
+                          label=_ensemble_label(ctx))
+        hollow += n
+        _fit_line(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase)
+        _finish_panel(ax, ref.axis, f"{_PHASE_TITLE[r0.phase]} {r0.metric} of {sym} [µm]", note, n)
+    fig.suptitle(f"{_PHASE_TITLE[r0.phase]}: {r0.displacement} displacement {_METRIC_TITLE[r0.metric]}, "
+                 f"{_CENTRE[r0.displacement]}", fontsize=10)
+    _save(fig, path)
+    return notes, hollow
+
+
+def figure_sensor_metric(ctx: Context, phase: str, metric: str, specs, path: Path):
+    """Sensor metric ``sensor_displacement_<metric>`` of ``phase``: a row per sensor, a column
+    per ``(axis, fixed_axis, fixed)`` of ``specs``; fit lines from :attr:`Context.sensor_fits`.
+
+    Returns
+    -------
+    notes : list of str
+    hollow : int
+    """
+    name = f"{SENSOR}_displacement_{metric}"
+    sens = sensors(ctx.metrics)
+    fig, axes = _new_figure(len(sens), len(specs), (4.6 * len(specs), 0.6 + 3.0 * len(sens)))
+    notes, hollow = [], 0
+    for j, (axis, fixed_axis, fixed, note) in enumerate(specs):
+        notes.append(f"against {_AXIS_TITLE[axis]} {note}")
+        for i, sn in enumerate(sens):
+            ax = axes[i, j]
+            n = _metric_panel(ax, ctx, name, axis, fixed_axis, fixed, phase, sensor=sn.value,
+                              label=_ensemble_label(ctx))
+            hollow += n
+            _fit_line(ax, ctx, name, axis, fixed_axis, fixed, phase, sensor=sn.value)
+            _finish_panel(ax, axis, f"{_PHASE_TITLE[phase]} {metric} of {sn.name} [µm]",
+                          f"{sn.label(code=False)}\n{note}", n)
+    fig.suptitle(f"{_PHASE_TITLE[phase]}: sensor reading {_METRIC_TITLE[metric]}", fontsize=10)
+    _save(fig, path)
+    return notes, hollow
+
+
+#: Cage-slip variables and their labels: against the actual and the nominal contact angle.
+CAGE_SLIPS = (("cage_slip", "actual contact angles"), ("cage_slip_nominal", "nominal contact angle"))
+
+
+def figure_cage_slip(ctx: Context, phase: str, specs, path: Path) -> list:
+    """Cage slip of ``phase`` [%] against each ``(axis, fixed_axis, fixed)`` of ``specs``, both
+    definitions of :data:`CAGE_SLIPS` present; returns the notes."""
+    fig, axes = _new_figure(1, len(specs), (4.6 * len(specs), 3.6))
+    notes = []
+    for j, (axis, fixed_axis, fixed, note) in enumerate(specs):
+        ax = axes[0, j]
+        notes.append(f"against {_AXIS_TITLE[axis]} {note}")
+        for k, (name, what) in enumerate(CAGE_SLIPS):
+            if name in ctx.metrics:
+                _metric_panel(ax, ctx, name, axis, fixed_axis, fixed, phase, scale=100.0, colour=f"C{k}",
+                              marker="os"[k], label=f"{name}: {what}", realization_label=None,
+                              dodge=0.012 * (2 * k - 1))
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        _finish_panel(ax, axis, f"{_PHASE_TITLE[phase]} cage slip [%]", note, 0)
+    fig.suptitle(f"{_PHASE_TITLE[phase]}: cage slip 1 − ω̄_c/ω_epi", fontsize=10)
+    _save(fig, path)
+    return notes
+

@@ -1,0 +1,139 @@
+"""The report's blocks (headings, paragraphs, tables, images), their Markdown and HTML
+renderers (no Markdown library), and the number formats used throughout the report."""
+from __future__ import annotations
+
+import html
+import math
+import re
+from dataclasses import dataclass
+
+_PHASE_TITLE = {"startup": "start-up", "steady": "steady", "deceleration": "deceleration"}
+_METRIC_TITLE = {"range": "variation range", "mean": "mean", "std": "standard deviation"}
+_AXIS_TITLE = {"speed": "speed", "radial_load": "radial load"}
+_CENTRE = {"radial": "δ_r at the ring centre", "axial": "δ_a at the ring centre"}
+
+# --------------------------------------------------------------------------- blocks
+
+
+@dataclass
+class Heading:
+    level: int
+    text: str
+
+
+@dataclass
+class Para:
+    text: str
+
+
+@dataclass
+class Warning_:
+    text: str
+
+
+@dataclass
+class Bullets:
+    items: list
+
+
+@dataclass
+class Table:
+    header: list
+    rows: list
+
+
+@dataclass
+class Image:
+    path: str  # relative to the report folder
+    alt: str
+
+
+def _md_cell(text) -> str:
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def render_markdown(blocks) -> str:
+    """Blocks to Markdown text."""
+    out = []
+    for b in blocks:
+        if isinstance(b, Heading):
+            out.append("#" * b.level + " " + b.text)
+        elif isinstance(b, Para):
+            out.append(b.text.strip())
+        elif isinstance(b, Warning_):
+            out.append("\n".join("> " + line for line in b.text.splitlines()))
+        elif isinstance(b, Bullets):
+            out.append("\n".join(f"- {item}" for item in b.items))
+        elif isinstance(b, Table):
+            lines = ["| " + " | ".join(_md_cell(h) for h in b.header) + " |",
+                     "|" + "|".join("---" for _ in b.header) + "|"]
+            lines += ["| " + " | ".join(_md_cell(c) for c in row) + " |" for row in b.rows]
+            out.append("\n".join(lines))
+        elif isinstance(b, Image):
+            out.append(f"![{b.alt}]({b.path})")
+    return "\n\n".join(out) + "\n"
+
+
+def _inline_html(text: str) -> str:
+    s = html.escape(str(text), quote=False)
+    s = re.sub(r"\*\*(.+?)\*\*", r"<strong>\1</strong>", s)
+    s = re.sub(r"`(.+?)`", r"<code>\1</code>", s)
+    return s
+
+
+_CSS = """body{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;line-height:1.45}
+table{border-collapse:collapse;margin:1em 0;font-size:90%}th,td{border:1px solid #bbb;padding:.25em .5em;text-align:left}
+th{background:#eee}.caveat{border-left:.4em solid #c00;background:#fee;padding:.5em 1em}img{max-width:100%}
+code{background:#f4f4f4}"""
+
+
+def render_html(blocks, title: str) -> str:
+    """Blocks to a standalone HTML page."""
+    out = ["<!DOCTYPE html>", '<html lang="en">', "<head>", '<meta charset="utf-8">',
+           f"<title>{html.escape(title)}</title>", f"<style>{_CSS}</style>", "</head>", "<body>"]
+    for b in blocks:
+        if isinstance(b, Heading):
+            out.append(f"<h{b.level}>{_inline_html(b.text)}</h{b.level}>")
+        elif isinstance(b, Para):
+            out.append(f"<p>{_inline_html(b.text.strip())}</p>")
+        elif isinstance(b, Warning_):
+            out.append('<div class="caveat">' + "".join(f"<p>{_inline_html(line)}</p>" for line in b.text.splitlines()) + "</div>")
+        elif isinstance(b, Bullets):
+            out.append("<ul>" + "".join(f"<li>{_inline_html(i)}</li>" for i in b.items) + "</ul>")
+        elif isinstance(b, Table):
+            rows = ["<tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in b.header) + "</tr>"]
+            rows += ["<tr>" + "".join(f"<td>{_inline_html(c)}</td>" for c in r) + "</tr>" for r in b.rows]
+            out.append("<table>" + "".join(rows) + "</table>")
+        elif isinstance(b, Image):
+            out.append(f'<p><img src="{html.escape(b.path)}" alt="{html.escape(b.alt)}"></p>')
+    out += ["</body>", "</html>"]
+    return "\n".join(out) + "\n"
+
+
+# --------------------------------------------------------------------------- formatting
+
+
+def _g(x, digits: int = 3) -> str:
+    """A number with ``digits`` significant digits; 'n/a' for NaN/None."""
+    if x is None:
+        return "n/a"
+    x = float(x)
+    if not math.isfinite(x):
+        return "n/a"
+    return f"{x:.{digits}g}"
+
+
+def _e(x, digits: int = 3) -> str:
+    """Scientific notation with ``digits`` significant digits."""
+    if x is None or not math.isfinite(float(x)):
+        return "n/a"
+    return f"{float(x):.{digits - 1}e}"
+
+
+def _kn(newton: float) -> str:
+    return f"{_g(newton / 1e3, 4)} kN"
+
+
+def _dps(deg_s: float) -> str:
+    return f"{_g(deg_s, 4)} °/s"
+
