@@ -9,7 +9,8 @@ import numpy as np
 
 from rvcore.profile import PHASES
 
-from .context import (REALIZATION, SENSOR, Context, _base, _ensemble_text, _extra_dims, bearing_numbers,
+from ..analysis import REALIZATION
+from .context import (SENSOR, Context, _base, _ensemble_text, _extra_dims, bearing_numbers,
                       realizations, sensors, status_lookup)
 from .figures import CAGE_SLIPS, figure_cage_slip
 from .render import _CENTRE, _PHASE_TITLE, Heading, Image, Para, Table, _dps, _g, _kn
