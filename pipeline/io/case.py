@@ -39,6 +39,7 @@ from rvcore.profile import PHASES
 
 from .. import __version__
 from .files import history_line, write_atomic
+from .netcdf import combined_encoding
 
 REFERENCES = (
     "Dynamic characteristics of the main bearing of rotary vector reducers under typical "
@@ -210,19 +211,8 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
 
 
 def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
-    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data."""
-    enc = {}
-    for name, var in ds.variables.items():
-        if name in ds.coords:
-            enc[name] = {"_FillValue": None}
-        else:
-            e = {"zlib": True, "complevel": complevel, "_FillValue": None}
-            if var.dtype.kind == "f":
-                e["dtype"] = "float64"
-            if var.ndim:
-                e["chunksizes"] = var.shape
-            enc[name] = e
-    return enc
+    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
+    return combined_encoding(ds, (), complevel=complevel)
 
 
 def write_case(ds: xr.Dataset, path) -> Path:
