@@ -1,4 +1,4 @@
-"""Shared NetCDF writing: atomic replacement, encodings and CF attributes.
+"""Shared NetCDF conventions: encodings, UDUNITS names and the case-status flags.
 
 Files are written by :mod:`pipeline.io.files` (atomic replacement).
 
@@ -9,7 +9,6 @@ netCDF4 engine.
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
