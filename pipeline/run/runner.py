@@ -25,7 +25,8 @@ How a run goes
    bar advances. A case that raises is recorded with its reason; a case that kills its
    worker is retried (``allowed_failures`` times on a local cluster) and then recorded.
    Ctrl-C (or a kill) loses no finished case.
-6. The case files are combined into ``sweep.nc``.
+6. The case files are combined into ``sweep.nc`` by the one combiner,
+   :func:`pipeline.io.combine.combine_cases`, on the sweep file's grid.
 """
 from __future__ import annotations
 
@@ -373,7 +374,7 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
     attributes; a grid point without a finished case is NaN, and ``case_status``
     (int8 flags 0 ok, 1 failed, 2 not_run) says why. When every case has the same
     sample times they are ``elapsed_time``; otherwise the series are interpolated
-    linearly onto :func:`common_time_grid` (noted in their ``comment`` and in
+    linearly onto :func:`pipeline.io.combine.common_time_grid` (noted in their ``comment`` and in
     ``history``). The phase metrics are never resampled: they come from every
     integrator step.
     """
