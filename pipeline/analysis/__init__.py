@@ -1,6 +1,8 @@
 """Phase metrics over a sweep, and the fits of their trends."""
-from .fits import (DISPLACEMENT_COORD, LINE_STATS, PLANE_STATS, compose_units, default_reference_path,
-                   fit_metrics, fit_statistic, line_band, linear_fit, load_reference_fits, plane_fit,
-                   udunits_to_pint, write_fits)
+from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
+from .fits import (DISPLACEMENT_COORD, compose_units, fit_metrics, fit_statistic, udunits_to_pint,
+                   write_fits)
+from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
+                         weighted_linear_fit)
 from .metrics import (REALIZATION, case_states, load_sweep, nearest, phase_metrics,
                       write_metrics)

@@ -9,8 +9,6 @@ dimension, with the case status alongside. Missing or failed cases are NaN.
 """
 from __future__ import annotations
 
-import datetime as _dt
-import json
 import math
 from pathlib import Path
 
@@ -19,7 +17,8 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
-from ..io import PHASE_METRICS, SENSOR_METRICS, VARIABLES, phase_coordinate
+from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
+                  write_atomic)
 from ..errors import UserError
 
 #: Flag meanings of ``case_status`` in flag-value order.
@@ -35,17 +34,6 @@ REALIZATION = "realization"
 ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_std")) and "displacement" in m)
 
 _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
-
-
-def _stamp() -> str:
-    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
-
-
-def _drop_encoding(ds: xr.Dataset) -> xr.Dataset:
-    ds = ds.copy()
-    for v in ds.variables.values():
-        v.encoding = {}
-    return ds
 
 
 def load_sweep(directory) -> xr.Dataset:
@@ -72,7 +60,7 @@ def load_sweep(directory) -> xr.Dataset:
     if path.exists():
         try:
             with xr.open_dataset(path, engine="netcdf4") as ds:
-                return _drop_encoding(ds.load())
+                return strip_encoding(ds.load())
         except OSError as exc:
             raise UserError(f"{path}: cannot read as NetCDF ({exc})") from None
     files = sorted((directory / "cases").glob("*.nc"))
@@ -82,26 +70,15 @@ def load_sweep(directory) -> xr.Dataset:
     for f in files:
         try:
             with xr.open_dataset(f, engine="netcdf4") as ds:
-                cases.append(_drop_encoding(ds.load()))
+                cases.append(strip_encoding(ds.load()))
         except OSError as exc:
             raise UserError(f"{f}: cannot read as NetCDF ({exc})") from None
-    axial = {float(c["axial_load"]) for c in cases if "axial_load" in c.coords}
-    seeds = {int(c["realization"]) for c in cases if "realization" in c.coords}
-    dims = (["speed", "radial_load"] + (["axial_load"] if len(axial) > 1 else [])
-            + ([REALIZATION] if len(seeds) > 1 else []))
-    if REALIZATION not in dims:
-        cases = [c.drop_vars(REALIZATION, errors="ignore") for c in cases]
-    expanded = [c.expand_dims(dims) for c in cases]
-    combined = xr.merge(expanded, compat="no_conflicts", join="outer", combine_attrs="override")
-    combined = combined.sortby(dims)
-    ok = np.zeros([combined.sizes[d] for d in dims], dtype=bool)
-    for name in _DISPLACEMENT_METRICS:
-        if name in combined:
-            ok |= combined[name].notnull().any("phase").transpose(*dims).values
-    status = np.where(ok, 0, 2).astype(np.int8)
-    combined["case_status"] = (dims, status, _status_attrs())
-    combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n")
-                                 + f"\n{_stamp()} pipeline.metrics.load_sweep: combined {len(files)} case files").lstrip("\n")
+    axes, entries, fixed = grid_from_cases(cases)
+    combined, resampled = combine_cases(axes, entries, scalars=fixed)
+    combined.attrs = dict(cases[0].attrs)
+    note = "; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""
+    combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n") + "\n" + history_line(
+        f"pipeline.metrics.load_sweep: combined {len(files)} case files{note}")).lstrip("\n")
     return combined
 
 
@@ -213,7 +190,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                          f"{sweep.attrs.get('profile', '') or 'unnamed'} cycle, {sweep.sizes['speed']} speeds x "
                          f"{sweep.sizes['radial_load']} radial loads")
     ds.attrs["history"] = (str(sweep.attrs.get("history", "")).rstrip("\n")
-                           + f"\n{_stamp()} pipeline.metrics.phase_metrics").lstrip("\n")
+                           + "\n" + history_line("pipeline.metrics.phase_metrics")).lstrip("\n")
     ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a (ring centre) and of "
                            "each virtual sensor per phase, with the times of the extremes and a flag where an "
                            "extreme lies within one output interval of the window's edge, from the core's phase "
@@ -252,10 +229,8 @@ def ensemble_statistics(data: dict) -> dict:
 
 
 def write_metrics(metrics: xr.Dataset, path) -> None:
-    """Write ``metrics.nc`` (netCDF4, zlib, float64, no ``_FillValue`` on coordinates)."""
-    from .fits import _write
-
-    _write(metrics, path)
+    """Write ``metrics.nc`` atomically (netCDF4, zlib, float64, no ``_FillValue`` on coordinates)."""
+    write_atomic(strip_encoding(metrics), path)
 
 
 def nearest(values, target: float) -> float:

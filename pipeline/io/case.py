@@ -28,7 +28,6 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
 """
 from __future__ import annotations
 
-import datetime as _dt
 import math
 import subprocess
 from pathlib import Path
@@ -39,6 +38,8 @@ import xarray as xr
 from rvcore.profile import PHASES
 
 from .. import __version__
+from .files import history_line, write_atomic
+from .netcdf import combined_encoding
 
 REFERENCES = (
     "Dynamic characteristics of the main bearing of rotary vector reducers under typical "
@@ -187,14 +188,13 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):
             data[name] = (dims, np.asarray(source[name], dtype=np.float64), {"units": units, "long_name": long_name})
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     caveat_text = " | ".join(caveats)
     attrs = {
         "Conventions": "CF-1.8",
         "title": f"RV main-bearing dynamics: {bearing_name}, {profile_name} cycle, "
                  f"{math.degrees(speed):.6g} deg/s, {radial_load / 1e3:.6g} kN radial, {axial_load / 1e3:.6g} kN axial",
         "source": f"rv-bearing-sweep {__version__} (rvcore numba contact dynamics)",
-        "history": history or f"{stamp} rvcore.driver.run_case",
+        "history": history or history_line("rvcore.driver.run_case"),
         "references": REFERENCES,
         "configuration": configuration,
         "configuration_hash": configuration_hash,
@@ -211,21 +211,10 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
 
 
 def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
-    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data."""
-    enc = {}
-    for name, var in ds.variables.items():
-        if name in ds.coords:
-            enc[name] = {"_FillValue": None}
-        else:
-            e = {"zlib": True, "complevel": complevel, "_FillValue": None}
-            if var.dtype.kind == "f":
-                e["dtype"] = "float64"
-            if var.ndim:
-                e["chunksizes"] = var.shape
-            enc[name] = e
-    return enc
+    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
+    return combined_encoding(ds, (), complevel=complevel)
 
 
-def write_case(ds: xr.Dataset, path) -> None:
-    """Write a case dataset to ``path`` (plain write; atomic replacement is the sweep's job)."""
-    ds.to_netcdf(path, engine="netcdf4", encoding=encoding_for(ds))
+def write_case(ds: xr.Dataset, path) -> Path:
+    """Write a case dataset to ``path`` atomically (:func:`pipeline.io.files.write_atomic`)."""
+    return write_atomic(ds, path, encoding=encoding_for(ds))

@@ -9,6 +9,7 @@ left behind.
 """
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 import os
 import re
@@ -35,6 +36,21 @@ def _temp_path(path: Path) -> Path:
                                suffix=TEMP_SUFFIX)
     os.close(fd)
     return Path(tmp)
+
+
+@contextlib.contextmanager
+def _replacing(path: Path):
+    """Yield a temporary name next to ``path``; rename it onto ``path`` when the block ends.
+
+    On any error the temporary file is removed and ``path`` is untouched.
+    """
+    tmp = _temp_path(path)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def _fsync(path: Path) -> None:
@@ -67,32 +83,16 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     from .case import encoding_for  # lazy: case imports this module
 
     path = Path(path)
-    tmp = _temp_path(path)
-    try:
+    with _replacing(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
                      encoding=encoding_for(ds) if encoding is None else encoding)
         _fsync(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
     return path
 
 
 def write_text_atomic(path, text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically (temporary file, fsync, ``os.replace``)."""
-    path = Path(path)
-    tmp = _temp_path(path)
-    try:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
+    return write_bytes_atomic(path, text.encode("utf-8"))
 
 
 def remove_stale_temporaries(folder) -> list:
@@ -136,18 +136,11 @@ def _alive(pid: int) -> bool:
     return True
 
 
-
 def write_bytes_atomic(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file, fsync, ``os.replace``)."""
     path = Path(path)
-    tmp = _temp_path(path)
-    try:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+    with _replacing(path) as tmp, open(tmp, "wb") as fh:
+        fh.write(data)
+        fh.flush()
+        os.fsync(fh.fileno())
     return path

@@ -1,4 +1,4 @@
-"""Shared NetCDF writing: atomic replacement, encodings and CF attributes.
+"""Shared NetCDF conventions: encodings, UDUNITS names and the case-status flags.
 
 Files are written by :mod:`pipeline.io.files` (atomic replacement).
 
@@ -9,7 +9,6 @@ netCDF4 engine.
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
@@ -92,3 +91,15 @@ def case_status_variable(codes: np.ndarray, dims) -> xr.DataArray:
                "flag_values": np.arange(len(CASE_STATUS), dtype=np.int8),
                "flag_meanings": " ".join(CASE_STATUS)},
     )
+
+
+def strip_encoding(ds: xr.Dataset) -> xr.Dataset:
+    """A shallow copy of ``ds`` without the on-disk encoding it was read with.
+
+    A dataset read from one file carries that file's chunking, compression and fill
+    values in ``.encoding``; writing it again with other settings needs them gone.
+    """
+    ds = ds.copy()
+    for v in ds.variables.values():
+        v.encoding = {}
+    return ds

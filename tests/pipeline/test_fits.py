@@ -175,3 +175,42 @@ def test_dataset_fit_with_missing_cases():
     assert np.isnan(ld.sel(speed=120.0)).all()  # two loads left
     np.testing.assert_allclose(ld.sel(speed=660.0).values, 2e-9, rtol=1e-9)
     assert fit_statistic(fits, "radial_displacement_mean", "plane", "n").values.tolist() == [12, 12, 12]
+
+
+def test_level_sets_the_intervals_and_their_labels():
+    """level=0.9: every interval is labelled 90 % and its half-width is t_{0.95, n-2} times
+    the standard error (Student quantile and standard error computed here, by hand)."""
+    rng = np.random.default_rng(7)
+    slope, intercept = -2e-9, 1e-5
+    values = (intercept + slope * SPEEDS[:, None, None] + 1e-8 * rng.standard_normal((5, 3, 3)))
+    fits = fit_metrics(_metrics(values), level=0.9)
+    for stat in ("slope_ci95_lower", "slope_ci95_upper", "intercept_ci95_lower", "intercept_ci95_upper"):
+        long_name = fit_statistic(fits, "radial_displacement_mean", "speed", stat).attrs["long_name"]
+        assert "90 % confidence interval" in long_name and "95 %" not in long_name
+    for stat in ("interaction_ci95_lower", "interaction_ci95_upper"):
+        long_name = fit_statistic(fits, "radial_displacement_mean", "plane", stat).attrs["long_name"]
+        assert "90 % confidence interval" in long_name
+    n = len(SPEEDS)
+    t = stats.t.ppf(0.95, n - 2)
+    x = SPEEDS
+    sxx = float(((x - x.mean()) ** 2).sum())
+    for j in range(3):
+        for k in range(3):
+            y = values[:, j, k]
+            b = float(((x - x.mean()) * (y - y.mean())).sum() / sxx)
+            a = float(y.mean() - b * x.mean())
+            s2 = float(((y - a - b * x) ** 2).sum() / (n - 2))
+            se_b = math.sqrt(s2 / sxx)
+            se_a = math.sqrt(s2 * (1.0 / n + x.mean() ** 2 / sxx))
+            at = {"radial_load": LOADS[j], "phase": k}
+            got = {s: float(fit_statistic(fits, "radial_displacement_mean", "speed", s).sel(at))
+                   for s in ("slope", "slope_ci95_lower", "slope_ci95_upper",
+                             "intercept", "intercept_ci95_lower", "intercept_ci95_upper")}
+            assert got["slope"] == pytest.approx(b, rel=1e-9)
+            assert got["slope_ci95_upper"] - got["slope"] == pytest.approx(t * se_b, rel=1e-9)
+            assert got["slope"] - got["slope_ci95_lower"] == pytest.approx(t * se_b, rel=1e-9)
+            assert got["intercept_ci95_upper"] - got["intercept"] == pytest.approx(t * se_a, rel=1e-8)
+    # the default level keeps its 95 % labels
+    default = fit_metrics(_metrics(values))
+    assert "95 % confidence interval" in fit_statistic(
+        default, "radial_displacement_mean", "speed", "slope_ci95_lower").attrs["long_name"]

@@ -1,0 +1,214 @@
+"""The one place where case files become a combined sweep (``sweep.nc``'s variables).
+
+:func:`combine_cases` lays case datasets on a grid of sweep axes: the time series over
+``(<case dims>, elapsed_time[, sensor])``, the phase metrics over ``(<case dims>,
+phase[, sensor])``, NaN where a grid point has no finished case, and the int8
+``case_status`` flags (0 ok, 1 failed, 2 not_run). Both the sweep runner (with the grid
+of the sweep file, :func:`pipeline.run.runner.combine`) and the analysis of a sweep
+folder without ``sweep.nc`` (with the grid read off the case files,
+:func:`grid_from_cases`) use it.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from .case import VARIABLES, phase_coordinate
+from .netcdf import CASE_STATUS, case_status_variable
+
+#: ``comment`` of a time series that was interpolated onto the common time grid.
+RESAMPLED_COMMENT = ("linearly interpolated from each case's own output samples (cases/<id>.nc) "
+                     "onto the common elapsed_time grid; NaN outside a case's simulated window")
+
+#: Axes read off case files when there is no sweep file, in this order; the first two
+#: are always dimensions, the others only when they vary between the files.
+CASE_FILE_AXES = ("speed", "radial_load", "axial_load", "realization")
+
+
+@dataclass
+class GridAxis:
+    """One dimension of the combined grid.
+
+    ``values`` are the keys a case's position is looked up by (sorted), ``coord`` the
+    labelled coordinate written for them (same length).
+    """
+
+    name: str
+    values: list
+    coord: xr.DataArray
+
+    def index(self, value) -> int:
+        return self.values.index(value)
+
+
+@dataclass
+class CaseEntry:
+    """One grid point: its position, its dataset (None when no file) and its state."""
+
+    at: tuple
+    data: xr.Dataset | None = None
+    state: str = "not_run"
+
+
+def common_time_grid(times, output_rate: float) -> np.ndarray:
+    """A shared ``elapsed_time`` grid [s] for cases whose sample times differ.
+
+    Parameters
+    ----------
+    times : sequence of ndarray
+        Each case's sample times [s].
+    output_rate : float
+        Samples per second [Hz].
+
+    Notes
+    -----
+    ``t_k = t_0 + k / f`` for ``k = 0 … floor((t_1 − t_0)·f + 1e-9)``, with ``t_0`` the
+    earliest first sample and ``t_1`` the latest last one. The integrator writes every
+    m-th step of its own step ``Δt``, so a case's samples are ``m·Δt`` apart rather
+    than exactly ``1/f``, and ``Δt`` differs between cases.
+    """
+    t0 = min(float(t[0]) for t in times if len(t))
+    t1 = max(float(t[-1]) for t in times if len(t))
+    n = int(math.floor((t1 - t0) * output_rate + 1e-9))
+    return t0 + np.arange(n + 1, dtype=np.float64) / output_rate
+
+
+def _sample_rate(times) -> float:
+    """The highest sample rate of the cases [Hz] (used when no output rate is given)."""
+    steps = [float(np.median(np.diff(t))) for t in times if len(t) > 1]
+    return 1.0 / min(steps) if steps else 1.0
+
+
+def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=None):
+    """Lay case datasets on the grid of ``axes``.
+
+    Parameters
+    ----------
+    axes : sequence of GridAxis
+        The case dimensions, in order.
+    entries : sequence of CaseEntry
+        One per case: position on the grid, dataset (None when it has no file) and
+        state ('failed' marks a point without data as failed; otherwise not_run).
+    output_rate : float, optional
+        Samples per second [Hz] of the common time grid, when the cases' sample times
+        differ; default the highest rate of the cases.
+    scalars : dict, optional
+        Scalar coordinates (name -> DataArray), such as the fixed axial load.
+
+    Returns
+    -------
+    ds : xarray.Dataset
+        Data variables (with the case files' attributes), ``case_status``, the grid
+        coordinates, ``phase``, ``elapsed_time`` and the sensor coordinates; no global
+        attributes.
+    resampled : bool
+        True when the time series were interpolated onto :func:`common_time_grid`.
+
+    Notes
+    -----
+    When every case has the same sample times they are ``elapsed_time``; otherwise the
+    series are interpolated linearly onto the common grid (their ``comment`` says so).
+    The phase metrics are never resampled: they come from every integrator step.
+    """
+    axes = list(axes)
+    loaded = [e.data for e in entries if e.data is not None]
+    shape = tuple(len(a.values) for a in axes)
+    times = [ds["elapsed_time"].values for ds in loaded]
+    resampled = False
+    if times and all(t.shape == times[0].shape and np.array_equal(t, times[0]) for t in times):
+        elapsed = times[0]
+    elif times:
+        elapsed = common_time_grid(times, output_rate or _sample_rate(times))
+        resampled = True
+    else:
+        elapsed = np.zeros(0)
+    n_t, n_p = len(elapsed), len(phase_coordinate())
+
+    # every case of a sweep has the same sensors: the first case file labels them
+    sensor_case = next((ds for ds in loaded if "sensor" in ds.dims), None)
+    n_s = sensor_case.sizes["sensor"] if sensor_case is not None else 0
+    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s}
+    arrays = {k: np.full(shape + tuple(sizes[d] for d in dims), np.nan) for k, (dims, _, _) in VARIABLES.items()
+              if all(sizes[d] for d in dims)}
+    status = np.full(shape, CASE_STATUS.index("not_run"), dtype=np.int8)
+    for entry in entries:
+        ds = entry.data
+        if ds is None:
+            if entry.state == "failed":
+                status[entry.at] = CASE_STATUS.index("failed")
+            continue
+        status[entry.at] = CASE_STATUS.index("ok")
+        t = ds["elapsed_time"].values
+        for k, arr in arrays.items():
+            if k not in ds:
+                continue
+            v = ds[k].transpose(*VARIABLES[k][0]).values
+            if resampled and VARIABLES[k][0][0] == "elapsed_time":
+                v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
+                              for col in v.reshape(len(t), -1).T], axis=-1).reshape((n_t,) + v.shape[1:])
+            arr[entry.at] = v
+
+    case_dims = tuple(a.name for a in axes)
+    coords = {a.name: a.coord for a in axes}
+    coords["phase"] = phase_coordinate()
+    if n_t:
+        coords["elapsed_time"] = xr.DataArray(
+            np.asarray(elapsed, dtype=np.float64), dims="elapsed_time",
+            attrs={"units": "s", "long_name": "simulated time since the start of the cycle"})
+    coords.update(scalars or {})
+    if sensor_case is not None:
+        for name, c in sensor_case.coords.items():
+            if c.dims == ("sensor",):
+                coords[name] = xr.DataArray(c.values, dims="sensor", attrs=dict(c.attrs))
+    data = {}
+    for k, arr in arrays.items():
+        attrs = _attrs_of(k, loaded)
+        if resampled and VARIABLES[k][0][0] == "elapsed_time":
+            attrs["comment"] = RESAMPLED_COMMENT
+        data[k] = xr.DataArray(arr, dims=case_dims + VARIABLES[k][0], attrs=attrs)
+    data["case_status"] = case_status_variable(status, case_dims)
+    return xr.Dataset(data_vars=data, coords=coords), resampled
+
+
+def _attrs_of(name: str, loaded) -> dict:
+    """A variable's attributes: those of the first case file that has it, else the defaults."""
+    for ds in loaded:
+        if name in ds:
+            return dict(ds[name].attrs)
+    _, units, long_name = VARIABLES[name]
+    return {"units": units, "long_name": long_name}
+
+
+def grid_from_cases(cases) -> tuple:
+    """The grid of a set of case datasets, read off their scalar coordinates.
+
+    ``speed`` and ``radial_load`` are always dimensions, ``axial_load`` and
+    ``realization`` when they vary (:data:`CASE_FILE_AXES`); each coordinate keeps the
+    case files' attributes.
+
+    Returns
+    -------
+    axes : list of GridAxis
+    entries : list of CaseEntry
+        One per case, in the order given, state 'ok'.
+    fixed : dict
+        name -> scalar coordinate of the axes that do not vary (``realization``
+        excepted, as in a sweep's ``sweep.nc``).
+    """
+    axes, fixed = [], {}
+    for i, key in enumerate(CASE_FILE_AXES):
+        present = [c for c in cases if key in c.coords]
+        values = sorted({c[key].item() for c in present})
+        if not values:
+            continue
+        template = present[0][key]
+        if i < 2 or len(values) > 1:
+            coord = xr.DataArray(np.asarray(values, dtype=template.dtype), dims=key, attrs=dict(template.attrs))
+            axes.append(GridAxis(key, values, coord))
+        elif key != "realization":
+            fixed[key] = xr.DataArray(template.values, attrs=dict(template.attrs))
+    entries = [CaseEntry(tuple(a.index(c[a.name].item()) for a in axes), c, "ok") for c in cases]
+    return axes, entries, fixed

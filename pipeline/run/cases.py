@@ -1,0 +1,126 @@
+"""One case of a sweep: compute it (on any worker) and label it (in the parent).
+
+Workers only compute: :func:`compute_case` returns the :class:`rvcore.driver.CaseResult`
+(or the reason it failed) as a :class:`CaseOutcome`, and the parent labels it with
+:func:`label_case`, so that the files do not depend on where a case ran.
+"""
+from __future__ import annotations
+
+import time
+import traceback
+from dataclasses import dataclass
+
+import xarray as xr
+
+from ..io import case_dataset, history_line
+from ..schema import CaseSpec
+
+#: Keys of ``CaseResult.info`` that vary from run to run (timings): they go into the
+#: ``history`` line of a case file, not into its attributes, so that case files are
+#: identical whatever ran them.
+TIMING_INFO = ("wall_time",)
+
+
+@dataclass
+class CaseOutcome:
+    """What a worker sends back for one case.
+
+    Parameters
+    ----------
+    case_id : str
+    ok : bool
+    result : rvcore.driver.CaseResult or None
+        The arrays when ``ok``.
+    reason : str
+        One line: why it failed.
+    traceback : str
+        The full traceback of the failure ('' when ok).
+    seconds : float
+        Wall time of the case on its worker [s].
+    """
+
+    case_id: str
+    ok: bool
+    result: object = None
+    reason: str = ""
+    traceback: str = ""
+    seconds: float = 0.0
+
+
+def _default_case_fn():
+    # Looked up at call time so that the core (or a test's monkeypatch) is current.
+    from rvcore import driver
+
+    return driver.run_case
+
+
+def _reason(exc: BaseException) -> str:
+    text = str(exc).strip().splitlines()
+    line = f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
+    return line if len(line) <= 500 else line[:497] + "..."
+
+
+def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
+    """Run one case; never raises for a failing case (the outcome carries the reason).
+
+    Parameters
+    ----------
+    spec : pipeline.sweepfile.CaseSpec
+        The resolved case (SI).
+    case_fn : callable, optional
+        ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
+        ``rvcore.driver.run_case``.
+    """
+    t0 = time.perf_counter()
+    fn = case_fn if case_fn is not None else _default_case_fn()
+    try:
+        result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
+    except Exception as exc:  # the case failed: record why and let the others go on
+        return CaseOutcome(spec.case_id, False, None, _reason(exc), traceback.format_exc(),
+                           time.perf_counter() - t0)
+    return CaseOutcome(spec.case_id, True, result, seconds=time.perf_counter() - t0)
+
+
+def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case",
+               sweep_name: str = "") -> xr.Dataset:
+    """The case file's dataset: :func:`pipeline.case.case_dataset` with the case's id.
+
+    Timings in ``result.info`` (:data:`TIMING_INFO`) go into the ``history`` line
+    rather than into attributes, so that two runs of the same case give the same data
+    and attributes; only ``history`` carries when and how long.
+    """
+    op = spec.operating_point
+    info = dict(getattr(result, "info", {}) or {})
+    timings = {k: info.pop(k) for k in TIMING_INFO if k in info}
+    if timings:
+        result = _with_info(result, info)
+    spent = "".join(f", {k} {v:.3f} s" for k, v in timings.items() if isinstance(v, (int, float)))
+    where = f" in sweep {sweep_name}" if sweep_name else ""
+    history = history_line(f"{source}: case {spec.case_id}{where}{spent}")
+    return case_dataset(
+        result, speed=op.speed, radial_load=op.radial_load, axial_load=op.axial_load,
+        configuration=spec.configuration, configuration_hash=spec.case_id,
+        bearing_name=spec.bearing.name, profile_name=spec.profile.name,
+        caveats=spec.bearing.warnings, assumptions=spec.bearing.assumptions, history=history,
+        sensors=spec.sensors, realization=int(spec.settings.seed))
+
+
+def _with_info(result, info):
+    import copy
+
+    new = copy.copy(result)
+    new.info = info
+    return new
+
+
+def _source_name(case_fn) -> str:
+    if case_fn is None:
+        return "rvcore.driver.run_case"
+    return f"{getattr(case_fn, '__module__', '?')}.{getattr(case_fn, '__qualname__', repr(case_fn))}"
+
+
+def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
+    """Build, run and label one case (in this process); raises if the case fails."""
+    fn = case_fn if case_fn is not None else _default_case_fn()
+    result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
+    return label_case(spec, result, source=_source_name(case_fn))
