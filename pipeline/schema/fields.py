@@ -355,3 +355,8 @@ def check_set_key(key: str, value=None, file="--set") -> Field:
         known = ", ".join(f.path for f in fields_of(target))
         raise ConfigError(file, key, value, f"unknown {target.replace('_', ' ')} key (known: {known})")
     return f
+
+
+def field_map(file: str) -> dict:
+    """``{path: Field}`` of one file's fields."""
+    return {f.path: f for f in fields_of(file)}
