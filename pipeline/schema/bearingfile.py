@@ -11,13 +11,12 @@ format is described in :mod:`pipeline.schema.config`.
 from __future__ import annotations
 
 import dataclasses
-from pathlib import Path
 
 from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row,
                              geometry_problems)
 
 from ..errors import ConfigError
-from .reader import Table, short
+from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
 __all__ = ["bearing_from_dict", "load_bearing", "extra_geometry_problems", "is_overlap_problem"]
@@ -198,8 +197,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     ConfigError
         The first problem found, naming file, key, value and reason.
     """
-    top = Table(raw, [], file, "bearing")
-    name = top.get("name", default=Path(str(file)).stem if file != "<input>" else "bearing")
+    top, name = top_table(raw, file, "bearing")
     allow_overlap = top.get("allow_ball_overlap")
     env = top.table("envelope")
     bore, od, width = env.get("bore"), env.get("outer_diameter"), env.get("width")

@@ -7,12 +7,11 @@ inside the cycle and in order. The file format is described in :mod:`pipeline.sc
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 from rvcore.profile import PHASES, Channel, Profile
 
 from ..errors import ConfigError
-from .reader import Table, short
+from .reader import Table, short, top_table
 from .tomlfile import read_toml
 
 __all__ = ["profile_from_dict", "load_profile", "CHANNELS"]
@@ -72,12 +71,7 @@ def _phases(top: Table, duration: float) -> tuple:
 def profile_from_dict(raw: dict, file="<input>") -> Profile:
     """Validate a profile file's contents and build the :class:`rvcore.profile.Profile`.
 
-    Parameters
-    ----------
-    raw : dict
-        The file as read by :func:`read_toml` [-].
-    file : str or Path
-        The file's name, for error messages; its stem is the default ``name``.
+    ``raw`` and ``file`` as for :func:`pipeline.schema.bearingfile.bearing_from_dict`.
 
     Raises
     ------
@@ -86,8 +80,7 @@ def profile_from_dict(raw: dict, file="<input>") -> Profile:
         length, neither or both of ``fraction``/``value``, an unknown interpolation,
         phases outside the cycle or out of order.
     """
-    top = Table(raw, [], file, "profile")
-    name = top.get("name", default=Path(str(file)).stem if file != "<input>" else "profile")
+    top, name = top_table(raw, file, "profile")
     description = top.get("description")
     duration = top.get("duration")
     channels = {c: _channel(top, c, duration) for c in CHANNELS}

@@ -8,6 +8,7 @@ naming file, key path, value as written and reason.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 from ..errors import ConfigError
 from . import fields as schema
@@ -142,3 +143,11 @@ class Table:
             raise ConfigError(self.file, self.key(name), v,
                               f"needs at least {minimum} entr{'y' if minimum == 1 else 'ies'}")
         return [Table(x, self.path + [name, i], self.file, self.schema_file) for i, x in enumerate(v)]
+
+
+def top_table(raw, file, schema_file: str) -> tuple:
+    """(the file's top-level :class:`Table`, its ``name``): the name defaults to the
+    file's stem, or to ``schema_file`` ("bearing", "profile") for in-memory input."""
+    top = Table(raw, [], file, schema_file)
+    stem = Path(str(file)).stem if file != "<input>" else schema_file
+    return top, top.get("name", default=stem)
