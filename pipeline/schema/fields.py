@@ -352,11 +352,10 @@ def check_set_key(key: str, value=None, file="--set") -> Field:
     target, inner = set_target(key)
     f = field(target, inner)
     if f is None:
-        known = ", ".join(f.path for f in fields_of(target))
-        raise ConfigError(file, key, value, f"unknown {target.replace('_', ' ')} key (known: {known})")
+        head = pattern(inner).split(".")[0]
+        near = [g.path for g in fields_of(target) if g.path.split(".")[0] == head]
+        known = near or list(keys_under(target, ""))
+        raise ConfigError(file, key, value,
+                          f"unknown {target.replace('_', ' ')} key (known{' here' if near else ''}: "
+                          f"{', '.join(known)}; `rvsweep check --fields` lists every key)")
     return f
-
-
-def field_map(file: str) -> dict:
-    """``{path: Field}`` of one file's fields."""
-    return {f.path: f for f in fields_of(file)}
