@@ -359,3 +359,8 @@ def check_set_key(key: str, value=None, file="--set") -> Field:
                           f"unknown {target.replace('_', ' ')} key (known{' here' if near else ''}: "
                           f"{', '.join(known)}; `rvsweep check --fields` lists every key)")
     return f
+
+
+def field_map(file: str) -> dict:
+    """``{path: Field}`` of one file's fields."""
+    return {f.path: f for f in fields_of(file)}
