@@ -152,6 +152,20 @@ def profile_summary(profile) -> dict:
     }
 
 
+def _axis_range(axis):
+    """"first ... last" of a numeric axis in its schema field's display unit, or None."""
+    from ..schema.fields import check_set_key
+
+    try:
+        f = check_set_key(axis.key)
+    except UserError:
+        return None
+    coords = [c for c in axis.coords if isinstance(c, (int, float)) and not isinstance(c, bool)]
+    if f.kind not in ("quantity", "integer") or not coords or len(coords) != len(axis.coords):
+        return None
+    return f"{format_value(f, min(coords))} ... {format_value(f, max(coords))}"
+
+
 def _sweep_summary(sweep, file) -> dict:
     """A summary of a ``pipeline.sweepfile.Sweep`` (read defensively: another module's type)."""
     warnings = list(getattr(sweep, "warnings", ()) or ())
@@ -170,6 +184,7 @@ def _sweep_summary(sweep, file) -> dict:
     axes = getattr(sweep, "axes", None)
     if axes:
         out["axes"] = {str(getattr(a, "key", a)): len(getattr(a, "values", ()) or ()) for a in axes}
+        out["axis_ranges"] = {a.key: r for a in axes if (r := _axis_range(a)) is not None}
     bearing = getattr(sweep, "bearing", None)
     if isinstance(bearing, geo.Bearing):
         out["allow_ball_overlap"] = bearing.allow_ball_overlap
@@ -278,7 +293,9 @@ def _format(s: dict) -> list:
     lines = [f"{s['file']}: sweep '{s.get('name')}'"
              + (f", {s['case_count']} cases" if "case_count" in s else "")]
     if "axes" in s:
-        lines.append("  axes: " + ", ".join(f"{k} ({n} values)" for k, n in s["axes"].items()))
+        ranges = s.get("axis_ranges", {})
+        lines.append("  axes: " + ", ".join(f"{k} ({n} values" + (f", {ranges[k]})" if k in ranges else ")")
+                                            for k, n in s["axes"].items()))
     for attr in ("bearing_file", "profile_file"):
         if attr in s:
             lines.append(f"  {attr.replace('_file', '')}: {s[attr]}")
