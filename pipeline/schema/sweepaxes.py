@@ -75,7 +75,7 @@ class Axis:
         return len(self.values)
 
 
-def _sensors(raw, file) -> tuple:
+def parse_sensors(raw, file) -> tuple:
     """``[[sensors]]``: name, position (three lengths) and direction (three numbers)."""
     from rvcore.driver import Sensor
 
@@ -103,14 +103,14 @@ def _sensors(raw, file) -> tuple:
             v = t[k]
             if not isinstance(v, list) or len(v) != 3:
                 raise ConfigError(file, f"{where}.{k}", short(v), "must be a list of three values (x, y, z)")
-            vec[k] = tuple(_quantity(x, kind, file, f"{where}.{k}[{j}]") for j, x in enumerate(v))
+            vec[k] = tuple(quantity(x, kind, file, f"{where}.{k}[{j}]") for j, x in enumerate(v))
         if not any(vec["direction"]):
             raise ConfigError(file, f"{where}.direction", t["direction"], "must not be the zero vector")
         out.append(Sensor(name, vec["position"], vec["direction"]))
     return tuple(out)
 
 
-def _realization_axis(raw: dict, file) -> Axis | None:
+def realization_axis(raw: dict, file) -> Axis | None:
     """The ``realization`` axis of ``realizations = N`` (and ``seed``), or None for N = 1
     without a seed (every ball at its pocket centre)."""
     n = raw.get("realizations", 1)
@@ -125,7 +125,7 @@ def _realization_axis(raw: dict, file) -> Axis | None:
     return Axis(REALIZATION, "solver", seeds, seeds, "dimensionless")
 
 
-def _flatten(table: dict, prefix: str, file, where: str, ranges: bool) -> dict:
+def flatten(table: dict, prefix: str, file, where: str, ranges: bool) -> dict:
     """Nested TOML tables to dotted keys; ``{start, stop, step}`` tables are leaves."""
     out = {}
     for k, v in table.items():
@@ -140,12 +140,12 @@ def _flatten(table: dict, prefix: str, file, where: str, ranges: bool) -> dict:
             elif not v:
                 raise ConfigError(file, f"{where}.{key}", None, "empty table")
             else:
-                out.update(_flatten(v, key, file, where, ranges))
+                out.update(flatten(v, key, file, where, ranges))
         else:
             out[key] = v
     return out
 
-def _target(key: str, file, where: str) -> tuple:
+def target_of(key: str, file, where: str) -> tuple:
     """(target, key inside the target) of a sweep key; ConfigError if unknown."""
     if key in OPERATING_POINT:
         return "operating_point", key
@@ -170,7 +170,7 @@ def _target(key: str, file, where: str) -> tuple:
                       + "), solver.<setting>, profile.<key> or a bearing key path such as "
                         "friction.mu_static (write bearing.<key> for a top-level bearing key)")
 
-def _solver_kind(name: str):
+def solver_kind(name: str):
     """Kind of a ``[solver]`` value, from the schema ("bool" for a switch)."""
     return fields.solver_fields()[name].axis_kind
 
@@ -219,7 +219,7 @@ def _override_coord(value, target: str, key: str, file, where: str):
     raise ConfigError(file, where, value, "an axis value must be a number, a string or a boolean")
 
 
-def _quantity(value, kind: str, file, key: str):
+def quantity(value, kind: str, file, key: str):
     """An SI value of ``kind`` (bool for a boolean kind)."""
     if kind == "bool":
         if not isinstance(value, bool):
@@ -253,7 +253,7 @@ def _range(spec: dict, kind, file, key: str) -> tuple:
             raise ConfigError(file, f"{key}.start", v, "not a quantity")
     if kind in ("bool", "category"):
         raise ConfigError(file, key, None, "a range needs numbers")
-    si = {k: _quantity(spec[k], kind, file, f"{key}.{k}") for k in _RANGE_KEYS}
+    si = {k: quantity(spec[k], kind, file, f"{key}.{k}") for k in _RANGE_KEYS}
     if not si["step"] > 0:
         raise ConfigError(file, f"{key}.step", spec["step"], "the step must be positive")
     if si["stop"] < si["start"]:
@@ -276,12 +276,12 @@ def _range(spec: dict, kind, file, key: str) -> tuple:
     return values, tuple(float(v) for v in values), kind
 
 
-def _axis(key: str, spec, file) -> Axis:
+def parse_axis(key: str, spec, file) -> Axis:
     where = f"axes.{key}"
-    target, inner = _target(key, file, "axes")
+    target, inner = target_of(key, file, "axes")
     if isinstance(spec, dict):
         kind = (OPERATING_POINT.get(inner) if target == "operating_point"
-                else _solver_kind(inner) if target == "solver" else None)
+                else solver_kind(inner) if target == "solver" else None)
         if target in ("bearing", "profile") and kind is None:
             v = spec.get("start")
             if isinstance(v, (int, float)) and not isinstance(v, bool):
@@ -293,11 +293,11 @@ def _axis(key: str, spec, file) -> Axis:
         raise ConfigError(file, where, [], "empty axis: give at least one value")
     if target == "operating_point":
         kind = OPERATING_POINT[inner]
-        values = tuple(_quantity(v, kind, file, f"{where}[{i}]") for i, v in enumerate(items))
+        values = tuple(quantity(v, kind, file, f"{where}[{i}]") for i, v in enumerate(items))
         coords = values
     elif target == "solver":
-        kind = _solver_kind(inner)
-        values = tuple(_quantity(v, kind, file, f"{where}[{i}]") for i, v in enumerate(items))
+        kind = solver_kind(inner)
+        values = tuple(quantity(v, kind, file, f"{where}[{i}]") for i, v in enumerate(items))
         coords = values
     else:
         pairs = [_override_coord(v, target, inner, file, f"{where}[{i}]") for i, v in enumerate(items)]
@@ -321,7 +321,7 @@ def short(v):
     """A list value for an error message, left out when long."""
     return v if not isinstance(v, list) or len(v) <= 8 else None
 
-def _check_operating_point(values: dict, file, where: dict):
+def check_operating_point(values: dict, file, where: dict):
     for k in REQUIRED_OPERATING_POINT:
         if k not in values:
             raise ConfigError(file, k, None,
@@ -332,7 +332,7 @@ def _check_operating_point(values: dict, file, where: dict):
             raise ConfigError(file, where.get(k, k), values[k], f.why or "must not be negative")
 
 
-def _check_settings(settings: SolverSettings, file, where: str):
+def check_settings(settings: SolverSettings, file, where: str):
     """The solver settings within the schema's bounds, and the window in order."""
     for k, f in fields.solver_fields().items():
         x = getattr(settings, k)
@@ -344,16 +344,16 @@ def _check_settings(settings: SolverSettings, file, where: str):
         raise ConfigError(file, f"{where}.end_time", settings.end_time,
                           "must come after start_time (or be 0: the profile's duration)")
 
-def _sort_key(c):
+def sort_key(c):
     return (0, c, "") if isinstance(c, (int, float)) else (1, 0, str(c))
 
 
-def _coord_kind(entry, key):
+def coord_kind(entry, key):
     target, inner, value, coord, _ = entry
     if target == "operating_point":
         return OPERATING_POINT[inner]
     if target == "solver":
-        return _solver_kind(inner)
+        return solver_kind(inner)
     if isinstance(coord, bool):
         return "bool"
     if isinstance(coord, str):
@@ -363,16 +363,16 @@ def _coord_kind(entry, key):
     return _key_kind(target, inner)
 
 
-def _fixed_value(key: str, v, file, prefix: str) -> tuple:
+def fixed_value(key: str, v, file, prefix: str) -> tuple:
     """(target, inner key, value for the target, coordinate) of one value of ``[fixed]``
     or of a ``[[cases]]`` entry (``prefix`` names the table for error messages)."""
     where = f"{prefix}.{key}"
-    target, inner = _target(key, file, prefix)
+    target, inner = target_of(key, file, prefix)
     if target == "operating_point":
-        x = _quantity(v, OPERATING_POINT[inner], file, where)
+        x = quantity(v, OPERATING_POINT[inner], file, where)
         return target, inner, x, x
     if target == "solver":
-        x = _quantity(v, _solver_kind(inner), file, where)
+        x = quantity(v, solver_kind(inner), file, where)
         return target, inner, x, x
     if isinstance(v, list):
         return target, inner, v, str(v)

@@ -58,7 +58,7 @@ Keys
   :func:`pipeline.schema.bearingfile.bearing_from_dict` like the file itself.
 
 Quantities are unit strings ("120 deg/s", "20 kN") read by
-:func:`pipeline.units.parse_quantity`, or plain numbers taken as SI. Written unquoted,
+:func:`pipeline.schema.units.parse_quantity`, or plain numbers taken as SI. Written unquoted,
 ``friction.mu_static = [...]`` is a TOML dotted key and means the same.
 
 Every problem (unknown key, bad unit, empty axis, missing bearing or profile file, a
@@ -90,9 +90,10 @@ from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
 from .resolver import Resolver, resolve_file
-from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis, _axis,
-                        _check_operating_point, _check_settings, _coord_kind, _fixed_value, _flatten,
-                        _quantity, _realization_axis, _sensors, _solver_kind, _sort_key, _target, short)
+from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
+                        check_operating_point, check_settings, coord_kind, fixed_value, flatten,
+                        parse_axis, parse_sensors, quantity, realization_axis, short, solver_kind,
+                        sort_key, target_of)
 from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
@@ -254,15 +255,15 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         if k not in known:
             raise ConfigError(file, f"solver.{k}", short(v) if not isinstance(v, dict) else None,
                               f"unknown solver setting (known: {', '.join(sorted(known))})")
-        solver_values[k] = _quantity(v, _solver_kind(k), file, f"solver.{k}")
+        solver_values[k] = quantity(v, solver_kind(k), file, f"solver.{k}")
 
     # [fixed]
     fixed_raw = raw.get("fixed", {})
     if not isinstance(fixed_raw, dict):
         raise ConfigError(file, "fixed", None, "must be a table ([fixed])")
     fixed = {}         # key -> (target, inner, value given to the target, coordinate)
-    for key, v in _flatten(fixed_raw, "", file, "fixed", ranges=False).items():
-        fixed[key] = _fixed_value(key, v, file, "fixed")
+    for key, v in flatten(fixed_raw, "", file, "fixed", ranges=False).items():
+        fixed[key] = fixed_value(key, v, file, "fixed")
 
     has_axes, has_cases = "axes" in raw, "cases" in raw
     if has_axes and has_cases:
@@ -274,11 +275,11 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         axes_raw = raw["axes"]
         if not isinstance(axes_raw, dict):
             raise ConfigError(file, "axes", None, "must be a table ([axes])")
-        flat = _flatten(axes_raw, "", file, "axes", ranges=True)
+        flat = flatten(axes_raw, "", file, "axes", ranges=True)
         if not flat:
             raise ConfigError(file, "axes", None, "empty: give at least one axis")
-        axes = tuple(_axis(k, v, file) for k, v in flat.items())
-        ensemble = _realization_axis(raw, file)
+        axes = tuple(parse_axis(k, v, file) for k, v in flat.items())
+        ensemble = realization_axis(raw, file)
         if ensemble is not None:
             if any(a.key == REALIZATION for a in axes):
                 raise ConfigError(file, "realizations", raw.get("realizations"), "the realization axis is also in [axes]")
@@ -288,13 +289,13 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
                 raise ConfigError(file, f"fixed.{a.key}", None, "is also an axis in [axes]")
         points = []
         for combo in itertools.product(*(range(len(a)) for a in axes)):
-            points.append({a.key: (a.target, _target(a.key, file, "axes")[1], a.values[i], a.coords[i],
+            points.append({a.key: (a.target, target_of(a.key, file, "axes")[1], a.values[i], a.coords[i],
                                    f"axes.{a.key}[{i}]")
                            for a, i in zip(axes, combo)})
         explicit = False
     else:
         cases_raw = raw["cases"]
-        if _realization_axis(raw, file) is not None:
+        if realization_axis(raw, file) is not None:
             raise ConfigError(file, "realizations", raw.get("realizations"),
                               "ensembles need a grid: give [axes] rather than [[cases]]")
         if not isinstance(cases_raw, list) or not all(isinstance(c, dict) for c in cases_raw):
@@ -304,14 +305,14 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         points = []
         for i, c in enumerate(cases_raw):
             where = f"cases[{i}]"
-            flat = _flatten(c, "", file, where, ranges=False)
+            flat = flatten(c, "", file, where, ranges=False)
             if not flat:
                 raise ConfigError(file, where, None, "empty case")
             pt = {}
             for key, v in flat.items():
                 if key in fixed:
                     raise ConfigError(file, f"{where}.{key}", v, "is also given in [fixed]")
-                target, inner, value, coord = _fixed_value(key, v, file, where)
+                target, inner, value, coord = fixed_value(key, v, file, where)
                 pt[key] = (target, inner, value, coord, f"{where}.{key}")
             points.append(pt)
         keys = list(dict.fromkeys(k for pt in points for k in pt))
@@ -324,15 +325,15 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         axes = []
         for k in keys:
             target = points[0][k][0]
-            coords = sorted({pt[k][3] for pt in points}, key=_sort_key)
-            kinds = {_coord_kind(pt[k], k) for pt in points}
+            coords = sorted({pt[k][3] for pt in points}, key=sort_key)
+            kinds = {coord_kind(pt[k], k) for pt in points}
             axes.append(Axis(k, target, tuple(coords), tuple(coords), kinds.pop()))
         axes = tuple(axes)
         explicit = True
 
-    sensors = _sensors(raw.get("sensors"), file)
+    sensors = parse_sensors(raw.get("sensors"), file)
     base_settings = SolverSettings(**solver_values)
-    _check_settings(base_settings, file, "solver")
+    check_settings(base_settings, file, "solver")
     base_bearing = resolver.bearing(tuple((inner, value, f"fixed.{k}")
                                           for k, (t, inner, value, _) in fixed.items() if t == "bearing"))
     base_profile = resolver.profile(tuple((inner, value, f"fixed.{k}")
@@ -346,13 +347,13 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         op_values = {inner: value for (t, inner, value, _, _) in merged.values() if t == "operating_point"}
         op_where = {inner: w for (t, inner, _, _, w) in merged.values() if t == "operating_point"}
         op_where["_cases"] = explicit
-        _check_operating_point(op_values, file, op_where)
+        check_operating_point(op_values, file, op_where)
         op = OperatingPoint(**op_values)
         solver_over = {inner: value for (t, inner, value, _, _) in merged.values() if t == "solver"}
         settings = dataclasses.replace(base_settings, **solver_over)
         settings = dataclasses.replace(settings, seed=int(settings.seed))
         if solver_over:
-            _check_settings(settings, file, next(w for (t, _, _, _, w) in merged.values() if t == "solver"))
+            check_settings(settings, file, next(w for (t, _, _, _, w) in merged.values() if t == "solver"))
         bearing = resolver.bearing(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
                                          if t == "bearing"))
         profile = resolver.profile(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
