@@ -1,13 +1,30 @@
-"""Argument helpers shared by the one-case commands (statics, simulate)."""
+"""Argument helpers shared by the commands: input files (shipped names too) and the
+one-case sweep of statics and simulate. ``--set`` goes through the one parser,
+:func:`pipeline.schema.parse_sets`, and is checked against the schema."""
 from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import ConfigError
+#: How --help says that shipped files may be named.
+SHIPPED_HELP = ("a path; one that does not exist but names a shipped file (relative to the "
+                "shipped sweeps/ folder, e.g. bearings/rv-main-study.toml) is that file")
+
+
+def input_file(arg) -> Path:
+    """``arg`` as a path; when no such file exists but ``arg`` names a shipped file
+    (``bearings/rv-main-study.toml``, or ``sweeps/bearings/...``), the shipped file."""
+    from ..schema.shipped import shipped_file
+
+    p = Path(arg).expanduser()
+    if p.exists() or p.is_absolute():
+        return p
+    rel = Path(*p.parts[1:]) if p.parts and p.parts[0] == "sweeps" else p
+    shipped = shipped_file(str(rel))
+    return shipped if shipped.is_file() else p
 
 
 def add_load_arguments(parser, *, speed: bool) -> None:
-    parser.add_argument("--bearing", required=True, metavar="FILE", help="bearing TOML file")
+    parser.add_argument("--bearing", required=True, metavar="FILE", help="bearing TOML file: " + SHIPPED_HELP)
     if speed:
         parser.add_argument("--speed", required=True, help='steady inner-ring speed, e.g. "660deg/s" or "110 rpm"')
     parser.add_argument("--radial-load", default="0 N", help='radial load, e.g. "30kN" (default 0)')
@@ -15,24 +32,24 @@ def add_load_arguments(parser, *, speed: bool) -> None:
     parser.add_argument("--moment", default="0 N*m", help='tilting moment, e.g. "0Nm" (default 0)')
     parser.add_argument("--load-angle", default="0 deg", help="direction of the radial load from +x (default 0)")
     parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                        help='override a bearing, profile or solver value, with units, e.g. '
-                             '--set friction.mu_static=0.05 --set solver.output_rate="2 kHz"')
+                        help='override a bearing, profile (profile.<key>) or solver (solver.<field>) '
+                             'value, with units, e.g. --set friction.mu_static=0.05 '
+                             '--set solver.output_rate="2 kHz"; `rvsweep check --fields` lists the keys')
 
 
-def parse_sets(items) -> dict:
-    """``["a.b=1 mm", ...]`` -> ``{"a.b": "1 mm"}``; numbers stay numbers."""
-    out = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        key, value = key.strip(), value.strip()
-        if not sep or not key:
-            raise ConfigError("--set", item, None, "expected KEY=VALUE, e.g. friction.mu_static=0.05")
-        try:
-            out[key] = int(value) if value.isdigit() else float(value)
-        except ValueError:
-            low = value.lower()
-            out[key] = True if low == "true" else False if low == "false" else value.strip('"\'')
-    return out
+def split_sets(items) -> tuple:
+    """``--set`` items as ([solver] table, values for a case): parsed by
+    :func:`pipeline.schema.parse_sets`, each key checked against the schema."""
+    from ..schema import check_set_key, parse_sets
+
+    solver, values = {}, {}
+    for key, value in parse_sets(items).items():
+        check_set_key(key, value)
+        if key.startswith("solver."):
+            solver[key.split(".", 1)[1]] = value
+        else:
+            values[key] = value
+    return solver, values
 
 
 def one_case_sweep(args, *, profile: str | None):
@@ -41,14 +58,10 @@ def one_case_sweep(args, *, profile: str | None):
 
     fixed = {"speed": getattr(args, "speed", "0 deg/s"), "radial_load": args.radial_load,
              "axial_load": args.axial_load, "moment": args.moment, "load_angle": args.load_angle}
-    solver = {}
-    for key, value in parse_sets(args.set).items():
-        if key.startswith("solver."):
-            solver[key.split(".", 1)[1]] = value
-        else:
-            fixed[key] = value
-    raw = {"name": "cli", "bearing": str(Path(args.bearing).resolve()),
-           "profile": str(Path(profile).resolve()) if profile else str(default_profile()),
+    solver, values = split_sets(args.set)
+    fixed.update(values)
+    raw = {"name": "cli", "bearing": str(input_file(args.bearing).resolve()),
+           "profile": str(input_file(profile).resolve()) if profile else str(default_profile()),
            "solver": solver, "cases": [fixed]}
     return sweep_from_dict(raw, Path.cwd() / "command line")
 

@@ -1,8 +1,13 @@
-"""``rvsweep check FILE... [--json]``: validate bearing, profile and sweep files.
+"""``rvsweep check [FILE...] [--json] [--fields]``: validate bearing, profile and sweep files.
+
+With no FILE it checks the shipped default sweep (``pipeline.schema.shipped``) and the
+bearing and profile files it names, from any directory. A FILE that does not exist but
+names a shipped file (``bearings/rv-main-study.toml``) is that file. ``--fields`` lists
+the input schema (:data:`pipeline.schema.fields.FIELDS`): key, kind, unit, default,
+bounds and doc. Values are printed in the schema's display unit of their field.
 
 The kind of each file is told by its content: a top-level ``bearing`` or ``profile`` key
-(naming other files) means a sweep, checked with ``pipeline.sweepfile.load_sweep`` when
-that module exists; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
+(naming other files) means a sweep, checked with ``pipeline.schema.load_sweep``; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
 and ``duration``/``[phases]`` a profile. For a bearing it prints what it derived: pitch diameter, balls, nominal
 contact angle, groove ratios, radial clearance, Hertz K of the inner and outer contact at
 the nominal angle, ball mass, the epicyclic cage ratio, the smallest pitch diameter for
@@ -15,7 +20,6 @@ on stderr and the status is 2 (the last error is raised as a ConfigError and pri
 """
 from __future__ import annotations
 
-import importlib
 import json
 import math
 import sys
@@ -23,8 +27,11 @@ import sys
 from rvcore import geometry as geo
 from rvcore.profile import PHASES
 
-from ..schema import bearing_from_dict, profile_from_dict, read_toml
 from ..errors import ConfigError, UserError
+from ..schema import FIELDS, REQUIRED, bearing_from_dict, load_sweep, profile_from_dict, read_toml
+from ..schema.fields import field
+from ..schema.parameters import format_value
+from ._common import SHIPPED_HELP, input_file
 
 HELP = "validate bearing, profile and sweep files and print what they imply"
 
@@ -34,11 +41,16 @@ _SWEEP_MARKERS = ("bearing", "profile")
 
 
 def add_arguments(parser):
-    parser.add_argument("files", nargs="+", metavar="FILE",
+    parser.add_argument("files", nargs="*", metavar="FILE",
                         help="bearing (sweeps/bearings/*.toml), profile (sweeps/profiles/*.toml) "
-                             "or sweep (sweeps/*.toml) files")
+                             "or sweep (sweeps/*.toml) files; none: the shipped default sweep and "
+                             "its bearing and profile. Each is " + SHIPPED_HELP)
     parser.add_argument("--json", action="store_true",
                         help="print one JSON object per file (a list when several files are given)")
+    parser.add_argument("--fields", action="store_true",
+                        help="list the input schema instead: every key of the bearing file, the "
+                             "profile file, the sweep's [solver] table and the operating point, with "
+                             "kind, unit, default, bounds and doc")
 
 
 # --------------------------------------------------------------------------- derivations
@@ -140,6 +152,20 @@ def profile_summary(profile) -> dict:
     }
 
 
+def _axis_range(axis):
+    """"first ... last" of a numeric axis in its schema field's display unit, or None."""
+    from ..schema.fields import check_set_key
+
+    try:
+        f = check_set_key(axis.key)
+    except UserError:
+        return None
+    coords = [c for c in axis.coords if isinstance(c, (int, float)) and not isinstance(c, bool)]
+    if f.kind not in ("quantity", "integer") or not coords or len(coords) != len(axis.coords):
+        return None
+    return f"{format_value(f, min(coords))} ... {format_value(f, max(coords))}"
+
+
 def _sweep_summary(sweep, file) -> dict:
     """A summary of a ``pipeline.sweepfile.Sweep`` (read defensively: another module's type)."""
     warnings = list(getattr(sweep, "warnings", ()) or ())
@@ -158,21 +184,12 @@ def _sweep_summary(sweep, file) -> dict:
     axes = getattr(sweep, "axes", None)
     if axes:
         out["axes"] = {str(getattr(a, "key", a)): len(getattr(a, "values", ()) or ()) for a in axes}
+        out["axis_ranges"] = {a.key: r for a in axes if (r := _axis_range(a)) is not None}
     bearing = getattr(sweep, "bearing", None)
     if isinstance(bearing, geo.Bearing):
         out["allow_ball_overlap"] = bearing.allow_ball_overlap
     out["warnings"] = warnings
     return out
-
-
-def _load_sweep_function():
-    try:
-        mod = importlib.import_module("pipeline.sweepfile")
-    except ModuleNotFoundError as exc:
-        if exc.name == "pipeline.sweepfile":
-            return None
-        raise
-    return getattr(mod, "load_sweep", None)
 
 
 def check_file(path) -> dict:
@@ -183,15 +200,11 @@ def check_file(path) -> dict:
     ConfigError
         The file's first problem.
     """
+    path = input_file(path)
     raw = read_toml(path)
     file = str(path)
     # A sweep names its bearing and profile files; bearing and profile files never do.
     if any(isinstance(raw.get(k), (str, dict)) for k in _SWEEP_MARKERS):
-        load_sweep = _load_sweep_function()
-        if load_sweep is None:
-            raise ConfigError(file, None, None,
-                              "looks like a sweep file, but this installation cannot check "
-                              "sweep files yet (pipeline.sweepfile.load_sweep is missing)")
         summary = _sweep_summary(load_sweep(path), file)
     elif any(k in raw for k in _BEARING_MARKERS):
         summary = bearing_summary(bearing_from_dict(raw, file=file))
@@ -207,8 +220,13 @@ def check_file(path) -> dict:
 # --------------------------------------------------------------------------- printing
 
 
-def _mm(x):
-    return f"{x * 1e3:.6g} mm"
+def _show(file: str, key: str, value) -> str:
+    """``value`` (SI) in the display unit the schema gives the field at ``key``."""
+    return format_value(field(file, key), value)
+
+
+def _bearing_value(key: str, value) -> str:
+    return _show("bearing", key, value)
 
 
 def _explain(s: dict, warning: str) -> str:
@@ -221,24 +239,29 @@ def _explain(s: dict, warning: str) -> str:
 
 def _format_bearing(s: dict) -> list:
     lines = [f"{s['file']}: bearing '{s['name']}' ({len(s['rows'])} row{'s' if len(s['rows']) > 1 else ''}), "
-             f"bore {_mm(s['bore_m'])}, outer diameter {_mm(s['outer_diameter_m'])}, width {_mm(s['width_m'])}"]
+             f"bore {_bearing_value('envelope.bore', s['bore_m'])}, outer diameter "
+             f"{_bearing_value('envelope.outer_diameter', s['outer_diameter_m'])}, "
+             f"width {_bearing_value('envelope.width', s['width_m'])}"]
     for i, r in enumerate(s["rows"]):
-        arcs = lambda arcs: ", ".join(f"f = {a['curvature_ratio']:g} at {math.degrees(a['contact_angle_rad']):g} deg"
+        angle = lambda x: _bearing_value("rows[].inner_groove.arcs[].contact_angle", x)  # noqa: E731
+        arcs = lambda arcs: ", ".join(f"f = {a['curvature_ratio']:g} at {angle(a['contact_angle_rad'])}"  # noqa: E731
                                       for a in arcs)
         lines += [
-            f"  row {i}: {r['raceway']}, {r['ball_count']} balls of {_mm(r['ball_diameter_m'])} "
-            f"on a pitch diameter of {_mm(r['pitch_diameter_m'])} "
-            f"(at least {r['min_pitch_diameter_m'] * 1e3:.1f} mm needed for {r['ball_count']} balls)",
-            f"    nominal contact angle {r['contact_angle_deg']:.6g} deg; radial clearance "
-            f"{_mm(r['radial_clearance_m'])}",
+            f"  row {i}: {r['raceway']}, {r['ball_count']} balls of "
+            f"{_bearing_value('rows[].balls.diameter', r['ball_diameter_m'])} "
+            f"on a pitch diameter of {_bearing_value('rows[].pitch_diameter', r['pitch_diameter_m'])} "
+            f"(at least {_bearing_value('rows[].pitch_diameter', r['min_pitch_diameter_m'])} needed for "
+            f"{r['ball_count']} balls)",
+            f"    nominal contact angle {angle(r['contact_angle_rad'])}; radial clearance "
+            f"{_bearing_value('rows[].radial_clearance', r['radial_clearance_m'])}",
             f"    inner groove: {arcs(r['inner_arcs'])}; outer groove: {arcs(r['outer_arcs'])}",
-            f"    Hertz K at {r['contact_angle_deg']:.6g} deg: inner {r['hertz_k_inner']:.4g} N/m^1.5, "
+            f"    Hertz K at {angle(r['contact_angle_rad'])}: inner {r['hertz_k_inner']:.4g} N/m^1.5, "
             f"outer {r['hertz_k_outer']:.4g} N/m^1.5 (E' = {r['effective_modulus_pa'] / 1e9:.4g} GPa)",
             f"    ball mass {r['ball_mass_kg']:.4g} kg; epicyclic cage speed / inner-ring speed "
             f"{r['cage_speed_ratio']:.5f}; cage {r['cage_guidance']} guided, {r['cage_mass_kg']:.3g} kg",
         ]
     lines.append(f"  inner ring mass {s['inner_ring_mass_kg']:.4g} kg (with attachments); gravity "
-                 f"({', '.join(f'{g:.4g}' for g in s['gravity_m_per_s2'])}) m/s^2 in the bearing frame")
+                 f"{_bearing_value('gravity', s['gravity_m_per_s2'])} in the bearing frame")
     if s["assumptions"]:
         lines.append(f"  assumptions ({len(s['assumptions'])}): {', '.join(s['assumptions'])}")
     for w in s["warnings"]:
@@ -249,13 +272,15 @@ def _format_bearing(s: dict) -> list:
 
 
 def _format_profile(s: dict) -> list:
-    lines = [f"{s['file']}: profile '{s['name']}', duration {s['duration_s']:g} s"]
+    lines = [f"{s['file']}: profile '{s['name']}', duration {_show('profile', 'duration', s['duration_s'])}"]
     for name, ch in s["channels"].items():
+        what = "fraction" if "fraction" in ch else "value"
         vals = ch.get("fraction", ch.get("value_si"))
-        what = "fraction" if "fraction" in ch else "value (SI)"
-        pts = ", ".join(f"{t:g} s: {v:g}" for t, v in zip(ch["time_s"], vals))
+        time = lambda t: _show("profile", f"{name}.time", t)  # noqa: E731
+        pts = ", ".join(f"{time(t)}: {_show('profile', f'{name}.{what}', v)}"
+                        for t, v in zip(ch["time_s"], vals))
         lines.append(f"  {name} ({what}, {ch['interpolation']}): {pts}")
-    lines.append("  phases: " + ", ".join(f"{n} {s['phases'][n][0]:g}-{s['phases'][n][1]:g} s"
+    lines.append("  phases: " + ", ".join(f"{n} {s['phases'][n][0]:g}-{_show('profile', f'phases.{n}', s['phases'][n][1])}"
                                           for n in PHASES if n in s["phases"]))
     return lines
 
@@ -268,7 +293,9 @@ def _format(s: dict) -> list:
     lines = [f"{s['file']}: sweep '{s.get('name')}'"
              + (f", {s['case_count']} cases" if "case_count" in s else "")]
     if "axes" in s:
-        lines.append("  axes: " + ", ".join(f"{k} ({n} values)" for k, n in s["axes"].items()))
+        ranges = s.get("axis_ranges", {})
+        lines.append("  axes: " + ", ".join(f"{k} ({n} values" + (f", {ranges[k]})" if k in ranges else ")")
+                                            for k, n in s["axes"].items()))
     for attr in ("bearing_file", "profile_file"):
         if attr in s:
             lines.append(f"  {attr.replace('_file', '')}: {s[attr]}")
@@ -282,16 +309,55 @@ def _json_default(x):
     return str(x)
 
 
+def schema_rows() -> list:
+    """The input schema as JSON-ready dicts: key, file, kind, unit, default, bounds, doc."""
+    rows = []
+    for f in FIELDS:
+        default = "required" if f.default is REQUIRED else f.default
+        if isinstance(default, float) and f.unit and f.unit_kind:
+            default = format_value(f, default)
+        key = f.path if f.file in ("bearing", "operating_point", "solver") else f"profile.{f.path}"
+        rows.append({"key": key, "file": f.file, "kind": f.kind + (f" ({f.unit_kind})" if f.unit_kind else ""),
+                     "unit": f.unit, "default": default, "bounds": f.bounds_text(), "doc": f.doc})
+    return rows
+
+
+def _print_fields(as_json: bool) -> None:
+    rows = schema_rows()
+    if as_json:
+        print(json.dumps(rows, indent=1, default=_json_default))
+        return
+    width = max(len(r["key"]) for r in rows)
+    for r in rows:
+        default = "" if r["default"] == "" else f"default {r['default']}; "
+        unit = f"[{r['unit']}] " if r["unit"] else ""
+        bounds = f"{r['bounds']}; " if r["bounds"] else ""
+        print(f"{r['key']:<{width}}  {r['kind']} {unit}- {default}{bounds}{r['doc']}")
+
+
+def _default_files() -> list:
+    """The shipped default sweep, then the bearing and profile files it names."""
+    from ..schema.shipped import DEFAULT_SWEEP, shipped_file
+
+    sweep = shipped_file(DEFAULT_SWEEP)
+    raw = read_toml(sweep)
+    return [sweep] + [input_file(sweep.parent / raw[k]) for k in _SWEEP_MARKERS if isinstance(raw.get(k), str)]
+
+
 def run(args) -> int:
+    if args.fields:
+        _print_fields(args.json)
+        return 0
+    files = list(args.files) or _default_files()
     summaries, errors = [], []
-    for path in args.files:
+    for path in files:
         try:
             summaries.append(check_file(path))
         except UserError as exc:
             errors.append(exc)
     if args.json:
-        payload = summaries[0] if len(args.files) == 1 and summaries else summaries
-        if summaries or len(args.files) > 1:
+        payload = summaries[0] if len(files) == 1 and summaries else summaries
+        if summaries or len(files) > 1:
             print(json.dumps(payload, indent=2, default=_json_default))
     else:
         for s in summaries:

@@ -6,12 +6,15 @@ import sys
 from pathlib import Path
 
 from ..errors import UserError
+from ._common import SHIPPED_HELP, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
 
 
 def add_arguments(parser):
-    parser.add_argument("sweep_file", metavar="SWEEP.toml", help="the sweep file (e.g. sweeps/study.toml)")
+    parser.add_argument("sweep_file", metavar="SWEEP.toml", nargs="?", default=None,
+                        help="the sweep file (default: the shipped study sweep, study.toml); "
+                             + SHIPPED_HELP)
     parser.add_argument("--out", metavar="DIR", default="results",
                         help="results go under DIR/<sweep name>/ (default: results)")
     parser.add_argument("--workers", type=int, metavar="N", default=None,
@@ -28,6 +31,13 @@ def add_arguments(parser):
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
+def sweep_path(arg) -> Path:
+    """The sweep file of ``arg``; the shipped default sweep when ``arg`` is None."""
+    from ..schema.shipped import DEFAULT_SWEEP, shipped_file
+
+    return shipped_file(DEFAULT_SWEEP) if arg is None else input_file(arg)
+
+
 def _terminate_as_interrupt(signum, frame):
     raise KeyboardInterrupt
 
@@ -42,7 +52,7 @@ def run(args) -> int:
         if args.scheduler or args.scheduler_file or args.serial:
             raise UserError("--workers sizes the local cluster; it does not apply with "
                             "--scheduler, --scheduler-file or --serial")
-    sweep = load_sweep(args.sweep_file)          # every ConfigError before any case runs
+    sweep = load_sweep(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
     previous = signal.getsignal(signal.SIGTERM)
     try:

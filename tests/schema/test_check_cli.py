@@ -185,3 +185,79 @@ def test_sweep_file_is_recognised(capsys, tmp_path):
     # The study bearing's overlap caveat reaches the sweep's check too.
     assert any("need a pitch diameter" in w for w in data["warnings"])
     assert "warning:" in err
+
+
+# --------------------------------------------------------------------------- defaults, schema
+
+
+def _run_cli(args, cwd):
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "pipeline.cli", *args], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_check_without_a_file_checks_the_shipped_sweep_and_its_files_from_anywhere(tmp_path):
+    from pipeline.schema.shipped import DEFAULT_SWEEP, shipped_file
+    from pipeline.schema import read_toml
+
+    res = _run_cli(["check", "--json"], cwd=tmp_path)          # outside the checkout
+    assert res.returncode == 0, res.stderr
+    data = json.loads(res.stdout)
+    assert [d["kind"] for d in data] == ["sweep", "bearing", "profile"]
+    sweep = shipped_file(DEFAULT_SWEEP)
+    raw = read_toml(sweep)
+    assert Path(data[0]["file"]) == sweep
+    assert Path(data[1]["file"]).resolve() == (sweep.parent / raw["bearing"]).resolve()
+    assert Path(data[2]["file"]).resolve() == (sweep.parent / raw["profile"]).resolve()
+
+
+def test_a_missing_file_that_names_a_shipped_one_is_that_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", "--json", "bearings/rv-main-buildable.toml"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert Path(data["file"]).resolve() == BUILDABLE.resolve()
+    assert main(["check", "bearings/no-such-bearing.toml"]) == 2
+    err = capsys.readouterr().err
+    assert "bearings/no-such-bearing.toml" in err and "no such file" in err
+
+
+def test_check_prints_values_in_the_schemas_display_units(capsys):
+    from pipeline.schema import fields
+
+    assert main(["check", str(BUILDABLE)]) == 0
+    out = capsys.readouterr().out
+    for key in ("envelope.bore", "rows[].balls.diameter", "rows[].pitch_diameter"):
+        assert fields.field("bearing", key).unit == "mm"
+    assert "bore 320 mm" in out and "balls of 23 mm" in out and "pitch diameter of 351.5 mm" in out
+    unit = fields.field("bearing", "rows[].inner_groove.arcs[].contact_angle").unit
+    assert f"nominal contact angle 15 {unit}" in out
+
+
+def test_check_fields_lists_every_field_of_the_schema(capsys):
+    from pipeline.schema import FIELDS
+
+    assert main(["check", "--fields", "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)
+    assert len(rows) == len(FIELDS)
+    by_key = {r["key"]: r for r in rows}
+    assert by_key["rows[].balls.diameter"]["unit"] == "mm" and by_key["rows[].balls.diameter"]["default"] == "required"
+    assert by_key["solver.step_safety"]["kind"].startswith("quantity")
+    assert "profile.duration" in by_key and all(r["doc"] for r in rows)
+    assert main(["check", "--fields"]) == 0
+    text = capsys.readouterr().out.splitlines()
+    assert len(text) == len(FIELDS) and text[0].startswith("name")
+
+
+def test_sweep_help_says_it_defaults_to_the_shipped_sweep(capsys):
+    with pytest.raises(SystemExit):
+        main(["sweep", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert "default: the shipped study sweep" in out and "names a shipped file" in out
+
+
+def test_sweep_without_an_argument_loads_the_shipped_default():
+    from pipeline.commands.sweep import sweep_path
+    from pipeline.schema.shipped import DEFAULT_SWEEP, shipped_file
+
+    assert sweep_path(None) == shipped_file(DEFAULT_SWEEP)
+    assert sweep_path("study.toml") == shipped_file(DEFAULT_SWEEP) or Path("study.toml").exists()

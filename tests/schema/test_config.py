@@ -370,12 +370,25 @@ def test_study_file_holds_table_2_exactly():
 
 
 def test_fifteen_degrees_carries_the_nominal_load_without_lift_off():
-    """The 15 deg choice: all balls stay loaded while F_a >= 1.22 F_r tan(alpha)."""
+    """The 15 deg choice: the largest standard angle with F_a >= 1.22 F_r tan(alpha), and
+    the quasi-static solution at the study's 30 kN + 10 kN keeps every ball loaded, while
+    the next standard angle lets balls lift off."""
+    from rvcore.quasistatic import solve_statics
+
     fr, fa = 30e3, 10e3
     alpha_max = math.degrees(math.atan(fa / (1.22 * fr)))
     standard = [a for a in (15, 25, 30, 40) if a <= alpha_max]
-    b = load_bearing(BEARINGS / "rv-main-study.toml")
+    raw = read_toml(BEARINGS / "rv-main-study.toml")
+    b = bearing_from_dict(raw, FILE)
     assert math.degrees(b.rows[0].nominal_contact_angle) == pytest.approx(max(standard))
+    st = solve_statics(b, fr, fa, 0.0, 0.0, gravity=False)
+    assert st.loaded_ball_count == b.rows[0].ball_count
+    assert (st.ball_loads.sum(axis=1) > 0).all()
+    steeper = min(a for a in (15, 25, 30, 40) if a > alpha_max)
+    for groove in ("inner_groove", "outer_groove"):
+        raw = apply_override(raw, f"rows[0].{groove}.arcs[0].contact_angle", f"{steeper} deg")
+    st = solve_statics(bearing_from_dict(raw, FILE), fr, fa, 0.0, 0.0, gravity=False)
+    assert st.loaded_ball_count < b.rows[0].ball_count
 
 
 def test_buildable_file_has_the_largest_count_with_a_3_mm_web():

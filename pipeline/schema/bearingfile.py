@@ -1,0 +1,232 @@
+"""Bearing files: TOML in, a validated :class:`rvcore.geometry.Bearing` (SI) out.
+
+Which keys each table allows, every value's kind, bounds and default come from the
+schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.reader.Table`).
+This module adds what one field cannot say: the material's two forms, the cage's land
+values required when it is outer-land guided, two arcs at ±α, the friction speeds'
+order, gravity by mounting or vector, the assumptions list, and the geometry checks
+(``rvcore.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
+format is described in :mod:`pipeline.schema.config`.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row,
+                             geometry_problems)
+
+from ..errors import ConfigError
+from .reader import Table, short, top_table
+from .tomlfile import MISSING, lookup, parse_key_path, read_toml
+
+__all__ = ["bearing_from_dict", "load_bearing", "extra_geometry_problems", "is_overlap_problem"]
+
+
+def _material(t: Table) -> Material:
+    return Material(density=t.get("density"), youngs_modulus=t.get("youngs_modulus"),
+                    poisson_ratio=t.get("poisson_ratio"))
+
+
+def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
+    g = row.table(groove)
+    arcs = g.tables("arcs")
+    if len(arcs) > 2:
+        raise ConfigError(row.file, g.key("arcs"), None,
+                          f"{len(arcs)} arcs: a groove has one arc (deep groove or angular "
+                          "contact) or two at ±α (four-point)")
+    out = []
+    for a in arcs:
+        f = a.get("curvature_ratio", bounds=None)   # the schema's bound, said with the numbers
+        lower = a.field("curvature_ratio").bounds[0]
+        if f <= lower:
+            rel = "smaller than" if f < lower else "equal to"
+            raise ConfigError(row.file, a.key("curvature_ratio"), a.raw("curvature_ratio"),
+                              f"groove radius {rel} the ball's: f·D = {f * ball_diameter * 1e3:.4g} mm "
+                              f"against a ball radius of {ball_diameter / 2 * 1e3:.4g} mm "
+                              f"(f must exceed {lower:g})")
+        out.append(Arc(curvature_ratio=f, contact_angle=a.get("contact_angle")))
+    if len(out) == 2:
+        a0, a1 = out[0].contact_angle, out[1].contact_angle
+        if a0 == 0.0 or a1 == 0.0 or (a0 > 0) == (a1 > 0):
+            raise ConfigError(row.file, arcs[1].key("contact_angle"), arcs[1].raw("contact_angle"),
+                              "the two arcs of a four-point groove must sit on opposite sides "
+                              "of the groove (contact angles of opposite sign, ±α, neither 0)")
+    return tuple(out)
+
+
+def _cage(c: Table) -> Cage:
+    guidance = c.get("guidance")
+    land = {}
+    if guidance == "outer-land":   # the land values matter only then: required and positive
+        land = {"default": MISSING, "bounds": "positive"}
+    return Cage(inner_diameter=c.get("inner_diameter"), outer_diameter=c.get("outer_diameter"),
+                width=c.get("width"), pocket_clearance=c.get("pocket_clearance"),
+                land_clearance=c.get("land_clearance", **land), guidance=guidance,
+                material=_material(c), land_stiffness=c.get("land_stiffness", **land))
+
+
+def _row(t: Table) -> Row:
+    balls = t.table("balls")
+    d = balls.get("diameter")
+    return Row(ball_count=balls.get("count"), ball_diameter=d, pitch_diameter=t.get("pitch_diameter"),
+               axial_position=t.get("axial_position"), inner_arcs=_arcs(t, "inner_groove", d),
+               outer_arcs=_arcs(t, "outer_groove", d), cage=_cage(t.table("cage")),
+               radial_clearance=t.get("radial_clearance"))
+
+
+def extra_geometry_problems(bearing: Bearing):
+    """Checks beyond ``rvcore.geometry.geometry_problems``, as ``(key, value, reason)``.
+
+    - the cage is no wider than the bearing, and wider than its pockets (``D + c_p``),
+      or the pockets would cut the cage ring in two;
+    - an outer-land guided cage's land (bore ``d_cage,o + 2·c_land``) lies inside the
+      outer ring's envelope and above the outer groove's bottom (``d_m + D``), so that
+      the outer ring has a land there at all.
+    """
+    out = []
+    for i, row in enumerate(bearing.rows):
+        c = row.cage
+        if c.width > bearing.width:
+            out.append((f"rows[{i}].cage.width", c.width,
+                        f"the cage ({c.width * 1e3:.4g} mm) is wider than the bearing "
+                        f"({bearing.width * 1e3:.4g} mm)"))
+        pocket = row.ball_diameter + c.pocket_clearance
+        if c.width <= pocket:
+            out.append((f"rows[{i}].cage.width", c.width,
+                        f"the cage ({c.width * 1e3:.4g} mm) is not wider than its pockets "
+                        f"({pocket * 1e3:.4g} mm = ball diameter + pocket clearance), so they "
+                        "would cut the ring in two"))
+        if c.guidance == "outer-land":
+            land = c.outer_diameter + 2.0 * c.land_clearance
+            groove_bottom = row.pitch_diameter + row.ball_diameter
+            if land >= groove_bottom:
+                out.append((f"rows[{i}].cage.outer_diameter", c.outer_diameter,
+                            f"the cage does not fit inside the outer ring: its guiding land's bore "
+                            f"({land * 1e3:.4g} mm = cage OD + 2 × land clearance "
+                            f"{c.land_clearance * 1e3:.4g} mm) is not below the outer groove's "
+                            f"bottom ({groove_bottom * 1e3:.4g} mm = d_m + D), so the outer ring "
+                            "has no land there"))
+    return out
+
+
+def is_overlap_problem(key: str, reason: str) -> bool:
+    """Whether a ``geometry_problems`` entry is the ball overlap of model.md §10."""
+    return key.endswith(".balls.count") and "need a pitch diameter" in reason
+
+
+def _assumptions(top: Table, raw: dict) -> tuple:
+    v = top.raw("assumptions", [])
+    if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
+        raise ConfigError(top.file, "assumptions", short(v), "must be a list of key paths (strings)")
+    for i, k in enumerate(v):
+        parse_key_path(k, top.file, k)
+        absent = object()
+        if k == "assumptions" or lookup(raw, k, absent) is absent:
+            raise ConfigError(top.file, f"assumptions[{i}]", k, "names a key that is not in this file")
+    return tuple(dict.fromkeys(v))
+
+
+def _gravity(top: Table) -> tuple:
+    """Gravity in the bearing frame [m s^-2]: ``mounting`` by name, or ``gravity`` as a vector.
+
+    ``mounting = "horizontal"`` (the default: axis horizontal, gravity along −y) or
+    ``"vertical"`` (gravity along −z); ``gravity = ["0 m/s^2", "-9.81 m/s^2", "0 m/s^2"]``
+    gives any other direction. Switching gravity off is a solver setting
+    (``solver.gravity = false``), not a mounting.
+    """
+    if top.has("gravity"):
+        if top.has("mounting"):
+            raise ConfigError(top.file, "gravity", None, "give either mounting or a gravity vector, not both")
+        vec = top.raw("gravity")
+        n = top.field("gravity").length
+        if not isinstance(vec, list) or len(vec) != n:
+            raise ConfigError(top.file, "gravity", short(vec),
+                              'must be a list of three accelerations, e.g. ["0 m/s^2", "-9.81 m/s^2", "0 m/s^2"]')
+        return tuple(top.get("gravity"))
+    return MOUNTINGS[top.get("mounting")]
+
+
+def _materials(top: Table):
+    file = top.file
+    if top.has("material"):
+        for other in ("ring_material", "ball_material"):
+            if top.has(other):
+                raise ConfigError(file, other, None,
+                                  "give either [material] (rings and balls) or both "
+                                  "[ring_material] and [ball_material], not both forms")
+        mat = _material(top.table("material"))
+        return mat, mat
+    if top.has("ring_material") or top.has("ball_material"):
+        return _material(top.table("ring_material")), _material(top.table("ball_material"))
+    raise ConfigError(file, "material", None,
+                      "missing required table (or [ring_material] and [ball_material])")
+
+
+def _contact(top: Table) -> ContactLaw:
+    ct = top.table("contact")
+    fr = top.table("friction", required=False)
+    contact = ContactLaw(
+        damping=ct.get("damping"), damping_depth=ct.get("damping_depth"),
+        pocket_damping=ct.get("pocket_damping"), land_damping=ct.get("land_damping"),
+        mu_static=fr.get("mu_static"), v_static=fr.get("v_static"),
+        mu_dynamic=fr.get("mu_dynamic"), v_dynamic=fr.get("v_dynamic"),
+    )
+    if not contact.v_dynamic > contact.v_static:
+        raise ConfigError(top.file, "friction.v_dynamic", fr.raw("v_dynamic", contact.v_dynamic),
+                          f"must exceed friction.v_static ({contact.v_static:g} m/s)")
+    return contact
+
+
+def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
+    """Validate a bearing file's contents and build the :class:`rvcore.geometry.Bearing`.
+
+    Parameters
+    ----------
+    raw : dict
+        The file as read by :func:`read_toml` [-].
+    file : str or Path
+        The file's name, for error messages; its stem is the default ``name``.
+
+    Returns
+    -------
+    rvcore.geometry.Bearing
+        In SI, with ``warnings`` (accepted ball overlap) and ``assumptions``.
+
+    Raises
+    ------
+    ConfigError
+        The first problem found, naming file, key, value and reason.
+    """
+    top, name = top_table(raw, file, "bearing")
+    allow_overlap = top.get("allow_ball_overlap")
+    env = top.table("envelope")
+    bore, od, width = env.get("bore"), env.get("outer_diameter"), env.get("width")
+    ring_mat, ball_mat = _materials(top)
+    ir = top.table("inner_ring")
+    inner_ring = InnerRing(shoulder_diameter=ir.get("shoulder_diameter"),
+                           attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"))
+    contact = _contact(top)
+    rows = tuple(_row(t) for t in top.tables("rows"))
+    bearing = Bearing(name=name, bore=bore, outer_diameter=od, width=width, rows=rows, ring_material=ring_mat, ball_material=ball_mat,
+                      inner_ring=inner_ring, contact=contact, allow_ball_overlap=allow_overlap,
+                      assumptions=_assumptions(top, raw), gravity=_gravity(top),
+                      source=top.get("source"), description=top.get("description"))
+
+    warnings = []
+    for key, value, reason in list(geometry_problems(bearing)) + extra_geometry_problems(bearing):
+        if allow_overlap and is_overlap_problem(key, reason):
+            warnings.append(reason)
+            continue
+        shown = lookup(raw, key, value)
+        if isinstance(shown, (dict, list)):
+            shown = value
+        if is_overlap_problem(key, reason):
+            reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
+                       "as a warning (model.md §10)")
+        raise ConfigError(file, key, shown, reason)
+    return dataclasses.replace(bearing, warnings=tuple(warnings))
+
+
+def load_bearing(path) -> Bearing:
+    """Read and validate a bearing file (:func:`read_toml` + :func:`bearing_from_dict`)."""
+    return bearing_from_dict(read_toml(path), file=str(path))

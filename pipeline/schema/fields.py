@@ -1,0 +1,366 @@
+"""The input schema: one entry per input field of the bearing file, the profile file, the
+sweep's ``[solver]`` table and the operating point.
+
+Each :class:`Field` gives the key path as the TOML nests it (``rows[].balls.diameter``,
+``friction.mu_static``, ``solver.step_safety``; ``[]`` stands for any list index), its
+kind, its bounds, its default (or :data:`REQUIRED`), the unit an engineer reads it in,
+a one-line doc and where its value sits in the ``rvcore`` dataclass the loader builds.
+
+Readers of this table:
+
+- :mod:`pipeline.schema.reader` / :mod:`.bearingfile` / :mod:`.profilefile`: the keys
+  each table allows, each value's kind, bounds and default;
+- :mod:`pipeline.schema.sweepaxes`: the kinds of operating-point, solver, bearing and
+  profile values on sweep axes and in ``[fixed]`` (there is no second kind table);
+- :func:`pipeline.schema.tomlfile.parse_sets` callers (``--set``) through
+  :func:`check_set_key`;
+- ``rvsweep check`` (display units, ``--fields``) and :mod:`.parameters` (the report's
+  parameter table).
+
+Why a plain table of frozen dataclasses and not pydantic: pydantic is not a dependency
+and may not be added, and the loaders need more than per-field validation anyway
+(cross-field rules such as "two arcs at ±α", "v_dynamic > v_static", and error messages
+that name file, key path with indices and the value as written). A flat table keyed by
+path is also what ``check --fields`` and the report list, which a nested model would
+have to be flattened into first.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass
+
+from rvcore.driver import SolverSettings
+from rvcore.geometry import MOUNTINGS, ContactLaw
+from rvcore.profile import INTERPOLATIONS, PHASES
+
+from ..errors import ConfigError
+
+#: Default of a field that must be given.
+REQUIRED = object()
+
+#: Kinds of field.
+KINDS = ("quantity", "integer", "boolean", "choice", "string", "list")
+
+#: Which file a field belongs to.
+FILES = ("bearing", "profile", "solver", "operating_point")
+
+
+@dataclass(frozen=True)
+class Field:
+    """One input field.
+
+    Parameters
+    ----------
+    path : str
+        Key path as the TOML nests it, ``[]`` for any list index.
+    kind : str
+        One of :data:`KINDS`. A ``list`` holds ``length`` items of ``unit_kind``.
+    file : str
+        One of :data:`FILES`.
+    unit_kind : str or None
+        A key of :data:`pipeline.schema.units.SI_UNITS` (quantities and lists of them).
+    bounds : str, tuple or None
+        ``"positive"``, ``"nonnegative"``, an open interval ``(lo, hi)`` in SI, or None.
+    default :
+        The value (SI) when the key is left out, or :data:`REQUIRED`.
+    unit : str
+        The unit shown to engineers (``"mm"``, ``"kN"``, ``"deg/s"``); "" for none.
+    doc : str
+        One line.
+    choices : tuple
+        The allowed strings of a ``choice``.
+    minimum : int or None
+        Smallest allowed ``integer``.
+    why : str
+        The reason given when the bounds fail, if the generic one would say too little.
+    source : str or None
+        Attribute path into the ``rvcore`` dataclass built from the file
+        (``rows[].cage.material.density``); None where no single attribute holds it.
+    length : int or None
+        Number of items of a ``list`` (None: any, at least one).
+    """
+
+    path: str
+    kind: str
+    file: str
+    unit_kind: str | None = None
+    bounds: object = None
+    default: object = REQUIRED
+    unit: str = ""
+    doc: str = ""
+    choices: tuple = ()
+    minimum: int | None = None
+    why: str = ""
+    source: str | None = None
+    length: int | None = None
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    @property
+    def axis_kind(self) -> str | None:
+        """The kind of this field's values on a sweep axis (``SI_UNITS`` key or ``"bool"``)."""
+        if self.kind in ("quantity", "list"):
+            return self.unit_kind
+        if self.kind == "integer":
+            return "dimensionless"
+        if self.kind == "boolean":
+            return "bool"
+        return None
+
+    def bounds_text(self) -> str:
+        b = self.bounds
+        if b == "positive":
+            return "> 0"
+        if b == "nonnegative":
+            return ">= 0"
+        if isinstance(b, tuple):
+            return f"in ({b[0]:g}, {b[1]:g}) SI"
+        if self.minimum is not None:
+            return f">= {self.minimum}"
+        if self.choices:
+            return "one of " + ", ".join(self.choices)
+        return ""
+
+
+def _default(cls, name):
+    return {f.name: f.default for f in dataclasses.fields(cls)}[name]
+
+
+def _q(path, unit_kind, unit, doc, file="bearing", bounds="positive", default=REQUIRED, **kw):
+    return Field(path, "quantity", file, unit_kind, bounds, default, unit, doc, **kw)
+
+
+def _material(prefix: str, source: str, whose: str) -> list:
+    return [
+        _q(f"{prefix}.density", "density", "kg/m^3", f"density of {whose}", source=f"{source}.density"),
+        _q(f"{prefix}.youngs_modulus", "pressure", "GPa", f"Young's modulus of {whose}",
+           source=f"{source}.youngs_modulus"),
+        _q(f"{prefix}.poisson_ratio", "dimensionless", "", f"Poisson's ratio of {whose}", bounds=(-1.0, 0.5),
+           why="must lie between -1 and 0.5 for an isotropic solid", source=f"{source}.poisson_ratio"),
+    ]
+
+
+def _arcs(groove: str, attr: str, ring: str) -> list:
+    p = f"rows[].{groove}.arcs[]"
+    return [
+        _q(f"{p}.curvature_ratio", "dimensionless", "", f"{ring} groove radius over ball diameter, f",
+           bounds=(0.5, math.inf), why="must exceed 0.5", source=f"rows[].{attr}[].curvature_ratio"),
+        _q(f"{p}.contact_angle", "angle", "deg", f"{ring} arc's contact angle (two arcs: ±α, four-point)",
+           bounds=(-math.pi / 2, math.pi / 2), why="a contact angle must lie strictly between -90 and 90 deg",
+           source=f"rows[].{attr}[].contact_angle"),
+    ]
+
+
+_BEARING = [
+    Field("name", "string", "bearing", default="<file stem>", doc="the bearing's name", source="name"),
+    Field("description", "string", "bearing", default="", doc="free text"),
+    Field("source", "string", "bearing", default="", doc="where the numbers come from"),
+    Field("allow_ball_overlap", "boolean", "bearing", default=False, source="allow_ball_overlap",
+          doc="true turns balls that do not fit on their pitch circle into a warning (model.md §10)"),
+    Field("assumptions", "list", "bearing", default=(), doc="key paths whose values are assumed"),
+    Field("mounting", "choice", "bearing", default="horizontal", choices=tuple(MOUNTINGS),
+          doc="axis orientation, which sets gravity (or give gravity as a vector)"),
+    Field("gravity", "list", "bearing", "acceleration", default="from mounting", unit="m/s^2", length=3,
+          doc="gravity in the bearing frame, instead of mounting", source="gravity"),
+    _q("envelope.bore", "length", "mm", "bore diameter", source="bore"),
+    _q("envelope.outer_diameter", "length", "mm", "outer diameter", source="outer_diameter"),
+    _q("envelope.width", "length", "mm", "width", source="width"),
+    *_material("material", "ring_material", "rings and balls"),
+    *_material("ring_material", "ring_material", "the rings"),
+    *_material("ball_material", "ball_material", "the balls"),
+    _q("inner_ring.shoulder_diameter", "length", "mm", "inner ring's shoulder diameter",
+       source="inner_ring.shoulder_diameter"),
+    _q("inner_ring.attached_mass", "mass", "kg", "mass moving with the inner ring", bounds="nonnegative",
+       default=0.0, source="inner_ring.attached_mass"),
+    _q("inner_ring.attached_inertia", "inertia", "kg m^2", "inertia moving with the inner ring",
+       bounds="nonnegative", default=0.0, source="inner_ring.attached_inertia"),
+    _q("contact.damping", "damping", "N s/m", "ball-race contact damping", bounds="nonnegative",
+       source="contact.damping"),
+    _q("contact.damping_depth", "length", "um", "penetration over which contact damping ramps in",
+       source="contact.damping_depth"),
+    _q("contact.pocket_damping", "damping", "N s/m", "ball-pocket contact damping", bounds="nonnegative",
+       source="contact.pocket_damping"),
+    _q("contact.land_damping", "damping", "N s/m", "cage-land contact damping", bounds="nonnegative",
+       source="contact.land_damping"),
+    _q("friction.mu_static", "dimensionless", "", "friction coefficient at v_static", bounds="nonnegative",
+       default=_default(ContactLaw, "mu_static"), source="contact.mu_static"),
+    _q("friction.v_static", "speed", "m/s", "sliding speed of the static friction peak",
+       default=_default(ContactLaw, "v_static"), source="contact.v_static"),
+    _q("friction.mu_dynamic", "dimensionless", "", "friction coefficient from v_dynamic on",
+       bounds="nonnegative", default=_default(ContactLaw, "mu_dynamic"), source="contact.mu_dynamic"),
+    _q("friction.v_dynamic", "speed", "m/s", "sliding speed from which friction is dynamic (> v_static)",
+       default=_default(ContactLaw, "v_dynamic"), source="contact.v_dynamic"),
+    _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
+    _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
+       source="rows[].axial_position"),
+    _q("rows[].radial_clearance", "length", "mm", "diametral clearance of the row", bounds="nonnegative",
+       default=0.0, source="rows[].radial_clearance"),
+    Field("rows[].balls.count", "integer", "bearing", minimum=3, doc="number of balls in the row",
+          source="rows[].ball_count"),
+    _q("rows[].balls.diameter", "length", "mm", "ball diameter", source="rows[].ball_diameter"),
+    *_arcs("inner_groove", "inner_arcs", "inner"),
+    *_arcs("outer_groove", "outer_arcs", "outer"),
+    _q("rows[].cage.inner_diameter", "length", "mm", "cage bore", source="rows[].cage.inner_diameter"),
+    _q("rows[].cage.outer_diameter", "length", "mm", "cage outer diameter", source="rows[].cage.outer_diameter"),
+    _q("rows[].cage.width", "length", "mm", "cage width", source="rows[].cage.width"),
+    _q("rows[].cage.pocket_clearance", "length", "mm", "diametral play of a ball in its pocket",
+       bounds="nonnegative", source="rows[].cage.pocket_clearance"),
+    _q("rows[].cage.land_clearance", "length", "mm",
+       "radial play at the guiding land (required and positive when outer-land guided)",
+       bounds="nonnegative", default=0.0, source="rows[].cage.land_clearance"),
+    Field("rows[].cage.guidance", "choice", "bearing", choices=("outer-land", "ball"),
+          doc="what guides the cage", source="rows[].cage.guidance"),
+    *_material("rows[].cage", "rows[].cage.material", "the cage"),
+    _q("rows[].cage.land_stiffness", "stiffness_hertz", "N/m^1.5",
+       "cage-land contact stiffness (required and positive when outer-land guided)",
+       bounds="nonnegative", default=0.0, source="rows[].cage.land_stiffness"),
+]
+
+_CHANNEL_KINDS = {"radial_load": ("force", "kN"), "axial_load": ("force", "kN"),
+                  "speed": ("angular_speed", "deg/s")}
+
+_PROFILE = [
+    Field("name", "string", "profile", default="<file stem>", doc="the profile's name", source="name"),
+    Field("description", "string", "profile", default="", doc="free text"),
+    _q("duration", "time", "s", "length of the duty cycle", file="profile", source="duration"),
+]
+for _c, (_kind, _unit) in _CHANNEL_KINDS.items():
+    _PROFILE += [
+        Field(f"{_c}.time", "list", "profile", "time", "nonnegative", unit="s",
+              doc=f"breakpoint times of {_c}, strictly increasing", source=f"{_c}.times"),
+        Field(f"{_c}.fraction", "list", "profile", "dimensionless", default="(or value)",
+              doc=f"{_c} at each breakpoint as a fraction of the operating point"),
+        Field(f"{_c}.value", "list", "profile", _kind, default="(or fraction)", unit=_unit,
+              doc=f"{_c} at each breakpoint, absolute"),
+        Field(f"{_c}.interpolation", "choice", "profile", default="linear", choices=tuple(INTERPOLATIONS),
+              doc="how values run between breakpoints", source=f"{_c}.interpolation"),
+    ]
+_PROFILE += [Field(f"phases.{_p}", "list", "profile", "time", "nonnegative", unit="s", length=2,
+                   doc=f"[start, end] of the {_p} phase's window") for _p in PHASES]
+
+_SOLVER_DOC = {
+    "output_rate": ("frequency", "Hz", "positive", "stored samples per second"),
+    "step_safety": ("dimensionless", "", "positive", "fraction of the explicit RK4 stability limit"),
+    "time_step": ("time", "us", "nonnegative", "fixed step; 0 derives it from the stiffest contact"),
+    "start_time": ("time", "s", "nonnegative", "start of the simulated window"),
+    "end_time": ("time", "s", "nonnegative", "end of the simulated window; 0: the profile's duration"),
+    "friction": (None, "", None, "friction on (false only for conservation checks)"),
+    "damping": (None, "", None, "contact damping on"),
+    "gravity": (None, "", None, "gravity on every body (false only for conservation checks)"),
+    "seed": (None, "", None, "seed of the random start; -1: every ball at its pocket centre"),
+}
+
+
+def _solver_field(f) -> Field:
+    unit_kind, unit, bounds, doc = _SOLVER_DOC[f.name]
+    path = f"solver.{f.name}"
+    if isinstance(f.default, bool):
+        return Field(path, "boolean", "solver", default=f.default, doc=doc, source=f.name)
+    if isinstance(f.default, int):
+        return Field(path, "integer", "solver", default=f.default, minimum=-1, doc=doc, source=f.name)
+    return _q(path, unit_kind, unit, doc, file="solver", bounds=bounds, default=f.default, source=f.name)
+
+
+_SOLVER = [_solver_field(f) for f in dataclasses.fields(SolverSettings)]
+
+_OPERATING_POINT = [
+    _q("speed", "angular_speed", "deg/s", "steady inner-ring speed", file="operating_point", bounds=None,
+       source="speed"),
+    _q("radial_load", "force", "kN", "radial load (its direction is load_angle)", file="operating_point",
+       bounds="nonnegative", why="must not be negative (its direction is load_angle)", source="radial_load"),
+    _q("axial_load", "force", "kN", "axial load towards +z", file="operating_point", bounds=None,
+       source="axial_load"),
+    _q("moment", "moment", "N m", "tilting moment", file="operating_point", bounds=None, default=0.0,
+       source="moment"),
+    _q("load_angle", "angle", "deg", "direction of the radial load from +x", file="operating_point",
+       bounds=None, default=0.0, source="load_angle"),
+]
+
+#: Every field, in file order.
+FIELDS: tuple = tuple(_BEARING + _PROFILE + _SOLVER + _OPERATING_POINT)
+
+_BY_PATH = {(f.file, f.path): f for f in FIELDS}
+_INDEX = re.compile(r"\[\d+\]")
+
+
+def pattern(key_path: str) -> str:
+    """``"rows[0].balls.count"`` -> ``"rows[].balls.count"``."""
+    return _INDEX.sub("[]", key_path)
+
+
+def fields_of(file: str) -> tuple:
+    """The fields of one file (one of :data:`FILES`)."""
+    return tuple(f for f in FIELDS if f.file == file)
+
+
+def field(file: str, key_path: str) -> Field | None:
+    """The field at ``key_path`` (indices allowed: ``rows[0].cage.width``), or None.
+
+    An item of a list field (``gravity[1]``, ``phases.steady[0]``) gives the list's field.
+    """
+    p = pattern(key_path)
+    f = _BY_PATH.get((file, p))
+    if f is None and p.endswith("[]"):
+        f = _BY_PATH.get((file, p[:-2]))
+        if f is not None and f.kind != "list":
+            return None
+    return f
+
+
+def keys_under(file: str, table: str) -> tuple:
+    """The keys a table allows, in schema order: ``keys_under("bearing", "rows[]")`` ->
+    ``("pitch_diameter", ..., "balls", "inner_groove", ...)``; ``""`` is the top level."""
+    prefix = f"{table}." if table else ""
+    out = []
+    for f in fields_of(file):
+        if f.path.startswith(prefix):
+            head = f.path[len(prefix):].split(".")[0].removesuffix("[]")
+            out.append(head)
+    return tuple(dict.fromkeys(out))
+
+
+def solver_fields() -> dict:
+    """``{"output_rate": Field, ...}`` of the sweep's ``[solver]`` table."""
+    return {f.path.removeprefix("solver."): f for f in fields_of("solver")}
+
+
+def operating_point() -> dict:
+    """``{"speed": "angular_speed", ...}``: the operating point's keys and kinds."""
+    return {f.path: f.unit_kind for f in fields_of("operating_point")}
+
+
+def set_target(key: str) -> tuple:
+    """(file, key path inside it) of a ``--set`` / sweep key: ``"solver.time_step"`` ->
+    ``("solver", "solver.time_step")``, ``"profile.duration"`` -> ``("profile", "duration")``,
+    ``"bearing.mounting"`` or ``"friction.mu_static"`` -> ``("bearing", ...)``."""
+    if ("operating_point", key) in _BY_PATH:
+        return "operating_point", key
+    head, _, rest = key.partition(".")
+    if head == "solver":
+        return "solver", key
+    if head in ("bearing", "profile") and rest:
+        return head, rest
+    return "bearing", key
+
+
+def check_set_key(key: str, value=None, file="--set") -> Field:
+    """The field a ``--set KEY=...`` names; ConfigError naming the known keys if none."""
+    target, inner = set_target(key)
+    f = field(target, inner)
+    if f is None:
+        head = pattern(inner).split(".")[0]
+        near = [g.path for g in fields_of(target) if g.path.split(".")[0] == head]
+        known = near or list(keys_under(target, ""))
+        raise ConfigError(file, key, value,
+                          f"unknown {target.replace('_', ' ')} key (known{' here' if near else ''}: "
+                          f"{', '.join(known)}; `rvsweep check --fields` lists every key)")
+    return f
+
+
+def field_map(file: str) -> dict:
+    """``{path: Field}`` of one file's fields."""
+    return {f.path: f for f in fields_of(file)}

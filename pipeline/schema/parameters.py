@@ -1,0 +1,140 @@
+"""The report's parameter table: every input value of a bearing (and a profile) with its
+file key path, its value in the schema's display unit, its doc, and whether it is assumed.
+
+Built from the schema (:mod:`pipeline.schema.fields`: which keys, their units and docs,
+and where each value sits in the ``rvcore`` dataclasses) and the loaded ``Bearing`` /
+``Profile``, so it shows defaults too (a key the file leaves out) and never re-reads TOML.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from rvcore.geometry import MOUNTINGS
+
+from . import fields as schema
+from .units import format_quantity
+
+__all__ = ["ParameterRow", "parameter_table", "format_value"]
+
+
+@dataclass(frozen=True)
+class ParameterRow:
+    """One row of the parameter table.
+
+    Parameters
+    ----------
+    key : str
+        The file key path, e.g. ``"rows[0].balls.diameter"``; profile values are written
+        ``"profile.<key path>"`` as a sweep file addresses them.
+    value : str
+        The value in the field's display unit, e.g. ``"23 mm"``.
+    doc : str
+        The field's one-line doc.
+    assumed : bool
+        Whether the key, or a table holding it, is in ``bearing.assumptions``.
+    """
+
+    key: str
+    value: str
+    doc: str
+    assumed: bool
+
+
+def format_value(f: schema.Field, value) -> str:
+    """``value`` (SI, as in the ``rvcore`` dataclasses) in ``f``'s display unit."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (list, tuple)):
+        items = [format_value(f, v).removesuffix(f" {f.unit}") if f.unit else format_value(f, v)
+                 for v in value]
+        return "[" + ", ".join(items) + "]" + (f" {f.unit}" if f.unit else "")
+    if f.kind == "integer":
+        return str(int(value))
+    if f.unit and f.unit_kind:
+        return format_quantity(value, f.unit, f.unit_kind)
+    return f"{value:.6g}"
+
+
+def _walk(obj, parts: list, indices: tuple):
+    """(indices, value) of every value at the attribute path ``parts`` ("rows[]" expands)."""
+    if not parts:
+        yield indices, obj
+        return
+    head, rest = parts[0], parts[1:]
+    if head.endswith("[]"):
+        for i, item in enumerate(getattr(obj, head[:-2])):
+            yield from _walk(item, rest, indices + (i,))
+    else:
+        yield from _walk(getattr(obj, head), rest, indices)
+
+
+def _key(path: str, indices: tuple) -> str:
+    for i in indices:
+        path = path.replace("[]", f"[{i}]", 1)
+    return path
+
+
+def _is_assumed(key: str, assumptions) -> bool:
+    return any(key == a or key.startswith(a + ".") or key.startswith(a + "[") for a in assumptions)
+
+
+def _skip(f: schema.Field, bearing) -> bool:
+    """Fields that do not describe this bearing: the material form it does not use, and
+    the gravity vector when a mounting names it (and the other way round)."""
+    one_material = bearing.ring_material == bearing.ball_material
+    head = f.path.split(".")[0]
+    if head == "material":
+        return not one_material
+    if head in ("ring_material", "ball_material"):
+        return one_material
+    return f.path == "gravity" and _mounting(bearing) is not None
+
+
+def _mounting(bearing):
+    return next((m for m, g in MOUNTINGS.items() if tuple(g) == tuple(bearing.gravity)), None)
+
+
+def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False) -> list:
+    out = []
+    for f in file_fields:
+        if f.source is None or skip(f):
+            continue
+        for indices, value in _walk(obj, f.source.split("."), ()):
+            key = prefix + _key(f.path, indices)
+            out.append(ParameterRow(key, format_value(f, value), f.doc, _is_assumed(key, assumptions)))
+    return out
+
+
+def _profile_rows(profile) -> list:
+    out = _rows(profile, schema.fields_of("profile"), "profile.", ())
+    by_path = schema.field_map("profile")
+    for c in ("radial_load", "axial_load", "speed"):
+        ch = getattr(profile, c)
+        f = by_path[f"{c}.fraction" if ch.relative else f"{c}.value"]
+        out.append(ParameterRow(f"profile.{f.path}", format_value(f, ch.values), f.doc, False))
+    for name, start, end in profile.phases:
+        f = by_path[f"phases.{name}"]
+        out.append(ParameterRow(f"profile.{f.path}", format_value(f, (start, end)), f.doc, False))
+    return out
+
+
+def parameter_table(bearing, profile=None) -> list:
+    """The parameters of ``bearing`` (and ``profile``) as :class:`ParameterRow` s, in
+    schema order (``mounting``, when it names the gravity, after the bearing's fields).
+
+    Parameters
+    ----------
+    bearing : rvcore.geometry.Bearing
+    profile : rvcore.profile.Profile, optional
+    """
+    rows = _rows(bearing, schema.fields_of("bearing"), "", bearing.assumptions,
+                 skip=lambda f: _skip(f, bearing))
+    mounting = _mounting(bearing)
+    if mounting is not None:
+        f = schema.field_map("bearing")["mounting"]
+        rows.append(ParameterRow("mounting", mounting, f.doc, _is_assumed("mounting", bearing.assumptions)))
+    if profile is not None:
+        rows += _profile_rows(profile)
+    return rows
