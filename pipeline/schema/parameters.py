@@ -120,14 +120,16 @@ def _profile_rows(profile) -> list:
     return out
 
 
-def parameter_table(bearing, profile=None) -> list:
-    """The parameters of ``bearing`` (and ``profile``) as :class:`ParameterRow` s, in
-    schema order (``mounting``, when it names the gravity, after the bearing's fields).
+def parameter_table(bearing, profile=None, settings=None) -> list:
+    """The parameters of ``bearing`` (and ``profile``, and the solver ``settings``) as
+    :class:`ParameterRow` s, in schema order (``mounting``, when it names the gravity,
+    after the bearing's fields).
 
     Parameters
     ----------
     bearing : rvcore.geometry.Bearing
     profile : rvcore.profile.Profile, optional
+    settings : rvcore.driver.SolverSettings, optional
     """
     rows = _rows(bearing, schema.fields_of("bearing"), "", bearing.assumptions,
                  skip=lambda f: _skip(f, bearing))
@@ -137,4 +139,6 @@ def parameter_table(bearing, profile=None) -> list:
         rows.append(ParameterRow("mounting", mounting, f.doc, _is_assumed("mounting", bearing.assumptions)))
     if profile is not None:
         rows += _profile_rows(profile)
+    if settings is not None:
+        rows += _rows(settings, schema.fields_of("solver"), "", ())
     return rows

@@ -130,15 +130,15 @@ def test_comparison_values_in_study_units(built):
 def test_parameters_with_assumptions_marked(built):
     _, _, md, _ = built
     assert "bearing: **study-table2**" in md and "profile: **study**" in md
-    line = next(ln for ln in md.splitlines() if ln.startswith("| `bearing.rows[0].radial_clearance`"))
-    assert "**assumed**" in line
-    # a bearing-file key (rows[0].outer_groove.arcs) marks its resolved spelling (outer_arcs)
-    line = next(ln for ln in md.splitlines() if ln.startswith("| `bearing.rows[0].outer_arcs[0].contact_angle`"))
-    assert "**assumed**" in line
-    line = next(ln for ln in md.splitlines() if ln.startswith("| `bearing.rows[0].ball_diameter`"))
-    assert "| 0.023 m |" in line and "assumed" not in line
-    assert "| `bearing.rows[0].ball_count` | 51 |  |" in md
-    assert "| `bearing.ball_material.density` | 7800 kg/m³ |  |" in md
+    rows = {r[0]: r[1:] for r in _table(_section(md, "## Bearing, profile and parameters"))[1:]}
+    # keys are the bearing file's own key paths, values in the schema's display units
+    assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
+    # a listed table (rows[0].outer_groove.arcs) marks every value in it
+    assert rows["`rows[0].outer_groove.arcs[0].contact_angle`"][2] == "**assumed**"
+    assert rows["`rows[0].balls.diameter`"][0] == "23 mm" and rows["`rows[0].balls.diameter`"][2] == ""
+    assert rows["`rows[0].balls.count`"][0] == "51"
+    assert rows["`material.density`"][0] == "7800 kg/m^3"
+    assert rows["`radial_load`"][0].endswith("kN")   # a sweep axis, in kN
     assert "case_ids" not in md
 
 
@@ -513,6 +513,6 @@ def test_report_of_a_real_run(tmp_path):
         assert f"](figures/{p.name})" in md and f'src="figures/{p.name}"' in html
     table = _table(_section(md, "## Bearing, profile and parameters"))
     values = {r[0]: r[1:] for r in table[1:]}
-    assert values["`bearing.rows[0].ball_count`"] == ["12", ""]
-    assert values["`bearing.rows[0].ball_diameter`"] == ["0.023 m", ""]
-    assert values["`bearing.rows[0].radial_clearance`"][1] == "**assumed**"
+    assert values["`rows[0].balls.count`"][0] == "12"
+    assert values["`rows[0].balls.diameter`"][0] == "23 mm"
+    assert values["`rows[0].radial_clearance`"][2] == "**assumed**"
