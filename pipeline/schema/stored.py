@@ -70,32 +70,24 @@ def _tuple(value):
     return value
 
 
+#: Type hint -> (accepts the stored value, converts it, the reason when it does not).
+_SCALARS = {
+    bool: (lambda v: isinstance(v, bool), bool, "must be true or false"),
+    int: (lambda v: isinstance(v, int) and not isinstance(v, bool), int, "must be an integer"),
+    float: (lambda v: isinstance(v, (int, float)) and not isinstance(v, bool), float, "must be a number"),
+    str: (lambda v: isinstance(v, str), str, "must be a string"),
+    tuple: (lambda v: isinstance(v, list), lambda v: _tuple(v), "must be an array"),
+    dict: (lambda v: isinstance(v, dict), dict, "must be a table"),
+}
+
+
 def _scalar(value, hint, key: str):
-    if hint is bool:
-        if not isinstance(value, bool):
-            raise ConfigError(WHERE, key, value, "must be true or false")
+    if hint not in _SCALARS:
         return value
-    if hint is int:
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(WHERE, key, value, "must be an integer")
-        return value
-    if hint is float:
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise ConfigError(WHERE, key, value, "must be a number")
-        return float(value)
-    if hint is str:
-        if not isinstance(value, str):
-            raise ConfigError(WHERE, key, value, "must be a string")
-        return value
-    if hint is tuple:
-        if not isinstance(value, list):
-            raise ConfigError(WHERE, key, value, "must be an array")
-        return _tuple(value)
-    if hint is dict:
-        if not isinstance(value, dict):
-            raise ConfigError(WHERE, key, value, "must be a table")
-        return value
-    return value
+    accepts, convert, reason = _SCALARS[hint]
+    if not accepts(value):
+        raise ConfigError(WHERE, key, value, reason)
+    return convert(value)
 
 
 def rebuild(cls, data, key: str):
