@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .kernels import arc_penetration, ring_angular_velocity, ring_rotation
+from .contact import arc_penetration, ring_angular_velocity, ring_rotation
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def inner_race_velocity(y, omega, point):
     """Velocity of the inner race's material point at ``point`` [m s^-1].
 
     ``v_ring + Ω × (point − r_ring)`` with the ring's full angular velocity
-    (:func:`rvcore.kernels.ring_angular_velocity`): spin about its tilted axis plus the
+    (:func:`rvcore.contact.ring_angular_velocity`): spin about its tilted axis plus the
     tilt rates, as in the right-hand side.
     """
     r00, _, r02, _, _, r12, r20, _, r22 = ring_rotation(y[3], y[4])
