@@ -1,4 +1,4 @@
-"""Numba kernels: contact laws, friction law and the equations of motion. SI throughout.
+"""Numba kernels: the equations of motion (rhs) and the potential energy. SI throughout.
 
 Every function here is ``@njit`` on flat arrays (layouts in :mod:`rvcore.model`); none
 allocates. The right-hand side :func:`rhs` is the whole model; it, the energy
@@ -8,24 +8,8 @@ equations live in one place each.
 
 Notes
 -----
-Cubic step (model.md §3)::
-
-    STEP(x, x0, h0, x1, h1) = h0                          x ≤ x0
-                            = h0 + (h1−h0)·Δ²·(3 − 2Δ)    Δ = (x−x0)/(x1−x0)
-                            = h1                          x ≥ x1
-
-Ball–race normal force (Hertz with the IMPACT damper)::
-
-    δ = |P − C| − (f − ½)·D        (penetration, normal n along C→P)
-    Q = K·δ^1.5 + STEP(δ, 0, 0, d_max, c_max)·dδ/dt,   then Q ← max(Q, 0)
-
-Friction (model.md §4) with slip speed ``s = |v_t|`` of the ball's material point
-relative to the other body's, tangential part only::
-
-    μ(s) = STEP(s, −v_s, −μ_s, v_s, μ_s)      s < v_s
-         = STEP(s, v_s, μ_s, v_d, μ_d)        v_s ≤ s ≤ v_d
-         = μ_d                                 s > v_d
-    F_t = −μ(s)·Q·v_t/s on the ball, −F_t on the other body, moment r_c × F_t.
+The cubic STEP, the normal force with its damper and the friction law are written out in
+:mod:`rvcore.contact`, their one home.
 
 Inner-ring kinematics (model.md §1). The ring's pose is ``R = Ry(θy)·Rx(θx)`` and it
 spins at the prescribed ω about its own (tilted) axis ``R·ẑ``, so its angular velocity
@@ -214,6 +198,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             delta, ax, ay, az, a_sec = pocket_penetration(px - xc, py - yc, pz - zc - zrow, cth, sth,
                                                           pocket_r, h, cage_ri, cage_ro)
             qp = 0.0
+            fpx, fpy, fpz, mpx, mpy, mpz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             if delta > 0.0:
                 if delta > max_pen:
                     max_pen = delta
@@ -228,19 +213,13 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 if qp > 0.0:
                     # friction tangential to the ball's surface there, normal a/h
                     inv_h = 1.0 / h
-                    fx, fy, fz, dmx, dmy, dmz = ball_contact_force(
+                    fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(
                         qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h, az * inv_h, ax, ay, az,
                         friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
-                    mbx += dmx
-                    mby += dmy
-                    mbz += dmz
-                    fbx += fx
-                    fby += fy
-                    fbz += fz
-                    fxc -= fx
-                    fyc -= fy
-                    fzc -= fz
-                    tzc -= (cx - xc) * fy - (cy - yc) * fx
+                    fxc -= fpx
+                    fyc -= fpy
+                    fzc -= fpz
+                    tzc -= (cx - xc) * fpy - (cy - yc) * fpx
                     p3 = pc3_pocket * qp
                     if p3 > max_p3:
                         max_p3 = p3
@@ -254,12 +233,13 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             dy[b] = vx
             dy[b + 1] = vy
             dy[b + 2] = vz
-            dy[b + 3] = fbx * inv_mb + gx
-            dy[b + 4] = fby * inv_mb + gy
-            dy[b + 5] = fbz * inv_mb + gz
-            dy[b + 6] = mbx * inv_ib
-            dy[b + 7] = mby * inv_ib
-            dy[b + 8] = mbz * inv_ib
+            # race contacts plus the pocket's (zero without pocket contact)
+            dy[b + 3] = (fbx + fpx) * inv_mb + gx
+            dy[b + 4] = (fby + fpy) * inv_mb + gy
+            dy[b + 5] = (fbz + fpz) * inv_mb + gz
+            dy[b + 6] = (mbx + mpx) * inv_ib
+            dy[b + 7] = (mby + mpy) * inv_ib
+            dy[b + 8] = (mbz + mpz) * inv_ib
 
         # ---- cage–land contact (outer-ring land, fixed)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
