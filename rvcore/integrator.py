@@ -130,8 +130,8 @@ def kinetic_energy(y, params, rows):
     return e
 
 
-# FAST keeps NaN and Inf semantics, so the non-finite check below still works while
-# the per-step passes over the state (and the check's sum) vectorise.
+# FAST (rvcore.contact: no fast-math flags) keeps IEEE semantics, so the non-finite check
+# below works and the state sums are rounded in the same order on every CPU.
 @njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,

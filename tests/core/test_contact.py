@@ -246,3 +246,46 @@ def test_continuing_from_the_final_state_matches_one_run():
     np.testing.assert_allclose(b.series["axial_displacement"],
                                np.interp(b.time, one.time, one.series["axial_displacement"]),
                                rtol=1e-7, atol=1e-13)
+
+
+# ------------------------------------------- one contact law for forces and energy
+
+
+def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
+    """Without friction and damping, at rest, the contact force on a ball in rhs is
+    −∂V/∂P of potential_energy: both take the race and pocket penetrations from one
+    place. Ball 0 is pushed into its pocket wall and ball 1 into its races."""
+    from rvcore.driver import initial_state
+    from rvcore.kernels import N_BDIAG, N_DIAG, potential_energy, rhs
+    from rvcore.model import BALL_STATES, R_BALL0, R_MB
+
+    bearing = section_bearing(8)
+    model = compile_bearing(bearing, friction=False, damping=False, gravity=False)
+    prof = constant_profile(0.0, 1.0).resolve(OperatingPoint(0.0, 10e3, 4e3))
+    table, meta = prof.arrays()
+    y = initial_state(model, prof, 0.0)
+    b0 = int(model.rows[0, R_BALL0])
+    b1 = b0 + BALL_STATES
+    px, py = y[b0], y[b0 + 1]
+    play = bearing.rows[0].cage.pocket_clearance / 2
+    turn = 1.4 * play / math.hypot(px, py)        # past the pocket's play: pocket contact
+    y[b0], y[b0 + 1] = math.cos(turn) * px - math.sin(turn) * py, math.sin(turn) * px + math.cos(turn) * py
+    y[b1 + 2] += 2e-6                              # ball 1 pressed axially into its races
+
+    dy = np.zeros_like(y)
+    diag, bdiag = np.zeros(N_DIAG), np.zeros((model.n_balls, N_BDIAG))
+    rhs(0.0, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    assert bdiag[0, 4] > 0.0 and bdiag[1, 0] > 0.0       # the contacts under test are on
+    m_b = model.rows[0, R_MB]
+
+    def energy(yy):
+        return potential_energy(0.0, yy, model.params, model.rows, model.arcs, model.pockets, table, meta)
+
+    for b in (b0, b1):
+        for k in range(3):
+            e = 1e-10
+            yp, ym = y.copy(), y.copy()
+            yp[b + k] += e
+            ym[b + k] -= e
+            force = -(energy(yp) - energy(ym)) / (2 * e)
+            assert m_b * dy[b + 3 + k] == pytest.approx(force, rel=1e-4, abs=1e-3)
