@@ -46,14 +46,17 @@ from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE
 #   refined by Newton steps: not the correctly rounded quotient.
 # - 'afn' allows approximate sqrt/sin/cos, chosen per target.
 # - 'nsz' only forgets the sign of zero, harmless to our values, but it lets the backend
-#   pick min/max instructions whose ±0 handling differs by target, and it buys nothing
-#   measurable (see below), so it goes too.
+#   pick min/max instructions whose ±0 handling differs by target, so an output's bits
+#   (a −0.0 written to a file) could differ; alone it would save next to nothing.
 # - 'nnan'/'ninf' were never used: a blow-up must show as NaN/Inf.
 # Every operation is then IEEE-754 rounded in source order on every x86-64/AArch64 CPU.
 # Still CPU-dependent: the system libm's sin/cos (glibc picks an FMA variant at run time),
-# used only for the ring tilt and the cage angle. Measured on a 12-ball, 0.46 s case
-# (532 680 RK4 steps, median of 3): 2.79 s with the five flags, see the commit for the
-# time without; the results moved by ~1e-8 relative, within the regression's 1e-6.
+# used only for the ring tilt and the cage angle. Cost, measured on the 12-ball study
+# section over the 0.46 s reduced cycle (532 680 RK4 steps, run_case, median of 3, on a
+# shared 2-core machine): integrator wall time 2.72–2.79 s with the five flags against
+# 2.97 s without when the machine was quiet; CPU time in three interleaved A/B rounds
+# 2.49/2.85/2.98 s against 3.47/3.24/3.00 s: about 7–15 % slower, the price of
+# reproducibility. The regression metrics moved by at most 7e-8 relative.
 FAST = False
 
 
