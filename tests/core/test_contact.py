@@ -289,3 +289,11 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
             ym[b + k] -= e
             force = -(energy(yp) - energy(ym)) / (2 * e)
             assert m_b * dy[b + 3 + k] == pytest.approx(force, rel=1e-4, abs=1e-3)
+
+
+def test_old_kernel_names_are_the_contact_functions():
+    """Code that imported the laws from rvcore.kernels gets the one implementation."""
+    from rvcore import kernels
+    for name in ("step", "friction_coefficient", "friction_slope_at_zero_slip", "normal_force",
+                 "friction_force", "arc_penetration", "ring_rotation", "ring_angular_velocity", "FAST"):
+        assert getattr(kernels, name) is getattr(contact, name)
