@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .kernels import arc_penetration, ring_angular_velocity, ring_rotation
+from .contact import arc_penetration, ring_angular_velocity, ring_rotation
 
 
 @dataclass(frozen=True)
@@ -148,7 +148,7 @@ def inner_race_velocity(y, omega, point):
     """Velocity of the inner race's material point at ``point`` [m s^-1].
 
     ``v_ring + Ω × (point − r_ring)`` with the ring's full angular velocity
-    (:func:`rvcore.kernels.ring_angular_velocity`): spin about its tilted axis plus the
+    (:func:`rvcore.contact.ring_angular_velocity`): spin about its tilted axis plus the
     tilt rates, as in the right-hand side.
     """
     r00, _, r02, _, _, r12, r20, _, r22 = ring_rotation(y[3], y[4])
@@ -244,22 +244,29 @@ def initial_state(model, resolved, t_start, seed: int = -1):
 
 
 def peak_contact_load(model, resolved) -> float:
-    """Largest quasi-static ball–race load at the cycle's peak loads (and the ring's weight)
-    plus the centrifugal force [N]."""
-    from .quasistatic import solve_statics
-    from .model import R_MB, R_PITCH_R
+    """Largest quasi-static ball–race load over the cycle's extreme loads (and the ring's
+    weight) plus the centrifugal force [N].
 
-    from .model import P_GX, P_GY, P_GZ
+    The radial load is taken at its largest magnitude, and the axial load at both its
+    largest forward and its largest reverse value: a profile whose thrust changes sign
+    loads the opposite arcs, and the step must be stable there too.
+    """
+    from .quasistatic import solve_statics
+    from .model import P_GX, P_GY, P_GZ, R_MB, R_PITCH_R
 
     fr = float(np.max(np.abs(resolved.radial[1])))
-    fa = float(np.max(np.abs(resolved.axial[1])))
+    # the reverse extreme only where the thrust does go negative: no extra solve otherwise
+    fa_min = float(np.min(resolved.axial[1]))
+    axial_extremes = (float(np.max(resolved.axial[1])),) + ((fa_min,) if fa_min < 0.0 else ())
     w = float(np.max(np.abs(resolved.speed[1])))
     lc, ls = model.params[3], model.params[4]
     q = 0.0
-    # the ring's weight alone loads the balls too (solve_statics adds it from the model)
-    if fr or fa or model.params[5] or np.any(model.params[[P_GX, P_GY, P_GZ]]):
-        q = solve_statics(model, fr, float(np.max(resolved.axial[1]) if fa else 0.0), model.params[5],
-                          float(np.arctan2(ls, lc))).max_contact_load
+    weight = np.any(model.params[[P_GX, P_GY, P_GZ]])
+    for fa in axial_extremes:
+        # the ring's weight alone loads the balls too (solve_statics adds it from the model)
+        if fr or fa or model.params[5] or weight:
+            q = max(q, solve_statics(model, fr, fa, model.params[5],
+                                     float(np.arctan2(ls, lc))).max_contact_load)
     centrifugal = float(np.max(model.rows[:, R_MB] * model.rows[:, R_PITCH_R] * (0.5 * w) ** 2))
     return q + centrifugal
 

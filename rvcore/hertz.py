@@ -136,68 +136,33 @@ class HertzContact:
     b_coefficient: float
     major_axis: str = "y"
 
+    # Every method below takes a normal load Q [N] (float or array_like, >= 0; a negative
+    # one raises ValueError) and returns a float or an ndarray of the same shape. The
+    # ellipse's size and pressure scale as Q^(1/3), so they share one helper.
+
+    @staticmethod
+    def _cube_root_law(coefficient, load):
+        """``coefficient · Q^(1/3)`` with Q checked by :func:`_loads`."""
+        return coefficient * np.cbrt(_loads(load))
+
     def deflection(self, load):
-        """Elastic approach ``δ = (Q/K)^(2/3)`` [m].
-
-        Parameters
-        ----------
-        load : float or array_like
-            Normal load ``Q`` [N], >= 0.
-
-        Returns
-        -------
-        float or ndarray
-            Approach of the two bodies [m].
-        """
-        q = _loads(load)
-        return (q / self.stiffness) ** (2.0 / 3.0)
+        """Elastic approach ``δ = (Q/K)^(2/3)`` [m] under the normal load Q [N]."""
+        return (_loads(load) / self.stiffness) ** (2.0 / 3.0)
 
     def load(self, deflection):
-        """Normal load ``Q = K δ^1.5`` [N], zero for ``δ <= 0`` (no adhesion).
-
-        Parameters
-        ----------
-        deflection : float or array_like
-            Approach ``δ`` [m].
-
-        Returns
-        -------
-        float or ndarray
-            Normal load [N].
-        """
+        """Normal load ``Q = K·δ^1.5`` [N] at the approach δ [m] (float or array_like),
+        zero for ``δ <= 0`` (no adhesion)."""
         d = np.maximum(np.asarray(deflection, dtype=float), 0.0)
         return (self.stiffness * d**1.5)[()]
 
     def semi_axes(self, load):
-        """Semi-axes ``(a, b)`` of the contact ellipse [m].
-
-        Parameters
-        ----------
-        load : float or array_like
-            Normal load ``Q`` [N], >= 0.
-
-        Returns
-        -------
-        a, b : float or ndarray
-            Semi-major and semi-minor axis [m].
-        """
-        c = np.cbrt(_loads(load))
-        return self.a_coefficient * c, self.b_coefficient * c
+        """Semi-major and semi-minor axes ``(a, b)`` of the contact ellipse [m] under Q [N]."""
+        return (self._cube_root_law(self.a_coefficient, load),
+                self._cube_root_law(self.b_coefficient, load))
 
     def max_pressure(self, load):
-        """Maximum contact pressure ``p_max = 3Q/(2πab)`` [Pa].
-
-        Parameters
-        ----------
-        load : float or array_like
-            Normal load ``Q`` [N], >= 0.
-
-        Returns
-        -------
-        float or ndarray
-            Pressure at the centre of the ellipse [Pa].
-        """
-        return self.pressure_coefficient * np.cbrt(_loads(load))
+        """Maximum contact pressure ``p_max = 3Q/(2πab)`` [Pa] (the ellipse's centre) under Q [N]."""
+        return self._cube_root_law(self.pressure_coefficient, load)
 
     @property
     def pressure_coefficient(self) -> float:

@@ -34,9 +34,9 @@ import math
 import numpy as np
 from numba import njit
 
+from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
 from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_COS_ALPHA, D_LOADED, D_MAX_P3, D_MAX_PEN,
-                      D_MAX_QI, D_MAX_QO, D_PEN_BALL, FAST, friction_slope_at_zero_slip, rhs,
-                      ring_rotation)
+                      D_MAX_QI, D_MAX_QO, D_PEN_BALL, rhs)
 from .model import (BALL_STATES, P_LOAD_COS, P_LOAD_SIN, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z)
 from .profile import channel_value
@@ -130,8 +130,8 @@ def kinetic_energy(y, params, rows):
     return e
 
 
-# FAST keeps NaN and Inf semantics, so the non-finite check below still works while
-# the per-step passes over the state (and the check's sum) vectorise.
+# FAST (rvcore.contact: no fast-math flags) keeps IEEE semantics, so the non-finite check
+# below works and the state sums are rounded in the same order on every CPU.
 @njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
@@ -247,7 +247,7 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     -----
     Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
     ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = Q·dμ/ds`` at zero slip
-    (:func:`rvcore.kernels.friction_slope_at_zero_slip`) and the two race contacts of a
+    (:func:`rvcore.contact.friction_slope_at_zero_slip`, the law's own slope) and the two race contacts of a
     ball::
 
         ω_n = √(2k/m_b)                        (contact oscillation)

@@ -17,6 +17,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from .contact import unit_step, unit_step_slope
+
 LINEAR = 0
 SMOOTHSTEP = 1
 INTERPOLATIONS = {"linear": LINEAR, "smoothstep": SMOOTHSTEP}
@@ -165,7 +167,7 @@ def channel_value(table, meta, c, t):
     v0, v1 = table[c, 1, k], table[c, 1, k + 1]
     s = (t - t0) / (t1 - t0)
     if meta[c, 1] == SMOOTHSTEP:
-        s = s * s * (3.0 - 2.0 * s)
+        s = unit_step(s)   # the cubic STEP of model.md §3, from its one home
     return v0 + (v1 - v0) * s
 
 
@@ -180,8 +182,7 @@ def channel_rate(table, meta, c, t):
     v0, v1 = table[c, 1, k], table[c, 1, k + 1]
     h = t1 - t0
     if meta[c, 1] == SMOOTHSTEP:
-        s = (t - t0) / h
-        return (v1 - v0) * 6.0 * s * (1.0 - s) / h
+        return (v1 - v0) * unit_step_slope((t - t0) / h) / h
     return (v1 - v0) / h
 
 

@@ -8,7 +8,7 @@ the contact reactions balance the applied load and moment.
 Notes
 -----
 With ``δ_k = |P − C_k| − (f_k − ½)·D`` at every arc k (the same geometry as the
-dynamics, :func:`rvcore.kernels.arc_penetration`) and ``Q_k = K_k·δ_k^1.5``, a ball's
+dynamics, :func:`rvcore.contact.arc_penetration`) and ``Q_k = K_k·δ_k^1.5``, a ball's
 potential energy ``V_j(P) = Σ_k ⅖·K_k·max(δ_k, 0)^2.5`` is convex in P and in the ring
 pose u (δ is a norm minus a constant, C affine in u for small tilts). Hence
 
@@ -30,8 +30,9 @@ from numba import njit
 from scipy import optimize
 
 from .geometry import Bearing
-from .kernels import arc_penetration, ring_rotation
-from .model import (A_CR, A_CZ, A_K, A_PC3, A_RING, A_RMH, A_SIDE, P_GX, P_GY, P_GZ,
+from .contact import (hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
+                      to_ring_frame)
+from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ,
                     P_RING_M, R_ARC0, R_HALF_D, R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW,
                     CompiledBearing, compile_bearing)
 
@@ -52,31 +53,21 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
     h = rows[r, R_HALF_D]
     zrow = rows[r, R_ZROW]
     a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
-    dxg, dyg, dzg = px - u[0], py - u[1], pz - u[2]
-    plx = r00 * dxg + r10 * dyg + r20 * dzg
-    ply = r01 * dxg + r11 * dyg + r21 * dzg
-    plz = r02 * dxg + r12 * dyg + r22 * dzg - zrow
-    rho_l = math.sqrt(plx * plx + ply * ply)
+    plx, ply, plz, rho_l = to_ring_frame(px, py, pz, u[0], u[1], u[2], r00, r01, r02, r10, r11, r12,
+                                         r20, r21, r22, zrow)
     rho_b = math.sqrt(px * px + py * py)
     energy = 0.0
     for k in range(na):
         a = a0 + k
-        if arcs[a, A_RING] == 0.0:
-            d, nlx, nly, nlz = arc_penetration(plx, ply, plz, rho_l, 1.0 / rho_l, arcs[a, A_CR], arcs[a, A_CZ],
-                                               arcs[a, A_RMH], arcs[a, A_SIDE], h)
-            nx = r00 * nlx + r01 * nly + r02 * nlz
-            ny = r10 * nlx + r11 * nly + r12 * nlz
-            nz = r20 * nlx + r21 * nly + r22 * nlz
-        else:
-            d, nx, ny, nz = arc_penetration(px, py, pz - zrow, rho_b, 1.0 / rho_b, arcs[a, A_CR], arcs[a, A_CZ],
-                                            arcs[a, A_RMH], arcs[a, A_SIDE], h)
+        inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
+                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h)
+        if inner:
+            nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
         n_out[j, k, 3] = d + arcs[a, A_RMH]  # |P − C|
-        if d > 0.0:
-            q_out[j, k] = arcs[a, A_K] * d * math.sqrt(d)
-            energy += 0.4 * q_out[j, k] * d
-        else:
-            q_out[j, k] = 0.0
+        # the same Hertz law and energy as the dynamics (rvcore.contact)
+        q_out[j, k] = hertz_load(arcs[a, A_K], d) if d > 0.0 else 0.0
+        energy += hertz_energy(arcs[a, A_K], d)
     return energy
 
 

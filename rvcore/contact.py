@@ -1,0 +1,429 @@
+"""Contact laws, written once: the cubic STEP, Hertz force with the IMPACT damper, the
+friction law and its slope at zero slip, the penetrations of every contact type and the
+inner ring's pose. SI throughout.
+
+Every function is ``@njit(cache=True, nogil=True)`` on scalars, inlined into its callers,
+and allocates nothing. The right-hand side (:func:`rvcore.kernels.rhs`), the potential
+energy (:func:`rvcore.kernels.potential_energy`), the statics
+(:mod:`rvcore.quasistatic`), the step size (:func:`rvcore.integrator.stable_time_step`)
+and the profiles' smooth-step interpolation (:mod:`rvcore.profile`) all call these, so a
+law changed here changes everywhere.
+
+Notes
+-----
+Cubic step (model.md §3)::
+
+    STEP(x, x0, h0, x1, h1) = h0                          x ≤ x0
+                            = h0 + (h1−h0)·Δ²·(3 − 2Δ)    Δ = (x−x0)/(x1−x0)
+                            = h1                          x ≥ x1
+
+Normal force (Hertz with the IMPACT damper)::
+
+    Q = K·δ^1.5 + STEP(δ, 0, 0, d_max, c_max)·dδ/dt,   then Q ← max(Q, 0)
+
+Friction (model.md §4), slip speed ``s = |v_t|``::
+
+    μ(s) = STEP(s, −v_s, −μ_s, v_s, μ_s)      s < v_s
+         = STEP(s, v_s, μ_s, v_d, μ_d)        v_s ≤ s ≤ v_d
+         = μ_d                                 s > v_d
+"""
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE
+
+# Floating-point flags of every kernel (``fastmath=FAST``): none. Results must be
+# bit-identical for the same inputs on any scheduler, i.e. on whatever CPU model a worker
+# runs, and numba compiles each kernel for the host CPU (its cache is keyed by it).
+# - 'contract' lets LLVM fuse a·b + c into one FMA where the CPU has FMA (one rounding
+#   instead of two): an FMA machine and an older one round differently.
+# - 'reassoc' lets it reorder sums, and the order it picks follows the vector width
+#   (SSE, AVX2, AVX-512): same source, different sums.
+# - 'arcp' allows x/y → x·(1/y), and with AVX-512 LLVM may use the approximate vrcp14pd
+#   refined by Newton steps: not the correctly rounded quotient.
+# - 'afn' allows approximate sqrt/sin/cos, chosen per target.
+# - 'nsz' only forgets the sign of zero, harmless to our values, but it lets the backend
+#   pick min/max instructions whose ±0 handling differs by target, so an output's bits
+#   (a −0.0 written to a file) could differ; alone it would save next to nothing.
+# - 'nnan'/'ninf' were never used: a blow-up must show as NaN/Inf.
+# Every operation is then IEEE-754 rounded in source order on every x86-64/AArch64 CPU.
+# Still CPU-dependent: the system libm's sin/cos (glibc picks an FMA variant at run time),
+# used only for the ring tilt and the cage angle. Cost, measured on the 12-ball study
+# section over the 0.46 s reduced cycle (532 680 RK4 steps, run_case, median of 3, on a
+# shared 2-core machine): integrator wall time 2.72–2.79 s with the five flags against
+# 2.97 s without when the machine was quiet; CPU time in three interleaved A/B rounds
+# 2.49/2.85/2.98 s against 3.47/3.24/3.00 s: about 7–15 % slower, the price of
+# reproducibility. The regression metrics moved by at most 7e-8 relative.
+FAST = False
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def unit_step(d):
+    """The cubic STEP on the unit interval, ``STEP(d, 0, 0, 1, 1)`` [-].
+
+    The one place the cubic ``d²·(3 − 2d)`` is written; every STEP is this, scaled.
+
+    Parameters
+    ----------
+    d : float
+        Normalised argument ``Δ = (x − x0)/(x1 − x0)`` [-].
+
+    Returns
+    -------
+    float
+        0 for ``d ≤ 0``, 1 for ``d ≥ 1``, ``d²·(3 − 2d)`` between [-].
+    """
+    if d <= 0.0:
+        return 0.0
+    if d >= 1.0:
+        return 1.0
+    return d * d * (3.0 - 2.0 * d)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def unit_step_slope(d):
+    """``d/dΔ`` of :func:`unit_step`: ``6·Δ·(1 − Δ)`` inside (0, 1), 0 outside [-]."""
+    if d <= 0.0 or d >= 1.0:
+        return 0.0
+    return 6.0 * d * (1.0 - d)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def step(x, x0, h0, x1, h1):
+    """The cubic ``STEP(x, x0, h0, x1, h1)`` of model.md §3 [units of h].
+
+    Parameters
+    ----------
+    x : float
+        Argument [units of x].
+    x0, x1 : float
+        Start and end of the transition, ``x0 < x1`` [units of x].
+    h0, h1 : float
+        Values below ``x0`` and above ``x1`` [units of h].
+    """
+    if x <= x0:
+        return h0
+    if x >= x1:
+        return h1
+    return h0 + (h1 - h0) * unit_step((x - x0) / (x1 - x0))
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def step_slope(x, x0, h0, x1, h1):
+    """``dSTEP/dx`` of :func:`step` [units of h per unit of x]."""
+    w = x1 - x0
+    return (h1 - h0) * unit_step_slope((x - x0) / w) / w
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def damping_coefficient(delta, c_max, inv_dmax):
+    """IMPACT damping ``STEP(δ, 0, 0, d_max, c_max)`` [N s m^-1].
+
+    Parameters
+    ----------
+    delta : float
+        Penetration δ [m].
+    c_max : float
+        Full damping, reached at ``δ = d_max`` [N s m^-1].
+    inv_dmax : float
+        ``1/d_max`` [m^-1] (a product, so no division is left in the contact loop).
+    """
+    return c_max * unit_step(delta * inv_dmax)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def hertz_load(k, delta):
+    """Hertz load ``K·δ^1.5`` [N] for ``δ ≥ 0`` [m], ``K`` [N m^-1.5]."""
+    return k * delta * math.sqrt(delta)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def hertz_energy(k, delta):
+    """Elastic energy ``⅖·K·δ^2.5`` [J] of a Hertz contact, 0 for ``δ ≤ 0`` [m]."""
+    if delta <= 0.0:
+        return 0.0
+    return 0.4 * hertz_load(k, delta) * delta
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def normal_force(delta, delta_rate, k, c_max, inv_dmax):
+    """Hertz force with the IMPACT damper, clipped at zero [N].
+
+    Parameters
+    ----------
+    delta : float
+        Penetration δ > 0 [m].
+    delta_rate : float
+        dδ/dt [m s^-1].
+    k : float
+        Hertz constant K [N m^-1.5].
+    c_max, inv_dmax : float
+        See :func:`damping_coefficient` [N s m^-1], [m^-1].
+    """
+    q = hertz_load(k, delta) + damping_coefficient(delta, c_max, inv_dmax) * delta_rate
+    return q if q > 0.0 else 0.0
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
+    """μ(s) of model.md §4 [-].
+
+    Parameters
+    ----------
+    s : float
+        Slip speed ≥ 0 [m s^-1].
+    mu_s, mu_d : float
+        Static and dynamic coefficients [-].
+    v_s, v_d : float
+        Their slip speeds, ``0 < v_s < v_d`` [m s^-1].
+    """
+    if s < v_s:
+        return step(s, -v_s, -mu_s, v_s, mu_s)
+    if s <= v_d:
+        return step(s, v_s, mu_s, v_d, mu_d)
+    return mu_d
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_slope_at_zero_slip(mu_s, v_s):
+    """dμ/ds at s = 0 of :func:`friction_coefficient` [s m^-1] (= 1.5·μ_s/v_s).
+
+    The law acts as a viscous damper ``c_f = Q·dμ/ds`` at small slip; the explicit step
+    is sized from it (:func:`rvcore.integrator.stable_time_step`). Taken from the STEP's
+    own slope so that it follows the law.
+    """
+    return step_slope(0.0, -v_s, -mu_s, v_s, mu_s)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_per_slip(s2, mu_s, v_s, mu_d, v_d, inv_vs):
+    """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2].
+
+    Below ``v_s`` the law is odd in s: with ``x = s/v_s``,
+    ``STEP(s, −v_s, −μ_s, v_s, μ_s) = μ_s·(1.5·x − 0.5·x³)`` (Δ = (1 + x)/2 in the cubic),
+    so ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs neither s nor a division: rolling
+    contacts, whose slip is small, cost no square root. This is the one closed form kept
+    beside :func:`friction_coefficient`; tests/core/test_contact.py checks that the two
+    agree over the whole range. Above ``v_s`` it calls the law itself.
+    """
+    x2 = s2 * inv_vs * inv_vs
+    if x2 < 1.0:
+        return mu_s * (1.5 - 0.5 * x2) * inv_vs
+    s = math.sqrt(s2)
+    return friction_coefficient(s, mu_s, v_s, mu_d, v_d) / s
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_force(ux, uy, uz, nx, ny, nz, q, mu_s, v_s, mu_d, v_d, inv_vs):
+    """Coulomb friction on the ball at a contact of unit normal ``n`` [N].
+
+    ``u`` is the slip velocity of the ball's material point against the other body's
+    [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
+    (zero at zero slip). ``q`` is the normal load [N], ``inv_vs = 1/v_s`` [s m^-1].
+    """
+    un = ux * nx + uy * ny + uz * nz
+    tx = ux - un * nx
+    ty = uy - un * ny
+    tz = uz - un * nz
+    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, mu_s, v_s, mu_d, v_d, inv_vs)
+    return g * tx, g * ty, g * tz
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, friction_on,
+                       mu_s, v_s, mu_d, v_d, inv_vs):
+    """Force [N] and moment about the ball centre [N m] of one contact on a ball.
+
+    Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction from
+    the slip ``u`` [m s^-1] tangential to the surface normal ``n`` (unit), acting at the
+    arm ``a`` from the ball centre [m]. Returns ``(fx, fy, fz, mx, my, mz)``.
+    """
+    fx, fy, fz = -q * gx, -q * gy, -q * gz
+    mx, my, mz = 0.0, 0.0, 0.0
+    if friction_on:
+        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, mu_s, v_s, mu_d, v_d, inv_vs)
+        fx += ftx
+        fy += fty
+        fz += ftz
+        mx = ay * ftz - az * fty
+        my = az * ftx - ax * ftz
+        mz = ax * fty - ay * ftx
+    return fx, fy, fz, mx, my, mz
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def ring_rotation(tilt_x, tilt_y):
+    """Rotation matrix ``R = Ry(θy)·Rx(θx)`` of the inner ring, row by row [-].
+
+    Parameters
+    ----------
+    tilt_x, tilt_y : float
+        Tilts about x and y [rad].
+
+    Returns
+    -------
+    tuple of float
+        ``(r00, r01, r02, r10, r11, r12, r20, r21, r22)``; a point fixed in the ring at
+        ``p`` (ring frame) is at ``r_ring + R·p``.
+    """
+    ca, sa, cb, sb = math.cos(tilt_x), math.sin(tilt_x), math.cos(tilt_y), math.sin(tilt_y)
+    return cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def ring_angular_velocity(w_ring, tilt_rate_x, tilt_rate_y, r00, r20, r02, r12, r22):
+    """Inertial angular velocity Ω of the inner ring [rad s^-1] (rvcore.kernels notes).
+
+    ``w_ring`` [rad s^-1] is the prescribed spin about the ring's own axis
+    ``R·ẑ = (r02, r12, r22)``; ``r00 = cos θy`` and ``r20 = −sin θy`` turn the tilt rate
+    about x [rad s^-1] into Ry(θy)·x̂.
+    """
+    return (tilt_rate_x * r00 + w_ring * r02, tilt_rate_y + w_ring * r12,
+            tilt_rate_x * r20 + w_ring * r22)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow):
+    """A point P [m] in the inner ring's frame, ``Rᵀ·(P − r_ring)``, axial coordinate
+    measured from the row plane ``zrow`` [m]; returns ``(x, y, z, √(x² + y²))`` [m]."""
+    dx, dy, dz = px - xi, py - yi, pz - zi
+    plx = r00 * dx + r10 * dy + r20 * dz
+    ply = r01 * dx + r11 * dy + r21 * dz
+    plz = r02 * dx + r12 * dy + r22 * dz - zrow
+    return plx, ply, plz, math.sqrt(plx * plx + ply * ply)
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
+    """Penetration of a ball into one groove arc, in the ring's own frame.
+
+    Parameters
+    ----------
+    plx, ply, plz : float
+        Ball centre in the ring frame, axial coordinate relative to the row plane [m].
+    rho, inv_rho : float
+        ``√(plx² + ply²)`` [m] and its inverse [m^-1] (computed once per ring).
+    cr, cz : float
+        Arc centre: distance from the axis and axial offset [m].
+    rmh : float
+        ``(f − ½)·D`` [m].
+    side : float
+        0, or ±1 for an arc that exists only on that side of the groove mid-plane [-].
+    half_d : float
+        Ball radius [m].
+
+    Returns
+    -------
+    delta : float
+        Penetration [m] (≤ 0: no contact; −1 when the arc does not exist there).
+    nx, ny, nz : float
+        Unit normal C→P in the ring frame [-].
+    """
+    dr = rho - cr
+    dz = plz - cz
+    dist = math.sqrt(dr * dr + dz * dz)
+    delta = dist - rmh
+    inv = 1.0 / dist
+    nr = dr * inv
+    nz = dz * inv
+    nx = nr * plx * inv_rho
+    ny = nr * ply * inv_rho
+    if side != 0.0 and side * (plz + half_d * nz) < 0.0:
+        delta = -1.0
+    return delta, nx, ny, nz
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
+    """Ball–pocket contact: a cylindrical pocket with its axis radial through the cage centre.
+
+    Parameters
+    ----------
+    dxp, dyp, dzp : float
+        Ball centre relative to the cage centre, axial from the row plane [m].
+    cth, sth : float
+        cos and sin of the pocket's azimuth (cage angle + pocket offset) [-].
+    pocket_r : float
+        Pocket radius [m].
+    h : float
+        Ball radius [m].
+    cage_ri, cage_ro : float
+        Inner and outer radius of the cage ring [m].
+
+    Returns
+    -------
+    delta : float
+        Penetration [m]; −1 where there is no contact (and where the ball's section at
+        the cage ring has shrunk to nothing: the ball is past the ring's edge).
+    ax, ay, az : float
+        Arm from the ball centre to the contact point [m]; the force is −Q·∇δ, along the
+        arm (a sphere's normal passes through its centre).
+    a_sec : float
+        Radius of the ball's section where it meets the pocket wall, |arm| [m].
+    """
+    rad = dxp * cth + dyp * sth            # ball station along the pocket axis
+    tan = -dxp * sth + dyp * cth           # offset across it, circumferential
+    dperp2 = tan * tan + dzp * dzp
+    # the ball's section is never wider than h: no contact unless dperp + h > pocket_r
+    if dperp2 <= (pocket_r - h) * (pocket_r - h):
+        return -1.0, 0.0, 0.0, 0.0, h
+    dperp = math.sqrt(dperp2)
+    # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at the
+    # station nearest its centre, where its section radius is a_sec
+    station = min(max(rad, cage_ri), cage_ro) - rad
+    a_sec = math.sqrt(max(h * h - station * station, 0.0))
+    delta = dperp + a_sec - pocket_r
+    if not (delta > 0.0 and dperp > 0.0 and a_sec > 1e-3 * h):
+        return -1.0, 0.0, 0.0, 0.0, a_sec
+    inv = 1.0 / dperp
+    ax = a_sec * ((-tan * sth) * inv) + station * cth
+    ay = a_sec * ((tan * cth) * inv) + station * sth
+    az = a_sec * (dzp * inv)
+    return delta, ax, ay, az, a_sec
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def land_penetration(xc, yc, land_clearance):
+    """Cage–land contact of an outer-land-guided cage centred at ``(xc, yc)`` [m].
+
+    Returns ``(delta, nx, ny)``: the penetration ``|r_c| − clearance`` [m] (≤ 0: none)
+    and the unit outward normal [-] (0, 0 when the cage is not touching).
+    """
+    ecc = math.sqrt(xc * xc + yc * yc)
+    delta = ecc - land_clearance
+    if delta <= 0.0:
+        return delta, 0.0, 0.0
+    return delta, xc / ecc, yc / ecc
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
+                         half_d):
+    """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
+
+    An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
+    centre being ``(plx, ply, plz)`` there (:func:`to_ring_frame`); an outer-ring arc in
+    the fixed frame, the ball centre being ``(px, py, pzr)`` with ``pzr`` from the row
+    plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
+
+    Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
+    penetration [m] and the unit normal C→P in that ring's frame [-].
+    """
+    inner = arcs[a, A_RING] == 0.0
+    if inner:
+        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, arcs[a, A_CR],
+                                            arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], half_d)
+    else:
+        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, arcs[a, A_CR],
+                                            arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], half_d)
+    return inner, delta, nx, ny, nz
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def ring_to_global(x, y, z, r00, r01, r02, r10, r11, r12, r20, r21, r22):
+    """A vector given in the inner ring's frame, in the fixed frame: ``R·v`` [as v]."""
+    return (r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z,
+            r20 * x + r21 * y + r22 * z)
