@@ -70,7 +70,7 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
 
     from rvcore import integrator as ig
     from rvcore.driver import initial_state, peak_contact_load
-    from rvcore.kernels import N_BDIAG, N_DIAG, rhs
+    from rvcore.kernels import new_diagnostics, rhs
     from rvcore.model import R_BALL0, compile_bearing
 
     bearing, profile, op = _study()
@@ -79,8 +79,7 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
     table, meta = resolved.arrays()
     y0 = initial_state(model, resolved, t_start)
     dt_ours = ig.stable_time_step(model, peak_contact_load(model, resolved))
-    diag = np.zeros(N_DIAG)
-    bdiag = np.zeros((model.n_balls, N_BDIAG))
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     args = (model.params, model.rows, model.arcs, model.pockets, table, meta)
 
     def ours(dt):
@@ -93,7 +92,7 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
         work = np.zeros((5, y.size))
         t0 = time.perf_counter()
         status, *_ = ig.integrate(y, t_start, window / n, n, n, *args, phases, sensors, out, sig_acc, acc,
-                                  diag, bdiag, work, 1.0, 1e30, 1.0)
+                                  diag, bdiag, work, 1.0, 1e30, np.ones(model.rows.shape[0]))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         return y, wall

@@ -302,7 +302,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     from . import integrator as ig
     from .geometry import epicyclic_cage_ratio
     from .model import body_name, compile_bearing, R_HALF_D, R_MB, R_IB, R_CAGE_M, R_PITCH_R, R_Z
-    from .kernels import N_BDIAG, N_DIAG
+    from .kernels import new_diagnostics
 
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
                             moment=op.moment, load_angle=op.load_angle, gravity=settings.gravity)
@@ -329,10 +329,10 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     sensor_rows = (np.array([s.as_row() for s in sensors], dtype=float) if len(sensors)
                    else np.zeros((0, 6)))
     n_sensors = sensor_rows.shape[0]
-    out = np.zeros((n_out_max, ig.N_OUT + n_sensors))
-    sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0], n_sensors)
-    diag = np.zeros(N_DIAG)
-    bdiag = np.zeros((model.n_balls, N_BDIAG))
+    n_rows = model.rows.shape[0]
+    out = np.zeros((n_out_max, ig.N_OUT + n_sensors + n_rows - 1))
+    sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0], n_sensors, n_rows)
+    diag, bdiag = new_diagnostics(n_rows, model.n_balls)
     work = np.zeros((5, model.n_states))
     pen_limit = 0.1 * 2 * float(model.rows[:, R_HALF_D].min())
     w_max = max(float(np.max(np.abs(resolved.speed[1]))), 1.0)
@@ -347,7 +347,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     status, t_fail, where, n_out = ig.integrate(
         y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
         table, meta, resolved.phases, sensor_rows, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
-        math.cos(bearing.rows[0].nominal_contact_angle))
+        np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]))
     wall = _time.perf_counter() - t0
     if status != ig.OK:
         what = {ig.NONFINITE: "a non-finite state value",
@@ -365,7 +365,9 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
     series = {name: out[:, k].copy() for k, name in enumerate(ig.OUTPUT_SERIES)}
     if n_sensors:
-        series["sensor_displacement"] = out[:, ig.N_OUT:].copy()
+        series["sensor_displacement"] = out[:, ig.N_OUT:ig.N_OUT + n_sensors].copy()
+    if n_rows > 1:   # every row's cage, over a trailing row axis
+        series["cage_speed"] = np.column_stack([series["cage_speed"], out[:, ig.N_OUT + n_sensors:]])
     metrics = phase_metrics(sig_acc, acc, resolved.phases, 1.0 / settings.output_rate)
     info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": 4 * n_steps + 1, "wall_time": wall,
             "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
@@ -389,7 +391,7 @@ def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
     """
     from . import integrator as ig
 
-    n = acc[:, ig.C_N]
+    n = acc[:, 0, ig.C_N]
     start, end = phases[:, 0], phases[:, 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         nn = np.where(n > 0, n, np.nan)
@@ -411,12 +413,15 @@ def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
             out[f"{name}_min_time"] = np.where(ok, tmin, np.nan)
             out[f"{name}_max_time"] = np.where(ok, tmax, np.nan)
             out[f"{name}_range_at_edge"] = np.where(ok, (near(tmin) | near(tmax)).astype(float), np.nan)
-        out["cage_speed_mean"] = acc[:, ig.C_CAGE_SUM] / nn
-        out["inner_ring_speed_mean"] = acc[:, ig.C_RING_SUM] / nn
-        out["cage_slip"] = 1.0 - acc[:, ig.C_CAGE_SUM] / acc[:, ig.C_EPI_SUM]
-        out["cage_slip_nominal"] = 1.0 - acc[:, ig.C_CAGE_SUM] / acc[:, ig.C_EPI_NOMINAL_SUM]
-        out["epicyclic_cage_speed"] = acc[:, ig.C_EPI_SUM] / nn
-        out["peak_contact_pressure"] = np.where(n > 0, np.cbrt(acc[:, ig.C_P3_MAX]), np.nan)
+        # per row over a trailing row axis, dropped for a single row (the names of pipeline.md)
+        per_row = (lambda a: a[:, 0]) if acc.shape[1] == 1 else (lambda a: a)
+        nr = nn[:, None]
+        out["cage_speed_mean"] = per_row(acc[:, :, ig.C_CAGE_SUM] / nr)
+        out["inner_ring_speed_mean"] = acc[:, 0, ig.C_RING_SUM] / nn
+        out["cage_slip"] = per_row(1.0 - acc[:, :, ig.C_CAGE_SUM] / acc[:, :, ig.C_EPI_SUM])
+        out["cage_slip_nominal"] = per_row(1.0 - acc[:, :, ig.C_CAGE_SUM] / acc[:, :, ig.C_EPI_NOMINAL_SUM])
+        out["epicyclic_cage_speed"] = per_row(acc[:, :, ig.C_EPI_SUM] / nr)
+        out["peak_contact_pressure"] = np.where(n > 0, np.cbrt(acc[:, 0, ig.C_P3_MAX]), np.nan)
     out["phase_start"] = start.astype(float).copy()
     out["phase_end"] = end.astype(float).copy()
     return out

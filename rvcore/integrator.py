@@ -70,14 +70,15 @@ RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_LIMIT = 2.785
 
 
-def new_accumulators(n_phases: int, n_sensors: int = 0):
-    """Empty ``(signal_acc, scalar_acc)`` for ``n_phases`` phases and ``n_sensors`` sensors."""
+def new_accumulators(n_phases: int, n_sensors: int = 0, n_rows: int = 1):
+    """Empty ``(signal_acc, scalar_acc)`` for ``n_phases`` phases, ``n_sensors`` sensors
+    and ``n_rows`` rows of balls (the scalar accumulators are per row)."""
     sig = np.zeros((n_phases, SIG_SENSOR0 + n_sensors, N_SACC))
     sig[:, :, S_MIN] = np.inf
     sig[:, :, S_MAX] = -np.inf
     sig[:, :, S_TMIN] = np.nan
     sig[:, :, S_TMAX] = np.nan
-    return sig, np.zeros((n_phases, N_ACC))
+    return sig, np.zeros((n_phases, n_rows, N_ACC))
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST)
@@ -143,7 +144,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     state at the step's start is added to the accumulators of the phase it falls in
     (``phases[k] = (start, end)``): ``sig_acc[k, signal]`` for δ_r, δ_a and each sensor
     of ``sensors`` (rows ``(px, py, pz, dx, dy, dz)``), ``acc[k]`` for the speeds and the
-    peak pressure. ``cos_nominal`` is cos α of row 0's nominal contact angle.
+    peak pressure, per row (``acc[k, r]``). ``cos_nominal[r]`` is cos α of row r's nominal
+    contact angle. Columns ``N_OUT + n_sensors + r - 1`` of ``out`` hold row r's cage speed
+    (r ≥ 1; row 0's is ``cage_speed``).
 
     Returns
     -------
@@ -160,8 +163,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     n_sensors = sensors.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
     lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
-    c0 = int(rows[0, R_CAGE0])
-    gamma0 = rows[0, R_HALF_D] / rows[0, R_PITCH_R]     # D/d_m of row 0
+    n_rows = rows.shape[0]
     n_out = 0
     half = 0.5 * dt
     for i in range(n_steps + 1):
@@ -188,14 +190,16 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                     _track(sig_acc[k, SIG_DA], da, t)
                     for s in range(n_sensors):
                         _track(sig_acc[k, SIG_SENSOR0 + s], sensor_reading(y, sensors[s]), t)
-                    a = acc[k]
-                    cos_a = diag[D_COS_ALPHA] if diag[D_LOADED] > 0.0 else cos_nominal
-                    a[C_N] += 1.0
-                    a[C_CAGE_SUM] += y[c0 + 7]
-                    a[C_RING_SUM] += w_ring
-                    a[C_EPI_SUM] += 0.5 * (1.0 - gamma0 * cos_a) * w_ring
-                    a[C_EPI_NOMINAL_SUM] += 0.5 * (1.0 - gamma0 * cos_nominal) * w_ring
-                    a[C_P3_MAX] = max(a[C_P3_MAX], diag[D_MAX_P3])
+                    for r in range(n_rows):
+                        a = acc[k, r]
+                        gamma = rows[r, R_HALF_D] / rows[r, R_PITCH_R]     # D/d_m of the row
+                        cos_a = diag[D_COS_ALPHA + r] if diag[D_COS_ALPHA + r] > 0.0 else cos_nominal[r]
+                        a[C_N] += 1.0
+                        a[C_CAGE_SUM] += y[int(rows[r, R_CAGE0]) + 7]
+                        a[C_RING_SUM] += w_ring
+                        a[C_EPI_SUM] += 0.5 * (1.0 - gamma * cos_a) * w_ring
+                        a[C_EPI_NOMINAL_SUM] += 0.5 * (1.0 - gamma * cos_nominal[r]) * w_ring
+                        a[C_P3_MAX] = max(a[C_P3_MAX], diag[D_MAX_P3])
         if i % out_every == 0 or i == n_steps:
             if kinetic_energy(y, params, rows) > ke_limit:
                 return ENERGY, t, -1, n_out
@@ -205,7 +209,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
             o[O_FR] = channel_value(table, meta, CH_RADIAL, t)
             o[O_FA] = channel_value(table, meta, CH_AXIAL, t)
             o[O_W] = w_ring
-            o[O_CAGE] = y[c0 + 7]
+            o[O_CAGE] = y[int(rows[0, R_CAGE0]) + 7]
+            for r in range(1, n_rows):   # the other rows' cage speeds follow the sensors
+                o[N_OUT + n_sensors + r - 1] = y[int(rows[r, R_CAGE0]) + 7]
             o[O_QI], o[O_QO], o[O_LOADED] = diag[D_MAX_QI], diag[D_MAX_QO], diag[D_LOADED]
             o[O_PMAX] = diag[D_MAX_P3] ** (1.0 / 3.0)
             for s in range(n_sensors):

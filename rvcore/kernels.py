@@ -34,6 +34,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from numba import njit
 
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING,
@@ -50,14 +52,20 @@ from .profile import channel_rate, channel_value
 
 # diag slots written by rhs()
 D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
-# mean over row 0's loaded balls of cos α (each ball's race contacts averaged): the
-# epicyclic cage speed at the balls' actual contact angles uses it
+# from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
+# (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
+# actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
 D_COS_ALPHA = 6
 N_DIAG = 7
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
 N_BDIAG = 5
+
+
+def new_diagnostics(n_rows: int, n_balls: int):
+    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row)."""
+    return np.zeros(N_DIAG + n_rows - 1), np.zeros((n_balls, N_BDIAG))
 
 CH_RADIAL, CH_AXIAL, CH_SPEED = 0, 1, 2
 
@@ -86,9 +94,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
 
     fxi, fyi, fzi, mxi, myi = 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
-    cos_sum, cos_balls = 0.0, 0.0
-
     for r in range(rows.shape[0]):
+        cos_sum, cos_balls = 0.0, 0.0
         nz_balls = int(rows[r, R_Z])
         b0 = int(rows[r, R_BALL0])
         c0 = int(rows[r, R_CAGE0])
@@ -183,9 +190,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
 
             if qi_sum > 0.0 or qo_sum > 0.0:
                 loaded += 1.0
-                if r == 0:
-                    cos_sum += cos_b / n_b
-                    cos_balls += 1.0
+                cos_sum += cos_b / n_b
+                cos_balls += 1.0
             if qi_sum > max_qi:
                 max_qi = qi_sum
             if qo_sum > max_qo:
@@ -270,6 +276,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
         dy[c0 + 5] = fyc / mc + gy
         dy[c0 + 6] = fzc / mc + gz
         dy[c0 + 7] = tzc / rows[r, R_CAGE_I]
+        diag[D_COS_ALPHA + r] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
 
     # ---- inner ring: applied loads, contact reactions, small-tilt Euler equations
     lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
@@ -292,7 +299,6 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     diag[D_MAX_P3] = max_p3
     diag[D_MAX_PEN] = max_pen
     diag[D_PEN_BALL] = pen_ball
-    diag[D_COS_ALPHA] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
 
 
 @njit(cache=True, nogil=True)

@@ -101,6 +101,10 @@ SENSOR_SERIES = {
 #: Sensor phase metrics over (phase, sensor).
 SENSOR_METRICS = _extreme_metrics("sensor_displacement", "the sensor reading")
 
+#: Cage variables of a bearing with several rows of balls gain a trailing ``row``
+#: dimension (one value per row); a single row keeps the dims of :data:`VARIABLES`.
+PER_ROW = ("cage_speed", "cage_speed_mean", "epicyclic_cage_speed", "cage_slip", "cage_slip_nominal")
+
 #: Every labelled variable: name -> (dims, units, long_name).
 VARIABLES = {
     **{k: (("elapsed_time",), *v) for k, v in SERIES.items()},
@@ -187,7 +191,13 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     for name, (dims, units, long_name) in VARIABLES.items():
         source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):
-            data[name] = (dims, np.asarray(source[name], dtype=np.float64), {"units": units, "long_name": long_name})
+            values = np.asarray(source[name], dtype=np.float64)
+            if name in PER_ROW and values.ndim == len(dims) + 1:
+                dims = dims + ("row",)
+                coords.setdefault("row", ("row", np.arange(values.shape[-1], dtype=np.int8),
+                                          {"long_name": "row of balls (index in the bearing file's rows)",
+                                           "units": "1"}))
+            data[name] = (dims, values, {"units": units, "long_name": long_name})
     caveat_text = " | ".join(caveats)
     attrs = {
         "Conventions": "CF-1.8",

@@ -256,7 +256,7 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
     −∂V/∂P of potential_energy: both take the race and pocket penetrations from one
     place. Ball 0 is pushed into its pocket wall and ball 1 into its races."""
     from rvcore.driver import initial_state
-    from rvcore.kernels import N_BDIAG, N_DIAG, potential_energy, rhs
+    from rvcore.kernels import new_diagnostics, potential_energy, rhs
     from rvcore.model import BALL_STATES, R_BALL0, R_MB
 
     bearing = section_bearing(8)
@@ -273,7 +273,7 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
     y[b1 + 2] += 2e-6                              # ball 1 pressed axially into its races
 
     dy = np.zeros_like(y)
-    diag, bdiag = np.zeros(N_DIAG), np.zeros((model.n_balls, N_BDIAG))
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     rhs(0.0, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
     assert bdiag[0, 4] > 0.0 and bdiag[1, 0] > 0.0       # the contacts under test are on
     m_b = model.rows[0, R_MB]

@@ -35,7 +35,7 @@ import pytest
 
 from rvcore import integrator as ig
 from rvcore.driver import SimulationError, SolverSettings, run_case
-from rvcore.kernels import N_BDIAG, N_DIAG, potential_energy
+from rvcore.kernels import new_diagnostics, potential_energy
 from rvcore.model import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.quasistatic import solve_statics
@@ -195,7 +195,7 @@ def test_energy_conserved_without_friction_and_damping():
     per = int(round(t_end / dt)) // chunks
     out = np.zeros((per + 2, ig.N_OUT))
     sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0])
-    diag, bdiag = np.zeros(N_DIAG), np.zeros((model.n_balls, N_BDIAG))
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     work = np.zeros((5, model.n_states))
 
     def energy(t):
@@ -209,7 +209,7 @@ def test_energy_conserved_without_friction_and_damping():
     for _ in range(chunks):
         status, *_ = ig.integrate(y, t, dt, per, per, model.params, model.rows, model.arcs, model.pockets,
                                   table, meta, resolved.phases, np.zeros((0, 6)), out, sig_acc, acc, diag, bdiag,
-                                  work, 1e-3, 1e9, 1.0)
+                                  work, 1e-3, 1e9, np.ones(model.rows.shape[0]))
         assert status == ig.OK
         t += per * dt
         pocket_hits += np.count_nonzero(bdiag[:, 4])

@@ -30,7 +30,7 @@ import pytest
 from rvcore import hertz
 from rvcore.driver import Sensor, SolverSettings, _rolling_velocities, initial_state, run_case
 from rvcore.geometry import ball_mass, cage_mass_properties, inner_ring_mass_properties
-from rvcore.kernels import N_BDIAG, N_DIAG, rhs
+from rvcore.kernels import new_diagnostics, rhs
 from rvcore.model import compile_bearing
 from rvcore.profile import OperatingPoint, scaled_study_profile, study_profile
 from tests.core.physics_cases import ball_states, cage_state, constant_profile, section_bearing
@@ -135,7 +135,7 @@ def rhs_at(model, y, t, resolved):
     """dy/dt and the per-ball diagnostics of the model at state ``y``."""
     table, meta = resolved.arrays()
     dy = np.zeros_like(y)
-    diag, bdiag = np.zeros(N_DIAG), np.zeros((model.n_balls, N_BDIAG))
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     rhs(t, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
     return dy, bdiag
 

@@ -205,7 +205,7 @@ def _core_phase_metrics(t, dr, da) -> dict:
             if start <= ti < end:
                 ig._track(sig[k, ig.SIG_DR], r, ti)
                 ig._track(sig[k, ig.SIG_DA], a, ti)
-                acc[k, ig.C_N] += 1.0
+                acc[k, 0, ig.C_N] += 1.0
     with np.errstate(all="ignore"):
         return read_out(sig, acc, np.array(WINDOWS), 0.01)
 
