@@ -129,7 +129,11 @@ class Row:
     inner_arcs, outer_arcs : tuple of Arc
     cage : Cage
     radial_clearance : float
-        Radial internal clearance P_d (free radial play) [m], >= 0.
+        Radial internal clearance P_d (free radial play) [m]; negative for an
+        interference (a radially preloaded row).
+    inner_offset : float
+        Axial shift of the row's inner raceway from its nominal place [m]: a pair's share
+        of the preload offset (:mod:`rvcore.preload`), 0 for a free row.
     """
 
     ball_count: int
@@ -140,6 +144,7 @@ class Row:
     outer_arcs: tuple
     cage: Cage
     radial_clearance: float = 0.0
+    inner_offset: float = 0.0
 
     @property
     def nominal_contact_angle(self) -> float:
@@ -199,6 +204,12 @@ class ContactLaw:
 class Bearing:
     """A whole bearing: envelope, rows, rings, materials and contact law.
 
+    ``arrangement`` names how a pair's rows are mirrored (``"back-to-back"``,
+    ``"face-to-face"``, ``"tandem"``; ``""`` for a single row or rows given one by one),
+    ``preload`` the axial preload force asked for [N] (0 when none or when the pair is
+    preloaded by an offset) and ``preload_offset`` the total axial offset of the rows'
+    inner raceways that sets it [m] (see :mod:`rvcore.preload`).
+
     ``gravity`` is the gravitational acceleration in the bearing frame [m s^-2], set by
     the mounting (:data:`MOUNTINGS`; horizontal axis by default). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
@@ -218,6 +229,9 @@ class Bearing:
     gravity: tuple = (0.0, -STANDARD_GRAVITY, 0.0)
     warnings: tuple = ()
     assumptions: tuple = ()
+    arrangement: str = ""
+    preload: float = 0.0
+    preload_offset: float = 0.0
     source: str = ""
     description: str = ""
     extra: dict = field(default_factory=dict, compare=False, hash=False)
@@ -260,7 +274,8 @@ def arc_geometry(row: Row, arc: Arc, ring: int):
     centre_radial : float
         Distance of the arc centre from the bearing axis [m].
     centre_axial : float
-        Axial coordinate of the arc centre, relative to the row plane [m].
+        Axial coordinate of the arc centre, relative to the row plane [m]; an inner arc
+        is moved by the row's ``inner_offset``.
     radius_minus_half : float
         ``(f − ½)·D`` [m]; the penetration is ``|P − C| − radius_minus_half``.
     side : int
@@ -274,7 +289,7 @@ def arc_geometry(row: Row, arc: Arc, ring: int):
         ux, uz = -ux, -uz
     reach = (arc.curvature_ratio - 0.5) * d - g
     cr = row.pitch_diameter / 2.0 - reach * ux
-    cz = -reach * uz
+    cz = -reach * uz + (row.inner_offset if ring == INNER else 0.0)
     arcs = row.inner_arcs if ring == INNER else row.outer_arcs
     side = 0
     if len(arcs) > 1 and abs(uz) > 1e-12:
