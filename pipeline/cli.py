@@ -11,6 +11,7 @@ import argparse
 import importlib
 import sys
 
+from .commands._common import accept_negative_values
 from .errors import UserError
 
 COMMANDS = ("check", "statics", "simulate", "sweep", "report", "bench")
@@ -29,6 +30,7 @@ def build_parser() -> argparse.ArgumentParser:
         module = importlib.import_module(f"pipeline.commands.{name}")
         p = sub.add_parser(name, help=module.HELP, description=module.HELP)
         module.add_arguments(p)
+        accept_negative_values(p)   # --axial-load -10kN
         p.set_defaults(_run=module.run)
     return parser
 

@@ -3,7 +3,30 @@ one-case sweep of statics and simulate. ``--set`` goes through the one parser,
 :func:`pipeline.schema.parse_sets`, and is checked against the schema."""
 from __future__ import annotations
 
+import re
 from pathlib import Path
+
+#: What argparse takes for a value, not an option, when it starts with "-": a minus sign
+#: then a digit or a point and a digit ("-10kN", "-3.5 kN", "-.5deg", "-1e3 N").
+_NEGATIVE_VALUE = re.compile(r"^-\.?\d.*$", re.DOTALL)
+
+
+def accept_negative_values(parser) -> None:
+    """Let ``--axial-load -10kN`` (a negative quantity after a space) parse as a value.
+
+    argparse takes every token that starts with "-" for an option unless it looks like a
+    negative *number* (``-10``, ``-1.5``), so ``--axial-load -10kN`` failed with "expected
+    one argument" while ``--axial-load=-10kN`` worked. Why this and not rewriting argv
+    (``--opt -10kN`` -> ``--opt=-10kN``): argparse asks exactly one question, "is this
+    token a negative number?", through the parser's ``_negative_number_matcher``; widening
+    that one pattern to "minus, then a digit" answers it for quantities with units in
+    every option of the parser, with no second parser of argv to keep in step. The
+    attribute is private but has existed since Python 2.7 (it is read by ``.match`` up to
+    3.12 and ``.fullmatch`` later, which the pattern's ``.*$`` serves both);
+    ``tests/pipeline/test_statics_cli.py`` fails if argparse ever stops consulting it. No
+    option of rvsweep starts with "-<digit>", so nothing else is taken for a value.
+    """
+    parser._negative_number_matcher = _NEGATIVE_VALUE
 
 #: How --help says that shipped files may be named.
 SHIPPED_HELP = ("a path; one that does not exist but names a shipped file (relative to the "

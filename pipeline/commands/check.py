@@ -11,7 +11,8 @@ The kind of each file is told by its content: a top-level ``bearing`` or ``profi
 and ``duration``/``[phases]`` a profile. For a bearing it prints what it derived: pitch diameter, balls, nominal
 contact angle, groove ratios, radial clearance, Hertz K of the inner and outer contact at
 the nominal angle, ball mass, the epicyclic cage ratio, the smallest pitch diameter for
-the ball count, the masses of the inner ring and the cage, and the warnings. Warnings are
+the ball count, the masses of the inner ring and the cage, the row count and preload force
+(``row_count``, ``preload_N``: 0 for a single row), and the warnings. Warnings are
 repeated on stderr as ``warning: ...``.
 
 Exit status 0 when every file is valid. Otherwise each invalid file's error is one line
@@ -115,10 +116,16 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
             "cage_mass_kg": cage_mass,
             "cage_guidance": row.cage.guidance,
         })
+    from rvcore.preload import preload_force
+
     inner_mass, _, _ = geo.inner_ring_mass_properties(bearing)
     out = {"kind": "bearing", "name": bearing.name}
     out.update(rows[0])
     out.update({
+        "row_count": len(bearing.rows),
+        "arrangement": bearing.arrangement,
+        "preload_N": preload_force(bearing),
+        "preload_offset_m": bearing.preload_offset,
         "bore_m": bearing.bore,
         "outer_diameter_m": bearing.outer_diameter,
         "width_m": bearing.width,
@@ -242,6 +249,11 @@ def _format_bearing(s: dict) -> list:
              f"bore {_bearing_value('envelope.bore', s['bore_m'])}, outer diameter "
              f"{_bearing_value('envelope.outer_diameter', s['outer_diameter_m'])}, "
              f"width {_bearing_value('envelope.width', s['width_m'])}"]
+    if s["arrangement"]:
+        spacing = s["rows"][-1]["axial_position_m"] - s["rows"][0]["axial_position_m"]
+        lines.append(f"  {s['arrangement']} pair, rows {_bearing_value('pair.row_spacing', abs(spacing))} apart; "
+                     f"preload {_bearing_value('pair.preload', s['preload_N'])} "
+                     f"(inner-raceway offset {_bearing_value('pair.preload_offset', s['preload_offset_m'])})")
     for i, r in enumerate(s["rows"]):
         angle = lambda x: _bearing_value("rows[].inner_groove.arcs[].contact_angle", x)  # noqa: E731
         arcs = lambda arcs: ", ".join(f"f = {a['curvature_ratio']:g} at {angle(a['contact_angle_rad'])}"  # noqa: E731
@@ -253,7 +265,10 @@ def _format_bearing(s: dict) -> list:
             f"(at least {_bearing_value('rows[].pitch_diameter', r['min_pitch_diameter_m'])} needed for "
             f"{r['ball_count']} balls)",
             f"    nominal contact angle {angle(r['contact_angle_rad'])}; radial clearance "
-            f"{_bearing_value('rows[].radial_clearance', r['radial_clearance_m'])}",
+            f"{_bearing_value('rows[].radial_clearance', r['radial_clearance_m'])}"
+            + (" (interference)" if r["radial_clearance_m"] < 0 else "")
+            + (f"; axial position {_bearing_value('rows[].axial_position', r['axial_position_m'])}"
+               if len(s["rows"]) > 1 else ""),
             f"    inner groove: {arcs(r['inner_arcs'])}; outer groove: {arcs(r['outer_arcs'])}",
             f"    Hertz K at {angle(r['contact_angle_rad'])}: inner {r['hertz_k_inner']:.4g} N/m^1.5, "
             f"outer {r['hertz_k_outer']:.4g} N/m^1.5 (E' = {r['effective_modulus_pa'] / 1e9:.4g} GPa)",

@@ -12,24 +12,54 @@ from ._common import add_load_arguments, one_case_sweep
 HELP = "quasi-static equilibrium: displacements, contact angles and ball loads"
 
 
+#: Units of the ring's force and moment, the rows of K[i][j] = -dF_i/du_j.
+_LOAD_UNITS = ("N", "N", "N", "N m", "N m")
+
+
 def add_arguments(parser):
     add_load_arguments(parser, speed=False)
+    parser.add_argument("--moment-x", default="0 N*m",
+                        help='moment about the x axis, e.g. "2 kN*m" (added to --moment; default 0)')
+    parser.add_argument("--moment-y", default="0 N*m",
+                        help='moment about the y axis, e.g. "-1.5kNm" (added to --moment; default 0)')
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     parser.add_argument("--no-gravity", action="store_true",
                         help="leave out the inner ring's weight (it is included by default, along the mounting)")
 
 
+def stiffness_units() -> list:
+    """Units of each entry of the stiffness matrix, as nested lists like the matrix."""
+    from rvcore.stiffness import COORDINATE_UNITS
+
+    return [[f"{_LOAD_UNITS[i]}/{COORDINATE_UNITS[j]}" for j in range(5)] for i in range(5)]
+
+
+def _moments(args) -> tuple:
+    """(moment_x, moment_y) [N m] of the command line."""
+    from ..schema.units import parse_quantity
+
+    return tuple(parse_quantity(getattr(args, a), "moment", file="command line", key=f"--{a.replace('_', '-')}")
+                 for a in ("moment_x", "moment_y"))
+
+
 def run(args):
+    from rvcore.preload import preload_force
     from rvcore.quasistatic import NoEquilibriumError, solve_statics
+    from rvcore.stiffness import COORDINATES, stiffness_scalars
 
     sweep = one_case_sweep(args, profile=None)
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
+    mx, my = _moments(args)
     try:
         st = solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
-                           gravity=not args.no_gravity)
+                           moment_x=mx, moment_y=my, gravity=not args.no_gravity)
     except NoEquilibriumError as exc:
         raise UserError(str(exc)) from None
+    k = np.asarray(st.stiffness_matrix, dtype=float)
+    k_radial, k_axial, k_tilt = stiffness_scalars(k, op.load_angle)
+    preload = preload_force(bearing)
+    pair = len(bearing.rows) > 1
     for w in bearing.warnings:
         print(f"warning: {w}", file=__import__("sys").stderr)
     inner = st.arc_rings == 0
@@ -55,8 +85,26 @@ def run(args):
             "force_residual": st.residual.tolist(),
             "gravity_m_per_s2": [0.0, 0.0, 0.0] if args.no_gravity else list(bearing.gravity),
             "applied_force_with_ring_weight_N": st.applied[:3].tolist(),
+            "moment_x_Nm": mx, "moment_y_Nm": my,
+            "applied_moment_Nm": st.applied[3:5].tolist(),
+            "row_count": len(bearing.rows),
+            "arrangement": bearing.arrangement,
+            "preload_N": preload,
+            "preload_offset_m": bearing.preload_offset,
+            "stiffness_matrix": k.tolist(),
+            "stiffness_matrix_labels": list(COORDINATES),
+            "stiffness_matrix_units": stiffness_units(),
+            "stiffness_matrix_note": ("K[i][j] = -dF_i/du_j at the equilibrium: rows the ring's force "
+                                      "and moment (Fx, Fy, Fz [N], Mx, My [N m]), columns its pose "
+                                      "(x, y, z [m], tilt_x, tilt_y [rad]); SI"),
+            "radial_stiffness_N_per_m": k_radial,
+            "axial_stiffness_N_per_m": k_axial,
+            "tilting_stiffness_Nm_per_rad": k_tilt,
             "warnings": list(bearing.warnings),
         }
+        if pair:
+            obj["row_axial_load_N"] = np.asarray(st.row_axial_loads, dtype=float).tolist()
+            obj["row_radial_load_N"] = np.asarray(st.row_radial_loads, dtype=float).tolist()
         print(json.dumps(obj, indent=1))
         return 0
     print(f"bearing {bearing.name}: F_r = {op.radial_load / 1e3:.6g} kN at {math.degrees(op.load_angle):.4g} deg, "
@@ -65,12 +113,23 @@ def run(args):
                                         op.radial_load * math.sin(op.load_angle), op.axial_load])
     print("  ring weight          " + ("left out (--no-gravity)" if args.no_gravity else
                                       "(" + ", ".join(f"{w:.4g}" for w in weight) + ") N, included"))
+    if mx or my:
+        print(f"  moment x, y          {mx:.6g}, {my:.6g} N m (added to M)")
+    if pair:
+        print(f"  rows                 {len(bearing.rows)}, {bearing.arrangement or 'as given'}; preload "
+              f"{preload / 1e3:.4g} kN (ring offset {bearing.preload_offset * 1e6:.4g} um)")
+        for r, (fa, fr) in enumerate(zip(st.row_axial_loads, st.row_radial_loads)):
+            print(f"  row {r} load           axial {fa / 1e3:10.4f} kN, radial {fr / 1e3:.4f} kN")
     print(f"  radial displacement  {st.radial_displacement * 1e6:10.4f} um")
     print(f"  axial displacement   {st.axial_displacement * 1e6:10.4f} um")
     print(f"  tilt x, y            {st.displacement[3] * 1e3:10.5f}, {st.displacement[4] * 1e3:.5f} mrad")
     print(f"  loaded balls         {st.loaded_ball_count} of {st.ball_loads.shape[0]}")
     print(f"  max contact load     {st.max_contact_load:10.1f} N")
     print(f"  max Hertz pressure   {st.max_contact_pressure / 1e9:10.4f} GPa")
+    # engineering units: N/m -> N/um, N m/rad -> N m/mrad
+    print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um (along the radial load)")
+    print(f"  axial stiffness      {k_axial * 1e-6:10.4g} N/um")
+    print(f"  tilting stiffness    {k_tilt * 1e-3:10.4g} N m/mrad")
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")
     for j in range(st.ball_loads.shape[0]):

@@ -4,7 +4,8 @@ Which keys each table allows, every value's kind, bounds and default come from t
 schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.reader.Table`).
 This module adds what one field cannot say: the material's two forms, the cage's land
 values required when it is outer-land guided, two arcs at ±α, the friction speeds'
-order, gravity by mounting or vector, the assumptions list, and the geometry checks
+order, gravity by mounting or vector, the assumptions list, a ``[pair]``'s two mirrored
+rows and their preload (:mod:`rvcore.preload`), and the geometry checks
 (``rvcore.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
 format is described in :mod:`pipeline.schema.config`.
 """
@@ -72,6 +73,90 @@ def _row(t: Table) -> Row:
                axial_position=t.get("axial_position"), inner_arcs=_arcs(t, "inner_groove", d),
                outer_arcs=_arcs(t, "outer_groove", d), cage=_cage(t.table("cage")),
                radial_clearance=t.get("radial_clearance"))
+
+
+def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
+    """The two mirrored rows of a ``[pair]`` and its preload: (rows, arrangement, preload
+    [N], preload_offset [m]).
+
+    The file gives one ``[[rows]]`` entry, the design of both rows; the rows are built by
+    :func:`rvcore.preload.mirrored_rows` at ∓row_spacing/2, their contact angles mirrored
+    as the arrangement says. The preload is applied later (:func:`_preload`), once the
+    bearing has passed the geometry checks.
+    """
+    from rvcore.preload import mirrored_rows
+
+    file = top.file
+    pair = top.table("pair")
+    arrangement = pair.get("arrangement")
+    spacing = pair.get("row_spacing")
+    preload, offset = pair.get("preload"), pair.get("preload_offset")
+    if pair.has("preload") and pair.has("preload_offset"):
+        raise ConfigError(file, "pair.preload_offset", pair.raw("preload_offset"),
+                          "give either preload (a force; the statics find the offset that gives it) "
+                          "or preload_offset (the offset itself), not both")
+    if arrangement == "tandem" and (preload > 0.0 or offset != 0.0):
+        key = "pair.preload" if pair.has("preload") else "pair.preload_offset"
+        raise ConfigError(file, key, pair.raw(key.split(".")[1]),
+                          "a tandem pair cannot be preloaded: both rows carry axial load in the "
+                          "same direction, so neither row holds the other against a preload")
+    if len(rows) != 1:
+        raise ConfigError(file, "rows", None,
+                          f"{len(rows)} [[rows]] entries with [pair]: give exactly one, the design of "
+                          "both rows (the pair builds the second, mirrored), or leave [pair] out and "
+                          "give every row with its axial_position")
+    row, t = rows[0], row_tables[0]
+    if t.has("axial_position"):
+        raise ConfigError(file, t.key("axial_position"), t.raw("axial_position"),
+                          "a pair's rows sit at -row_spacing/2 and +row_spacing/2 (pair.row_spacing); "
+                          "leave axial_position out")
+    if len(row.inner_arcs) != 1 or len(row.outer_arcs) != 1 or row.nominal_contact_angle == 0.0:
+        kind = "a four-point" if len(row.inner_arcs) > 1 or len(row.outer_arcs) > 1 else "a deep-groove (0 deg)"
+        raise ConfigError(file, f"{t.key('outer_groove')}.arcs[0].contact_angle",
+                          t.table("outer_groove").tables("arcs")[0].raw("contact_angle"),
+                          f"{kind} row cannot be mirrored into a pair: give an angular-contact row "
+                          "(one arc per ring, at a contact angle other than 0)")
+    return mirrored_rows(row, arrangement, spacing), arrangement, preload, offset
+
+
+def _pair_problems(bearing: Bearing):
+    """A pair's rows must not overlap each other nor stick out of the envelope, as
+    ``(key, value, reason)``: the row spacing is at least the ball diameter and each
+    cage's width, and the spacing plus the wider of ball and cage fits in the width."""
+    out = []
+    z = sorted(r.axial_position for r in bearing.rows)
+    spacing = z[-1] - z[0]
+    row = bearing.rows[0]
+    d, cage = row.ball_diameter, row.cage.width
+    mm = lambda x: f"{x * 1e3:.4g} mm"  # noqa: E731
+    if spacing < d:
+        out.append(("pair.row_spacing", spacing,
+                    f"the two rows' balls ({mm(d)}) overlap at a spacing of {mm(spacing)}: the spacing "
+                    "must be at least the ball diameter"))
+    elif spacing < cage:
+        out.append(("pair.row_spacing", spacing,
+                    f"the two rows' cages ({mm(cage)} wide) overlap at a spacing of {mm(spacing)}: the "
+                    "spacing must be at least the cage width"))
+    extent = spacing + max(d, cage)
+    if extent > bearing.width:
+        out.append(("pair.row_spacing", spacing,
+                    f"the two rows span {mm(extent)} (spacing + the wider of ball and cage, "
+                    f"{mm(max(d, cage))}), more than the envelope width {mm(bearing.width)}"))
+    return out
+
+
+def _preload(bearing: Bearing, top: Table) -> Bearing:
+    """The pair with its preload applied (:func:`rvcore.preload.apply_preload`)."""
+    from rvcore.preload import apply_preload
+
+    if not (bearing.preload > 0.0 or bearing.preload_offset != 0.0):
+        return bearing
+    pair = top.table("pair")
+    key = "preload" if pair.has("preload") else "preload_offset"
+    try:
+        return apply_preload(bearing)
+    except ValueError as exc:
+        raise ConfigError(top.file, f"pair.{key}", pair.raw(key, None), str(exc)) from None
 
 
 def extra_geometry_problems(bearing: Bearing):
@@ -206,14 +291,24 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     inner_ring = InnerRing(shoulder_diameter=ir.get("shoulder_diameter"),
                            attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"))
     contact = _contact(top)
-    rows = tuple(_row(t) for t in top.tables("rows"))
+    row_tables = top.tables("rows")
+    rows = tuple(_row(t) for t in row_tables)
+    arrangement, preload, offset = "", 0.0, 0.0
+    if top.has("pair"):
+        rows, arrangement, preload, offset = _pair(top, row_tables, rows)
     bearing = Bearing(name=name, bore=bore, outer_diameter=od, width=width, rows=rows, ring_material=ring_mat, ball_material=ball_mat,
                       inner_ring=inner_ring, contact=contact, allow_ball_overlap=allow_overlap,
                       assumptions=_assumptions(top, raw), gravity=_gravity(top),
+                      arrangement=arrangement, preload=preload, preload_offset=offset,
                       source=top.get("source"), description=top.get("description"))
 
     warnings = []
-    for key, value, reason in list(geometry_problems(bearing)) + extra_geometry_problems(bearing):
+    problems = list(geometry_problems(bearing)) + extra_geometry_problems(bearing)
+    if arrangement:
+        problems += _pair_problems(bearing)
+    for key, value, reason in problems:
+        if arrangement:   # the file gives the design of both rows as rows[0]
+            key = key.replace("rows[1]", "rows[0]")
         if allow_overlap and is_overlap_problem(key, reason):
             warnings.append(reason)
             continue
@@ -224,7 +319,8 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
                        "as a warning (model.md §10)")
         raise ConfigError(file, key, shown, reason)
-    return dataclasses.replace(bearing, warnings=tuple(warnings))
+    bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
+    return _preload(bearing, top) if arrangement else bearing
 
 
 def load_bearing(path) -> Bearing:

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 from rvcore.driver import SolverSettings
 from rvcore.geometry import MOUNTINGS, ContactLaw
+from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 
 from ..errors import ConfigError
@@ -197,7 +198,8 @@ _BEARING = [
     _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
     _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
        source="rows[].axial_position"),
-    _q("rows[].radial_clearance", "length", "mm", "diametral clearance of the row", bounds="nonnegative",
+    _q("rows[].radial_clearance", "length", "mm",
+       "radial internal clearance of the row; negative: an interference (a radial preload)", bounds=None,
        default=0.0, source="rows[].radial_clearance"),
     Field("rows[].balls.count", "integer", "bearing", minimum=3, doc="number of balls in the row",
           source="rows[].ball_count"),
@@ -218,6 +220,19 @@ _BEARING = [
     _q("rows[].cage.land_stiffness", "stiffness_hertz", "N/m^1.5",
        "cage-land contact stiffness (required and positive when outer-land guided)",
        bounds="nonnegative", default=0.0, source="rows[].cage.land_stiffness"),
+]
+
+_PAIR = [
+    Field("pair.arrangement", "choice", "bearing", choices=tuple(ARRANGEMENTS), source="arrangement",
+          doc="how the pair's two rows are mirrored (the one [[rows]] entry is their design)"),
+    _q("pair.row_spacing", "length", "mm", "axial distance between the two rows' centre planes",
+       why="must be positive: the rows sit at -row_spacing/2 and +row_spacing/2"),
+    _q("pair.preload", "force", "kN", "axial preload force; the statics find the ring offset that gives it",
+       bounds="nonnegative", default=0.0, source="preload",
+       why="must not be negative: a preload force presses the rows against each other"),
+    _q("pair.preload_offset", "length", "um",
+       "total axial offset of the rows' inner raceways that preloads the pair (rvcore.preload), instead of preload",
+       bounds=None, default=0.0, source="preload_offset"),
 ]
 
 _CHANNEL_KINDS = {"radial_load": ("force", "kN"), "axial_load": ("force", "kN"),
@@ -281,7 +296,7 @@ _OPERATING_POINT = [
 ]
 
 #: Every field, in file order.
-FIELDS: tuple = tuple(_BEARING + _PROFILE + _SOLVER + _OPERATING_POINT)
+FIELDS: tuple = tuple(_BEARING + _PAIR + _PROFILE + _SOLVER + _OPERATING_POINT)
 
 _BY_PATH = {(f.file, f.path): f for f in FIELDS}
 _INDEX = re.compile(r"\[\d+\]")
