@@ -1,0 +1,126 @@
+"""``rvsweep statics`` and ``check`` on the preloaded pair: negative values after a space,
+--moment-x/--moment-y, the stiffness matrix and the per-row loads in --json, and
+``check --json``'s row_count and preload_N."""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.cli import build_parser, main
+
+ROOT = Path(__file__).resolve().parents[2]
+PAIR = str(ROOT / "sweeps" / "bearings" / "rv-main-pair.toml")
+BUILDABLE = str(ROOT / "sweeps" / "bearings" / "rv-main-buildable.toml")
+
+
+def statics(capsys, *args) -> dict:
+    assert main(["statics", "--json", *args]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("command", ["statics", "simulate"])
+def test_negative_value_after_a_space_parses(command):
+    """argparse takes "-10kN" for a value, not an option, in every command with loads."""
+    argv = [command, "--bearing", BUILDABLE, "--axial-load", "-10kN", "--moment", "-2.5 kN*m",
+            "--load-angle", "-.5deg"]
+    if command == "simulate":
+        argv += ["--speed", "-120deg/s", "--out", "case.nc"]
+    args = build_parser().parse_args(argv)
+    assert (args.axial_load, args.moment, args.load_angle) == ("-10kN", "-2.5 kN*m", "-.5deg")
+
+
+def test_an_unknown_option_is_still_an_error(capsys):
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["statics", "--bearing", BUILDABLE, "--axial-lode", "1kN"])
+
+
+def test_negative_axial_load_mirrors_the_pair(capsys):
+    """The back-to-back pair is mirror-symmetric about z = 0: -F_a moves the ring as far
+    as +F_a, the other way, and the rows swap their loads."""
+    pos = statics(capsys, "--bearing", PAIR, "--axial-load", "10kN", "--no-gravity")
+    neg = statics(capsys, "--bearing", PAIR, "--axial-load", "-10kN", "--no-gravity")
+    assert neg["axial_load_N"] == -10e3
+    assert neg["inner_ring_z_m"] == pytest.approx(-pos["inner_ring_z_m"], rel=1e-6)
+    assert neg["row_axial_load_N"] == pytest.approx(pos["row_axial_load_N"][::-1], abs=1e-3)
+    # axial equilibrium: the preloaded rows push opposite ways, their difference is F_a
+    fa = pos["row_axial_load_N"]
+    assert abs(fa[0] - fa[1]) == pytest.approx(10e3, rel=1e-6)
+
+
+def test_statics_json_has_the_stiffness_and_row_loads(capsys):
+    out = statics(capsys, "--bearing", PAIR, "--radial-load", "20kN", "--axial-load", "5kN", "--no-gravity")
+    k = np.array(out["stiffness_matrix"])
+    assert k.shape == (5, 5)
+    assert out["stiffness_matrix_labels"] == ["x", "y", "z", "tilt_x", "tilt_y"]
+    assert np.array(out["stiffness_matrix_units"]).shape == (5, 5)
+    # K is the Hessian of the contact energy: symmetric, positive definite when held
+    assert np.allclose(k, k.T, rtol=1e-3, atol=1e-3 * np.abs(k).max())
+    assert np.all(np.linalg.eigvalsh((k + k.T) / 2) > 0)
+    # with the radial load along +x (load angle 0), the scalars are the direct terms
+    assert out["radial_stiffness_N_per_m"] == pytest.approx(k[0, 0])
+    assert out["axial_stiffness_N_per_m"] == pytest.approx(k[2, 2])
+    assert out["tilting_stiffness_Nm_per_rad"] == pytest.approx(k[4, 4])
+    assert out["row_count"] == 2 and out["preload_N"] == pytest.approx(3.5e3, rel=1e-6)
+    assert len(out["row_axial_load_N"]) == len(out["row_radial_load_N"]) == 2
+    # radial equilibrium: the rows share the 20 kN
+    assert sum(out["row_radial_load_N"]) == pytest.approx(20e3, rel=1e-4)
+
+
+def test_moment_y_is_the_moment_at_load_angle_zero_and_moment_x_at_minus_90(capsys):
+    """--moment turns about (-sin ψ, cos ψ, 0): y at ψ = 0, x at ψ = -90 deg."""
+    base = ["--bearing", PAIR, "--no-gravity"]
+    m = statics(capsys, *base, "--moment", "2kN*m")
+    my = statics(capsys, *base, "--moment-y", "2kN*m")
+    mx = statics(capsys, *base, "--moment-x", "2 kN*m")
+    m90 = statics(capsys, *base, "--moment", "2kN*m", "--load-angle", "-90deg")
+    assert my["inner_ring_tilt_y_rad"] == pytest.approx(m["inner_ring_tilt_y_rad"], rel=1e-6)
+    assert mx["inner_ring_tilt_x_rad"] == pytest.approx(m90["inner_ring_tilt_x_rad"], rel=1e-6)
+    assert mx["inner_ring_tilt_x_rad"] > 0 and my["inner_ring_tilt_y_rad"] > 0
+    # the axisymmetric pair tilts as far about x as about y
+    assert mx["inner_ring_tilt_x_rad"] == pytest.approx(my["inner_ring_tilt_y_rad"], rel=1e-4)
+    assert mx["moment_x_Nm"] == 2e3 and mx["applied_moment_Nm"] == pytest.approx([2e3, 0.0], abs=1e-9)
+
+
+def test_back_to_back_is_stiffer_in_tilt_than_face_to_face(capsys):
+    """A tilt θ about y moves a ball's inner contact along its line of contact by
+    θ·cos ψ·(z_row·cos α − (d_m/2)·sin α): the lever arm is the distance of the line of
+    contact from the bearing centre, (d_m/2)·sin|α| + (s/2)·cos α back-to-back (the lines
+    meet the axis outside the rows) and (d_m/2)·sin|α| − (s/2)·cos α face-to-face. With
+    the same rows and preload every contact has the same stiffness in both, so the
+    tilting stiffnesses stand as the squared arms (up to the small stiffness of the
+    contact angles turning under the preload)."""
+    base = ["--bearing", PAIR, "--no-gravity"]
+    o = statics(capsys, *base)
+    x = statics(capsys, *base, "--set", "pair.arrangement=face-to-face")
+    r, s, a = 351.5e-3 / 2, 30e-3, math.radians(30)   # the file's pitch, spacing and angle
+    arm_o, arm_x = r * math.sin(a) + s / 2 * math.cos(a), r * math.sin(a) - s / 2 * math.cos(a)
+    ratio = o["tilting_stiffness_Nm_per_rad"] / x["tilting_stiffness_Nm_per_rad"]
+    assert ratio == pytest.approx((arm_o / arm_x) ** 2, rel=0.05)
+    # the axial stiffness does not depend on the arrangement (same rows, same preload)
+    assert o["axial_stiffness_N_per_m"] == pytest.approx(x["axial_stiffness_N_per_m"], rel=1e-3)
+
+
+def test_plain_statics_prints_engineering_units(capsys):
+    assert main(["statics", "--bearing", PAIR, "--axial-load", "-5kN", "--moment-x", "1kNm"]) == 0
+    out = capsys.readouterr().out
+    assert "N/um" in out and "N m/mrad" in out and "row 1 load" in out
+
+
+def test_check_json_row_count_and_preload(capsys):
+    assert main(["check", "--json", PAIR, BUILDABLE]) == 0
+    pair, single = json.loads(capsys.readouterr().out)
+    assert pair["row_count"] == 2 and pair["arrangement"] == "back-to-back"
+    assert pair["preload_N"] == pytest.approx(3.5e3, rel=1e-6)   # the file's pair.preload
+    assert pair["preload_offset_m"] > 0
+    assert single["row_count"] == 1 and single["preload_N"] == 0.0
+
+
+def test_check_prints_the_pair(capsys):
+    assert main(["check", PAIR]) == 0
+    out = capsys.readouterr().out
+    assert "back-to-back pair, rows 30 mm apart; preload 3.5 kN" in out
+    assert "axial position -15 mm" in out and "axial position 15 mm" in out
