@@ -30,6 +30,7 @@ from numba import njit
 from scipy import optimize
 
 from .geometry import Bearing
+from .stiffness import stiffness_scalars, tangent_stiffness
 from .contact import (hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
                       to_ring_frame)
 from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ,
@@ -165,15 +166,40 @@ class StaticResult:
     max_contact_pressure: float   # [Pa]
     residual: np.ndarray          # force/moment imbalance on the ring [N, N m]
     applied: np.ndarray           # applied fx, fy, fz [N], mx, my [N m], the ring's weight included
+    row_of_ball: np.ndarray       # row index of each ball
+    row_forces: np.ndarray        # (n_rows, 3): each row's force on the inner ring [N]
+    stiffness_matrix: np.ndarray | None  # (5, 5) tangent stiffness over x, y, z, tilt_x, tilt_y [SI]
+    stiffness_change: float       # relative change of K when the difference step is halved [-]
+    load_angle: float = 0.0       # ψ of the radial load [rad]
+
+    @property
+    def row_axial_loads(self) -> np.ndarray:
+        """Axial force each row carries [N] (magnitude of its force on the ring along z)."""
+        return np.abs(self.row_forces[:, 2])
+
+    @property
+    def row_radial_loads(self) -> np.ndarray:
+        """Radial force each row carries [N] (magnitude of its force on the ring in x–y)."""
+        return np.hypot(self.row_forces[:, 0], self.row_forces[:, 1])
+
+    def stiffness_scalars(self):
+        """Radial [N/m], axial [N/m] and tilting [N m/rad] stiffness in the load frame."""
+        return stiffness_scalars(self.stiffness_matrix, self.load_angle)
 
 
 _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
 
 
 def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
-                  moment: float = 0.0, load_angle: float = 0.0, *, x0=None,
-                  gravity: bool = True) -> StaticResult:
+                  moment: float = 0.0, load_angle: float = 0.0, *, moment_x: float = 0.0,
+                  moment_y: float = 0.0, x0=None, gravity: bool = True,
+                  stiffness: bool = True) -> StaticResult:
     """Equilibrium of the inner ring under the given loads and its own weight.
+
+    The applied load vector is ``(F_r·cos ψ, F_r·sin ψ, F_a, M_x, M_y)`` with
+    ``M_x = −M·sin ψ + moment_x`` and ``M_y = M·cos ψ + moment_y``: ``moment`` turns about
+    the axis normal to the radial load (an overhung load's moment), ``moment_x`` and
+    ``moment_y`` add any other moment, such as one about the radial load's own axis.
 
     Parameters
     ----------
@@ -186,12 +212,16 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         Tilting moment about the axis normal to the radial load, (−sin ψ, cos ψ, 0) [N m].
     load_angle : float
         ψ [rad].
+    moment_x, moment_y : float
+        Further moment about x and y [N m].
     x0 : array_like, optional
         Initial guess of the pose (x, y, z, tilt_x, tilt_y).
     gravity : bool
         Include the inner ring's weight ``m·g`` (the mounting's gravity vector; a
         ``CompiledBearing`` carries its own, zero when compiled without gravity). The
         balls' weights (a fraction of a newton each) are left out of the statics.
+    stiffness : bool
+        Also form the 5×5 tangent stiffness at the equilibrium (:mod:`rvcore.stiffness`).
 
     Raises
     ------
@@ -211,10 +241,10 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         ball_rz[p0:p0 + z, 0] = rows[r, R_PITCH_R]
         ball_rz[p0:p0 + z, 1] = rows[r, R_ZROW]
     c, s = math.cos(load_angle), math.sin(load_angle)
-    applied = np.array([radial_load * c, radial_load * s, axial_load, -moment * s, moment * c])
+    applied = np.array([radial_load * c, radial_load * s, axial_load,
+                        -moment * s + moment_x, moment * c + moment_y])
     if gravity:
         applied[:3] += model.params[P_RING_M] * model.params[[P_GX, P_GY, P_GZ]]
-    load_scale = max(np.abs(applied[:3]).sum(), np.abs(applied[3:]).sum() / 0.1, 1.0)
     d_max = float(rows[:, R_HALF_D].max()) * 2
 
     def balance(v):
@@ -222,16 +252,22 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         fx, fy, fz, mx, my, e = ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)
         return np.array([fx, fy, fz, mx, my]) + applied, e
 
+    # a preloaded bearing carries internal loads at rest: they set the scale too
+    v_start = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
+    balance(v_start)
+    internal = float(q_out.max(initial=0.0))
+    load_scale = max(np.abs(applied[:3]).sum(), np.abs(applied[3:]).sum() / 0.1, internal, 1.0)
+
     def objective(v):
         res, e = balance(v)
         u = v * _SCALE
         return (e - applied @ u) / load_scale / 1e-5, -res * _SCALE / load_scale / 1e-5
 
-    if not np.any(applied):
-        v = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
+    if not np.any(applied) and internal == 0.0:
+        v = v_start   # nothing loads the ring: it stays where it is
     else:
-        v0 = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
-        if x0 is None:
+        v0 = v_start.copy()
+        if x0 is None and np.any(applied[:3]):
             # start a few microns along the load so that some contacts are engaged
             f = applied[:3] / max(np.linalg.norm(applied[:3]), 1e-300)
             v0[:3] = f * 1.0
@@ -257,6 +293,8 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         raise NoEquilibriumError(
             f"no equilibrium: every ball is unloaded under F_r = {radial_load:.6g} N, "
             f"F_a = {axial_load:.6g} N, M = {moment:.6g} N m")
+    row_forces = np.zeros((rows.shape[0], 3))
+    row_of_ball = np.zeros(nb, dtype=int)
     rings = np.full(n_arcs, -1)
     angles = np.full_like(q_out, np.nan)
     pc3 = np.zeros(n_arcs)
@@ -266,19 +304,35 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
                          int(rows[r, R_NARC]))
         rings[:na] = arcs[a0:a0 + na, A_RING]
         pc3[:na] = np.maximum(pc3[:na], arcs[a0:a0 + na, A_PC3])
+        row_of_ball[p0:p0 + z] = r
         for j in range(p0, p0 + z):
             ex, ey = pockets[j]
             azim[j] = math.atan2(ey, ex)
             for k in range(na):
+                if arcs[a0 + k, A_RING] == 0:   # the row's force on the inner ring, as ring_balance sums it
+                    row_forces[r] += q_out[j, k] * n_out[j, k, :3]
                 if q_out[j, k] > 0:
                     ne = n_out[j, k, 0] * ex + n_out[j, k, 1] * ey
                     nz = n_out[j, k, 2]
                     sign = -1.0 if arcs[a0 + k, A_RING] == 0 else 1.0
                     angles[j, k] = math.atan2(sign * nz, sign * ne)
     p_max = float(np.max(np.cbrt(pc3[None, :] * q_out))) if q_out.size else 0.0
+    result = dict(ball_positions=ball_rz.copy(), ball_loads=q_out.copy(),
+                  max_contact_load=float(q_out.max(initial=0.0)))
+    k_matrix, k_change = None, float("nan")
+    if stiffness:
+        base = ball_rz.copy()
+
+        def ball_forces(uu):
+            ball_rz[:] = base   # every pose starts from the equilibrium's balls
+            return balance(np.asarray(uu) / _SCALE)[0] - applied
+
+        k_matrix, k_change = tangent_stiffness(ball_forces, u, float(rows[:, R_PITCH_R].max()))
+        ball_rz[:] = base
     return StaticResult(
         displacement=u, radial_displacement=float(u[0] * c + u[1] * s), axial_displacement=float(u[2]),
-        ball_positions=ball_rz.copy(), azimuths=azim, ball_loads=q_out.copy(), contact_angles=angles,
-        arc_rings=rings, loaded_ball_count=int(loaded.sum()), max_contact_load=float(q_out.max(initial=0.0)),
-        max_contact_pressure=p_max, residual=res, applied=applied,
+        azimuths=azim, contact_angles=angles, arc_rings=rings, loaded_ball_count=int(loaded.sum()),
+        max_contact_pressure=p_max, residual=res,
+        applied=applied, row_of_ball=row_of_ball, row_forces=row_forces,
+        stiffness_matrix=k_matrix, stiffness_change=k_change, load_angle=float(load_angle), **result,
     )
