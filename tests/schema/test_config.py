@@ -124,9 +124,13 @@ def test_non_positive_size(buildable_raw, key, value):
     expect_error(bearing_from_dict, raw, key, value, ["must be positive"])
 
 
-def test_negative_clearance(buildable_raw):
+def test_negative_clearance_is_accepted_as_an_interference(buildable_raw):
+    # a negative radial clearance is a radial preload (tests/schema/test_pair_file.py
+    # checks the interference it gives); a clearance must still be a length
     raw = apply_override(buildable_raw, "rows[0].radial_clearance", "-0.01 mm")
-    expect_error(bearing_from_dict, raw, "rows[0].radial_clearance", "-0.01 mm", ["negative"])
+    assert bearing_from_dict(raw, file=FILE).rows[0].radial_clearance == pytest.approx(-1e-5)
+    raw = apply_override(buildable_raw, "rows[0].radial_clearance", "-0.01 kg")
+    expect_error(bearing_from_dict, raw, "rows[0].radial_clearance", "-0.01 kg")
 
 
 def test_ball_count_must_be_an_integer(buildable_raw):

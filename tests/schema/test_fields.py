@@ -94,7 +94,12 @@ def _with_bearing_field(raw, f):
 
 @pytest.mark.parametrize("f", schema.fields_of("bearing"), ids=lambda f: f.path)
 def test_every_bearing_field_is_accepted_by_the_loader(f):
-    raw, key = _with_bearing_field(read_toml(shipped_file(DEFAULT_BEARING)), f)
+    base = read_toml(shipped_file(DEFAULT_BEARING))
+    if f.path.startswith("pair."):   # a pair's keys, in the shipped pair
+        base = read_toml(shipped_file("bearings/rv-main-pair.toml"))
+        if f.path == "pair.preload_offset":   # one of preload / preload_offset
+            del base["pair"]["preload"]
+    raw, key = _with_bearing_field(base, f)
     assert lookup(raw, key, None) is not None
     bearing_from_dict(raw, "x.toml")
 
