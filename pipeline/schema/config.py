@@ -44,6 +44,17 @@ Bearing file
                    ("outer-land" | "ball"), density, youngs_modulus, poisson_ratio,
                    land_clearance and land_stiffness (required when outer-land guided)
 
+A pair of mirrored rows gives one ``[[rows]]`` entry (without ``axial_position``), the
+design of both, and a ``[pair]`` table::
+
+    [pair]         arrangement ("back-to-back" | "face-to-face" | "tandem"), row_spacing;
+                   preload = 0 (a force) or preload_offset = 0 (the inner raceways' offset),
+                   not both; a tandem pair takes neither
+
+The loader builds the rows at ∓row_spacing/2 with ``rvcore.preload.mirrored_rows`` and,
+when preloaded, solves the offset with ``rvcore.preload.apply_preload``.
+``rows[].radial_clearance`` may be negative: an interference (a radially preloaded row).
+
 Assumptions: TOML comments are not readable by ``tomllib``, so each assumed value
 carries a ``# ASSUMPTION: why`` comment for the reader *and* its key path in the
 top-level ``assumptions`` list for the program. Each listed path must exist in the file
