@@ -74,9 +74,10 @@ Profile file
                    error. Left out, a constant 0 (the direction is load_angle)
     [phases]       startup = ["0.3 s", "0.8 s"], steady = [...], deceleration = [...]
 
-Every channel's values may be swept like any profile key (``profile.moment.value``,
-``profile.load_direction.value``, as lists), and the operating point's ``moment`` and
-``load_angle`` are sweep axes of their own.
+A breakpoint of any channel the profile file gives is a sweep axis like any profile key
+(``profile.load_direction.value[0] = ["0 deg", "30 deg"]``,
+``profile.moment.fraction[1]``); the operating point's ``moment`` and ``load_angle`` are
+sweep axes of their own.
 """
 from __future__ import annotations
 
