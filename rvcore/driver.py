@@ -217,17 +217,16 @@ def initial_state(model, resolved, t_start, seed: int = -1):
     from .model import nominal_state, BALL_STATES, P_GX, P_GY, P_GZ, R_BALL0, R_Z, R_POCKET0
     from .quasistatic import solve_statics
 
-    table, meta = resolved.arrays()
-    from .profile import channel_value
+    from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED
 
-    fr = channel_value(table, meta, 0, t_start)
-    fa = channel_value(table, meta, 1, t_start)
-    w = channel_value(table, meta, 2, t_start)
+    fr = resolved.value(CH_RADIAL, t_start)
+    fa = resolved.value(CH_AXIAL, t_start)
+    w = resolved.value(CH_SPEED, t_start)
+    moment = resolved.value(CH_MOMENT, t_start)
+    psi = resolved.value(CH_DIRECTION, t_start)
     y = nominal_state(model)
-    lc, ls = model.params[3], model.params[4]
-    moment = model.params[5]
     if fr != 0.0 or fa != 0.0 or moment != 0.0 or np.any(model.params[[P_GX, P_GY, P_GZ]]):
-        st = solve_statics(model, fr, fa, moment, float(np.arctan2(ls, lc)))
+        st = solve_statics(model, fr, fa, moment, psi)
         y[0:5] = st.displacement
         for r in range(model.rows.shape[0]):
             b0, z, p0 = int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z]), int(model.rows[r, R_POCKET0])
@@ -247,9 +246,11 @@ def peak_contact_load(model, resolved) -> float:
     """Largest quasi-static ball–race load over the cycle's extreme loads (and the ring's
     weight) plus the centrifugal force [N].
 
-    The radial load is taken at its largest magnitude, and the axial load at both its
-    largest forward and its largest reverse value: a profile whose thrust changes sign
-    loads the opposite arcs, and the step must be stable there too.
+    The radial load is taken at its largest magnitude, and the axial load and the tilting
+    moment at both their largest forward and their largest reverse values: a profile
+    whose thrust or moment changes sign loads the opposite arcs, and the step must be
+    stable there too. The extremes are combined as if they coincided (an upper bound),
+    at every direction of the radial load the profile names at a breakpoint.
     """
     from .quasistatic import solve_statics
     from .model import P_GX, P_GY, P_GZ, R_MB, R_PITCH_R
@@ -259,14 +260,20 @@ def peak_contact_load(model, resolved) -> float:
     fa_min = float(np.min(resolved.axial[1]))
     axial_extremes = (float(np.max(resolved.axial[1])),) + ((fa_min,) if fa_min < 0.0 else ())
     w = float(np.max(np.abs(resolved.speed[1])))
-    lc, ls = model.params[3], model.params[4]
+    # the moment at both its extremes where it changes sign (it tilts the other way)
+    m_max, m_min = float(np.max(resolved.moment[1])), float(np.min(resolved.moment[1]))
+    moment_extremes = (m_max,) + ((m_min,) if m_min < 0.0 else ())
+    # the direction matters only through the ring's weight: every direction the profile
+    # names at a breakpoint (one, for a constant direction)
+    directions = tuple(dict.fromkeys(float(v) for v in resolved.direction[1]))
     q = 0.0
     weight = np.any(model.params[[P_GX, P_GY, P_GZ]])
     for fa in axial_extremes:
-        # the ring's weight alone loads the balls too (solve_statics adds it from the model)
-        if fr or fa or model.params[5] or weight:
-            q = max(q, solve_statics(model, fr, fa, model.params[5],
-                                     float(np.arctan2(ls, lc))).max_contact_load)
+        for moment in moment_extremes:
+            # the ring's weight alone loads the balls too (solve_statics adds it from the model)
+            if fr or fa or moment or weight:
+                for psi in directions:
+                    q = max(q, solve_statics(model, fr, fa, moment, psi).max_contact_load)
     centrifugal = float(np.max(model.rows[:, R_MB] * model.rows[:, R_PITCH_R] * (0.5 * w) ** 2))
     return q + centrifugal
 
@@ -305,7 +312,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     from .kernels import new_diagnostics
 
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
-                            moment=op.moment, load_angle=op.load_angle, gravity=settings.gravity)
+                            gravity=settings.gravity)
     resolved = profile.resolve(op)
     table, meta = resolved.arrays()
     t_start = settings.start_time
@@ -340,7 +347,9 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     rows = model.rows
     e_ref = 0.5 * v_ref**2 * (model.params[0] + float(np.sum(rows[:, R_CAGE_M]))
                               + float(np.sum(rows[:, R_Z] * (rows[:, R_MB] + rows[:, R_IB] / rows[:, R_HALF_D]**2))))
-    f_max = float(max(np.max(np.abs(resolved.radial[1])), np.max(np.abs(resolved.axial[1])), 1.0))
+    # a tilting moment does work like a force pair at the balls (its peak over the pitch radius)
+    f_moment = float(np.max(np.abs(resolved.moment[1]))) / float(np.min(rows[:, R_PITCH_R]))
+    f_max = float(max(np.max(np.abs(resolved.radial[1])), np.max(np.abs(resolved.axial[1])), f_moment, 1.0))
     ke_limit = 100.0 * e_ref + f_max * 2 * float(rows[:, R_HALF_D].max())
 
     t0 = _time.perf_counter()

@@ -35,11 +35,10 @@ import numpy as np
 from numba import njit
 
 from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
-from .kernels import (CH_AXIAL, CH_RADIAL, CH_SPEED, D_COS_ALPHA, D_LOADED, D_MAX_P3, D_MAX_PEN,
-                      D_MAX_QI, D_MAX_QO, D_PEN_BALL, rhs)
-from .model import (BALL_STATES, P_LOAD_COS, P_LOAD_SIN, P_RING_IP, P_RING_IT, P_RING_M,
+from .kernels import (D_COS_ALPHA, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_QI, D_MAX_QO, D_PEN_BALL, rhs)
+from .model import (BALL_STATES, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z)
-from .profile import channel_value
+from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_value
 
 #: Output columns of ``out``, in order, by their pipeline.md names; the sensor readings
 #: follow in columns ``N_OUT + s``. The driver labels the columns from this tuple alone.
@@ -47,9 +46,9 @@ OUTPUT_SERIES = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_til
                  "inner_ring_tilt_y", "radial_displacement", "axial_displacement",
                  "applied_radial_load", "applied_axial_load", "inner_ring_speed", "cage_speed",
                  "max_inner_contact_load", "max_outer_contact_load", "loaded_ball_count",
-                 "max_contact_pressure")
+                 "max_contact_pressure", "applied_moment", "load_direction")
 (O_X, O_Y, O_Z, O_TX, O_TY, O_DR, O_DA, O_FR, O_FA, O_W, O_CAGE, O_QI, O_QO, O_LOADED,
- O_PMAX) = range(len(OUTPUT_SERIES))
+ O_PMAX, O_M, O_PSI) = range(len(OUTPUT_SERIES))
 N_OUT = len(OUTPUT_SERIES)
 
 #: Tracked signals, one accumulator block each per phase: δ_r, δ_a, then sensor s at
@@ -162,7 +161,6 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     n = y.size
     n_sensors = sensors.shape[0]
     k1, k2, k3, k4, tmp = work[0], work[1], work[2], work[3], work[4]
-    lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
     n_rows = rows.shape[0]
     n_out = 0
     half = 0.5 * dt
@@ -180,7 +178,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if diag[D_MAX_PEN] > pen_limit:
             return PENETRATION, t, int(diag[D_PEN_BALL]), n_out
 
-        dr = y[0] * lc + y[1] * ls
+        # δ_r along the radial load's direction at t (the profile may turn it)
+        psi = channel_value(table, meta, CH_DIRECTION, t)
+        dr = y[0] * math.cos(psi) + y[1] * math.sin(psi)
         da = y[2]
         w_ring = channel_value(table, meta, CH_SPEED, t)
         if i < n_steps:
@@ -209,6 +209,8 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
             o[O_FR] = channel_value(table, meta, CH_RADIAL, t)
             o[O_FA] = channel_value(table, meta, CH_AXIAL, t)
             o[O_W] = w_ring
+            o[O_M] = channel_value(table, meta, CH_MOMENT, t)
+            o[O_PSI] = psi
             o[O_CAGE] = y[int(rows[0, R_CAGE0]) + 7]
             for r in range(1, n_rows):   # the other rows' cage speeds follow the sensors
                 o[N_OUT + n_sensors + r - 1] = y[int(rows[r, R_CAGE0]) + 7]

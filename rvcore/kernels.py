@@ -29,6 +29,11 @@ come out of these; ``g`` is the gravity vector of the bearing's mounting)::
             I_t·θ̈x + I_p·(ω̇·θy + ω·θ̇y) = M_x            (small-tilt Euler equations of a
             I_t·θ̈y − I_p·(ω̇·θx + ω·θ̇x) = M_y             ring spinning at the prescribed ω)
     cage:   m_c·dv/dt = ΣF + m_c·g,     I_c·dφ̇/dt = ΣT_z
+
+The applied loads are the profile's channels at ``t`` (:mod:`rvcore.profile`):
+``F_ext = F_r·(cos ψ, sin ψ, 0) + F_a·ẑ`` and the tilting moment ``M·(−sin ψ, cos ψ, 0)``
+(about the axis normal to the radial load) added to ``(M_x, M_y)``; ψ is read per call
+and its cosine and sine taken there, so a profile may turn the load.
 """
 from __future__ import annotations
 
@@ -39,8 +44,7 @@ import numpy as np
 from numba import njit
 
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING,
-                    P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_LOAD_COS, P_LOAD_SIN, P_MOMENT,
-                    P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_V_D, P_V_S,
+                    P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_V_D, P_V_S,
                     R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE,
                     R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
                     R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
@@ -48,7 +52,8 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
                       friction_force, friction_slope_at_zero_slip, hertz_energy, land_penetration,
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
-from .profile import channel_rate, channel_value
+from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
+                      channel_rate, channel_value)
 
 # diag slots written by rhs()
 D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
@@ -67,7 +72,6 @@ def new_diagnostics(n_rows: int, n_balls: int):
     """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row)."""
     return np.zeros(N_DIAG + n_rows - 1), np.zeros((n_balls, N_BDIAG))
 
-CH_RADIAL, CH_AXIAL, CH_SPEED = 0, 1, 2
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
@@ -75,6 +79,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
+    moment = channel_value(table, meta, CH_MOMENT, t)   # about (−sin ψ, cos ψ, 0), normal to F_r
+    psi = channel_value(table, meta, CH_DIRECTION, t)
+    lc, ls = math.cos(psi), math.sin(psi)
     w_ring = channel_value(table, meta, CH_SPEED, t)
     dw_ring = channel_rate(table, meta, CH_SPEED, t)
     mu_s, v_s, mu_d, v_d = params[P_MU_S], params[P_V_S], params[P_MU_D], params[P_V_D]
@@ -279,9 +286,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
         diag[D_COS_ALPHA + r] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
 
     # ---- inner ring: applied loads, contact reactions, small-tilt Euler equations
-    lc, ls = params[P_LOAD_COS], params[P_LOAD_SIN]
     m_ring, ip, it = params[P_RING_M], params[P_RING_IP], params[P_RING_IT]
-    moment = params[P_MOMENT]  # constant tilting moment about the axis normal to F_r
     dy[0] = vxi
     dy[1] = vyi
     dy[2] = vzi
@@ -313,7 +318,9 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     """
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
-    lc, ls, moment = params[P_LOAD_COS], params[P_LOAD_SIN], params[P_MOMENT]
+    moment = channel_value(table, meta, CH_MOMENT, t)
+    psi = channel_value(table, meta, CH_DIRECTION, t)
+    lc, ls = math.cos(psi), math.sin(psi)
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)

@@ -28,15 +28,15 @@ CAGE_STATES = 8
 BALL_STATES = 9
 
 # params columns
+# (the applied loads, the tilting moment and the load's direction are not here: they are
+# channels of the resolved profile, rvcore.profile.CH_*, read by the kernels at each t)
 P_RING_M, P_RING_IP, P_RING_IT = 0, 1, 2
-P_LOAD_COS, P_LOAD_SIN = 3, 4
-P_MOMENT = 5
-P_DAMP_C, P_DAMP_D = 6, 7
-P_POCKET_C, P_LAND_C = 8, 9
-P_MU_S, P_V_S, P_MU_D, P_V_D = 10, 11, 12, 13
-P_FRICTION, P_DAMPING = 14, 15
-P_GX, P_GY, P_GZ = 16, 17, 18      # gravitational acceleration in the bearing frame [m s^-2]
-N_PARAMS = 19
+P_DAMP_C, P_DAMP_D = 3, 4
+P_POCKET_C, P_LAND_C = 5, 6
+P_MU_S, P_V_S, P_MU_D, P_V_D = 7, 8, 9, 10
+P_FRICTION, P_DAMPING = 11, 12
+P_GX, P_GY, P_GZ = 13, 14, 15      # gravitational acceleration in the bearing frame [m s^-2]
+N_PARAMS = 16
 
 # rows columns
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
@@ -65,18 +65,17 @@ class CompiledBearing:
 
 
 def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = True,
-                    moment: float = 0.0, load_angle: float = 0.0,
                     gravity: bool = True) -> CompiledBearing:
     """Pack ``bearing`` for the kernels; Hertz constants are solved here, once.
 
     ``gravity`` False zeroes the bearing's gravity vector (model.md §9 conservation checks).
+    The loads, the tilting moment and the load's direction are not compiled in: they are
+    the profile's channels (:meth:`rvcore.profile.Profile.resolve`).
     """
     m_ring, ip_ring, it_ring = inner_ring_mass_properties(bearing)
     c = bearing.contact
     params = np.zeros(N_PARAMS)
     params[[P_RING_M, P_RING_IP, P_RING_IT]] = m_ring, ip_ring, it_ring
-    params[P_LOAD_COS], params[P_LOAD_SIN] = math.cos(load_angle), math.sin(load_angle)
-    params[P_MOMENT] = moment
     params[P_DAMP_C], params[P_DAMP_D] = c.damping, c.damping_depth
     params[P_POCKET_C], params[P_LAND_C] = c.pocket_damping, c.land_damping
     params[[P_MU_S, P_V_S, P_MU_D, P_V_D]] = c.mu_static, c.v_static, c.mu_dynamic, c.v_dynamic

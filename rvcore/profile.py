@@ -1,12 +1,36 @@
-"""Service cycles as data: breakpoint tables for F_r, F_a and ω (model.md §6).
+"""Service cycles as data: breakpoint tables for F_r, F_a, ω, M and ψ (model.md §6).
 
-A profile has three channels. Each channel is a table of (time, value) breakpoints,
-either absolute in SI or as fractions of the operating point, joined linearly or by the
-cubic smoothstep (continuous derivative, so a smoothstep speed channel is a jerk-limited
-S-curve). Before the first breakpoint a channel holds its first value, after the last
-its last value. The phases (start-up, steady, deceleration) are named time windows.
+A profile has five channels, numbered by the ``CH_*`` constants below (their one home):
 
-The numba kernels read a resolved profile as three flat arrays (see
+========== =================== ========================================================
+index      channel             resolved value (SI)
+========== =================== ========================================================
+CH_RADIAL  ``radial_load``     radial load F_r [N], along the direction ψ
+CH_AXIAL   ``axial_load``      axial load F_a [N], towards +z
+CH_SPEED   ``speed``           prescribed inner-ring speed ω [rad s^-1]
+CH_MOMENT  ``moment``          tilting moment M [N m] about (−sin ψ, cos ψ, 0), the axis
+                               normal to the radial load
+CH_DIRECTION ``load_direction`` direction ψ of the radial load (and of the moment's
+                               lever) in the x–y plane, from +x [rad]
+========== =================== ========================================================
+
+Each channel is a table of (time, value) breakpoints, either absolute in SI or as
+fractions of the operating point, joined linearly or by the cubic smoothstep
+(continuous derivative, so a smoothstep speed channel is a jerk-limited S-curve).
+Before the first breakpoint a channel holds its first value, after the last its last
+value. The phases (start-up, steady, deceleration) are named time windows.
+
+The moment and the direction channels are optional:
+
+- ``moment`` left out follows the radial-load channel's table (same times, same
+  interpolation), scaled so that M(t) = M0·F_r(t)/F_r0 — the moment ramps with the load
+  as it does when both come from one eccentric load. With the operating point's M0 = 0
+  (the default) it is zero throughout.
+- ``load_direction`` is always an absolute angle *offset* [rad] added to the operating
+  point's ``load_angle`` (a fraction of an angle means nothing); left out it is a
+  constant 0, so ψ = ``load_angle``.
+
+The numba kernels read a resolved profile as two flat arrays (see
 :func:`ResolvedProfile.arrays`); :func:`channel_value` and :func:`channel_rate` evaluate
 them.
 """
@@ -22,6 +46,10 @@ from .contact import unit_step, unit_step_slope
 LINEAR = 0
 SMOOTHSTEP = 1
 INTERPOLATIONS = {"linear": LINEAR, "smoothstep": SMOOTHSTEP}
+
+#: Channel indices of the resolved table (:meth:`ResolvedProfile.arrays`), in row order.
+CH_RADIAL, CH_AXIAL, CH_SPEED, CH_MOMENT, CH_DIRECTION = range(5)
+N_CHANNELS = 5
 
 #: Phase names in flag order; the NetCDF ``phase`` coordinate uses these flag values.
 PHASES = ("startup", "steady", "deceleration")
@@ -74,9 +102,19 @@ class OperatingPoint:
     load_angle: float = 0.0
 
 
+#: The direction channel of a profile that gives none: a constant offset of 0 rad.
+NO_DIRECTION_OFFSET = Channel((0.0,), (0.0,), relative=False)
+
+
 @dataclass(frozen=True)
 class Profile:
-    """A duty cycle: three channels, the phase windows and the cycle's end time [s]."""
+    """A duty cycle: the channels, the phase windows and the cycle's end time [s].
+
+    ``moment`` None follows the radial-load channel (:meth:`moment_channel`);
+    ``load_direction`` None is a constant 0 rad offset. ``load_direction`` must be
+    absolute (``relative`` False): its values [rad] are added to the operating point's
+    ``load_angle``.
+    """
 
     name: str
     radial_load: Channel
@@ -85,6 +123,37 @@ class Profile:
     phases: tuple  # ((name, start, end), ...) in PHASES order
     duration: float
     description: str = ""
+    moment: Channel | None = None
+    load_direction: Channel | None = None
+
+    def __post_init__(self):
+        if self.load_direction is not None and self.load_direction.relative:
+            raise ValueError(f"profile {self.name!r}: the load_direction channel is an absolute angle "
+                             "offset [rad]; a fraction of the operating point's angle means nothing")
+
+    def direction_channel(self) -> Channel:
+        """The direction channel in effect: offsets [rad] added to ``load_angle``."""
+        return NO_DIRECTION_OFFSET if self.load_direction is None else self.load_direction
+
+    def moment_channel(self, op: "OperatingPoint") -> Channel:
+        """The moment channel in effect for ``op``.
+
+        Without a moment channel of its own, the radial-load channel's times and
+        interpolation with values M0·F_r(t)/F_r0 as fractions of ``op.moment``: its own
+        fractions when it is relative; for an absolute radial channel its values over
+        ``op.radial_load``, or over their largest magnitude when ``op.radial_load`` is 0
+        (all zero when the channel is). M0 = 0 gives zero throughout.
+        """
+        if self.moment is not None:
+            return self.moment
+        ch = self.radial_load
+        values = np.asarray(ch.values, dtype=float)
+        if not ch.relative:
+            peak = float(np.max(np.abs(values)))
+            scale = op.radial_load if op.radial_load != 0.0 else peak
+            values = values / scale if scale != 0.0 else np.zeros_like(values)
+        return Channel(ch.times, tuple(float(v) for v in values), relative=True,
+                       interpolation=ch.interpolation)
 
     def resolve(self, op: OperatingPoint) -> "ResolvedProfile":
         """Absolute SI breakpoint tables for ``op``."""
@@ -92,10 +161,13 @@ class Profile:
             v = np.asarray(ch.values, dtype=float) * (scale if ch.relative else 1.0)
             return (np.asarray(ch.times, dtype=float), v, INTERPOLATIONS[ch.interpolation])
 
+        d_times, d_offsets, d_kind = scaled(self.direction_channel(), 1.0)
         return ResolvedProfile(
             radial=scaled(self.radial_load, op.radial_load),
             axial=scaled(self.axial_load, op.axial_load),
             speed=scaled(self.speed, op.speed),
+            moment=scaled(self.moment_channel(op), op.moment),
+            direction=(d_times, op.load_angle + d_offsets, d_kind),
             phases=np.array([[s, e] for (_, s, e) in self.phases], dtype=float),
             duration=self.duration,
         )
@@ -103,29 +175,39 @@ class Profile:
 
 @dataclass(frozen=True)
 class ResolvedProfile:
-    """Absolute tables ``(times, values, interpolation)`` per channel, phases, duration."""
+    """Absolute tables ``(times, values, interpolation)`` per channel, phases, duration.
+
+    ``direction`` holds the radial load's direction ψ itself [rad] (the operating point's
+    ``load_angle`` plus the profile's offset), ``moment`` the moment [N m].
+    """
 
     radial: tuple
     axial: tuple
     speed: tuple
+    moment: tuple
+    direction: tuple
     phases: np.ndarray
     duration: float
 
+    def channels(self) -> tuple:
+        """The channel tables in ``CH_*`` order."""
+        return (self.radial, self.axial, self.speed, self.moment, self.direction)
+
     def arrays(self):
-        """Pack the three channels for numba.
+        """Pack the channels for numba.
 
         Returns
         -------
-        table : ndarray (3, 2, n)
-            ``table[c, 0]`` times and ``table[c, 1]`` values of channel c (radial, axial,
-            speed), padded by repeating the last breakpoint.
-        meta : ndarray (3, 2) of int64
+        table : ndarray (N_CHANNELS, 2, n)
+            ``table[c, 0]`` times and ``table[c, 1]`` values of channel c (``CH_*``),
+            padded by repeating the last breakpoint.
+        meta : ndarray (N_CHANNELS, 2) of int64
             Number of breakpoints and interpolation kind per channel.
         """
-        chans = (self.radial, self.axial, self.speed)
+        chans = self.channels()
         n = max(len(c[0]) for c in chans)
-        table = np.empty((3, 2, n))
-        meta = np.empty((3, 2), dtype=np.int64)
+        table = np.empty((N_CHANNELS, 2, n))
+        meta = np.empty((N_CHANNELS, 2), dtype=np.int64)
         for i, (t, v, kind) in enumerate(chans):
             table[i, 0, : len(t)] = t
             table[i, 1, : len(v)] = v
@@ -203,4 +285,5 @@ def scaled_study_profile(scale: float, name: str = "study-short") -> Profile:
         return Channel(tuple(t * scale for t in ch.times), ch.values, ch.relative, ch.interpolation)
 
     return Profile(name, sc(p.radial_load), sc(p.axial_load), sc(p.speed),
-                   tuple((n, s * scale, e * scale) for (n, s, e) in p.phases), p.duration * scale)
+                   tuple((n, s * scale, e * scale) for (n, s, e) in p.phases), p.duration * scale,
+                   p.description, *(None if ch is None else sc(ch) for ch in (p.moment, p.load_direction)))

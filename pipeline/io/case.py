@@ -9,7 +9,7 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
   ``axial_displacement``, ``inner_ring_x|y|z``, ``inner_ring_tilt_x|y``,
   ``applied_radial_load``, ``applied_axial_load``, ``inner_ring_speed``, ``cage_speed``,
   ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
-  ``max_contact_pressure``;
+  ``max_contact_pressure``, ``applied_moment``, ``load_direction``;
 - phase metrics, over ``phase``, accumulated at every integrator step:
   ``radial_displacement_range|mean|std|min_time|max_time|range_at_edge`` and the same for
   ``axial_displacement``, ``cage_speed_mean``, ``inner_ring_speed_mean``,
@@ -63,6 +63,8 @@ SERIES = {
     "max_outer_contact_load": ("N", "largest ball to outer-race normal force"),
     "loaded_ball_count": ("1", "number of balls touching either race"),
     "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
+    "applied_moment": ("N m", "tilting moment applied by the profile, about the axis normal to the radial load"),
+    "load_direction": ("rad", "direction of the radial load applied by the profile, from +x"),
 }
 
 def _extreme_metrics(name: str, what: str) -> dict:

@@ -75,7 +75,20 @@ Profile file
     [axial_load]   (the same; ``value = ["10 kN", ...]`` instead of ``fraction`` gives
                    absolute values)
     [speed]        (the same; absolute values in angular speed, e.g. "660 deg/s")
+    [moment]       optional; the same, the tilting moment about the axis normal to the
+                   radial load: fraction of the operating point's moment, or
+                   value = ["0 N m", "2 kN m", ...]. Left out, it follows [radial_load]'s
+                   table: M(t) = M0·F_r(t)/F_r0 (zero throughout when M0 = 0)
+    [load_direction]  optional; time = [...], value = ["0 deg", "90 deg", ...]: an offset
+                   of the radial load's direction (and of the moment's axis), added to the
+                   operating point's load_angle. ``value`` only: a ``fraction`` is an
+                   error. Left out, a constant 0 (the direction is load_angle)
     [phases]       startup = ["0.3 s", "0.8 s"], steady = [...], deceleration = [...]
+
+A breakpoint of any channel the profile file gives is a sweep axis like any profile key
+(``profile.load_direction.value[0] = ["0 deg", "30 deg"]``,
+``profile.moment.fraction[1]``); the operating point's ``moment`` and ``load_angle`` are
+sweep axes of their own.
 """
 from __future__ import annotations
 

@@ -235,22 +235,36 @@ _PAIR = [
        bounds=None, default=0.0, source="preload_offset"),
 ]
 
-_CHANNEL_KINDS = {"radial_load": ("force", "kN"), "axial_load": ("force", "kN"),
-                  "speed": ("angular_speed", "deg/s")}
+#: The profile's channel tables, in ``rvcore.profile.CH_*`` order: name -> (kind of the
+#: absolute ``value``, display unit, whether ``fraction`` (of the operating point) is
+#: allowed, whether the table is required). ``moment`` left out follows ``radial_load``'s
+#: table; ``load_direction`` is an angle offset added to ``load_angle`` (a fraction of an
+#: angle means nothing), 0 when left out (rvcore.profile).
+_CHANNEL_KINDS = {"radial_load": ("force", "kN", True, True), "axial_load": ("force", "kN", True, True),
+                  "speed": ("angular_speed", "deg/s", True, True),
+                  "moment": ("moment", "N m", True, False),
+                  "load_direction": ("angle", "deg", False, False)}
+_CHANNEL_DOC = {"moment": "tilting moment about the axis normal to the radial load",
+                "load_direction": "offset of the radial load's direction added to load_angle"}
 
 _PROFILE = [
     Field("name", "string", "profile", default="<file stem>", doc="the profile's name", source="name"),
     Field("description", "string", "profile", default="", doc="free text"),
     _q("duration", "time", "s", "length of the duty cycle", file="profile", source="duration"),
 ]
-for _c, (_kind, _unit) in _CHANNEL_KINDS.items():
+for _c, (_kind, _unit, _fraction, _required) in _CHANNEL_KINDS.items():
+    _what = _CHANNEL_DOC.get(_c, _c)
+    _opt = "" if _required else " (optional table)"
     _PROFILE += [
         Field(f"{_c}.time", "list", "profile", "time", "nonnegative", unit="s",
-              doc=f"breakpoint times of {_c}, strictly increasing", source=f"{_c}.times"),
-        Field(f"{_c}.fraction", "list", "profile", "dimensionless", default="(or value)",
-              doc=f"{_c} at each breakpoint as a fraction of the operating point"),
-        Field(f"{_c}.value", "list", "profile", _kind, default="(or fraction)", unit=_unit,
-              doc=f"{_c} at each breakpoint, absolute"),
+              doc=f"breakpoint times of {_c}, strictly increasing{_opt}", source=f"{_c}.times"),
+    ]
+    if _fraction:
+        _PROFILE += [Field(f"{_c}.fraction", "list", "profile", "dimensionless", default="(or value)",
+                           doc=f"{_what} at each breakpoint as a fraction of the operating point")]
+    _PROFILE += [
+        Field(f"{_c}.value", "list", "profile", _kind, default="(or fraction)" if _fraction else REQUIRED,
+              unit=_unit, doc=f"{_what} at each breakpoint, absolute"),
         Field(f"{_c}.interpolation", "choice", "profile", default="linear", choices=tuple(INTERPOLATIONS),
               doc="how values run between breakpoints", source=f"{_c}.interpolation"),
     ]
@@ -341,6 +355,12 @@ def keys_under(file: str, table: str) -> tuple:
 def solver_fields() -> dict:
     """``{"output_rate": Field, ...}`` of the sweep's ``[solver]`` table."""
     return {f.path.removeprefix("solver."): f for f in fields_of("solver")}
+
+
+def profile_channels() -> dict:
+    """``{"radial_load": (kind, unit, fraction_allowed, required), ...}``: the profile's
+    channel tables in ``rvcore.profile.CH_*`` order."""
+    return dict(_CHANNEL_KINDS)
 
 
 def operating_point() -> dict:

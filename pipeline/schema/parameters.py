@@ -59,6 +59,8 @@ def format_value(f: schema.Field, value) -> str:
 
 def _walk(obj, parts: list, indices: tuple):
     """(indices, value) of every value at the attribute path ``parts`` ("rows[]" expands)."""
+    if obj is None:   # an optional part left out (a profile's moment channel): no rows
+        return
     if not parts:
         yield indices, obj
         return
@@ -110,8 +112,10 @@ def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False) -> l
 def _profile_rows(profile) -> list:
     out = _rows(profile, schema.fields_of("profile"), "profile.", ())
     by_path = schema.field_map("profile")
-    for c in ("radial_load", "axial_load", "speed"):
+    for c in schema.profile_channels():
         ch = getattr(profile, c)
+        if ch is None:   # an optional channel the profile leaves out (its default applies)
+            continue
         f = by_path[f"{c}.fraction" if ch.relative else f"{c}.value"]
         out.append(ParameterRow(f"profile.{f.path}", format_value(f, ch.values), f.doc, False))
     for name, start, end in profile.phases:

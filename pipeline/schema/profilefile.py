@@ -2,8 +2,10 @@
 
 Keys, kinds, bounds and defaults come from the schema (:mod:`pipeline.schema.fields`);
 this module adds the rules across fields: times strictly increasing and inside the
-cycle, exactly one of ``fraction``/``value`` with as many entries as ``time``, phases
-inside the cycle and in order. The file format is described in :mod:`pipeline.schema.config`.
+cycle, exactly one of ``fraction``/``value`` with as many entries as ``time`` (only
+``value`` for ``load_direction``, an angle offset), the optional channels (``moment``,
+``load_direction``) left out or given whole, phases inside the cycle and in order. The
+file format is described in :mod:`pipeline.schema.config`.
 """
 from __future__ import annotations
 
@@ -11,16 +13,26 @@ from __future__ import annotations
 from rvcore.profile import PHASES, Channel, Profile
 
 from ..errors import ConfigError
+from . import fields as schema
 from .reader import Table, short, top_table
 from .tomlfile import read_toml
 
 __all__ = ["profile_from_dict", "load_profile", "CHANNELS"]
 
-#: The profile's channels (tables), in file order.
-CHANNELS = ("radial_load", "axial_load", "speed")
+#: The profile's channels (tables), in file order (``rvcore.profile.CH_*`` order).
+CHANNELS = tuple(schema.profile_channels())
 
 
-def _channel(top: Table, name: str, duration: float) -> Channel:
+def _channel(top: Table, name: str, duration: float) -> Channel | None:
+    """Channel ``name`` of the file; None for an optional channel the file leaves out."""
+    _, unit, fraction_allowed, required = schema.profile_channels()[name]
+    if not required and not top.has(name):
+        return None
+    raw = top.raw(name)
+    if not fraction_allowed and isinstance(raw, dict) and "fraction" in raw:
+        raise ConfigError(top.file, top.key(name) + ".fraction", short(raw["fraction"]),
+                          f"{name} takes only 'value' (an angle in {unit}, added to the operating "
+                          f"point's load_angle): a fraction of an angle means nothing")
     t = top.table(name)
     times = t.get("time")
     for i in range(1, len(times)):
@@ -32,6 +44,8 @@ def _channel(top: Table, name: str, duration: float) -> Channel:
         raise ConfigError(t.file, f"{t.key('time')}[{len(times) - 1}]", t.raw("time")[-1],
                           f"breakpoint after the end of the cycle (duration = {duration:g} s)")
     has_f, has_v = t.has("fraction"), t.has("value")
+    if not fraction_allowed and not has_v:
+        raise ConfigError(t.file, t.key("value"), None, f"missing required key (the {name} in {unit})")
     if has_f == has_v:
         raise ConfigError(t.file, t.key(None), None,
                           "give exactly one of 'fraction' (of the operating point) or 'value' "
@@ -77,8 +91,9 @@ def profile_from_dict(raw: dict, file="<input>") -> Profile:
     ------
     ConfigError
         Unknown keys, missing tables, times not strictly increasing, lists of unequal
-        length, neither or both of ``fraction``/``value``, an unknown interpolation,
-        phases outside the cycle or out of order.
+        length, neither or both of ``fraction``/``value``, a ``fraction`` in
+        ``load_direction``, an unknown interpolation, phases outside the cycle or out of
+        order.
     """
     top, name = top_table(raw, file, "profile")
     description = top.get("description")
@@ -86,7 +101,8 @@ def profile_from_dict(raw: dict, file="<input>") -> Profile:
     channels = {c: _channel(top, c, duration) for c in CHANNELS}
     return Profile(name=name, radial_load=channels["radial_load"], axial_load=channels["axial_load"],
                    speed=channels["speed"], phases=_phases(top, duration), duration=duration,
-                   description=description)
+                   description=description, moment=channels["moment"],
+                   load_direction=channels["load_direction"])
 
 
 def load_profile(path) -> Profile:

@@ -108,7 +108,9 @@ def test_every_bearing_field_is_accepted_by_the_loader(f):
 def test_every_profile_field_is_accepted_by_the_loader(f):
     raw = read_toml(shipped_file(DEFAULT_PROFILE))
     channel, _, leaf = f.path.partition(".")
-    if leaf == "value":
+    if channel in schema.profile_channels() and channel not in raw:   # an optional channel table
+        raw[channel] = {"time": ["0 s"], "fraction" if leaf == "fraction" else "value": [0.0]}
+    if leaf == "value" and "fraction" in raw[channel]:
         raw[channel]["value"] = raw[channel].pop("fraction")
     elif f.path not in ("name", "description") and lookup(raw, f.path, None) is None:
         raw[channel][leaf] = _sample(f)
