@@ -89,6 +89,8 @@ class CaseResult:
     ``phase_metrics`` maps a metric name to an array over the phases (PHASES order), or
     over ``(phase, sensor)`` for the ``sensor_displacement_*`` metrics.
     ``final_state`` is the integrator state at the end, to continue a run.
+    ``steady`` holds scalars at the steady operating point from the statics there
+    (:data:`rvcore.operating.STEADY_OUTPUTS`: the stiffnesses).
     """
 
     time: np.ndarray
@@ -97,6 +99,7 @@ class CaseResult:
     final_state: np.ndarray
     info: dict = field(default_factory=dict)
     ball_diag: np.ndarray | None = None  # per ball at the end: Q_inner, Q_outer, F_inner_radial, F_outer_radial, Q_pocket
+    steady: dict = field(default_factory=dict)  # rvcore.operating.STEADY_OUTPUTS: stiffness at the steady point
 
 
 class SimulationError(RuntimeError):
@@ -214,7 +217,7 @@ def initial_state(model, resolved, t_start, seed: int = -1):
     (:func:`_random_start`); when the prescribed speed at ``t_start`` is not zero, every
     ball starts rolling without slip and the cage at the balls' mean orbital speed.
     """
-    from .model import nominal_state, BALL_STATES, P_GX, P_GY, P_GZ, R_BALL0, R_Z, R_POCKET0
+    from .model import nominal_state, BALL_STATES, R_BALL0, R_Z, R_POCKET0
     from .quasistatic import solve_statics
 
     from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED
@@ -225,16 +228,17 @@ def initial_state(model, resolved, t_start, seed: int = -1):
     moment = resolved.value(CH_MOMENT, t_start)
     psi = resolved.value(CH_DIRECTION, t_start)
     y = nominal_state(model)
-    if fr != 0.0 or fa != 0.0 or moment != 0.0 or np.any(model.params[[P_GX, P_GY, P_GZ]]):
-        st = solve_statics(model, fr, fa, moment, psi)
-        y[0:5] = st.displacement
-        for r in range(model.rows.shape[0]):
-            b0, z, p0 = int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z]), int(model.rows[r, R_POCKET0])
-            for j in range(z):
-                b = b0 + BALL_STATES * j
-                cs, sn = model.pockets[p0 + j]
-                rho, zz = st.ball_positions[p0 + j]
-                y[b:b + 3] = rho * cs, rho * sn, zz
+    # the statics always run: a preloaded pair or an interference fit loads its balls even
+    # with no load and no weight, and centred balls would start squeezed out of equilibrium
+    st = solve_statics(model, fr, fa, moment, psi, stiffness=False)
+    y[0:5] = st.displacement
+    for r in range(model.rows.shape[0]):
+        b0, z, p0 = int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z]), int(model.rows[r, R_POCKET0])
+        for j in range(z):
+            b = b0 + BALL_STATES * j
+            cs, sn = model.pockets[p0 + j]
+            rho, zz = st.ball_positions[p0 + j]
+            y[b:b + 3] = rho * cs, rho * sn, zz
     if seed >= 0:
         _random_start(model, y, seed)
     if w != 0.0:
@@ -253,7 +257,7 @@ def peak_contact_load(model, resolved) -> float:
     at every direction of the radial load the profile names at a breakpoint.
     """
     from .quasistatic import solve_statics
-    from .model import P_GX, P_GY, P_GZ, R_MB, R_PITCH_R
+    from .model import R_MB, R_PITCH_R
 
     fr = float(np.max(np.abs(resolved.radial[1])))
     # the reverse extreme only where the thrust does go negative: no extra solve otherwise
@@ -267,13 +271,12 @@ def peak_contact_load(model, resolved) -> float:
     # names at a breakpoint (one, for a constant direction)
     directions = tuple(dict.fromkeys(float(v) for v in resolved.direction[1]))
     q = 0.0
-    weight = np.any(model.params[[P_GX, P_GY, P_GZ]])
     for fa in axial_extremes:
         for moment in moment_extremes:
-            # the ring's weight alone loads the balls too (solve_statics adds it from the model)
-            if fr or fa or moment or weight:
-                for psi in directions:
-                    q = max(q, solve_statics(model, fr, fa, moment, psi).max_contact_load)
+            # always solved: the ring's weight alone loads the balls (solve_statics adds it
+            # from the model), and so does a preload or an interference with no load at all
+            for psi in directions:
+                q = max(q, solve_statics(model, fr, fa, moment, psi, stiffness=False).max_contact_load)
     centrifugal = float(np.max(model.rows[:, R_MB] * model.rows[:, R_PITCH_R] * (0.5 * w) ** 2))
     return q + centrifugal
 
@@ -383,8 +386,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
             "seed": int(settings.seed)}
+    from .operating import steady_outputs
+
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
-                      ball_diag=bdiag.copy())
+                      ball_diag=bdiag.copy(),
+                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity))
 
 
 def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:

@@ -7,7 +7,7 @@ per row and the tangent stiffness.
 """
 from __future__ import annotations
 
-from .profile import PHASES, OperatingPoint, Profile
+from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
 from .quasistatic import StaticResult, solve_statics
 
 
@@ -35,10 +35,32 @@ def steady_loads(profile: Profile, op: OperatingPoint):
     """
     resolved = profile.resolve(op)
     t = steady_time(profile)
-    return resolved.value(0, t), resolved.value(1, t), op.moment, op.load_angle
+    return tuple(resolved.value(c, t) for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT, CH_DIRECTION))
 
 
 def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> StaticResult:
     """Quasi-static equilibrium, ball loads and stiffness at the steady operating point."""
     fr, fa, m, psi = steady_loads(profile, op)
     return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True)
+
+
+#: Scalars of a case at its steady operating point: name -> (units, long_name).
+STEADY_OUTPUTS = {
+    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point: direct term of the "
+                                  "quasi-static tangent stiffness along the radial load"),
+    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point: direct term of the "
+                                 "quasi-static tangent stiffness along the axis"),
+    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
+                                       "quasi-static tangent stiffness about the axis normal to the radial load"),
+}
+
+
+def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:
+    """:data:`STEADY_OUTPUTS` of one case, SI; NaN where the statics find no equilibrium."""
+    from .quasistatic import NoEquilibriumError
+
+    try:
+        st = steady_statics(bearing, profile, op, gravity=gravity)
+    except NoEquilibriumError:
+        return {k: float("nan") for k in STEADY_OUTPUTS}
+    return dict(zip(STEADY_OUTPUTS, st.stiffness_scalars()))

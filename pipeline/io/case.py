@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from rvcore.operating import STEADY_OUTPUTS
 from rvcore.profile import PHASES
 
 from .. import __version__
@@ -107,8 +108,12 @@ SENSOR_METRICS = _extreme_metrics("sensor_displacement", "the sensor reading")
 #: dimension (one value per row); a single row keeps the dims of :data:`VARIABLES`.
 PER_ROW = ("cage_speed", "cage_speed_mean", "epicyclic_cage_speed", "cage_slip", "cage_slip_nominal")
 
+#: Scalars at the steady operating point (no dims in a case file), from the statics there.
+STEADY = dict(STEADY_OUTPUTS)
+
 #: Every labelled variable: name -> (dims, units, long_name).
 VARIABLES = {
+    **{k: ((), *v) for k, v in STEADY.items()},
     **{k: (("elapsed_time",), *v) for k, v in SERIES.items()},
     **{k: (("elapsed_time", "sensor"), *v) for k, v in SENSOR_SERIES.items()},
     **{k: (("phase",), *v) for k, v in PHASE_METRICS.items()},
@@ -191,7 +196,10 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         coords.update(sensor_coordinates(sensors))
     data = {}
     for name, (dims, units, long_name) in VARIABLES.items():
-        source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
+        if not dims:
+            source = getattr(result, "steady", None) or {}
+        else:
+            source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):
             values = np.asarray(source[name], dtype=np.float64)
             if name in PER_ROW and values.ndim == len(dims) + 1:

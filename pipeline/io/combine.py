@@ -151,7 +151,7 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
             if k not in ds:
                 continue
             v = ds[k].transpose(*dims_of[k]).values
-            if resampled and VARIABLES[k][0][0] == "elapsed_time":
+            if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
                 v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
                               for col in v.reshape(len(t), -1).T], axis=-1).reshape((n_t,) + v.shape[1:])
             arr[entry.at] = v
@@ -173,7 +173,7 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
     data = {}
     for k, arr in arrays.items():
         attrs = _attrs_of(k, loaded)
-        if resampled and VARIABLES[k][0][0] == "elapsed_time":
+        if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
             attrs["comment"] = RESAMPLED_COMMENT
         data[k] = xr.DataArray(arr, dims=case_dims + dims_of[k], attrs=attrs)
     data["case_status"] = case_status_variable(status, case_dims)
