@@ -130,8 +130,14 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
     # every case of a sweep has the same sensors: the first case file labels them
     sensor_case = next((ds for ds in loaded if "sensor" in ds.dims), None)
     n_s = sensor_case.sizes["sensor"] if sensor_case is not None else 0
-    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s}
-    arrays = {k: np.full(shape + tuple(sizes[d] for d in dims), np.nan) for k, (dims, _, _) in VARIABLES.items()
+    # a bearing of several rows gives its per-row variables a trailing ``row`` dimension
+    # (pipeline.io.case.PER_ROW); every case of a sweep has the same rows
+    row_case = next((ds for ds in loaded if "row" in ds.dims), None)
+    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s,
+             "row": row_case.sizes["row"] if row_case is not None else 0}
+    var_dims = {k: dims + (("row",) if row_case is not None and k in row_case and "row" in row_case[k].dims else ())
+                for k, (dims, _, _) in VARIABLES.items()}
+    arrays = {k: np.full(shape + tuple(sizes[d] for d in dims), np.nan) for k, dims in var_dims.items()
               if all(sizes[d] for d in dims)}
     status = np.full(shape, CASE_STATUS.index("not_run"), dtype=np.int8)
     for entry in entries:
@@ -145,7 +151,7 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
         for k, arr in arrays.items():
             if k not in ds:
                 continue
-            v = ds[k].transpose(*VARIABLES[k][0]).values
+            v = ds[k].transpose(*var_dims[k]).values
             if resampled and VARIABLES[k][0][0] == "elapsed_time":
                 v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
                               for col in v.reshape(len(t), -1).T], axis=-1).reshape((n_t,) + v.shape[1:])
@@ -159,6 +165,8 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
             np.asarray(elapsed, dtype=np.float64), dims="elapsed_time",
             attrs={"units": "s", "long_name": "simulated time since the start of the cycle"})
     coords.update(scalars or {})
+    if row_case is not None:
+        coords["row"] = xr.DataArray(row_case["row"].values, dims="row", attrs=dict(row_case["row"].attrs))
     if sensor_case is not None:
         for name, c in sensor_case.coords.items():
             if c.dims == ("sensor",):
@@ -168,7 +176,7 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
         attrs = _attrs_of(k, loaded)
         if resampled and VARIABLES[k][0][0] == "elapsed_time":
             attrs["comment"] = RESAMPLED_COMMENT
-        data[k] = xr.DataArray(arr, dims=case_dims + VARIABLES[k][0], attrs=attrs)
+        data[k] = xr.DataArray(arr, dims=case_dims + var_dims[k], attrs=attrs)
     data["case_status"] = case_status_variable(status, case_dims)
     return xr.Dataset(data_vars=data, coords=coords), resampled
 
