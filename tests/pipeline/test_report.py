@@ -82,7 +82,7 @@ def test_every_section_and_figure(built):
         assert s in md
     assert (d / "metrics.nc").exists() and (d / "fits.nc").exists()
     names = sorted(p.name for p in (d / "report" / "figures").glob("*.png"))
-    expected = ["time_histories.png", "cage_slip_steady.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
+    expected = ["time_histories.png", "cage_slip_steady.png", "load_distribution.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
         ("startup", "radial", "range"), ("deceleration", "radial", "range"), ("steady", "radial", "mean"),
         ("startup", "axial", "range"), ("deceleration", "axial", "range"), ("steady", "axial", "mean"))]
     assert names == sorted(expected)
