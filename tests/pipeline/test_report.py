@@ -184,7 +184,7 @@ def test_report_is_reproducible_and_works_without_caveat(tmp_path):
     first = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     build_report(d)
     second = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
-    assert first == second and len(first) == 10  # report.md, report.html and 8 figures
+    assert first == second and len(first) == 11  # report.md, report.html and 9 figures
     assert not [p for p in (d / "report").rglob("*.tmp")]  # written atomically, nothing left over
     md = first["report.md"].decode()
     m_b = 7800.0 * math.pi / 6.0 * 0.023**3
