@@ -6,7 +6,8 @@ beside them and ``report/report.md``, ``report/report.html`` and ``report/figure
 each file atomically.
 
 The report is a list of simple blocks (:mod:`.render`) built by the sections
-(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`) and figures
+(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`, :mod:`.stiffness`,
+:mod:`.loads`) and figures
 (:mod:`.figures`) from a :class:`.context.Context`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
