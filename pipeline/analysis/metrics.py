@@ -35,6 +35,18 @@ ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_
 
 _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
 
+#: Stiffness at the steady operating point, one scalar per case (no ``phase``): name ->
+#: (units, long_name) used when the sweep's variable lacks its own attributes. The case
+#: files carry them (issue 9); sweeps written before lack them and are reported without.
+STIFFNESS = {
+    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point: direct term of the "
+                                  "tangent stiffness along the radial load"),
+    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point: direct term of the "
+                                 "tangent stiffness along the axis"),
+    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
+                                       "tangent stiffness about the axis normal to the radial load"),
+}
+
 
 def load_sweep(directory) -> xr.Dataset:
     """The combined sweep of a results folder, loaded into memory.
@@ -133,8 +145,10 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     xarray.Dataset
         Dims ``(speed, radial_load, [extra...], phase)``: every phase metric present with
         its CF ``units``/``long_name``, the derived ``epicyclic_cage_speed`` [rad s-1] and
-        ``case_status`` (int8 flags ok/failed/not_run). The ``phase`` coordinate is the
-        int8 flag coordinate of :func:`pipeline.case.phase_coordinate`.
+        ``case_status`` (int8 flags ok/failed/not_run), and, where the sweep holds them,
+        the :data:`STIFFNESS` scalars at the steady operating point over the sweep axes
+        (no ``phase``). The ``phase`` coordinate is the int8 flag coordinate of
+        :func:`pipeline.case.phase_coordinate`.
 
     Notes
     -----
@@ -151,7 +165,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     if not any(m in present for m in _DISPLACEMENT_METRICS):
         raise UserError("the sweep holds none of the phase-metric variables "
                         f"({', '.join(_DISPLACEMENT_METRICS)})")
-    extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", "sensor")]
+    extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", "sensor", "row")]
     order = ["speed", "radial_load", *extra, "phase"]
     data = {}
     for name in present:
@@ -160,6 +174,14 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         _, units, long_name = VARIABLES[name]
         data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
                                   attrs={"units": units, "long_name": long_name})
+    for name, (units, long_name) in STIFFNESS.items():
+        if name not in sweep.data_vars or "phase" in sweep[name].dims:
+            continue
+        da = sweep[name]
+        da = da.transpose(*[d for d in order if d in da.dims], *[d for d in da.dims if d not in order])
+        data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
+                                  attrs={"units": str(da.attrs.get("units", units)),
+                                         "long_name": str(da.attrs.get("long_name", long_name))})
     if REALIZATION in sweep.dims:
         data.update(ensemble_statistics(data))
     coords = {}
@@ -176,7 +198,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         raise UserError(f"the sweep has {sweep.sizes['phase']} phases; expected {pc.size} ({', '.join(PHASES)})")
     coords["phase"] = pc
     for name, c in sweep.coords.items():
-        if name not in coords and (c.ndim == 0 or c.dims == ("sensor",)):
+        if name not in coords and (c.ndim == 0 or c.dims in (("sensor",), ("row",))):
             coords[name] = (c.dims, c.values, dict(c.attrs))
     ds = xr.Dataset(data, coords=coords)
     states = case_states(sweep)
@@ -196,7 +218,10 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                            "extreme lies within one output interval of the window's edge, from the core's phase "
                            "accumulators (every integrator step); with realizations, the ensemble mean and "
                            "standard error over the random starts; missing or failed cases are NaN "
-                           "(see case_status).")
+                           "(see case_status)."
+                           + (" Radial, axial and tilting stiffness: the direct terms of the quasi-static "
+                              "tangent stiffness at the loads in the middle of the steady phase, one per case."
+                              if any(n in ds for n in STIFFNESS) else ""))
     return ds
 
 

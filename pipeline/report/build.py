@@ -6,7 +6,8 @@ beside them and ``report/report.md``, ``report/report.html`` and ``report/figure
 each file atomically.
 
 The report is a list of simple blocks (:mod:`.render`) built by the sections
-(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`) and figures
+(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`, :mod:`.stiffness`,
+:mod:`.loads`) and figures
 (:mod:`.figures`) from a :class:`.context.Context`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -29,7 +30,7 @@ from pathlib import Path
 
 from rvcore.profile import PHASES
 
-from ..analysis import (default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
+from ..analysis import (STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
                         write_fits, write_metrics)
 from ..io import read_status, write_text_atomic
 from .context import (SENSOR, Context, _ensemble_text, _first_realization_text, phase_windows,
@@ -41,6 +42,8 @@ from .render import (_CENTRE, _METRIC_TITLE, _PHASE_TITLE, Bullets, Heading, Ima
 from .sections import _window_coverage, section_cage_slip, section_cases, section_sensors, section_window_edges
 from .sections_fits import _comparison, section_comparison, section_physics, section_plane
 from .select import _axis_specs, _base_states, _extreme_cases
+from .loads import section_load_distribution, solve_extremes
+from .stiffness import section_stiffness
 
 
 #: Sensor metrics fitted for the sensor figures.
@@ -220,6 +223,10 @@ def build_report(directory, reference=None) -> ReportFiles:
     slip_blocks, slip_figures = section_cage_slip(ctx, figdir, _extreme_cases(ctx))
     blocks += slip_blocks
     figures += slip_figures
+    solved, why = solve_extremes(ctx)
+    for section in (section_stiffness(ctx, figdir, solved), section_load_distribution(ctx, figdir, solved, why)):
+        blocks += section[0]
+        figures += section[1]
     blocks += section_window_edges(ctx, windows)
     comparison = _comparison(ctx)
     blocks += section_comparison(ctx, comparison)
@@ -235,6 +242,9 @@ def build_report(directory, reference=None) -> ReportFiles:
         f"contact pressure and the phase windows (`phase_start`, `phase_end`) over ({dims})"
         + ("; the ensemble means and standard errors (`*_ensemble_mean`, `*_ensemble_stderr`) and the fraction of "
            "realizations flagged at the window's edge (`*_range_at_edge_fraction`)" if ens else ""),
+        *(["`metrics.nc` also: the radial, axial and tilting stiffness at the steady operating point "
+            "(`radial_stiffness`, `axial_stiffness`, `tilting_stiffness`) over the sweep axes"]
+          if any(n in ctx.metrics for n in STIFFNESS) else []),
         "`fits.nc`: line fits along each axis and the interaction plane, per metric and phase"
         + (" (of the ensemble means, weighted by their standard errors)" if ens else "")
         + (", at the ring centre" if sens else "")]))

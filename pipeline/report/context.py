@@ -22,6 +22,9 @@ from .render import _g
 #: The virtual-sensor dimension of sweep.nc and metrics.nc.
 SENSOR = "sensor"
 
+#: The row dimension of the per-row variables of a bearing of several rows.
+ROW = "row"
+
 
 @dataclass
 class Context:
@@ -82,9 +85,10 @@ def phase_windows(ctx: Context):
 
 def _extra_dims(ds) -> list:
     """Extra sweep dimensions of ``ds``: all but the grid axes, phase, time, the packed
-    displacement metrics, the ensemble (``realization``) and the sensors."""
+    displacement metrics, the ensemble (``realization``), the sensors and the rows of a
+    bearing of several rows (``row``)."""
     return [d for d in ds.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", DISPLACEMENT_COORD,
-                                            REALIZATION, SENSOR)]
+                                            REALIZATION, SENSOR, ROW)]
 
 
 def _base(ds, first_realization: bool = True):
@@ -204,6 +208,13 @@ class SensorInfo:
         """'sensor `name` at (x, y, z) mm along (dx, dy, dz)' (name in backticks with ``code``)."""
         name = f"`{self.name}`" if code else self.name
         return f"sensor {name} {self.where()}"
+
+
+def rows_of(ds, name: str) -> list:
+    """The ``row`` values of variable ``name`` of ``ds`` ([None] when it has no row dimension)."""
+    if name not in ds or ROW not in ds[name].dims:
+        return [None]
+    return [int(v) for v in np.asarray(ds[ROW].values).ravel()] if ROW in ds.coords else list(range(ds.sizes[ROW]))
 
 
 def sensors(ds) -> list:

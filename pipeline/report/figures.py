@@ -13,7 +13,8 @@ from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, line_band
 from ..io import write_bytes_atomic
-from .context import SENSOR, Context, _base, _edge_flag, _ensemble_of, _first_realization_text, realizations, sensors
+from .context import (ROW, SENSOR, Context, _base, _edge_flag, _ensemble_of, _first_realization_text, realizations,
+                      rows_of, sensors)
 from .render import _AXIS_TITLE, _CENTRE, _METRIC_TITLE, _PHASE_TITLE, _dps, _g, _kn
 from .select import _fit_at, _fixed_choice
 
@@ -100,7 +101,7 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
 
 
 def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed: float, phase: str, *,
-                  sensor=None, scale: float = 1e6, colour: str = "k", marker: str = "o",
+                  sensor=None, row=None, scale: float = 1e6, colour: str = "k", marker: str = "o",
                   label: str = "cases", realization_label: str | None = "individual realizations",
                   dodge: float = 0.0) -> int:
     """Plot one phase metric against ``axis`` at ``fixed`` on ``ax``; return the hollow markers drawn.
@@ -111,7 +112,7 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
     ``_range_at_edge`` flag is set is drawn hollow (a mean marker when any of its
     realizations is). Values are multiplied by ``scale`` (1e6: m to µm; 100: 1 to %);
     ``axis`` values in °/s or kN, shifted by ``dodge`` times the axis span (to set two
-    series side by side).
+    series side by side). ``row`` picks the row of a per-row metric (default the first).
     """
     m = _base(ctx.metrics, first_realization=False)
     if name not in m:
@@ -119,6 +120,8 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
     sel = {fixed_axis: fixed, "phase": PHASES.index(phase)}
     if sensor is not None:
         sel[SENSOR] = sensor
+    if ROW in m[name].dims:
+        sel[ROW] = row if row is not None else m[ROW].values[0]
     da = m[name].sel(sel)
     if not bool(da.notnull().any()):
         ax.text(0.5, 0.5, "no data in this phase's window", transform=ax.transAxes, ha="center",
@@ -258,17 +261,24 @@ CAGE_SLIPS = (("cage_slip", "actual contact angles"), ("cage_slip_nominal", "nom
 
 def figure_cage_slip(ctx: Context, phase: str, specs, path: Path) -> list:
     """Cage slip of ``phase`` [%] against each ``(axis, fixed_axis, fixed)`` of ``specs``, both
-    definitions of :data:`CAGE_SLIPS` present; returns the notes."""
+    definitions of :data:`CAGE_SLIPS` present, a series per row of a bearing of several
+    rows; returns the notes."""
     fig, axes = _new_figure(1, len(specs), (4.6 * len(specs), 3.6))
     notes = []
     for j, (axis, fixed_axis, fixed, note) in enumerate(specs):
         ax = axes[0, j]
         notes.append(f"against {_AXIS_TITLE[axis]} {note}")
         for k, (name, what) in enumerate(CAGE_SLIPS):
-            if name in ctx.metrics:
-                _metric_panel(ax, ctx, name, axis, fixed_axis, fixed, phase, scale=100.0, colour=f"C{k}",
-                              marker="os"[k], label=f"{name}: {what}", realization_label=None,
-                              dodge=0.012 * (2 * k - 1))
+            if name not in ctx.metrics:
+                continue
+            rows = rows_of(ctx.metrics, name)
+            for i, r in enumerate(rows):
+                n = k * len(rows) + i
+                _metric_panel(ax, ctx, name, axis, fixed_axis, fixed, phase, row=r, scale=100.0,
+                              colour=f"C{n}", marker="os"[k],
+                              label=f"{name}" + (f", row {r}" if r is not None else "") + f": {what}",
+                              realization_label=None,
+                              dodge=0.012 * (2 * n - (2 * len(rows) - 1)) / len(rows))
         ax.axhline(0.0, color="0.5", lw=0.6)
         _finish_panel(ax, axis, f"{_PHASE_TITLE[phase]} cage slip [%]", note, 0)
     fig.suptitle(f"{_PHASE_TITLE[phase]}: cage slip 1 − ω̄_c/ω_epi", fontsize=10)

@@ -10,7 +10,7 @@ import numpy as np
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION
-from .context import (SENSOR, Context, _base, _ensemble_text, _extra_dims, bearing_numbers,
+from .context import (SENSOR, Context, _base, _ensemble_text, _extra_dims, bearing_numbers, rows_of,
                       realizations, sensors, status_lookup)
 from .figures import CAGE_SLIPS, figure_cage_slip
 from .render import _CENTRE, _PHASE_TITLE, Heading, Image, Para, Table, _dps, _g, _kn
@@ -236,24 +236,28 @@ def section_cage_slip(ctx: Context, figdir: Path, cases):
     figures.append(p)
     ens = _ensemble_text(ctx)
     blocks.append(Para("Steady-phase cage slip in %, "
+                       + ("each row's own cage against its own epicyclic speed, a colour per row and definition, "
+                          if rows_of(ctx.metrics, present[0][0]) != [None] else "")
                        + (f"ensemble means of {ens} with ±1 standard-error bars, the individual realizations "
                           "as faint small points just left of their mean; the two definitions are set slightly "
                           "apart along the axis, " if ens else "one marker per case, ")
                        + "; ".join(notes) + "."))
     blocks.append(Image(f"figures/{p.name}", "steady cage slip against speed and load"))
     rows = []
+    bearing_rows = rows_of(ctx.metrics, present[0][0])
     for (sp, ld) in cases:
         for phase in PHASES:
-            vals = [_metric_stat(ctx, n, sp, ld, phase) for n, _ in present]
-            if not any(math.isfinite(v[0]) for v in vals):
-                continue
-            epi = _metric_stat(ctx, "epicyclic_cage_speed", sp, ld, phase)
-            rows.append([_dps(sp), _kn(ld), _PHASE_TITLE[phase]] + [_pm(m_, se, 100.0) for m_, se in vals]
-                        + [_pm(*epi)])
+            for r in bearing_rows:
+                vals = [_metric_stat(ctx, n, sp, ld, phase, row=r) for n, _ in present]
+                if not any(math.isfinite(v[0]) for v in vals):
+                    continue
+                epi = _metric_stat(ctx, "epicyclic_cage_speed", sp, ld, phase, row=r)
+                rows.append([_dps(sp), _kn(ld), _PHASE_TITLE[phase]] + ([str(r)] if r is not None else [])
+                            + [_pm(m_, se, 100.0) for m_, se in vals] + [_pm(*epi)])
     if rows:
         blocks.append(Para("At the extreme cases, per phase" + (f" (ensemble mean ± standard error of {ens})"
                                                                  if ens else "") + ":"))
-        blocks.append(Table(["speed", "radial load", "phase"]
+        blocks.append(Table(["speed", "radial load", "phase"] + (["row"] if bearing_rows != [None] else [])
                             + [f"`{n}` ({w}) [%]" for n, w in present] + ["ω_epi, actual angles [rad/s]"],
                             rows))
     return blocks, figures

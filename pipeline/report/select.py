@@ -9,7 +9,7 @@ import numpy as np
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, case_states, fit_statistic, nearest
-from .context import SENSOR, Context, _base, _ensemble_of
+from .context import ROW, SENSOR, Context, _base, _ensemble_of
 from .render import _dps, _g, _kn
 
 
@@ -61,12 +61,12 @@ def _extreme_cases(ctx: Context, realization=None):
     return out
 
 
-def _metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None):
+def _metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None, row=None):
     """A phase metric at one grid point and its standard error [its units].
 
     With realizations, the ensemble mean and its standard error; otherwise the value and
-    NaN. ``sensor`` is the sensor flag of a sensor metric (default the first). NaN, NaN
-    when the metric is absent.
+    NaN. ``sensor`` is the sensor flag of a sensor metric (default the first), ``row``
+    the row of a per-row metric (default the first). NaN, NaN when the metric is absent.
     """
     m = _base(ctx.metrics, first_realization=False)
     if name not in m:
@@ -74,6 +74,8 @@ def _metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str,
     sel = {"speed": speed, "radial_load": load, "phase": PHASES.index(phase)}
     if SENSOR in m[name].dims:
         sel[SENSOR] = sensor if sensor is not None else m[SENSOR].values[0]
+    if ROW in m[name].dims:
+        sel[ROW] = row if row is not None else m[ROW].values[0]
     if REALIZATION in m[name].dims:
         mean, se = _ensemble_of(m, name, sel)
         return float(mean.item()), float(se.item())

@@ -82,7 +82,7 @@ def test_every_section_and_figure(built):
         assert s in md
     assert (d / "metrics.nc").exists() and (d / "fits.nc").exists()
     names = sorted(p.name for p in (d / "report" / "figures").glob("*.png"))
-    expected = ["time_histories.png", "cage_slip_steady.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
+    expected = ["time_histories.png", "cage_slip_steady.png", "load_distribution.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
         ("startup", "radial", "range"), ("deceleration", "radial", "range"), ("steady", "radial", "mean"),
         ("startup", "axial", "range"), ("deceleration", "axial", "range"), ("steady", "axial", "mean"))]
     assert names == sorted(expected)
@@ -184,7 +184,7 @@ def test_report_is_reproducible_and_works_without_caveat(tmp_path):
     first = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     build_report(d)
     second = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
-    assert first == second and len(first) == 10  # report.md, report.html and 8 figures
+    assert first == second and len(first) == 11  # report.md, report.html and 9 figures
     assert not [p for p in (d / "report").rglob("*.tmp")]  # written atomically, nothing left over
     md = first["report.md"].decode()
     m_b = 7800.0 * math.pi / 6.0 * 0.023**3

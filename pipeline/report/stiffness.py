@@ -1,0 +1,190 @@
+"""The bearing's stiffness at the steady operating point, against every sweep axis.
+
+``metrics.nc`` carries, per case, the direct terms of the quasi-static tangent stiffness
+at the loads in the middle of the steady phase (:data:`pipeline.analysis.STIFFNESS`):
+radial [N m-1] along the radial load, axial [N m-1] and tilting [N m rad-1] about the axis
+normal to the radial load. The report plots them in N/µm and N m/mrad against each
+numeric sweep axis, and computes the centrifugal load of a ball at the sweep's highest
+speed to show why the quasi-static stiffness leaves the speed out.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from rvcore.geometry import ball_mass, epicyclic_cage_ratio
+
+from ..analysis import REALIZATION, STIFFNESS
+from .context import SENSOR, Context
+from .figures import _new_figure, _save
+from .render import Heading, Image, Para, _g
+
+#: Engineering scale and unit of each stiffness: (factor from SI, unit, symbol).
+_DISPLAY = {"radial_stiffness": (1e-6, "N/µm", "k_r"), "axial_stiffness": (1e-6, "N/µm", "k_a"),
+            "tilting_stiffness": (1e-3, "N m/mrad", "k_θ")}
+
+#: Axes preferred for the lines of a panel (the first that varies and is not the x axis).
+_SERIES_ORDER = ("radial_load", "axial_load", "moment", "speed")
+
+#: Most lines per panel.
+_MAX_LINES = 5
+
+#: Dimensions that are not sweep axes.
+_NOT_AXES = (REALIZATION, SENSOR, "row", "phase", "elapsed_time")
+
+
+def _axis_display(ctx: Context, axis: str):
+    """(factor, label) of a sweep axis: °/s for speed, kN and kN m for forces and moments."""
+    c = ctx.metrics[axis]
+    units = str(c.attrs.get("units", ""))
+    name = "steady speed" if axis == "speed" else str(c.attrs.get("long_name", axis)).removeprefix("sweep axis ")
+    if axis == "speed":
+        return 1.0, "steady speed [°/s]"
+    if units == "N":
+        return 1e-3, f"{name} [kN]"
+    if units in ("N m", "N.m", "m N"):
+        return 1e-3, f"{name} [kN m]"
+    return 1.0, f"{name} [{units}]" if units and units != "1" else name
+
+
+def _axis_name(ctx: Context, axis: str) -> str:
+    return _axis_display(ctx, axis)[1].split(" [")[0]
+
+
+def _value_text(ctx: Context, axis: str, index: int) -> str:
+    """The ``index``-th value of ``axis`` in its display unit ('30 kN', '120 °/s')."""
+    factor, label = _axis_display(ctx, axis)
+    unit = label.split(" [")[1].rstrip("]") if " [" in label else ""
+    return f"{_g(float(ctx.metrics[axis].values[index]) * factor, 4)} {unit}".strip()
+
+
+def stiffness_axes(ctx: Context) -> list:
+    """The numeric sweep axes with more than one value that the stiffness is stored over."""
+    present = [n for n in STIFFNESS if n in ctx.metrics]
+    if not present:
+        return []
+    dims = ctx.metrics[present[0]].dims
+    return [d for d in dims if d not in _NOT_AXES and ctx.metrics.sizes[d] > 1 and d in ctx.metrics.coords
+            and np.asarray(ctx.metrics[d].values).dtype.kind == "f"]
+
+
+def _lines_axis(axes: list, axis: str):
+    for a in _SERIES_ORDER:
+        if a in axes and a != axis:
+            return a
+    rest = [a for a in axes if a != axis]
+    return rest[0] if rest else None
+
+
+def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
+    """A row per stiffness, a column per sweep axis, a line per value of another axis.
+
+    Returns the notes on where each column's other axes are held.
+    """
+    present = [n for n in STIFFNESS if n in ctx.metrics]
+    fig, grid = _new_figure(len(present), len(axes), (4.4 * len(axes), 0.6 + 2.8 * len(present)))
+    notes = []
+    for j, axis in enumerate(axes):
+        other = _lines_axis(axes, axis)
+        fx, xlabel = _axis_display(ctx, axis)
+        held = {}
+        for d in ctx.metrics[present[0]].dims:
+            if d not in (axis, other) and d not in ("row", SENSOR):
+                held[d] = 0
+        picks = [0]
+        if other is not None:
+            n = ctx.metrics.sizes[other]
+            picks = sorted(set(np.linspace(0, n - 1, min(n, _MAX_LINES)).round().astype(int).tolist()))
+        olabel = _axis_display(ctx, other)[1] if other is not None else ""
+        held_text = [f"{_axis_name(ctx, d)} {_value_text(ctx, d, 0)}" for d in held if d in axes]
+        notes.append(f"against {_axis_name(ctx, axis)}"
+                     + (f", a line per {_axis_name(ctx, other)}" if other is not None else "")
+                     + (f", at {', '.join(held_text)}" if held_text else ""))
+        x = np.asarray(ctx.metrics[axis].values, dtype=np.float64) * fx
+        for i, name in enumerate(present):
+            ax = grid[i, j]
+            scale, unit, sym = _DISPLAY[name]
+            da = ctx.metrics[name].isel({d: k for d, k in held.items() if d in ctx.metrics[name].dims})
+            for m, p in enumerate(picks):
+                line = da.isel({other: p}) if other is not None else da
+                extra = [d for d in line.dims if d != axis]
+                if extra:   # a row or sensor dimension would not belong here; take the first
+                    line = line.isel({d: 0 for d in extra})
+                y = np.asarray(line.values, dtype=np.float64) * scale
+                label = _value_text(ctx, other, p) if other is not None else None
+                ok = np.isfinite(y)
+                ax.plot(x[ok], y[ok], marker="o", ms=4, lw=1.0, color=f"C{m}", label=label)
+            ax.set_xlabel(xlabel)
+            ax.set_ylabel(f"{sym} [{unit}]")
+            ax.ticklabel_format(axis="y", useOffset=False)
+            ax.grid(True, lw=0.3)
+            if other is not None and i == 0:
+                ax.legend(fontsize=7, title=olabel, title_fontsize=7)
+    fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness)", fontsize=10)
+    _save(fig, path)
+    return notes
+
+
+def centrifugal_ball_load(ctx: Context):
+    """The largest centrifugal load of a ball at the sweep's highest speed [N], and that speed [°/s].
+
+    ``F_c = m_b·(d_m/2)·ω_c²`` with ``ω_c = ω_i·½(1 − D·cos α/d_m)`` the epicyclic cage
+    speed (the ball's orbital speed), per row of the stored configuration; NaN without one.
+    """
+    conf = ctx.configuration
+    speeds = np.asarray(ctx.metrics["speed"].values, dtype=np.float64)
+    w_deg = float(np.nanmax(speeds)) if speeds.size else math.nan
+    if conf is None or not math.isfinite(w_deg):
+        return math.nan, w_deg
+    b = conf.bearing
+    w_i = math.radians(w_deg)
+    forces = [ball_mass(r, b.ball_material) * r.pitch_diameter / 2.0 * (w_i * epicyclic_cage_ratio(r)) ** 2
+              for r in b.rows]
+    return max(forces), w_deg
+
+
+def section_stiffness(ctx: Context, figdir: Path, solved=()):
+    """The "Stiffness at the operating point" section: figure and the speed argument.
+
+    ``solved`` are the statics at the extreme cases (:func:`.loads.solve_extremes`), whose
+    largest contact load the centrifugal load is compared with.
+    """
+    blocks = [Heading(2, "Stiffness at the operating point")]
+    present = [n for n in STIFFNESS if n in ctx.metrics]
+    if not present:
+        blocks.append(Para("The sweep holds no stiffness at the operating point (`radial_stiffness`, "
+                           "`axial_stiffness`, `tilting_stiffness`): it was written by a version that did not "
+                           "compute them."))
+        return blocks, []
+    text = ("The radial stiffness k_r (along the radial load), the axial stiffness k_a and the tilting "
+            "stiffness k_θ (about the axis normal to the radial load) are the direct terms of the quasi-static "
+            "tangent stiffness of the inner ring at the steady loads (those the profile applies in the middle "
+            "of its steady phase): Hertz's law at every contact, the balls in equilibrium, rigid rings, "
+            "differentiated about the equilibrium. They are in N/µm and N m/mrad. Being quasi-static, they do not "
+            "depend on the speed except through the loads.")
+    fc, w = centrifugal_ball_load(ctx)
+    if math.isfinite(fc):
+        qmax = max((float(s.result.max_contact_load) for s in solved if s.result is not None), default=math.nan)
+        text += (f" That is sound here: at the sweep's highest speed, {_g(w, 4)} °/s, a ball's centrifugal load "
+                 f"m_b·(d_m/2)·ω_c², with ω_c the epicyclic cage speed from the stored geometry, is at most "
+                 f"{_g(fc, 3)} N")
+        text += (f", against contact loads of up to {_g(qmax / 1e3, 3)} kN at the extreme operating points "
+                 f"(see the load distribution)." if math.isfinite(qmax) else ".")
+    missing = [n for n in STIFFNESS if n not in ctx.metrics]
+    if missing:
+        text += f" The sweep holds no {', '.join(f'`{n}`' for n in missing)}."
+    blocks.append(Para(text))
+    axes = stiffness_axes(ctx)
+    if not axes:
+        vals = "; ".join(f"{_DISPLAY[n][2]} = {_g(float(np.nanmean(ctx.metrics[n].values)) * _DISPLAY[n][0], 4)} "
+                         f"{_DISPLAY[n][1]}" for n in present)
+        blocks.append(Para(f"The sweep has no axis with more than one value to plot against: {vals}."))
+        return blocks, []
+    p = figdir / "stiffness.png"
+    notes = figure_stiffness(ctx, axes, p)
+    blocks.append(Para("Stiffness at the steady operating point, a row per stiffness and a column per sweep axis: "
+                       + "; ".join(notes) + ". Missing or failed cases are left out."))
+    blocks.append(Image(f"figures/{p.name}", "stiffness at the steady operating point against the sweep axes"))
+    return blocks, [p]

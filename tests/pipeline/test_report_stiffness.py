@@ -1,0 +1,211 @@
+"""Stiffness at the operating point in ``metrics.nc`` and the report; the load distribution
+at the extreme operating points, for one row and for a pair of rows; a bearing of two
+rows through the whole report (per-row cage slip).
+
+The stiffness values of the synthetic sweep are made up here (a known function of the
+load): the tests check that they are carried and plotted, not their physics, which
+``tests/core/test_pair_statics.py`` tests. The physics checked here is computed in the
+test: the centrifugal load of a ball from the geometry, and the equilibrium of the rows'
+forces with the applied loads.
+"""
+from __future__ import annotations
+
+import math
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline.analysis import STIFFNESS, load_sweep, phase_metrics, write_metrics
+from pipeline.io import encoding_for
+from pipeline.report import build_report
+from pipeline.run import run_sweep
+from tests.pipeline.test_report import _section, _table, synthetic_sweep
+
+REPO = Path(__file__).resolve().parents[2]
+
+#: The stored study configuration's row (tests.pipeline.test_report.STUDY_CONFIG).
+STUDY_D, STUDY_DM, STUDY_RHO = 0.023, 0.3515, 7800.0
+
+
+def _made_up_stiffness(speed_deg, load):
+    """Synthetic stiffness values [N m-1, N m-1, N m rad-1] of a grid point."""
+    return 1e9 * (1.0 + load / 1e5), 4e8 * (1.0 + load / 2e5), 3e6 * (1.0 + load / 4e5)
+
+
+def _add_stiffness(directory: Path) -> dict:
+    """Add the three stiffness scalars to ``sweep.nc`` as the case files will carry them
+    (NaN where the case failed); return the values written."""
+    path = directory / "sweep.nc"
+    with xr.open_dataset(path, engine="netcdf4") as ds:
+        sweep = ds.load()
+    failed = sweep["case_status"].values != 0
+    written = {}
+    for k, name in enumerate(STIFFNESS):
+        v = np.array([[_made_up_stiffness(s, f)[k] for f in sweep["radial_load"].values]
+                      for s in sweep["speed"].values])
+        v[failed] = np.nan
+        units, long_name = STIFFNESS[name]
+        sweep[name] = (("speed", "radial_load"), v, {"units": units, "long_name": long_name})
+        written[name] = v
+    sweep.to_netcdf(path, engine="netcdf4", encoding=encoding_for(sweep))
+    return written
+
+
+@pytest.fixture(scope="module")
+def stiff(tmp_path_factory):
+    d = synthetic_sweep(tmp_path_factory.mktemp("stiff"))  # 3x3, 390 °/s at 20 kN failed
+    written = _add_stiffness(d)
+    files = build_report(d)
+    return d, written, files, files.markdown.read_text(), files.html.read_text()
+
+
+def test_metrics_nc_carries_the_stiffness_with_units(stiff):
+    d, written, *_ = stiff
+    with xr.open_dataset(d / "metrics.nc") as m:
+        for name, (units, _) in STIFFNESS.items():
+            assert m[name].dims == ("speed", "radial_load"), name
+            assert m[name].attrs["units"] == units and m[name].attrs["long_name"]
+            np.testing.assert_array_equal(m[name].values, written[name])
+        assert m["tilting_stiffness"].attrs["units"] == "N m rad-1"
+        assert "stiffness" in m.attrs["comment"]
+
+
+def test_metrics_nc_with_stiffness_is_cf(stiff, tmp_path):
+    from compliance_checker.runner import CheckSuite
+
+    from tests.pipeline.test_cf import cf_problems
+
+    suite = CheckSuite()
+    suite.load_all_available_checkers()
+    assert cf_problems(suite, stiff[0] / "metrics.nc") == []
+
+
+def test_older_sweep_without_stiffness_is_reported_without(tmp_path):
+    d = synthetic_sweep(tmp_path)
+    metrics = phase_metrics(load_sweep(d))
+    assert not any(n in metrics for n in STIFFNESS)
+    md = build_report(d).markdown.read_text()
+    text = _section(md, "## Stiffness at the operating point")
+    assert "holds no stiffness" in text
+    assert "## Load distribution" in md   # rebuilt from the stored configuration regardless
+
+
+def test_stiffness_section_and_figure(stiff):
+    d, _, files, md, html = stiff
+    text = _section(md, "## Stiffness at the operating point")
+    assert "quasi-static" in text and "N/µm" in text and "N m/mrad" in text
+    assert "](figures/stiffness.png)" in md and 'src="figures/stiffness.png"' in html
+    png = d / "report" / "figures" / "stiffness.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert png in files.figures
+    # the centrifugal load of a ball at the highest speed, from the geometry: F = m_b (d_m/2) ω_c²
+    alpha = math.radians(15.0)
+    m_b = STUDY_RHO * math.pi * STUDY_D ** 3 / 6.0
+    w_c = math.radians(660.0) / 2.0 * (1.0 - STUDY_D * math.cos(alpha) / STUDY_DM)
+    f_c = m_b * STUDY_DM / 2.0 * w_c ** 2
+    assert f_c < 1.0  # the argument of the section: below a newton
+    assert f"at most {f_c:.3g} N" in text
+    assert "660 °/s" in text
+
+
+def _rows_table(md: str) -> list:
+    return _table(_section(md, "## Load distribution").split("Each row's share")[1])
+
+
+def test_load_distribution_single_row(stiff):
+    d, _, files, md, html = stiff
+    text = _section(md, "## Load distribution")
+    assert "](figures/load_distribution.png)" in md
+    assert (d / "report" / "figures" / "load_distribution.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    rows = _rows_table(md)[1:]
+    # one load axis (radial load 20-40 kN): its two ends, one row each
+    assert len(rows) == 2
+    assert all(r[1].startswith("row 0") for r in rows)
+    for r, load in zip(rows, (20.0, 40.0)):
+        assert f"{load:g} kN radial" in r[0]
+        # the row carries the applied loads (the ring's weight, some 0.2 kN, aside)
+        assert float(r[2]) == pytest.approx(load, rel=0.02)
+        assert float(r[3]) == pytest.approx(10.0, rel=0.02)
+    assert "rebuilt from the sweep's configuration" in text
+
+
+# --------------------------------------------------------------------------- a pair of rows
+
+
+def _pair_files(folder: Path, speeds, loads) -> Path:
+    """A sweep of the real core on a back-to-back pair of two 8-ball rows of the test section."""
+    src = (REPO / "sweeps" / "bearings" / "reduced-test.toml").read_text()
+    head, row = src.split("[[rows]]", 1)
+    head = head.replace('width = "30 mm"', 'width = "60 mm"').replace('name = "reduced-test"', 'name = "pair"')
+    row = row.replace("count = 12", "count = 8")
+    first = "[[rows]]" + row.replace('axial_position = "0 mm"', 'axial_position = "-15 mm"')
+    second = ("[[rows]]" + row.replace('axial_position = "0 mm"', 'axial_position = "15 mm"')
+              .replace('contact_angle = "15 deg"', 'contact_angle = "-15 deg"'))
+    (folder / "pair.toml").write_text(head + first + "\n" + second)
+    sweep = folder / "pair-sweep.toml"
+    sweep.write_text(f"""\
+name = "pair"
+bearing = "{folder / 'pair.toml'}"
+profile = "{REPO / 'sweeps' / 'profiles' / 'short.toml'}"
+
+[axes]
+speed = {[f"{s} deg/s" for s in speeds]}
+radial_load = {[f"{f} kN" for f in loads]}
+
+[fixed]
+axial_load = "2 kN"
+
+[solver]
+output_rate = "500 Hz"
+end_time = "0.1 s"
+""".replace("'", '"'))
+    return sweep
+
+
+@pytest.fixture(scope="module")
+def pair(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("pair")
+    result = run_sweep(_pair_files(folder, (120, 660), (10, 20)), folder / "out", serial=True, progress=False)
+    assert result.ok
+    files = build_report(result.out_dir)
+    return result.out_dir, files, files.markdown.read_text()
+
+
+def test_two_rows_report_renders_with_per_row_cage_slip(pair):
+    out, files, md = pair
+    with xr.open_dataset(out / "sweep.nc") as s:
+        assert s["cage_slip"].dims == ("speed", "radial_load", "phase", "row")
+        assert s["cage_speed"].dims == ("speed", "radial_load", "elapsed_time", "row")
+    with xr.open_dataset(out / "metrics.nc") as m:
+        assert m["cage_slip"].dims == ("speed", "radial_load", "phase", "row")
+        assert m["row"].attrs["units"] == "1" and m["row"].attrs["long_name"]
+    # the row is no sweep axis
+    assert "Extra sweep dimensions" not in md
+    slip = _table(_section(md, "## Cage slip"))
+    assert slip[0][3] == "row"
+    assert {r[3] for r in slip[1:]} == {"0", "1"}
+    for p in files.figures:
+        assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_two_rows_load_distribution_balances_the_applied_loads(pair):
+    out, files, md = pair
+    text = _section(md, "## Load distribution")
+    assert "rebuilt from its case file" in text
+    rows = _rows_table(md)[1:]
+    cases = {}
+    for r in rows:
+        cases.setdefault(r[0], []).append(r)
+    assert len(cases) == 2                        # the radial load's two ends
+    for label, rs in cases.items():
+        assert [r[1].split(" (")[0] for r in rs] == ["row 0", "row 1"]
+        assert "α = 15°" in rs[0][1] and "α = -15°" in rs[1][1]
+        fr = float(re.search(r"([\d.]+) kN radial", label).group(1))
+        # mirrored rows push the ring axially opposite ways: their axial loads differ by the
+        # applied 2 kN; both carry the radial load the same way (no weight: the ring's is
+        # along -y, normal to the load, and adds in quadrature, ~0.1 %)
+        assert float(rs[0][3]) - float(rs[1][3]) == pytest.approx(2.0, abs=0.01)
+        assert float(rs[0][2]) + float(rs[1][2]) == pytest.approx(fr, rel=0.01)
