@@ -11,3 +11,11 @@ Modules, one domain each:
 - ``quasistatic`` rigid-ring equilibrium under radial, axial and moment loads
 - ``driver``      ``run_case``: the one entry point for a dynamic case
 """
+
+from ._cache import drop_stale_numba_cache
+
+# numba checks a cached kernel only against its own file's timestamp, so a kernel that
+# inlines a function from another module (integrate -> rhs -> contact laws) would keep
+# the old code after that module changed: drop every cached kernel of rvcore whenever
+# any of its sources differ from those the cache was built from.
+drop_stale_numba_cache()
