@@ -1,9 +1,11 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
 These numbers were copied from the code's own output (MODEL_VERSION 4: the pair,
-the load channels and the stiffness outputs, from a freshly compiled numba cache; the
-MODEL_VERSION 3 pins had been taken from a cache that numba had not invalidated after a
-change in another module, see rvcore._cache): they prove nothing about physics. They exist so that a change
+the load channels and the stiffness outputs, from a freshly compiled numba cache. The
+MODEL_VERSION 3 pins did not reproduce on a fresh install even with that version's
+rvcore; a compiled kernel that numba had not invalidated after a change in another
+module is the likely cause, which rvcore._cache now prevents): they prove nothing about
+physics. They exist so that a change
 that alters results fails here, which forces a deliberate decision: either the change
 was meant to keep results (then it is a bug), or it was meant to change them (then bump
 ``MODEL_VERSION`` in ``pipeline/schema/sweepfile.py``, which changes every case id, and
