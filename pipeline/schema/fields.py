@@ -168,8 +168,8 @@ _BEARING = [
     Field("gravity", "list", "bearing", "acceleration", default="from mounting", unit="m/s^2", length=3,
           doc="gravity in the bearing frame, instead of mounting", source="gravity"),
     _q("dynamic_load_rating", "force", "kN",
-       "catalogue basic dynamic load rating C_r (ISO 281); left out: computed from the geometry. "
-       "It scales the ISO/TS 16281 contact ratings", default="from the geometry", source="dynamic_load_rating",
+       "catalogue basic dynamic load rating C_r of the whole bearing (a pair: of the pair; ISO 281); "
+       "left out: computed from the geometry. It scales the ISO/TS 16281 contact ratings", default="from the geometry", source="dynamic_load_rating",
        why="must be positive: a catalogue C_r is a force; leave the key out to compute it from the geometry"),
     _q("envelope.bore", "length", "mm", "bore diameter", source="bore"),
     _q("envelope.outer_diameter", "length", "mm", "outer diameter", source="outer_diameter"),
