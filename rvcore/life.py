@@ -350,8 +350,8 @@ def equivalent_ring_loads(inner_loads, outer_loads, ball_count: int):
     A point of the rotating ring meets every load of the distribution in turn, so its
     damage averages the loads with the life equation's exponent 3; a point of the
     stationary ring always meets the same ball load, and the ring survives only if each
-    of its loaded points does, which weighs the loads with the Lundberg–Palmgren exponent
-    10/3 for point contact (Harris & Kotzalas, *Rolling Bearing Analysis: Advanced
+    of its loaded sectors does: with Weibull slope ``e = 10/9`` and sector lives
+    ``∝ Q_j^(−3)``, ``ln S = Σ_j ln S_j ∝ Σ_j Q_j^(3e)``, the exponent ``3e = 10/3`` (Harris & Kotzalas, *Rolling Bearing Analysis: Advanced
     Concepts of Bearing Technology*, the chapter on fatigue life: equivalent rolling
     element load of the rotating ring with exponent 3, of the stationary ring with 10/3,
     ball bearings). The same exponents appear in eq. (25)–(28) as an open ISO/TS 16281
