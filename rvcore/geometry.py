@@ -211,7 +211,9 @@ class Bearing:
     inner raceways that sets it [m] (see :mod:`rvcore.preload`).
 
     ``gravity`` is the gravitational acceleration in the bearing frame [m s^-2], set by
-    the mounting (:data:`MOUNTINGS`; horizontal axis by default). ``warnings`` carries caveats that every output of a run must repeat (for example a
+    the mounting (:data:`MOUNTINGS`; horizontal axis by default).
+    ``dynamic_load_rating`` is the catalogue basic dynamic radial load rating C_r [N]
+    (ISO 281); 0 means "from the geometry" (:mod:`rvcore.life`). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
     dotted keys whose values the source does not give.
     """
@@ -232,6 +234,7 @@ class Bearing:
     arrangement: str = ""
     preload: float = 0.0
     preload_offset: float = 0.0
+    dynamic_load_rating: float = 0.0
     source: str = ""
     description: str = ""
     extra: dict = field(default_factory=dict, compare=False, hash=False)

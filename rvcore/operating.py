@@ -3,9 +3,11 @@
 A designer reads stiffness and load distribution "at the operating point": the loads the
 profile applies in the middle of its steady phase. The statics there (rigid rings, Hertz
 at every contact, balls in equilibrium, the ring's weight included) give the ball loads
-per row and the tangent stiffness.
+per row, the tangent stiffness and the rating lives there (:mod:`rvcore.life`).
 """
 from __future__ import annotations
+
+import math
 
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
 from .quasistatic import StaticResult, solve_statics
@@ -52,6 +54,13 @@ STEADY_OUTPUTS = {
                                  "quasi-static tangent stiffness along the axis"),
     "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
                                        "quasi-static tangent stiffness about the axis normal to the radial load"),
+    "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady operating point, in "
+                                   "revolutions of the inner ring (90 % reliability, no life modification factor; "
+                                   "NaN: not rated or nothing loaded)"),
+    "reference_rating_life_L10r": ("1", "ISO/TS 16281 basic reference rating life L10r from the ball loads of the "
+                                        "statics at the steady operating point, in revolutions of the inner ring "
+                                        "(90 % reliability, no life modification factor; NaN: not rated or nothing "
+                                        "loaded)"),
 }
 
 
@@ -63,4 +72,20 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
         st = steady_statics(bearing, profile, op, gravity=gravity)
     except NoEquilibriumError:
         return {k: float("nan") for k in STEADY_OUTPUTS}
-    return dict(zip(STEADY_OUTPUTS, st.stiffness_scalars()))
+    out = dict(zip(STEADY_OUTPUTS, st.stiffness_scalars()))
+    out.update(_steady_lives(bearing, st))
+    return out
+
+
+def _steady_lives(bearing, st: StaticResult) -> dict:
+    """L10 and L10r [rev] at the equilibrium (:func:`rvcore.life.static_life`, the loads the
+    equilibrium carries, the ring's weight included); NaN where infinite or not rated."""
+    from .life import LifeError, static_life
+
+    try:
+        life = static_life(bearing, st)
+    except LifeError:
+        return {"basic_rating_life_L10": float("nan"), "reference_rating_life_L10r": float("nan")}
+    rev = {"basic_rating_life_L10": life["basic_rating_life_L10_Mrev"] * 1e6,
+           "reference_rating_life_L10r": life["reference_rating_life_L10r_Mrev"] * 1e6}
+    return {k: (v if math.isfinite(v) else float("nan")) for k, v in rev.items()}

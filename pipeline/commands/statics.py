@@ -42,7 +42,13 @@ def _moments(args) -> tuple:
                  for a in ("moment_x", "moment_y"))
 
 
+def _finite(x):
+    """A float for JSON: None where it is not finite (an unloaded bearing's infinite life)."""
+    return float(x) if x is not None and math.isfinite(x) else None
+
+
 def run(args):
+    from rvcore.life import LifeError, static_life
     from rvcore.preload import preload_force
     from rvcore.quasistatic import NoEquilibriumError, solve_statics
     from rvcore.stiffness import COORDINATES, stiffness_scalars
@@ -65,6 +71,16 @@ def run(args):
     inner = st.arc_rings == 0
     q_in = np.where(inner[None, :], st.ball_loads, 0.0).sum(axis=1)
     q_out = np.where(~inner[None, :], st.ball_loads, 0.0).sum(axis=1)
+    # ISO 281 P_r from the applied loads (the ring's weight is a part of them only when
+    # gravity is on, as in the equilibrium); ISO/TS 16281 from the load distribution
+    fr, fa = float(np.hypot(*st.applied[:2])), float(st.applied[2])
+    try:
+        life = static_life(bearing, st, fr, fa)
+        life_note = ""
+    except LifeError as exc:
+        life = dict.fromkeys(("reference_rating_life_L10r_Mrev", "basic_rating_life_L10_Mrev",
+                              "dynamic_load_rating_N", "equivalent_load_N"), math.nan)
+        life_note = str(exc)
     if args.json:
         obj = {
             "bearing": bearing.name,
@@ -100,6 +116,15 @@ def run(args):
             "radial_stiffness_N_per_m": k_radial,
             "axial_stiffness_N_per_m": k_axial,
             "tilting_stiffness_Nm_per_rad": k_tilt,
+            "reference_rating_life_L10r_Mrev": _finite(life["reference_rating_life_L10r_Mrev"]),
+            "basic_rating_life_L10_Mrev": _finite(life["basic_rating_life_L10_Mrev"]),
+            "dynamic_load_rating_N": _finite(life["dynamic_load_rating_N"]),
+            "equivalent_load_N": _finite(life["equivalent_load_N"]),
+            "dynamic_load_rating_source": ("catalogue" if bearing.dynamic_load_rating > 0 else "ISO 281 geometry"),
+            "rating_life_note": ("10^6 revolutions of the inner ring, 90 % reliability, no life modification "
+                                 "factor; L10r per ISO/TS 16281 from the ball loads, L10 per ISO 281 with "
+                                 "P = X F_r + Y F_a; null: infinite (nothing loaded) or not rated"
+                                 + (f" ({life_note})" if life_note else "")),
             "warnings": list(bearing.warnings),
         }
         if pair:
@@ -130,9 +155,25 @@ def run(args):
     print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um (along the radial load)")
     print(f"  axial stiffness      {k_axial * 1e-6:10.4g} N/um")
     print(f"  tilting stiffness    {k_tilt * 1e-3:10.4g} N m/mrad")
+    _print_life(life, bearing, life_note)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")
     for j in range(st.ball_loads.shape[0]):
         angles = " ".join("   -  " if math.isnan(a) else f"{math.degrees(a):6.2f}" for a in st.contact_angles[j])
         print(f"  {j:4d}  {math.degrees(st.azimuths[j]):12.2f}  {q_in[j]:10.2f}  {q_out[j]:10.2f}  {angles}")
     return 0
+
+
+def _print_life(life: dict, bearing, note: str) -> None:
+    """The rating lives in engineering units (10^6 rev, kN)."""
+    def mrev(x):
+        return "inf (unloaded)" if x == math.inf else ("-" if not math.isfinite(x) else f"{x:10.4g} Mrev")
+
+    c = life["dynamic_load_rating_N"]
+    src = "catalogue" if bearing.dynamic_load_rating > 0 else "ISO 281 from the geometry"
+    print(f"  load rating C_r      {c / 1e3:10.4g} kN ({src})" if math.isfinite(c) else
+          f"  load rating C_r      -  ({note})")
+    print(f"  life L10r            {mrev(life['reference_rating_life_L10r_Mrev'])} (ISO/TS 16281, ball loads)")
+    p = life["equivalent_load_N"]
+    print(f"  life L10             {mrev(life['basic_rating_life_L10_Mrev'])} (ISO 281, P = "
+          + (f"{p / 1e3:.4g} kN)" if math.isfinite(p) else "- )"))

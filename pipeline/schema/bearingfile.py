@@ -300,7 +300,9 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       inner_ring=inner_ring, contact=contact, allow_ball_overlap=allow_overlap,
                       assumptions=_assumptions(top, raw), gravity=_gravity(top),
                       arrangement=arrangement, preload=preload, preload_offset=offset,
-                      source=top.get("source"), description=top.get("description"))
+                      source=top.get("source"), description=top.get("description"),
+                      # left out: 0, "from the geometry" (rvcore.life)
+                      dynamic_load_rating=top.get("dynamic_load_rating", default=0.0))
 
     warnings = []
     problems = list(geometry_problems(bearing)) + extra_geometry_problems(bearing)

@@ -167,6 +167,10 @@ _BEARING = [
           doc="axis orientation, which sets gravity (or give gravity as a vector)"),
     Field("gravity", "list", "bearing", "acceleration", default="from mounting", unit="m/s^2", length=3,
           doc="gravity in the bearing frame, instead of mounting", source="gravity"),
+    _q("dynamic_load_rating", "force", "kN",
+       "catalogue basic dynamic load rating C_r of the whole bearing (a pair: of the pair; ISO 281); "
+       "left out: computed from the geometry. It scales the ISO/TS 16281 contact ratings", default="from the geometry", source="dynamic_load_rating",
+       why="must be positive: a catalogue C_r is a force; leave the key out to compute it from the geometry"),
     _q("envelope.bore", "length", "mm", "bore diameter", source="bore"),
     _q("envelope.outer_diameter", "length", "mm", "outer diameter", source="outer_diameter"),
     _q("envelope.width", "length", "mm", "width", source="width"),

@@ -105,7 +105,12 @@ def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False) -> l
             continue
         for indices, value in _walk(obj, f.source.split("."), ()):
             key = prefix + _key(f.path, indices)
-            out.append(ParameterRow(key, format_value(f, value), f.doc, _is_assumed(key, assumptions)))
+            # a key left out whose default is a rule, not a number ("from the geometry":
+            # the catalogue C_r), shows the rule, not the 0 that stands for it
+            shown = (f.default if isinstance(f.default, str) and f.default.startswith("from")
+                     and not isinstance(value, (bool, str, list, tuple)) and value == 0
+                     else format_value(f, value))
+            out.append(ParameterRow(key, shown, f.doc, _is_assumed(key, assumptions)))
     return out
 
 

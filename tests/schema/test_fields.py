@@ -70,7 +70,7 @@ def _sample(f):
     """A valid value for field ``f`` as a file would write it (SI numbers)."""
     if f.default is not REQUIRED and not (isinstance(f.default, str) and f.default.startswith(("<", "(", "from"))):
         return list(f.default) if isinstance(f.default, tuple) else f.default
-    return {"gravity": [0.0, -9.81, 0.0], "name": "x", "description": "d", "source": "s"}.get(f.path)
+    return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s"}.get(f.path)
 
 
 def _with_bearing_field(raw, f):
