@@ -113,6 +113,9 @@ def run(args):
             "stiffness_matrix_note": ("K[i][j] = -dF_i/du_j at the equilibrium: rows the ring's force "
                                       "and moment (Fx, Fy, Fz [N], Mx, My [N m]), columns its pose "
                                       "(x, y, z [m], tilt_x, tilt_y [rad]); SI"),
+            # max|K(h/2) - K(h)|/max|K| of the plain central difference (rvcore.stiffness):
+            # how converged the difference is before its Richardson extrapolation
+            "stiffness_matrix_step_change": st.stiffness_change,
             "radial_stiffness_N_per_m": k_radial,
             "axial_stiffness_N_per_m": k_axial,
             "tilting_stiffness_Nm_per_rad": k_tilt,
