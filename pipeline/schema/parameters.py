@@ -14,7 +14,17 @@ from rvcore.geometry import MOUNTINGS
 from . import fields as schema
 from .units import format_quantity
 
-__all__ = ["ParameterRow", "parameter_table", "format_value"]
+__all__ = ["ParameterRow", "parameter_table", "format_value", "display_unit"]
+
+#: How a reader is shown the schema's file units (which stay ASCII so that a value can be
+#: pasted back into a TOML file): symbols in place of the ASCII spellings.
+_DISPLAY_UNITS = {"deg/s": "°/s", "deg": "°", "um": "µm", "us": "µs", "kg/m^3": "kg/m³", "kg m^2": "kg m²",
+                  "m/s^2": "m/s²"}
+
+
+def display_unit(unit: str) -> str:
+    """The reader's spelling of a schema unit: ``"deg/s"`` -> ``"°/s"``, ``"um"`` -> ``"µm"``."""
+    return _DISPLAY_UNITS.get(unit, unit)
 
 
 @dataclass(frozen=True)
@@ -40,8 +50,12 @@ class ParameterRow:
     assumed: bool
 
 
-def format_value(f: schema.Field, value) -> str:
-    """``value`` (SI, as in the ``rvcore`` dataclasses) in ``f``'s display unit."""
+def format_value(f: schema.Field, value, symbols: bool = False) -> str:
+    """``value`` (SI, as in the ``rvcore`` dataclasses) in ``f``'s display unit.
+
+    With ``symbols``, the unit as a reader writes it (:func:`display_unit`: ``120 °/s``);
+    without, as the files spell it (``120 deg/s``, which reads back).
+    """
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
@@ -49,11 +63,13 @@ def format_value(f: schema.Field, value) -> str:
     if isinstance(value, (list, tuple)):
         items = [format_value(f, v).removesuffix(f" {f.unit}") if f.unit else format_value(f, v)
                  for v in value]
-        return "[" + ", ".join(items) + "]" + (f" {f.unit}" if f.unit else "")
+        unit = display_unit(f.unit) if symbols else f.unit
+        return "[" + ", ".join(items) + "]" + (f" {unit}" if unit else "")
     if f.kind == "integer":
         return str(int(value))
     if f.unit and f.unit_kind:
-        return format_quantity(value, f.unit, f.unit_kind)
+        text = format_quantity(value, f.unit, f.unit_kind)
+        return text.removesuffix(f" {f.unit}") + f" {display_unit(f.unit)}" if symbols else text
     return f"{value:.6g}"
 
 
@@ -98,33 +114,33 @@ def _mounting(bearing):
     return next((m for m, g in MOUNTINGS.items() if tuple(g) == tuple(bearing.gravity)), None)
 
 
-def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False) -> list:
+def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False, symbols: bool = False) -> list:
     out = []
     for f in file_fields:
         if f.source is None or skip(f):
             continue
         for indices, value in _walk(obj, f.source.split("."), ()):
             key = prefix + _key(f.path, indices)
-            out.append(ParameterRow(key, format_value(f, value), f.doc, _is_assumed(key, assumptions)))
+            out.append(ParameterRow(key, format_value(f, value, symbols), f.doc, _is_assumed(key, assumptions)))
     return out
 
 
-def _profile_rows(profile) -> list:
-    out = _rows(profile, schema.fields_of("profile"), "profile.", ())
+def _profile_rows(profile, symbols: bool = False) -> list:
+    out = _rows(profile, schema.fields_of("profile"), "profile.", (), symbols=symbols)
     by_path = schema.field_map("profile")
     for c in schema.profile_channels():
         ch = getattr(profile, c)
         if ch is None:   # an optional channel the profile leaves out (its default applies)
             continue
         f = by_path[f"{c}.fraction" if ch.relative else f"{c}.value"]
-        out.append(ParameterRow(f"profile.{f.path}", format_value(f, ch.values), f.doc, False))
+        out.append(ParameterRow(f"profile.{f.path}", format_value(f, ch.values, symbols), f.doc, False))
     for name, start, end in profile.phases:
         f = by_path[f"phases.{name}"]
-        out.append(ParameterRow(f"profile.{f.path}", format_value(f, (start, end)), f.doc, False))
+        out.append(ParameterRow(f"profile.{f.path}", format_value(f, (start, end), symbols), f.doc, False))
     return out
 
 
-def parameter_table(bearing, profile=None, settings=None) -> list:
+def parameter_table(bearing, profile=None, settings=None, symbols: bool = False) -> list:
     """The parameters of ``bearing`` (and ``profile``, and the solver ``settings``) as
     :class:`ParameterRow` s, in schema order (``mounting``, when it names the gravity,
     after the bearing's fields).
@@ -134,15 +150,18 @@ def parameter_table(bearing, profile=None, settings=None) -> list:
     bearing : rvcore.geometry.Bearing
     profile : rvcore.profile.Profile, optional
     settings : rvcore.driver.SolverSettings, optional
+    symbols : bool
+        Units as a reader writes them (``°/s``, ``µm``; :func:`display_unit`) rather than as
+        the files spell them (``deg/s``, ``um``).
     """
     rows = _rows(bearing, schema.fields_of("bearing"), "", bearing.assumptions,
-                 skip=lambda f: _skip(f, bearing))
+                 skip=lambda f: _skip(f, bearing), symbols=symbols)
     mounting = _mounting(bearing)
     if mounting is not None:
         f = schema.field_map("bearing")["mounting"]
         rows.append(ParameterRow("mounting", mounting, f.doc, _is_assumed("mounting", bearing.assumptions)))
     if profile is not None:
-        rows += _profile_rows(profile)
+        rows += _profile_rows(profile, symbols)
     if settings is not None:
-        rows += _rows(settings, schema.fields_of("solver"), "", ())
+        rows += _rows(settings, schema.fields_of("solver"), "", (), symbols=symbols)
     return rows
