@@ -29,6 +29,7 @@ from ..analysis import REALIZATION
 from ..io import write_text_atomic
 from .context import ROW, Context, _base, _ensemble_text, realizations
 from .figures import _new_figure, _save
+from .stiffness import _DISPLAY as STIFFNESS_DISPLAY
 from .render import _PHASE_TITLE, Heading, Image, Para, Table, _dps, _g, _kn
 
 #: Most grid points listed in the report's table; a larger grid shows its corners and its
@@ -37,9 +38,6 @@ MAX_ROWS = 12
 
 #: Shown for a value the sweep does not hold (or that is undefined at that point).
 ABSENT = "—"
-
-#: Radians per minute of arc (tilting stiffness in N m/arcmin, as RV-reducer catalogues give it).
-_ARCMIN = math.pi / (180.0 * 60.0)
 
 
 @dataclass(frozen=True)
@@ -92,9 +90,8 @@ COLUMNS = (
     Column("pv", "peak race pv [MPa m/s]", "max_race_pv_peak", over="max", scale=1e-6),
     Column("delta_r", "steady δ_r mean [µm]", "radial_displacement_mean", phase="steady", scale=1e6),
     Column("delta_a", "steady δ_a mean [µm]", "axial_displacement_mean", phase="steady", scale=1e6),
-    Column("radial_stiffness", "radial stiffness [N/µm]", "radial_stiffness", scale=1e-6),
-    Column("axial_stiffness", "axial stiffness [N/µm]", "axial_stiffness", scale=1e-6),
-    Column("tilting_stiffness", "tilting stiffness [N m/arcmin]", "tilting_stiffness", scale=_ARCMIN),
+    *(Column(name, f"{name.split('_')[0]} stiffness [{unit}]", name, scale=scale)
+      for name, (scale, unit, _) in STIFFNESS_DISPLAY.items()),
 )
 
 
