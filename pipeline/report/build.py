@@ -2,12 +2,20 @@
 
 :func:`build_report` reads a sweep folder (``sweep.nc`` or, for a sweep killed before
 combining, its ``cases/*.nc``; ``status.json``), writes ``metrics.nc`` and ``fits.nc``
-beside them and ``report/report.md``, ``report/report.html`` and ``report/figures/*.png``,
+beside them and ``report/report.md``, ``report/report.html``, ``report/summary.csv`` and
+``report/figures/*.png``,
 each file atomically.
 
+The report is written for a bearing designer (issue 10), in this order: the summary per
+operating point (:mod:`.summary`: safety factor, lives, start-up torque, cage forces,
+sliding, displacements, stiffness; also ``report/summary.csv``) and the cases; the
+figures (the designer outputs, time histories, the study's metrics, cage slip,
+stiffness, load distribution); the study comparison; the files; and the configuration
+as an appendix in engineering units (:mod:`.parameters`).
+
 The report is a list of simple blocks (:mod:`.render`) built by the sections
-(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`, :mod:`.stiffness`,
-:mod:`.loads`) and figures
+(:mod:`.summary`, :mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`,
+:mod:`.stiffness`, :mod:`.loads`) and figures
 (:mod:`.figures`) from a :class:`.context.Context`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 

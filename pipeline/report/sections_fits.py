@@ -245,7 +245,7 @@ def section_physics(ctx: Context, comparison, windows):
             a, b = windows["startup"]
             if b > a:
                 acc = (f" Our start-up ramps the speed over {_g(b - a)} s, an angular acceleration of "
-                       f"{_g(s_lo / (b - a))} to {_g(s_hi / (b - a))} °/s² "
+                       f"{_g(s_lo / (b - a), 4)} to {_g(s_hi / (b - a), 4)} °/s² "
                        f"over the grid, the quantity the study attributes the transient ranges to.")
         paras.append(f"**Transient ranges.** {n_agree} of {len(trans)} start-up and deceleration range "
                      f"slopes have the study's sign.{acc}")

@@ -19,7 +19,17 @@ __all__ = ["ParameterRow", "parameter_table", "format_value", "display_unit"]
 #: How a reader is shown the schema's file units (which stay ASCII so that a value can be
 #: pasted back into a TOML file): symbols in place of the ASCII spellings.
 _DISPLAY_UNITS = {"deg/s": "°/s", "deg": "°", "um": "µm", "us": "µs", "kg/m^3": "kg/m³", "kg m^2": "kg m²",
-                  "m/s^2": "m/s²"}
+                  "m/s^2": "m/s²", "N/m^1.5": "N/m¹·⁵"}
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _readable_number(text: str) -> str:
+    """``"1e+09"`` -> ``"1×10⁹"``; a number without an exponent unchanged."""
+    mantissa, e, exponent = text.partition("e")
+    if not e:
+        return text
+    return f"{mantissa}×10" + str(int(exponent)).translate(_SUPERSCRIPT)
 
 
 def display_unit(unit: str) -> str:
@@ -69,7 +79,9 @@ def format_value(f: schema.Field, value, symbols: bool = False) -> str:
         return str(int(value))
     if f.unit and f.unit_kind:
         text = format_quantity(value, f.unit, f.unit_kind)
-        return text.removesuffix(f" {f.unit}") + f" {display_unit(f.unit)}" if symbols else text
+        if not symbols:
+            return text
+        return f"{_readable_number(text.removesuffix(f' {f.unit}'))} {display_unit(f.unit)}"
     return f"{value:.6g}"
 
 

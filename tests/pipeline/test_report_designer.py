@@ -262,4 +262,5 @@ def test_appendix_in_engineering_units(tmp_path):
     assert rows["`rows[0].balls.diameter`"][0].endswith(" mm")
     assert rows["`contact.damping_depth`"][0].endswith(" µm")
     assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
+    assert not [v for v, *_ in rows.values() if "e+" in v or "e-" in v]   # 1×10⁹, not 1e+09
     assert "2.094" not in md and "rad/s" not in md and "deg/s" not in md
