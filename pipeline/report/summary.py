@@ -27,6 +27,7 @@ from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION
 from ..io import write_text_atomic
+from ..schema.parameters import readable_number
 from .context import ROW, Context, _base, _ensemble_text, realizations
 from .figures import _new_figure, _save
 from .stiffness import _DISPLAY as STIFFNESS_DISPLAY
@@ -206,7 +207,8 @@ def _shown_points(n_speed: int, n_load: int) -> list:
 
 
 def _cell(v: float, digits: int = 3) -> str:
-    return _g(v, digits) if v is not None and math.isfinite(v) else ABSENT
+    """``v`` to ``digits`` significant digits, a large or small one as ``1.23×10⁷``; "—" for NaN."""
+    return readable_number(_g(v, digits)) if v is not None and math.isfinite(v) else ABSENT
 
 
 def summary_rows(s: Summary, points) -> list:

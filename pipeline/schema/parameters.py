@@ -14,7 +14,7 @@ from rvcore.geometry import MOUNTINGS
 from . import fields as schema
 from .units import format_quantity
 
-__all__ = ["ParameterRow", "parameter_table", "format_value", "display_unit"]
+__all__ = ["ParameterRow", "parameter_table", "format_value", "display_unit", "readable_number"]
 
 #: How a reader is shown the schema's file units (which stay ASCII so that a value can be
 #: pasted back into a TOML file): symbols in place of the ASCII spellings.
@@ -24,7 +24,7 @@ _DISPLAY_UNITS = {"deg/s": "°/s", "deg": "°", "um": "µm", "us": "µs", "kg/m^
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
-def _readable_number(text: str) -> str:
+def readable_number(text: str) -> str:
     """``"1e+09"`` -> ``"1×10⁹"``; a number without an exponent unchanged."""
     mantissa, e, exponent = text.partition("e")
     if not e:
@@ -81,7 +81,7 @@ def format_value(f: schema.Field, value, symbols: bool = False) -> str:
         text = format_quantity(value, f.unit, f.unit_kind)
         if not symbols:
             return text
-        return f"{_readable_number(text.removesuffix(f' {f.unit}'))} {display_unit(f.unit)}"
+        return f"{readable_number(text.removesuffix(f' {f.unit}'))} {display_unit(f.unit)}"
     return f"{value:.6g}"
 
 

@@ -83,7 +83,13 @@ def designer(tmp_path_factory):
 
 
 def _g3(x: float) -> str:
-    return f"{x:.3g}"
+    """``x`` to 3 significant digits as the table writes it: 12300000 as 1.23×10⁷."""
+    text = f"{x:.3g}"
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    digits = dict(zip("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    return f"{mantissa}×10" + "".join(digits[c] for c in str(int(exponent)))
 
 
 def test_first_section_is_the_summary_table(designer):
