@@ -306,6 +306,8 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
             y = v[:, k] if axis == "speed" else v[k, :]
             colour = cmap(k / max(len(others) - 1, 1))
             ax.plot(x, y, "-o", ms=3.5, lw=1.0, color=colour, label=_kn(o) if axis == "speed" else _dps(o))
+        if col.key == "safety":   # ISO 76's reference: s₀ = 1 is the peak pressure of 4200 MPa
+            ax.axhline(1.0, color="C3", lw=0.8, ls="--", label="s₀ = 1 (4200 MPa)")
         ax.set_xlabel("steady speed [°/s]" if axis == "speed" else "radial load [kN]")
         ax.set_ylabel(col.figure, fontsize=8)
         ax.grid(True, lw=0.3)
