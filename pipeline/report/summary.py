@@ -28,7 +28,7 @@ from rvcore.profile import PHASES
 from ..analysis import REALIZATION
 from ..io import write_text_atomic
 from ..schema.parameters import readable_number
-from .context import ROW, Context, _base, _ensemble_text, realizations
+from .context import ROW, Context, _base, _ensemble_text, _extra_dims, realizations
 from .figures import _new_figure, _save
 from .stiffness import _DISPLAY as STIFFNESS_DISPLAY
 from .render import _PHASE_TITLE, Heading, Image, Para, Table, _dps, _g, _kn
@@ -207,7 +207,10 @@ def _shown_points(n_speed: int, n_load: int) -> list:
 
 
 def _cell(v: float, digits: int = 3) -> str:
-    """``v`` to ``digits`` significant digits, a large or small one as ``1.23×10⁷``; "—" for NaN."""
+    """``v`` to ``digits`` significant digits, a large or small one as ``1.23×10⁷``; "∞" for +inf
+    (a life without load), "—" for NaN."""
+    if v is not None and math.isinf(v) and v > 0:
+        return "∞"   # an unloaded bearing's life
     return readable_number(_g(v, digits)) if v is not None and math.isfinite(v) else ABSENT
 
 
@@ -247,7 +250,7 @@ def summary_csv(s: Summary) -> str:
             for col in COLUMNS:
                 v = s.values[col.key]
                 x = math.nan if v is None else float(v[i, j])
-                row.append(f"{x:.6g}" if math.isfinite(x) else "")
+                row.append(f"{x:.6g}" if not math.isnan(x) else "")
                 if col.key == "safety":
                     p = s.phase_text(i, j)
                     row.append("" if p == ABSENT else p)
@@ -274,6 +277,10 @@ def section_summary(ctx: Context, outdir: Path):
             "the applied load (ISO 281) at the loads in the middle of the steady phase; peak forces, sliding "
             "speed and pv: the largest over the cycle; δ_r, δ_a at the ring centre; stiffness: the direct "
             "terms of the quasi-static tangent stiffness at the steady point.")
+    extra = _extra_dims(ctx.metrics)
+    if extra:
+        text += (" Other sweep dimensions are held at their first value ("
+                 + ", ".join(f"{d} index 0" for d in extra) + "), as in the figures.")
     blocks.append(Para(text))
     lacking = s.lacking()
     if lacking:

@@ -270,3 +270,19 @@ def test_appendix_in_engineering_units(tmp_path):
     assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
     assert not [v for v, *_ in rows.values() if "e+" in v or "e-" in v]   # 1×10⁹, not 1e+09
     assert "2.094" not in md and "rad/s" not in md and "deg/s" not in md
+
+
+def test_unloaded_life_is_infinite_and_undefined_safety_is_absent(tmp_path):
+    """No load at a point: no Hertz pressure (s₀ NaN, "—") and an infinite life ("∞", "inf" in the CSV)."""
+    m = _metrics_grid([120.0, 660.0], [20e3, 40e3])
+    m["rating_life_L10r"][0, 0] = np.inf
+    m["static_safety_factor_min"][0, 0, :] = np.nan
+    blocks, _, path = section_summary(_context(m, tmp_path), tmp_path)
+    table = next(b for b in blocks if hasattr(b, "rows"))
+    row = table.rows[0]
+    assert row[table.header.index("L10r of the duty cycle [Mrev]")] == "∞"
+    k = table.header.index("min static safety factor s₀ (ISO 76) [1]")
+    assert row[k] == ABSENT and row[k + 1] == ABSENT
+    with open(path, newline="") as fh:
+        first = list(csv.reader(fh))[1]
+    assert first[table.header.index("L10r of the duty cycle [Mrev]")] == "inf"
