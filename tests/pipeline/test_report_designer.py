@@ -22,7 +22,7 @@ from pipeline.analysis import DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION
 from pipeline.io import encoding_for
 from pipeline.report import build_report
 from pipeline.report.context import Context
-from pipeline.report.summary import ABSENT, COLUMNS, section_summary
+from pipeline.report.summary import ABSENT, section_summary
 from pipeline.schema import sweep_from_dict
 from rvcore.profile import PHASES
 from tests.pipeline.test_report import _section, _table, synthetic_sweep
@@ -41,8 +41,7 @@ def made_up(name: str, speed_deg: float, load: float) -> np.ndarray:
     x = speed_deg / 100.0 + load / 1e4                  # 1.2 ... 10.6, a different number per point
     per_phase = np.array([1.0, 2.0, 1.5])
     if name == "static_safety_factor_min":
-        k = int(round(speed_deg)) % 3                   # 120 -> 0, 390 -> 0, 660 -> 0: vary by load too
-        k = (k + int(load / 1e4)) % 3
+        k = int(x) % 3                                  # the phase of the smallest: varies over the grid
         v = np.full(3, 5.0 / x)
         v[k] *= 0.5
         return v
