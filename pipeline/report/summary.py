@@ -207,11 +207,16 @@ def _shown_points(n_speed: int, n_load: int) -> list:
 
 
 def _cell(v: float, digits: int = 3) -> str:
-    """``v`` to ``digits`` significant digits, a large or small one as ``1.23×10⁷``; "∞" for +inf
-    (a life without load), "—" for NaN."""
+    """``v`` to ``digits`` significant digits (below a million written out: 1200), a larger or
+    very small one as ``1.23×10⁷``; "∞" for +inf (a life without load), "—" for NaN."""
     if v is not None and math.isinf(v) and v > 0:
         return "∞"   # an unloaded bearing's life
-    return readable_number(_g(v, digits)) if v is not None and math.isfinite(v) else ABSENT
+    if v is None or not math.isfinite(v):
+        return ABSENT
+    text = _g(v, digits)
+    if "e+" in text and abs(v) < 1e6:   # 1.2e+03: plain 1200, rounded to the digits
+        text = f"{float(text):.0f}"
+    return readable_number(text)
 
 
 def summary_rows(s: Summary, points) -> list:

@@ -82,8 +82,10 @@ def designer(tmp_path_factory):
 
 
 def _g3(x: float) -> str:
-    """``x`` to 3 significant digits as the table writes it: 12300000 as 1.23×10⁷."""
+    """``x`` to 3 significant digits as the table writes it: 1234 as 1230, 12300000 as 1.23×10⁷."""
     text = f"{x:.3g}"
+    if "e+" in text and abs(x) < 1e6:
+        return str(round(float(text)))
     if "e" not in text:
         return text
     mantissa, exponent = text.split("e")
