@@ -2,7 +2,10 @@
 
 The core accumulates, at every integrator step, the range, mean and standard deviation
 of δ_r and δ_a per phase, the mean cage and inner-ring speeds, the cage slip against the
-epicyclic speed and the peak Hertz pressure (``pipeline.case.PHASE_METRICS``). This
+epicyclic speed and the peak Hertz pressure (``pipeline.case.PHASE_METRICS``), and,
+where the case files carry them (issue 10), the designer's outputs (drive torque, friction, cage forces, race
+sliding, static safety factor, fatigue damage; :data:`DESIGNER_METRICS`) with the
+per-case stiffness and rating lives (:data:`SCALARS`). This
 module gathers them from ``sweep.nc`` (or, when no ``sweep.nc`` was written, from the
 case files) into one dataset over ``(speed, radial_load, phase)``, plus any extra sweep
 dimension, with the case status alongside. Missing or failed cases are NaN.
@@ -46,6 +49,45 @@ STIFFNESS = {
     "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
                                        "tangent stiffness about the axis normal to the radial load"),
 }
+
+
+#: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name),
+#: used when the sweep's variable lacks its own attributes. Sweeps written before issue 10
+#: lack them and are reported without.
+DESIGNER_METRICS = {
+    "inner_ring_drive_torque_peak": ("N m", "largest magnitude of the inner-ring drive torque over the phase"),
+    "inner_ring_drive_torque_mean": ("N m", "time mean of the inner-ring drive torque over the phase"),
+    "friction_power_mean": ("W", "time mean of the power dissipated by friction at every contact over the phase"),
+    "friction_energy": ("J", "energy dissipated by friction at every contact over the phase"),
+    "max_pocket_force_peak": ("N", "largest ball-pocket normal force over the phase"),
+    "cage_land_force_peak": ("N", "largest cage-land normal force over the phase"),
+    "max_race_sliding_speed_peak": ("m s-1", "largest sliding speed at a ball-race contact over the phase"),
+    "max_race_pv_peak": ("Pa m s-1", "largest Hertz peak pressure times sliding speed at a ball-race contact "
+                                     "over the phase"),
+    "contact_angle_min": ("rad", "smallest contact angle of the loaded ball-race contacts over the phase"),
+    "contact_angle_max": ("rad", "largest contact angle of the loaded ball-race contacts over the phase"),
+    "static_safety_factor_min": ("1", "smallest static safety factor (ISO 76: 4200 MPa over the peak Hertz "
+                                      "pressure) over the phase"),
+    "static_safety_factor_min_time": ("s", "elapsed time at which the static safety factor is smallest in the phase"),
+    "fatigue_damage": ("1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile"),
+}
+
+#: The designer's scalars of a case (issue 10), no ``phase``: name -> (units, long_name).
+#: Lives are in revolutions of the inner ring (units "1"), the duty-cycle life also in
+#: cycles of the profile.
+DESIGNER_SCALARS = {
+    "rating_life_L10r": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle (Palmgren-Miner over "
+                              "the simulated cycle), in revolutions of the inner ring"),
+    "rating_life_cycles": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in cycles of the profile"),
+    "fatigue_damage_cycle": ("1", "Palmgren-Miner fatigue damage of one cycle of the profile"),
+    "reference_rating_life_L10r": ("1", "ISO/TS 16281 reference rating life L10r at the steady operating point "
+                                        "(statics), in revolutions of the inner ring"),
+    "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P)^3 at the steady operating point, "
+                                   "in revolutions of the inner ring"),
+}
+
+#: Every per-case scalar (no ``phase``) ``metrics.nc`` carries when the sweep holds it.
+SCALARS = {**STIFFNESS, **DESIGNER_SCALARS}
 
 
 def load_sweep(directory) -> xr.Dataset:
@@ -146,8 +188,8 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         Dims ``(speed, radial_load, [extra...], phase)``: every phase metric present with
         its CF ``units``/``long_name``, the derived ``epicyclic_cage_speed`` [rad s-1] and
         ``case_status`` (int8 flags ok/failed/not_run), and, where the sweep holds them,
-        the :data:`STIFFNESS` scalars at the steady operating point over the sweep axes
-        (no ``phase``). The ``phase`` coordinate is the int8 flag coordinate of
+        the designer's phase metrics (:data:`DESIGNER_METRICS`) and the per-case scalars
+        (:data:`SCALARS`: stiffness and rating lives) over the sweep axes (no ``phase``). The ``phase`` coordinate is the int8 flag coordinate of
         :func:`pipeline.case.phase_coordinate`.
 
     Notes
@@ -168,20 +210,25 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     extra = [d for d in sweep.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", "sensor", "row")]
     order = ["speed", "radial_load", *extra, "phase"]
     data = {}
-    for name in present:
+    def carried(name: str, units: str, long_name: str) -> xr.DataArray:
+        """``sweep[name]`` in ``order``, float64, with its own units/long_name or these."""
         da = sweep[name]
         da = da.transpose(*[d for d in order if d in da.dims], *[d for d in da.dims if d not in order])
+        return xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
+                            attrs={"units": str(da.attrs.get("units", units)),
+                                   "long_name": str(da.attrs.get("long_name", long_name))})
+
+    for name in present:
         _, units, long_name = VARIABLES[name]
-        data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
-                                  attrs={"units": units, "long_name": long_name})
-    for name, (units, long_name) in STIFFNESS.items():
+        data[name] = carried(name, units, long_name)
+        data[name].attrs.update(units=units, long_name=long_name)   # the schema's own, as before
+    for name, (units, long_name) in DESIGNER_METRICS.items():
+        if name in sweep.data_vars and name not in data and "phase" in sweep[name].dims:
+            data[name] = carried(name, *(VARIABLES[name][1:] if name in VARIABLES else (units, long_name)))
+    for name, (units, long_name) in SCALARS.items():
         if name not in sweep.data_vars or "phase" in sweep[name].dims:
             continue
-        da = sweep[name]
-        da = da.transpose(*[d for d in order if d in da.dims], *[d for d in da.dims if d not in order])
-        data[name] = xr.DataArray(np.asarray(da.values, dtype=np.float64), dims=da.dims,
-                                  attrs={"units": str(da.attrs.get("units", units)),
-                                         "long_name": str(da.attrs.get("long_name", long_name))})
+        data[name] = carried(name, units, long_name)
     if REALIZATION in sweep.dims:
         data.update(ensemble_statistics(data))
     coords = {}
@@ -221,7 +268,11 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                            "(see case_status)."
                            + (" Radial, axial and tilting stiffness: the direct terms of the quasi-static "
                               "tangent stiffness at the loads in the middle of the steady phase, one per case."
-                              if any(n in ds for n in STIFFNESS) else ""))
+                              if any(n in ds for n in STIFFNESS) else "")
+                           + (" Designer outputs: drive torque, friction, cage forces, race sliding and pv, "
+                              "contact angles, static safety factor (ISO 76) and fatigue damage per phase; "
+                              "rating lives (ISO/TS 16281, ISO 281) per case, in revolutions of the inner ring."
+                              if any(n in ds for n in (*DESIGNER_METRICS, *DESIGNER_SCALARS)) else ""))
     return ds
 
 

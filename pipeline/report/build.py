@@ -2,12 +2,20 @@
 
 :func:`build_report` reads a sweep folder (``sweep.nc`` or, for a sweep killed before
 combining, its ``cases/*.nc``; ``status.json``), writes ``metrics.nc`` and ``fits.nc``
-beside them and ``report/report.md``, ``report/report.html`` and ``report/figures/*.png``,
+beside them and ``report/report.md``, ``report/report.html``, ``report/summary.csv`` and
+``report/figures/*.png``,
 each file atomically.
 
+The report is written for a bearing designer (issue 10), in this order: the summary per
+operating point (:mod:`.summary`: safety factor, lives, start-up torque, cage forces,
+sliding, displacements, stiffness; also ``report/summary.csv``) and the cases; the
+figures (the designer outputs, time histories, the study's metrics, cage slip,
+stiffness, load distribution); the study comparison; the files; and the configuration
+as an appendix in engineering units (:mod:`.parameters`).
+
 The report is a list of simple blocks (:mod:`.render`) built by the sections
-(:mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`, :mod:`.stiffness`,
-:mod:`.loads`) and figures
+(:mod:`.summary`, :mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`,
+:mod:`.stiffness`, :mod:`.loads`) and figures
 (:mod:`.figures`) from a :class:`.context.Context`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -30,7 +38,7 @@ from pathlib import Path
 
 from rvcore.profile import PHASES
 
-from ..analysis import (STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
+from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
                         write_fits, write_metrics)
 from ..io import read_status, write_text_atomic
 from .context import (SENSOR, Context, _ensemble_text, _first_realization_text, phase_windows,
@@ -44,6 +52,7 @@ from .sections_fits import _comparison, section_comparison, section_physics, sec
 from .select import _axis_specs, _base_states, _extreme_cases
 from .loads import section_load_distribution, solve_extremes
 from .stiffness import section_stiffness
+from .summary import section_designer_figures, section_summary
 
 
 #: Sensor metrics fitted for the sensor figures.
@@ -97,6 +106,7 @@ class ReportFiles:
     metrics: Path
     fits: Path
     missing: int
+    summary: Path | None = None
 
 
 
@@ -151,15 +161,19 @@ def build_report(directory, reference=None) -> ReportFiles:
     if caveats:
         blocks.append(Warning_("**Geometry caveat.** This bearing is not buildable as specified; "
                                "its results are reported with that caveat:\n" + "\n".join(caveats)))
-    blocks += section_parameters(ctx)
-    blocks += section_sensors(ctx)
+    summary_blocks, summary, summary_path = section_summary(ctx, outdir)
+    blocks += summary_blocks
     blocks += section_cases(ctx)
+    figures = []
+    designer_blocks, designer_figures = section_designer_figures(ctx, summary, figdir)
+    blocks += designer_blocks
+    figures += designer_figures
+    blocks += section_sensors(ctx)
     sens = sensors(ctx.metrics)
     ens = _ensemble_text(ctx)
     if sens:
         ctx.sensor_fits = fit_metrics(ctx.metrics, names=[n for n in _SENSOR_FITTED if n in ctx.metrics])
 
-    figures = []
     blocks.append(Heading(2, "Time histories"))
     cases = _extreme_cases(ctx, realization=0 if realizations(ctx.sweep) is not None else None)
     if cases:
@@ -233,6 +247,7 @@ def build_report(directory, reference=None) -> ReportFiles:
     blocks += section_plane(ctx)
     blocks += section_physics(ctx, comparison, windows)
     blocks.append(Heading(2, "Files"))
+    designer = [n for n in (*DESIGNER_METRICS, *DESIGNER_SCALARS) if n in ctx.metrics]
     dims = "speed, radial_load" + (", realization" if ens else "") + ", phase" + (", sensor" if sens else "")
     blocks.append(Bullets([
         "`metrics.nc`: range, mean and std of δ_r and δ_a at the ring centre"
@@ -242,15 +257,19 @@ def build_report(directory, reference=None) -> ReportFiles:
         f"contact pressure and the phase windows (`phase_start`, `phase_end`) over ({dims})"
         + ("; the ensemble means and standard errors (`*_ensemble_mean`, `*_ensemble_stderr`) and the fraction of "
            "realizations flagged at the window's edge (`*_range_at_edge_fraction`)" if ens else ""),
+        *(["`metrics.nc` also: the designer outputs per phase and case ("
+            + ", ".join(f"`{n}`" for n in designer) + ")"] if designer else []),
         *(["`metrics.nc` also: the radial, axial and tilting stiffness at the steady operating point "
             "(`radial_stiffness`, `axial_stiffness`, `tilting_stiffness`) over the sweep axes"]
           if any(n in ctx.metrics for n in STIFFNESS) else []),
         "`fits.nc`: line fits along each axis and the interaction plane, per metric and phase"
         + (" (of the ensemble means, weighted by their standard errors)" if ens else "")
-        + (", at the ring centre" if sens else "")]))
+        + (", at the ring centre" if sens else ""),
+        f"`report/{summary_path.name}`: the summary table at every grid point"]))
+    blocks += section_parameters(ctx)
 
     md = write_text_atomic(outdir / "report.md", render_markdown(blocks))
     ht = write_text_atomic(outdir / "report.html", render_html(blocks, f"Sweep report: {directory.name}"))
     missing = int((_base_states(ctx) != "ok").sum())
     return ReportFiles(markdown=md, html=ht, figures=figures, metrics=directory / "metrics.nc",
-                       fits=directory / "fits.nc", missing=missing)
+                       fits=directory / "fits.nc", missing=missing, summary=summary_path)

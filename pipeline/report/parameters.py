@@ -1,9 +1,11 @@
-"""The report's parameters section, alone: one function, :func:`section_parameters`.
+"""The report's appendix of the configuration, alone: one function, :func:`section_parameters`.
 
 Every value comes from the sweep's stored configuration
 (:class:`pipeline.schema.StoredConfiguration`), laid out by the one input schema
-(:func:`pipeline.schema.parameter_table`): file key paths, values in engineering
-units, each field's doc, and whether the bearing file marks it assumed.
+(:func:`pipeline.schema.parameter_table`): file key paths, values in the schema's
+engineering units written as a reader writes them (120 °/s, 1 µm; never the SI the core
+computes in), each field's doc, and whether the bearing file marks it assumed. The
+sweep's axes and fixed values go through the same formatting.
 """
 from __future__ import annotations
 
@@ -31,11 +33,15 @@ def _gravity_text(conf) -> str:
     return f"gravity: on, g = ({shown}) m/s² in the bearing frame{along}"
 
 
+#: The heading of the configuration appendix (the report's last section).
+HEADING = "Appendix: bearing, profile and parameters"
+
+
 def section_parameters(ctx: Context) -> list:
-    """The blocks of the section 'Bearing, profile and parameters'."""
+    """The blocks of the appendix :data:`HEADING`: the configuration in engineering units."""
     attrs = ctx.sweep.attrs
     conf = ctx.configuration
-    blocks = [Heading(2, "Bearing, profile and parameters")]
+    blocks = [Heading(2, HEADING)]
     items = [f"bearing: **{attrs.get('bearing', '') or 'not named'}**",
              f"profile: **{attrs.get('profile', '') or 'not named'}**"]
     if "axial_load" in ctx.metrics.coords:
@@ -61,11 +67,11 @@ def section_parameters(ctx: Context) -> list:
         blocks.append(Para("**Assumed values** (the study does not give them; marked 'assumed' in the table below): "
                            + ", ".join(f"`{a}`" for a in assumptions) + "."))
     rows = [[f"`{r.key}`", r.value, r.doc, "**assumed**" if r.assumed else ""]
-            for r in parameter_table(conf.bearing, conf.profile, conf.settings)]
+            for r in parameter_table(conf.bearing, conf.profile, conf.settings, symbols=True)]
     for kind, values in (("axis", conf.axes), ("fixed", conf.fixed)):
         for key, value in values.items():
             f = field("operating_point", key)
-            shown = format_value(f, value) if f is not None else str(value)
+            shown = format_value(f, value, symbols=True) if f is not None else str(value)
             rows.append([f"`{key}`", shown, f"sweep {kind}" + (f": {f.doc}" if f is not None else ""), ""])
     blocks.append(Table(["key", "value", "meaning", "assumption"], rows))
     return blocks

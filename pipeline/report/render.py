@@ -134,6 +134,11 @@ def _kn(newton: float) -> str:
     return f"{_g(newton / 1e3, 4)} kN"
 
 
+def _unit(text: str) -> str:
+    """A unit string of a reference file as a reader writes it: ``mm/(deg/s)`` -> ``mm/(°/s)``."""
+    return text.replace("deg/s", "°/s")
+
+
 def _dps(deg_s: float) -> str:
     return f"{_g(deg_s, 4)} °/s"
 

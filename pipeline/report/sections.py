@@ -253,12 +253,12 @@ def section_cage_slip(ctx: Context, figdir: Path, cases):
                     continue
                 epi = _metric_stat(ctx, "epicyclic_cage_speed", sp, ld, phase, row=r)
                 rows.append([_dps(sp), _kn(ld), _PHASE_TITLE[phase]] + ([str(r)] if r is not None else [])
-                            + [_pm(m_, se, 100.0) for m_, se in vals] + [_pm(*epi)])
+                            + [_pm(m_, se, 100.0) for m_, se in vals] + [_pm(*epi, scale=180.0 / math.pi)])
     if rows:
         blocks.append(Para("At the extreme cases, per phase" + (f" (ensemble mean ± standard error of {ens})"
                                                                  if ens else "") + ":"))
         blocks.append(Table(["speed", "radial load", "phase"] + (["row"] if bearing_rows != [None] else [])
-                            + [f"`{n}` ({w}) [%]" for n, w in present] + ["ω_epi, actual angles [rad/s]"],
+                            + [f"`{n}` ({w}) [%]" for n, w in present] + ["ω_epi, actual angles [°/s]"],
                             rows))
     return blocks, figures
 

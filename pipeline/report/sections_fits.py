@@ -10,7 +10,7 @@ from rvcore.profile import PHASES
 
 from ..analysis import fit_statistic, nearest
 from .context import SENSOR, Context, _base, _ensemble_text, bearing_numbers, realizations, sensors
-from .render import _PHASE_TITLE, Heading, Para, Table, _dps, _e, _g, _kn
+from .render import _PHASE_TITLE, Heading, Para, Table, _dps, _e, _g, _kn, _unit
 from .select import _fit_at, _fixed_choice, _metric_value, _ok_cases
 
 
@@ -62,9 +62,9 @@ def section_comparison(ctx: Context, comparison):
             sign = ("yes" if c["agrees"] else "no") + flat
         rows.append([
             ref.label, c["note"].removeprefix("at "),
-            f"{_e(ref.slope)} {ref.slope_units}", f"{_g(ref.intercept, 4)} {ref.intercept_units}",
-            f"{_e(c['slope'])} [{_e(c['lo'])}, {_e(c['hi'])}] {ref.slope_units}",
-            f"{_e(c['intercept'])} {ref.intercept_units}", _g(c["r2"]), str(int(c["n"])), sign,
+            f"{_e(ref.slope)} {_unit(ref.slope_units)}", f"{_g(ref.intercept, 4)} {_unit(ref.intercept_units)}",
+            f"{_e(c['slope'])} [{_e(c['lo'])}, {_e(c['hi'])}] {_unit(ref.slope_units)}",
+            f"{_e(c['intercept'])} {_unit(ref.intercept_units)}", _g(c["r2"]), str(int(c["n"])), sign,
         ])
     blocks.append(Table(["study fit", "at", "study slope", "study intercept", "our slope [95 % CI]",
                          "our intercept", "our R²", "n", "sign agrees"], rows))
@@ -160,7 +160,7 @@ def section_physics(ctx: Context, comparison, windows):
     if math.isfinite(f_c) and math.isfinite(q) and q > 0:
         paras.append(
             f"**Centrifugal loading.** At the highest speed, {_dps(s)} with {_kn(load)} radial load, "
-            f"the cage turns at ω_c = {_g(w_c)} rad/s ({w_c_src}). A ball of m_b = {_g(m_b)} kg "
+            f"the cage turns at ω_c = {_g(math.degrees(w_c), 4)} °/s ({w_c_src}). A ball of m_b = {_g(m_b)} kg "
             f"(D = {_g(D * 1e3)} mm, ρ = {_g(bn['rho'], 4)} kg/m³) on the pitch radius "
             f"d_m/2 = {_g(r * 1e3, 4)} mm feels F_c = m_b·(d_m/2)·ω_c² = {_g(f_c)} N, while the largest "
             f"inner-race contact load averages {_g(q / 1e3)} kN over the steady phase"
@@ -211,7 +211,7 @@ def section_physics(ctx: Context, comparison, windows):
             far = ours == 0 or abs(study_mm / ours) > 10
             paras.append(
                 f"**Mean axial displacement.** The study's steady mean δ_a at {_dps(s_lo)} is "
-                f"{_g(study_mm, 4)} mm (its fit, intercept {_g(ref.intercept, 4)} {ref.intercept_units}); "
+                f"{_g(study_mm, 4)} mm (its fit, intercept {_g(ref.intercept, 4)} {_unit(ref.intercept_units)}); "
                 f"ours at the same point is {_g(ours, 3)} mm"
                 + (f", so the study's is {_g(abs(study_mm / ours))} times ours" if ours != 0 else "")
                 + (f". {_g(study_mm, 3)} mm is {_g(pct, 2)} % of the ball diameter" if math.isfinite(pct) else "")
@@ -230,7 +230,7 @@ def section_physics(ctx: Context, comparison, windows):
         ref = c["ref"]
         paras.append(
             f"**Steady mean {sym} against load** ({c['note']}). Our slope is {_e(c['slope'])} "
-            f"{ref.slope_units}, the study's {_e(ref.slope)} {ref.slope_units}: "
+            f"{_unit(ref.slope_units)}, the study's {_e(ref.slope)} {_unit(ref.slope_units)}: "
             + ("the signs agree" if c["agrees"] else "the signs differ")
             + (", and ours is significant at 95 %." if c["significant"] else
                ", but ours cannot be told from zero at 95 %.")
@@ -245,7 +245,7 @@ def section_physics(ctx: Context, comparison, windows):
             a, b = windows["startup"]
             if b > a:
                 acc = (f" Our start-up ramps the speed over {_g(b - a)} s, an angular acceleration of "
-                       f"{_g(math.radians(s_lo) / (b - a))} to {_g(math.radians(s_hi) / (b - a))} rad/s² "
+                       f"{_g(s_lo / (b - a), 4)} to {_g(s_hi / (b - a), 4)} °/s² "
                        f"over the grid, the quantity the study attributes the transient ranges to.")
         paras.append(f"**Transient ranges.** {n_agree} of {len(trans)} start-up and deceleration range "
                      f"slopes have the study's sign.{acc}")

@@ -64,9 +64,12 @@ def synthetic_sweep(directory, windows: bool = True, **kw):
             mp.setattr(synthetic_sweeps, "synthetic_result", _with_windows)
         return build_synthetic_sweep(directory, **kw)
 
-SECTIONS = ("# Sweep report", "## Bearing, profile and parameters", "## Cases", "## Time histories",
+#: The report's sections in their order (issue 10): the designer's summary first, then the cases and the
+#: figures, the study comparison, the files and the configuration as an appendix.
+SECTIONS = ("# Sweep report", "## Summary per operating point", "## Cases", "## Time histories",
             "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",
-            "## Where our physics agrees with the study and where it does not", "## Files")
+            "## Where our physics agrees with the study and where it does not", "## Files",
+            "## Appendix: bearing, profile and parameters")
 
 
 @pytest.fixture(scope="module")
@@ -80,6 +83,12 @@ def test_every_section_and_figure(built):
     d, files, md, html = built
     for s in SECTIONS:
         assert s in md
+    headings = [ln for ln in md.splitlines() if ln.startswith("#")]
+    at = [next(k for k, h in enumerate(headings) if h.startswith(s)) for s in SECTIONS]
+    assert at == sorted(at)   # in this order
+    sections = [h for h in headings if h.startswith("## ")]
+    assert sections[0] == "## Summary per operating point"
+    assert sections[-1] == "## Appendix: bearing, profile and parameters"
     assert (d / "metrics.nc").exists() and (d / "fits.nc").exists()
     names = sorted(p.name for p in (d / "report" / "figures").glob("*.png"))
     expected = ["time_histories.png", "cage_slip_steady.png", "load_distribution.png"] + [f"metric_{p}_{x}_{m}.png" for p, x, m in (
@@ -130,21 +139,21 @@ def test_comparison_values_in_study_units(built):
 def test_parameters_with_assumptions_marked(built):
     _, _, md, _ = built
     assert "bearing: **study-table2**" in md and "profile: **study**" in md
-    rows = {r[0]: r[1:] for r in _table(_section(md, "## Bearing, profile and parameters"))[1:]}
+    rows = {r[0]: r[1:] for r in _table(_section(md, "## Appendix: bearing, profile and parameters"))[1:]}
     # keys are the bearing file's own key paths, values in the schema's display units
     assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
     # a listed table (rows[0].outer_groove.arcs) marks every value in it
     assert rows["`rows[0].outer_groove.arcs[0].contact_angle`"][2] == "**assumed**"
     assert rows["`rows[0].balls.diameter`"][0] == "23 mm" and rows["`rows[0].balls.diameter`"][2] == ""
     assert rows["`rows[0].balls.count`"][0] == "51"
-    assert rows["`material.density`"][0] == "7800 kg/m^3"
+    assert rows["`material.density`"][0] == "7800 kg/m³"   # units as a reader writes them
     assert rows["`radial_load`"][0].endswith("kN")   # a sweep axis, in kN
     assert "case_ids" not in md
 
 
 def test_caveat_is_prominent(built):
     _, _, md, html = built
-    body = md.split("## Bearing", 1)[0]  # before the first section
+    body = md.split("## Summary per operating point", 1)[0]  # before the first section
     assert "> **Geometry caveat.**" in body and CAVEAT in body
     assert '<div class="caveat">' in html
 
@@ -184,7 +193,7 @@ def test_report_is_reproducible_and_works_without_caveat(tmp_path):
     first = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
     build_report(d)
     second = {p.name: p.read_bytes() for p in (d / "report").rglob("*") if p.is_file()}
-    assert first == second and len(first) == 11  # report.md, report.html and 9 figures
+    assert first == second and len(first) == 12  # report.md, report.html, summary.csv and 9 figures
     assert not [p for p in (d / "report").rglob("*.tmp")]  # written atomically, nothing left over
     md = first["report.md"].decode()
     m_b = 7800.0 * math.pi / 6.0 * 0.023**3
@@ -208,7 +217,7 @@ def test_report_names_an_unreadable_configuration(tmp_path):
     d = synthetic_sweep(tmp_path, config='model_version = 1\nname = "old"\n', speeds_deg=(120.0, 660.0),
                         loads=(30e3, 40e3), missing=())
     md = build_report(d).markdown.read_text()
-    text = _section(md, "## Bearing, profile and parameters")
+    text = _section(md, "## Appendix: bearing, profile and parameters")
     assert "model_version = 1: written by another model version" in text
     assert "| key | value |" not in text
     assert "The centrifugal force on a ball could not be estimated" in md
@@ -222,7 +231,7 @@ def test_cli_on_a_partial_sweep_of_case_files(tmp_path, capsys):
     assert "report.md" in out and "1 case(s) failed or missing" in out
     md = (d / "report" / "report.md").read_text()
     assert "4 cases, 3 finished ok, 1 failed or missing" in md
-    row = next(ln for ln in md.splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
+    row = next(ln for ln in _section(md, "## Cases").splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
     assert "| failed |" in row and FAILED_REASON in row
 
 
@@ -500,7 +509,7 @@ def test_report_of_a_real_run(tmp_path):
     assert result.ok
     files = build_report(result.out_dir)
     md, html = files.markdown.read_text(), files.html.read_text()
-    for heading in (f"# Sweep report: {result.out_dir.name}", "## Bearing, profile and parameters", "## Cases", "## Time histories",
+    for heading in (f"# Sweep report: {result.out_dir.name}", "## Appendix: bearing, profile and parameters", "## Cases", "## Time histories",
                     "## Metrics against speed and load", "## Fits beside the study's (Tables 3 and 4)",
                     "## Where our physics agrees with the study and where it does not", "## Files"):
         assert heading in md
@@ -511,7 +520,7 @@ def test_report_of_a_real_run(tmp_path):
     for p in files.figures:
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"](figures/{p.name})" in md and f'src="figures/{p.name}"' in html
-    table = _table(_section(md, "## Bearing, profile and parameters"))
+    table = _table(_section(md, "## Appendix: bearing, profile and parameters"))
     values = {r[0]: r[1:] for r in table[1:]}
     assert values["`rows[0].balls.count`"][0] == "12"
     assert values["`rows[0].balls.diameter`"][0] == "23 mm"
