@@ -36,7 +36,7 @@ from numba import njit
 
 from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
 from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, D_FRICTION_POWER, D_LAND_Q,
-                      D_DRIVE_POWER, D_LOAD_POWER, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_PV6, D_MAX_QI, D_MAX_QO, D_MAX_QP,
+                      D_DRIVE_POWER, D_FULL, D_LOAD_POWER, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_PV6, D_MAX_QI, D_MAX_QO, D_MAX_QP,
                       D_MAX_SLIDE2, D_PEN_BALL, D_RACE_P3, D_SIN_MAX, D_SIN_MIN, D_TILT_POWER, rhs)
 from .model import (BALL_STATES, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_POCKET0, R_Z)
@@ -71,8 +71,8 @@ N_SACC = 7
 #: Columns of the per-phase scalar accumulators: samples, Σω_cage, Σω_ring, Σ epicyclic
 #: cage speed at the balls' actual contact angles, Σ the same at the nominal angle, peak p³.
 #: Then (issue 10; in row 0 except the life sums, which are per row): ΣT and max |T| of the
-#: drive torque, Σ friction power, the energies integrated with RK4's own weights over the
-#: steps (friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
+#: drive torque, Σ friction power, the energies integrated over the steps (rectangle
+#: rule at each step's start: friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
 #: term of the rhs Notes) [J], peak pocket and land forces, peak squared race sliding
 #: speed, peak (p·s)⁶, extreme sines of the contact angle, peak race p³ and its time, and
 #: the life sums of rvcore.life (A_i, A_o [N³ rev], revolutions [rev]).
@@ -167,10 +167,13 @@ def static_safety_factor(race_p3):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _step_stats(a_rows, diag, bdiag, rows, t, d_rev):
-    """Add the state at ``t`` (``diag``, ``bdiag`` of its rhs) to one phase's (or the
-    cycle's) scalar accumulators ``a_rows`` (one line per row): the designer's outputs in
-    row 0, the life sums per row.
+def _step_stats(a_rows, diag, bdiag, rows, t, d_rev, dt):
+    """Add the step from ``t`` (``diag``, ``bdiag`` of the rhs at its start) to one phase's
+    (or the cycle's) scalar accumulators ``a_rows`` (one line per row): the designer's
+    outputs in row 0, the life sums per row.
+
+    The energies are the powers at the step's start times ``dt`` (rectangle rule; the
+    powers are not evaluated at the RK4 stages, to keep the stages' cost unchanged).
 
     Life sums (the accumulation contract of rvcore.life): over the step's ``d_rev``
     revolutions of the inner ring against the outer, per row with Z balls,
@@ -182,6 +185,11 @@ def _step_stats(a_rows, diag, bdiag, rows, t, d_rev):
     a[C_T_SUM] += torque
     a[C_T_ABS_MAX] = max(a[C_T_ABS_MAX], abs(torque))
     a[C_PF_SUM] += diag[D_FRICTION_POWER]
+    a[C_E_FRICTION] += diag[D_FRICTION_POWER] * dt
+    a[C_E_DAMPING] += diag[D_DAMPING_POWER] * dt
+    a[C_W_DRIVE] += diag[D_DRIVE_POWER] * dt
+    a[C_W_LOAD] += diag[D_LOAD_POWER] * dt
+    a[C_E_TILT] += diag[D_TILT_POWER] * dt
     a[C_QP_MAX] = max(a[C_QP_MAX], diag[D_MAX_QP])
     a[C_QLAND_MAX] = max(a[C_QLAND_MAX], diag[D_LAND_Q])
     a[C_SLIDE2_MAX] = max(a[C_SLIDE2_MAX], diag[D_MAX_SLIDE2])
@@ -245,10 +253,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     has_cycle = acc.shape[0] > n_ph     # the whole-cycle line of new_accumulators
     for i in range(n_steps + 1):
         t = t_start + i * dt
+        diag[D_FULL] = 1.0     # the designer's diagnostics at the step's state only
         rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
-        # the powers at the RK4 stages, integrated below with the step's own weights
-        e_fric, e_damp, e_drive = diag[D_FRICTION_POWER], diag[D_DAMPING_POWER], diag[D_DRIVE_POWER]
-        e_load, e_tilt = diag[D_LOAD_POWER], diag[D_TILT_POWER]
+        diag[D_FULL] = 0.0
         # blow-up checks on the state at t
         total = 0.0
         for m in range(n):
@@ -273,7 +280,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                     continue
                 if k == n_ph and not has_cycle:
                     break
-                _step_stats(acc[k], diag, bdiag, rows, t, d_rev)
+                _step_stats(acc[k], diag, bdiag, rows, t, d_rev, dt)
             for k in range(n_ph):
                 if phases[k, 0] <= t < phases[k, 1]:
                     _track(sig_acc[k, SIG_DR], dr, t)
@@ -324,43 +331,15 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         for m in range(n):
             tmp[m] = y[m] + half * k1[m]
         rhs(t + half, tmp, k2, params, rows, arcs, pockets, table, meta, diag, bdiag)
-        e_fric += 2.0 * diag[D_FRICTION_POWER]
-        e_damp += 2.0 * diag[D_DAMPING_POWER]
-        e_drive += 2.0 * diag[D_DRIVE_POWER]
-        e_load += 2.0 * diag[D_LOAD_POWER]
-        e_tilt += 2.0 * diag[D_TILT_POWER]
         for m in range(n):
             tmp[m] = y[m] + half * k2[m]
         rhs(t + half, tmp, k3, params, rows, arcs, pockets, table, meta, diag, bdiag)
-        e_fric += 2.0 * diag[D_FRICTION_POWER]
-        e_damp += 2.0 * diag[D_DAMPING_POWER]
-        e_drive += 2.0 * diag[D_DRIVE_POWER]
-        e_load += 2.0 * diag[D_LOAD_POWER]
-        e_tilt += 2.0 * diag[D_TILT_POWER]
         for m in range(n):
             tmp[m] = y[m] + dt * k3[m]
         rhs(t + dt, tmp, k4, params, rows, arcs, pockets, table, meta, diag, bdiag)
         sixth = dt / 6.0
         for m in range(n):
             y[m] += sixth * (k1[m] + 2.0 * (k2[m] + k3[m]) + k4[m])
-        # energies over the step by RK4's quadrature of the stage powers (the weights that
-        # advance the state), so that they balance the change of the state's energies
-        e_fric = sixth * (e_fric + diag[D_FRICTION_POWER])
-        e_damp = sixth * (e_damp + diag[D_DAMPING_POWER])
-        e_drive = sixth * (e_drive + diag[D_DRIVE_POWER])
-        e_load = sixth * (e_load + diag[D_LOAD_POWER])
-        e_tilt = sixth * (e_tilt + diag[D_TILT_POWER])
-        for k in range(n_ph + 1):
-            if k < n_ph and not (phases[k, 0] <= t < phases[k, 1]):
-                continue
-            if k == n_ph and not has_cycle:
-                break
-            a = acc[k, 0]
-            a[C_E_FRICTION] += e_fric
-            a[C_E_DAMPING] += e_damp
-            a[C_W_DRIVE] += e_drive
-            a[C_W_LOAD] += e_load
-            a[C_E_TILT] += e_tilt
     return OK, t_start + n_steps * dt, -1, n_out
 
 

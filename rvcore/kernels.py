@@ -71,13 +71,16 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
 # D_SIN_MIN, D_SIN_MAX  extreme |n_z| (sine of the contact angle) of loaded race contacts
 #                  (2 and −1 when none is loaded)
 # D_DRIVE_POWER    T·ω, the drive's power [W]
+# D_FULL           an input, not an output: 0 skips every slot from D_FRICTION_POWER on
+#                  (the integrator asks for them at the state of each step, not at the
+#                  three intermediate RK4 stages, where nobody reads them); 1 by default
 (D_DRIVE_TORQUE, D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q,
- D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER) = range(6, 19)
+ D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_FULL) = range(6, 20)
 # from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
 # (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
 # actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
-D_COS_ALPHA = 19
-N_DIAG = 20
+D_COS_ALPHA = 20
+N_DIAG = 21
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -85,8 +88,11 @@ N_BDIAG = 5
 
 
 def new_diagnostics(n_rows: int, n_balls: int):
-    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row)."""
-    return np.zeros(N_DIAG + n_rows - 1), np.zeros((n_balls, N_BDIAG))
+    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row),
+    every diagnostic asked for (``diag[D_FULL] = 1``)."""
+    diag = np.zeros(N_DIAG + n_rows - 1)
+    diag[D_FULL] = 1.0
+    return diag, np.zeros((n_balls, N_BDIAG))
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -118,6 +124,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     fxi, fyi, fzi, mxi, myi, mzi = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
     # issue 10's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
+    full = diag[D_FULL] != 0.0
     p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
     for r in range(rows.shape[0]):
@@ -190,7 +197,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 q = normal_force(delta, un, arcs[a, A_K], c_race, inv_dmax)
                 # the damper's dissipation: the normal force's power beyond the elastic one
                 # (also when the force is clipped to zero and the spring unloads unresisted)
-                p_damp += (q - hertz_load(arcs[a, A_K], delta)) * un
+                if full:
+                    p_damp += (q - hertz_load(arcs[a, A_K], delta)) * un
                 if q <= 0.0:
                     continue
                 fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
@@ -206,22 +214,23 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 p3 = arcs[a, A_PC3] * q
                 if p3 > max_p3:
                     max_p3 = p3
-                # friction power −F_t·u = −F·u − q·u_n (F = −q·n + F_t on the ball)
-                p_fric -= fx * ux + fy * uy + fz * uz + q * un
-                # sliding speed |u_t|² and (p_max·s)⁶ = p³²·s²³: no root in the loop
-                s2 = ux * ux + uy * uy + uz * uz - un * un
-                if s2 > max_s2:
-                    max_s2 = s2
-                pv6 = p3 * p3 * s2 * s2 * s2
-                if pv6 > max_pv6:
-                    max_pv6 = pv6
-                if p3 > race_p3:
-                    race_p3 = p3
-                sin_a = abs(nz)     # sine of the contact angle to the bearing's radial plane
-                if sin_a < sin_min:
-                    sin_min = sin_a
-                if sin_a > sin_max:
-                    sin_max = sin_a
+                if full:
+                    # friction power −F_t·u = −F·u − q·u_n (F = −q·n + F_t on the ball)
+                    p_fric -= fx * ux + fy * uy + fz * uz + q * un
+                    # sliding speed |u_t|² and (p_max·s)⁶ = p³²·s²³: no root in the loop
+                    s2 = ux * ux + uy * uy + uz * uz - un * un
+                    if s2 > max_s2:
+                        max_s2 = s2
+                    pv6 = p3 * p3 * s2 * s2 * s2
+                    if pv6 > max_pv6:
+                        max_pv6 = pv6
+                    if p3 > race_p3:
+                        race_p3 = p3
+                    sin_a = abs(nz)     # sine of the contact angle to the bearing's radial plane
+                    if sin_a < sin_min:
+                        sin_min = sin_a
+                    if sin_a > sin_max:
+                        sin_max = sin_a
                 if inner:
                     # reaction on the ring, and its moment about the ring centre
                     fxi -= fx
@@ -265,7 +274,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uz = vz + wx * ay - wy * ax - vzc
                 un = ux * dgx + uy * dgy + uz * dgz   # dδ/dt
                 qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
-                p_damp += (qp - hertz_load(k_pocket, delta)) * un
+                if full:
+                    p_damp += (qp - hertz_load(k_pocket, delta)) * un
                 if qp > 0.0:
                     # friction tangential to the ball's surface there, normal a/h
                     inv_h = 1.0 / h
@@ -279,9 +289,10 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     p3 = pc3_pocket * qp
                     if p3 > max_p3:
                         max_p3 = p3
-                    p_fric -= fpx * ux + fpy * uy + fpz * uz + qp * un
-                    if qp > max_qp:
-                        max_qp = qp
+                    if full:
+                        p_fric -= fpx * ux + fpy * uy + fpz * uz + qp * un
+                        if qp > max_qp:
+                            max_qp = qp
 
             bdiag[p0 + j, B_QI] = qi_sum
             bdiag[p0 + j, B_QO] = qo_sum
@@ -293,7 +304,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             dy[b + 1] = vy
             dy[b + 2] = vz
             # race contacts plus the pocket's (zero without pocket contact)
-            p_load += m_b * (gx * vx + gy * vy + gz * vz)
+            if full:
+                p_load += m_b * (gx * vx + gy * vy + gz * vz)
             dy[b + 3] = (fbx + fpx) * inv_mb + gx
             dy[b + 4] = (fby + fpy) * inv_mb + gy
             dy[b + 5] = (fbz + fpz) * inv_mb + gz
@@ -311,7 +323,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uz = vzc
                 un = ux * nx + uy * ny
                 ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, inv_dmax)
-                p_damp += (ql - hertz_load(rows[r, R_LAND_K], delta)) * un
+                if full:
+                    p_damp += (ql - hertz_load(rows[r, R_LAND_K], delta)) * un
                 if ql > 0.0:
                     fxc -= ql * nx
                     fyc -= ql * ny
@@ -323,10 +336,12 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                         fyc += fty
                         fzc += ftz
                         tzc += cage_ro * (nx * fty - ny * ftx)
-                        p_fric -= ftx * ux + fty * uy + ftz * uz
+                        if full:
+                            p_fric -= ftx * ux + fty * uy + ftz * uz
 
         mc = rows[r, R_CAGE_M]
-        p_load += mc * (gx * vxc + gy * vyc + gz * vzc)
+        if full:
+            p_load += mc * (gx * vxc + gy * vyc + gz * vzc)
         dy[c0] = vxc
         dy[c0 + 1] = vyc
         dy[c0 + 2] = vzc
@@ -360,6 +375,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     torque = ip * dw_ring - (mxi * r02 + myi * r12 + mzi * r22)
     diag[D_DRIVE_TORQUE] = torque
     diag[D_DRIVE_POWER] = torque * w_ring
+    if not full:
+        return
     diag[D_FRICTION_POWER] = p_fric
     diag[D_DAMPING_POWER] = p_damp
     diag[D_LOAD_POWER] = (p_load + m_ring * (gx * vxi + gy * vyi + gz * vzi)
