@@ -167,20 +167,13 @@ def static_safety_factor(race_p3):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _step_stats(a_rows, diag, bdiag, rows, t, d_rev, dt):
-    """Add the step from ``t`` (``diag``, ``bdiag`` of the rhs at its start) to one phase's
-    (or the cycle's) scalar accumulators ``a_rows`` (one line per row): the designer's
-    outputs in row 0, the life sums per row.
+def _step_stats(a, diag, t, dt):
+    """Add the step from ``t`` (``diag`` of the rhs at its start) to one phase's (or the
+    cycle's) scalar accumulators of row 0 ``a``: the designer's outputs.
 
     The energies are the powers at the step's start times ``dt`` (rectangle rule; the
     powers are not evaluated at the RK4 stages, to keep the stages' cost unchanged).
-
-    Life sums (the accumulation contract of rvcore.life): over the step's ``d_rev``
-    revolutions of the inner ring against the outer, per row with Z balls,
-    ``A_i += d_rev·(1/Z)·Σ Q_i³`` (rotating ring) and
-    ``A_o += d_rev·((1/Z)·Σ Q_o^(10/3))^(9/10)`` (stationary ring) [N³ rev].
     """
-    a = a_rows[0]
     torque = diag[D_DRIVE_TORQUE]
     a[C_T_SUM] += torque
     a[C_T_ABS_MAX] = max(a[C_T_ABS_MAX], abs(torque))
@@ -200,19 +193,6 @@ def _step_stats(a_rows, diag, bdiag, rows, t, d_rev, dt):
     if diag[D_RACE_P3] > a[C_RACE_P3_MAX]:
         a[C_RACE_P3_MAX] = diag[D_RACE_P3]
         a[C_RACE_P3_TMAX] = t
-    for r in range(rows.shape[0]):
-        z = int(rows[r, R_Z])
-        p0 = int(rows[r, R_POCKET0])
-        si, so = 0.0, 0.0
-        for j in range(p0, p0 + z):
-            qi, qo = bdiag[j, B_QI], bdiag[j, B_QO]
-            si += qi * qi * qi
-            if qo > 0.0:
-                so += qo ** (10.0 / 3.0)
-        a_r = a_rows[r]
-        a_r[C_REV] += d_rev
-        a_r[C_LIFE_I] += d_rev * si / z
-        a_r[C_LIFE_O] += d_rev * (so / z) ** 0.9
 
 
 # FAST (rvcore.contact: no fast-math flags) keeps IEEE semantics, so the non-finite check
@@ -274,13 +254,31 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         w_ring = channel_value(table, meta, CH_SPEED, t)
         if i < n_steps:
             # the inner ring's revolutions against the fixed outer ring over this step
+            # Life sums (the accumulation contract of rvcore.life): over the step's d_rev
+            # revolutions, per row of Z balls, A_i += d_rev·(1/Z)·Σ Q_i³ (rotating inner
+            # ring) and A_o += d_rev·((1/Z)·Σ Q_o^(10/3))^(9/10) (stationary outer ring),
+            # with the ball-race loads of the step's state (bdiag) [N³ rev]
             d_rev = abs(w_ring) * dt / (2.0 * math.pi)
+            for r in range(n_rows):
+                z = int(rows[r, R_Z])
+                p0 = int(rows[r, R_POCKET0])
+                si, so = 0.0, 0.0
+                for j in range(p0, p0 + z):
+                    qi, qo = bdiag[j, B_QI], bdiag[j, B_QO]
+                    si += qi * qi * qi
+                    if qo > 0.0:
+                        so += qo ** (10.0 / 3.0)
+                life_i = d_rev * si / z
+                life_o = d_rev * (so / z) ** 0.9 if so > 0.0 else 0.0
+                for k in range(n_ph + 1):
+                    if (k < n_ph and phases[k, 0] <= t < phases[k, 1]) or (k == n_ph and has_cycle):
+                        a = acc[k, r]
+                        a[C_REV] += d_rev
+                        a[C_LIFE_I] += life_i
+                        a[C_LIFE_O] += life_o
             for k in range(n_ph + 1):
-                if k < n_ph and not (phases[k, 0] <= t < phases[k, 1]):
-                    continue
-                if k == n_ph and not has_cycle:
-                    break
-                _step_stats(acc[k], diag, bdiag, rows, t, d_rev, dt)
+                if (k < n_ph and phases[k, 0] <= t < phases[k, 1]) or (k == n_ph and has_cycle):
+                    _step_stats(acc[k, 0], diag, t, dt)
             for k in range(n_ph):
                 if phases[k, 0] <= t < phases[k, 1]:
                     _track(sig_acc[k, SIG_DR], dr, t)
