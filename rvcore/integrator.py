@@ -71,8 +71,8 @@ N_SACC = 7
 #: Columns of the per-phase scalar accumulators: samples, Σω_cage, Σω_ring, Σ epicyclic
 #: cage speed at the balls' actual contact angles, Σ the same at the nominal angle, peak p³.
 #: Then (issue 10; in row 0 except the life sums, which are per row): ΣT and max |T| of the
-#: drive torque, Σ friction power, the energies integrated over the steps (rectangle
-#: rule at each step's start: friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
+#: drive torque, Σ friction power, the energies integrated over the steps (trapezoid
+#: rule on the powers at the steps' states: friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
 #: term of the rhs Notes) [J], peak pocket and land forces, peak squared race sliding
 #: speed, peak (p·s)⁶, extreme sines of the contact angle, peak race p³ and its time, and
 #: the life sums of rvcore.life (A_i, A_o [N³ rev], revolutions [rev]).
@@ -167,22 +167,29 @@ def static_safety_factor(race_p3):
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _add_energies(a, diag, w):
+    """Add the powers of ``diag`` times the weight ``w`` [s] to the energies of ``a`` [J]."""
+    a[C_E_FRICTION] += diag[D_FRICTION_POWER] * w
+    a[C_E_DAMPING] += diag[D_DAMPING_POWER] * w
+    a[C_W_DRIVE] += diag[D_DRIVE_POWER] * w
+    a[C_W_LOAD] += diag[D_LOAD_POWER] * w
+    a[C_E_TILT] += diag[D_TILT_POWER] * w
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _step_stats(a, diag, t, dt):
     """Add the step from ``t`` (``diag`` of the rhs at its start) to one phase's (or the
     cycle's) scalar accumulators of row 0 ``a``: the designer's outputs.
 
-    The energies are the powers at the step's start times ``dt`` (rectangle rule; the
-    powers are not evaluated at the RK4 stages, to keep the stages' cost unchanged).
+    The energies get the half ``dt/2`` of the trapezoid rule from the step's start;
+    :func:`_add_energies` adds the other half from its end. (The powers are evaluated at
+    each step's state, not at the RK4 stages, to keep the stages' cost unchanged.)
     """
     torque = diag[D_DRIVE_TORQUE]
     a[C_T_SUM] += torque
     a[C_T_ABS_MAX] = max(a[C_T_ABS_MAX], abs(torque))
     a[C_PF_SUM] += diag[D_FRICTION_POWER]
-    a[C_E_FRICTION] += diag[D_FRICTION_POWER] * dt
-    a[C_E_DAMPING] += diag[D_DAMPING_POWER] * dt
-    a[C_W_DRIVE] += diag[D_DRIVE_POWER] * dt
-    a[C_W_LOAD] += diag[D_LOAD_POWER] * dt
-    a[C_E_TILT] += diag[D_TILT_POWER] * dt
+    _add_energies(a, diag, 0.5 * dt)
     a[C_QP_MAX] = max(a[C_QP_MAX], diag[D_MAX_QP])
     a[C_QLAND_MAX] = max(a[C_QLAND_MAX], diag[D_LAND_Q])
     a[C_SLIDE2_MAX] = max(a[C_SLIDE2_MAX], diag[D_MAX_SLIDE2])
@@ -252,6 +259,12 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         dr = y[0] * math.cos(psi) + y[1] * math.sin(psi)
         da = y[2]
         w_ring = channel_value(table, meta, CH_SPEED, t)
+        if i > 0:
+            # the end half of the previous step's trapezoid, to that step's phases
+            tp = t_start + (i - 1) * dt
+            for k in range(n_ph + 1):
+                if (k < n_ph and phases[k, 0] <= tp < phases[k, 1]) or (k == n_ph and has_cycle):
+                    _add_energies(acc[k, 0], diag, half)
         if i < n_steps:
             # the inner ring's revolutions against the fixed outer ring over this step
             # Life sums (the accumulation contract of rvcore.life): over the step's d_rev
