@@ -97,7 +97,29 @@ def new_diagnostics(n_rows: int, n_balls: int):
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
-    """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``."""
+    """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``.
+
+    Notes
+    -----
+    The designer's diagnostics (``D_DRIVE_TORQUE`` …, issue 10) come from the forces of
+    this same evaluation, no second pass. With ``diag[D_FULL] = 0`` the slots from
+    ``D_FRICTION_POWER`` on are neither computed nor written (the integrator's RK4
+    stages); the drive torque always is.
+
+    - Drive torque ``T = I_p·ω̇ − M_c·e``: ``M_c`` the contact forces' moment on the
+      ring about its centre, ``e = R·ẑ`` the spin axis.
+    - Friction power ``Σ −F_t·u`` (``u`` the slip of the ball's or cage's material
+      point against the other body's; ``F_t·u = F·u + q·u_n`` since ``F = −q·n + F_t``);
+      damping power ``Σ (q − K·δ^1.5)·δ̇``, which counts a clipped (zero) force too.
+    - The energy balance these give (derived in tests/core/test_energy_balance.py)::
+
+          T·ω + P_load = d/dt(E_kin + ½·I_p·ω² + V_el) + P_fric + P_damp + P_tilt
+          P_tilt = θ̇x·(M_x·(cos θy − 1) − M_z·sin θy) − I_p·ω̇·(θx·θ̇y − θy·θ̇x)
+
+      ``P_tilt`` is what the small-tilt ring equations leave out of the rigid ring's
+      power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
+      tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
+    """
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
