@@ -436,7 +436,10 @@ def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:
     except ImportError:   # rvcore.life is written by another change; the driver runs without it
         return {}
     life = duty_cycle_life(bearing, life_sums)
-    out = {k: float(life[k]) for k in DUTY_CYCLE_OUTPUTS if k in life}
+    # an infinite life (nothing loads the turning bearing, or it does not turn) is stored
+    # as NaN, like static_safety_factor with nothing loaded: no inf in a case file
+    out = {k: float(life[k]) if math.isfinite(float(life[k])) else math.nan
+           for k in DUTY_CYCLE_OUTPUTS if k in life}
     if "fatigue_damage" in life:
         damage = np.atleast_1d(np.asarray(life["fatigue_damage"], dtype=float))
         if damage.size == n_phases + 1:

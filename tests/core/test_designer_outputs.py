@@ -131,3 +131,21 @@ def test_case_file_labels_every_new_output():
         inside = (t >= ds["phase_start"].values[k]) & (t < ds["phase_end"].values[k])
         assert ds["inner_ring_drive_torque_peak"].values[k] >= np.abs(ds["inner_ring_drive_torque"].values[inside]).max()
         assert ds["static_safety_factor_min"].values[k] <= np.nanmin(ds["static_safety_factor"].values[inside])
+
+
+def test_duty_cycle_life_reaches_the_case_file():
+    """With rvcore.life (issue 10's other half) the case file holds the duty-cycle life:
+    the scalars, and the damage per phase, whose sum over phases that cover the cycle is
+    the cycle's damage, the inverse of the life in cycles."""
+    pytest.importorskip("rvcore.life")
+    from pipeline.io.case import case_dataset
+
+    bearing = section_bearing(6)
+    op = OperatingPoint(math.radians(120.0), 5e3, 2e3)
+    res = run_case(bearing, constant_profile(0.0005, 0.003), op, SolverSettings(output_rate=2e3))
+    ds = case_dataset(res, speed=op.speed, radial_load=5e3, axial_load=2e3)
+    for name in ("rating_life_L10r", "rating_life_cycles", "fatigue_damage_cycle"):
+        assert ds[name].dims == () and ds[name].attrs["units"] == "1" and ds[name].attrs["long_name"]
+    assert ds["fatigue_damage"].dims == ("phase",)
+    assert float(ds["fatigue_damage_cycle"]) == pytest.approx(1.0 / float(ds["rating_life_cycles"]), rel=1e-9)
+    assert float(ds["fatigue_damage"].sum()) == pytest.approx(float(ds["fatigue_damage_cycle"]), rel=1e-6)
