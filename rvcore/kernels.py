@@ -71,16 +71,15 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
 # D_SIN_MIN, D_SIN_MAX  extreme |n_z| (sine of the contact angle) of loaded race contacts
 #                  (2 and −1 when none is loaded)
 # D_DRIVE_POWER    T·ω, the drive's power [W]
-# D_FULL           an input, not an output: 0 skips every slot from D_FRICTION_POWER on
-#                  (the integrator asks for them at the state of each step, not at the
-#                  three intermediate RK4 stages, where nobody reads them); 1 by default
+# rhs() writes them all; rhs_stage() (the integrator's intermediate RK4 stages, where
+# nobody reads them) leaves the slots from D_FRICTION_POWER on untouched
 (D_DRIVE_TORQUE, D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q,
- D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_FULL) = range(6, 20)
+ D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER) = range(6, 19)
 # from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
 # (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
 # actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
-D_COS_ALPHA = 20
-N_DIAG = 21
+D_COS_ALPHA = 19
+N_DIAG = 20
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -88,11 +87,8 @@ N_BDIAG = 5
 
 
 def new_diagnostics(n_rows: int, n_balls: int):
-    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row),
-    every diagnostic asked for (``diag[D_FULL] = 1``)."""
-    diag = np.zeros(N_DIAG + n_rows - 1)
-    diag[D_FULL] = 1.0
-    return diag, np.zeros((n_balls, N_BDIAG))
+    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row)."""
+    return np.zeros(N_DIAG + n_rows - 1), np.zeros((n_balls, N_BDIAG))
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -102,9 +98,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     Notes
     -----
     The designer's diagnostics (``D_DRIVE_TORQUE`` …, issue 10) come from the forces of
-    this same evaluation, no second pass. With ``diag[D_FULL] = 0`` the slots from
-    ``D_FRICTION_POWER`` on are neither computed nor written (the integrator's RK4
-    stages); the drive torque always is.
+    this same evaluation, no second pass. :func:`rhs_stage` neither computes nor writes
+    the slots from ``D_FRICTION_POWER`` on; the drive torque it does.
 
     - Drive torque ``T = I_p·ω̇ − M_c·e``: ``M_c`` the contact forces' moment on the
       ring about its centre, ``e = R·ẑ`` the spin axis.
@@ -120,6 +115,20 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
       power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
       tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
     """
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True)
+
+
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
+    """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
+    on): the integrator's intermediate RK4 stages, whose diagnostics nobody reads. The
+    same code with ``full`` a constant False, which the compiler removes."""
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False)
+
+
+@njit(nogil=True, fastmath=FAST, error_model="numpy", inline="always")
+def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
+    """The body of :func:`rhs` (``full`` True) and :func:`rhs_stage` (False)."""
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
@@ -146,7 +155,6 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     fxi, fyi, fzi, mxi, myi, mzi = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
     # issue 10's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
-    full = diag[D_FULL] != 0.0
     p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
     for r in range(rows.shape[0]):
