@@ -215,7 +215,10 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     state at the step's start is added to the accumulators of the phase it falls in
     (``phases[k] = (start, end)``): ``sig_acc[k, signal]`` for δ_r, δ_a and each sensor
     of ``sensors`` (rows ``(px, py, pz, dx, dy, dz)``), ``acc[k]`` for the speeds and the
-    peak pressure, per row (``acc[k, r]``). ``cos_nominal[r]`` is cos α of row r's nominal
+    peak pressure, per row (``acc[k, r]``), plus the designer's outputs (issue 10: drive
+    torque, friction, forces, sliding, contact angles, safety factor, energies) and the
+    life sums of rvcore.life; the line ``acc[len(phases)]`` of :func:`new_accumulators`
+    takes the life sums and energies of every step. ``cos_nominal[r]`` is cos α of row r's nominal
     contact angle. Columns ``N_OUT + n_sensors + r - 1`` of ``out`` hold row r's cage speed
     (r ≥ 1; row 0's is ``cage_speed``).
 
