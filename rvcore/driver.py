@@ -91,6 +91,15 @@ class CaseResult:
     ``final_state`` is the integrator state at the end, to continue a run.
     ``steady`` holds scalars at the steady operating point from the statics there
     (:data:`rvcore.operating.STEADY_OUTPUTS`: the stiffnesses).
+    ``life_sums`` are the integrator's life sums (the contract of ``rvcore.life``):
+    ``"inner"`` and ``"outer"`` over ``(phase + 1, row)`` [N³ rev] and ``"revolutions"``
+    over ``phase + 1`` [rev], the last line the whole simulated cycle.
+    ``life`` holds the duty-cycle scalars of :data:`DUTY_CYCLE_OUTPUTS` when
+    ``rvcore.life.duty_cycle_life`` is available (empty otherwise).
+    ``energy`` maps ``friction``, ``damping`` (dissipated), ``drive`` (∫T·ω dt),
+    ``load`` (work of the applied loads and gravity) and ``tilt`` (the power the
+    small-tilt ring equations leave out, see ``rvcore.kernels.rhs``) to arrays over
+    ``phase + 1`` [J], the last line the whole cycle, integrated with RK4's weights.
     """
 
     time: np.ndarray
@@ -100,6 +109,19 @@ class CaseResult:
     info: dict = field(default_factory=dict)
     ball_diag: np.ndarray | None = None  # per ball at the end: Q_inner, Q_outer, F_inner_radial, F_outer_radial, Q_pocket
     steady: dict = field(default_factory=dict)  # rvcore.operating.STEADY_OUTPUTS: stiffness at the steady point
+    life_sums: dict = field(default_factory=dict)
+    life: dict = field(default_factory=dict)
+    energy: dict = field(default_factory=dict)
+
+
+#: Duty-cycle life scalars of a case (no dims): name -> (units, long_name), from
+#: ``rvcore.life.duty_cycle_life`` over the integrator's life sums.
+DUTY_CYCLE_OUTPUTS = {
+    "rating_life_L10r": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in revolutions of "
+                              "the inner ring (Palmgren-Miner over the integrator steps)"),
+    "rating_life_cycles": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in cycles of the profile"),
+    "fatigue_damage_cycle": ("1", "Palmgren-Miner fatigue damage of one cycle of the profile (1/rating_life_cycles)"),
+}
 
 
 class SimulationError(RuntimeError):
@@ -381,6 +403,14 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if n_rows > 1:   # every row's cage, over a trailing row axis
         series["cage_speed"] = np.column_stack([series["cage_speed"], out[:, ig.N_OUT + n_sensors:]])
     metrics = phase_metrics(sig_acc, acc, resolved.phases, 1.0 / settings.output_rate)
+    life_sums = {"inner": acc[:, :, ig.C_LIFE_I].copy(), "outer": acc[:, :, ig.C_LIFE_O].copy(),
+                 "revolutions": acc[:, 0, ig.C_REV].copy()}
+    life = duty_cycle_outputs(bearing, life_sums, resolved.phases.shape[0])
+    if "fatigue_damage" in life:
+        metrics["fatigue_damage"] = life.pop("fatigue_damage")
+    energy = {name: acc[:, 0, col].copy() for name, col in (
+        ("friction", ig.C_E_FRICTION), ("damping", ig.C_E_DAMPING), ("drive", ig.C_W_DRIVE),
+        ("load", ig.C_W_LOAD), ("tilt", ig.C_E_TILT))}
     info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": 4 * n_steps + 1, "wall_time": wall,
             "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
@@ -390,7 +420,33 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
 
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy(),
-                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity))
+                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity),
+                      life_sums=life_sums, life=life, energy=energy)
+
+
+def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:
+    """The duty-cycle life of a case from its life sums, or ``{}`` without ``rvcore.life``.
+
+    Returns the scalars of :data:`DUTY_CYCLE_OUTPUTS` that ``rvcore.life.duty_cycle_life``
+    gives, plus ``fatigue_damage`` over the phases when it gives that per phase (an array
+    of ``n_phases`` values, or ``n_phases + 1`` with the whole cycle last).
+    """
+    try:
+        from .life import duty_cycle_life
+    except ImportError:   # rvcore.life is written by another change; the driver runs without it
+        return {}
+    life = duty_cycle_life(bearing, life_sums)
+    # an infinite life (nothing loads the turning bearing, or it does not turn) is stored
+    # as NaN, like static_safety_factor with nothing loaded: no inf in a case file
+    out = {k: float(life[k]) if math.isfinite(float(life[k])) else math.nan
+           for k in DUTY_CYCLE_OUTPUTS if k in life}
+    if "fatigue_damage" in life:
+        damage = np.atleast_1d(np.asarray(life["fatigue_damage"], dtype=float))
+        if damage.size == n_phases + 1:
+            out.setdefault("fatigue_damage_cycle", float(damage[-1]))
+            damage = damage[:n_phases]
+        out["fatigue_damage"] = damage
+    return out
 
 
 def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
@@ -406,6 +462,7 @@ def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
     """
     from . import integrator as ig
 
+    acc = acc[:phases.shape[0]]   # new_accumulators' last line is the whole cycle
     n = acc[:, 0, ig.C_N]
     start, end = phases[:, 0], phases[:, 1]
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -437,6 +494,23 @@ def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
         out["cage_slip_nominal"] = per_row(1.0 - acc[:, :, ig.C_CAGE_SUM] / acc[:, :, ig.C_EPI_NOMINAL_SUM])
         out["epicyclic_cage_speed"] = per_row(acc[:, :, ig.C_EPI_SUM] / nr)
         out["peak_contact_pressure"] = np.where(n > 0, np.cbrt(acc[:, 0, ig.C_P3_MAX]), np.nan)
+        # issue 10: the designer's outputs (row 0 holds them, over every row)
+        a0 = acc[:, 0]
+        ok = n > 0
+        out["inner_ring_drive_torque_peak"] = np.where(ok, a0[:, ig.C_T_ABS_MAX], np.nan)
+        out["inner_ring_drive_torque_mean"] = a0[:, ig.C_T_SUM] / nn
+        out["friction_power_mean"] = a0[:, ig.C_PF_SUM] / nn
+        out["friction_energy"] = np.where(ok, a0[:, ig.C_E_FRICTION], np.nan)
+        out["max_pocket_force_peak"] = np.where(ok, a0[:, ig.C_QP_MAX], np.nan)
+        out["cage_land_force_peak"] = np.where(ok, a0[:, ig.C_QLAND_MAX], np.nan)
+        out["max_race_sliding_speed_peak"] = np.where(ok, np.sqrt(np.maximum(a0[:, ig.C_SLIDE2_MAX], 0.0)), np.nan)
+        out["max_race_pv_peak"] = np.where(ok, a0[:, ig.C_PV6_MAX] ** (1.0 / 6.0), np.nan)
+        loaded = ok & np.isfinite(a0[:, ig.C_SIN_MIN])
+        out["contact_angle_min"] = np.where(loaded, np.arcsin(np.clip(a0[:, ig.C_SIN_MIN], -1.0, 1.0)), np.nan)
+        out["contact_angle_max"] = np.where(loaded, np.arcsin(np.clip(a0[:, ig.C_SIN_MAX], -1.0, 1.0)), np.nan)
+        p3 = a0[:, ig.C_RACE_P3_MAX]
+        out["static_safety_factor_min"] = np.where(ok & (p3 > 0), ig.ISO76_BALL_STRESS / np.cbrt(p3), np.nan)
+        out["static_safety_factor_min_time"] = np.where(ok & (p3 > 0), a0[:, ig.C_RACE_P3_TMAX], np.nan)
     out["phase_start"] = start.astype(float).copy()
     out["phase_end"] = end.astype(float).copy()
     return out

@@ -35,9 +35,11 @@ import numpy as np
 from numba import njit
 
 from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
-from .kernels import (D_COS_ALPHA, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_QI, D_MAX_QO, D_PEN_BALL, rhs)
+from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, D_FRICTION_POWER, D_LAND_Q,
+                      D_DRIVE_POWER, D_LOAD_POWER, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_PV6, D_MAX_QI, D_MAX_QO, D_MAX_QP,
+                      D_MAX_SLIDE2, D_PEN_BALL, D_RACE_P3, D_SIN_MAX, D_SIN_MIN, D_TILT_POWER, rhs, rhs_stage)
 from .model import (BALL_STATES, P_RING_IP, P_RING_IT, P_RING_M,
-                    R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z)
+                    R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_POCKET0, R_Z)
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_value
 
 #: Output columns of ``out``, in order, by their pipeline.md names; the sensor readings
@@ -46,9 +48,17 @@ OUTPUT_SERIES = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_til
                  "inner_ring_tilt_y", "radial_displacement", "axial_displacement",
                  "applied_radial_load", "applied_axial_load", "inner_ring_speed", "cage_speed",
                  "max_inner_contact_load", "max_outer_contact_load", "loaded_ball_count",
-                 "max_contact_pressure", "applied_moment", "load_direction")
+                 "max_contact_pressure", "applied_moment", "load_direction",
+                 "inner_ring_drive_torque", "friction_power", "max_pocket_force", "cage_land_force",
+                 "max_race_sliding_speed", "max_race_pv", "min_contact_angle", "max_contact_angle",
+                 "static_safety_factor")
 (O_X, O_Y, O_Z, O_TX, O_TY, O_DR, O_DA, O_FR, O_FA, O_W, O_CAGE, O_QI, O_QO, O_LOADED,
- O_PMAX, O_M, O_PSI) = range(len(OUTPUT_SERIES))
+ O_PMAX, O_M, O_PSI, O_TORQUE, O_PFRIC, O_QP, O_QLAND, O_SLIDE, O_PV, O_AMIN, O_AMAX,
+ O_SSF) = range(len(OUTPUT_SERIES))
+
+#: ISO 76 (ball bearings): the reference contact stress of the basic static load rating,
+#: 4200 MPa at the most heavily loaded ball–race contact; S_0 = 4200 MPa / p_max.
+ISO76_BALL_STRESS = 4.2e9
 N_OUT = len(OUTPUT_SERIES)
 
 #: Tracked signals, one accumulator block each per phase: δ_r, δ_a, then sensor s at
@@ -60,8 +70,17 @@ S_N, S_MIN, S_MAX, S_TMIN, S_TMAX, S_MEAN, S_M2 = range(7)
 N_SACC = 7
 #: Columns of the per-phase scalar accumulators: samples, Σω_cage, Σω_ring, Σ epicyclic
 #: cage speed at the balls' actual contact angles, Σ the same at the nominal angle, peak p³.
+#: Then (issue 10; in row 0 except the life sums, which are per row): ΣT and max |T| of the
+#: drive torque, Σ friction power, the energies integrated over the steps (trapezoid
+#: rule on the powers at the steps' states: friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
+#: term of the rhs Notes) [J], peak pocket and land forces, peak squared race sliding
+#: speed, peak (p·s)⁶, extreme sines of the contact angle, peak race p³ and its time, and
+#: the life sums of rvcore.life (A_i, A_o [N³ rev], revolutions [rev]).
 C_N, C_CAGE_SUM, C_RING_SUM, C_EPI_SUM, C_EPI_NOMINAL_SUM, C_P3_MAX = range(6)
-N_ACC = 6
+(C_T_SUM, C_T_ABS_MAX, C_PF_SUM, C_E_FRICTION, C_E_DAMPING, C_W_DRIVE, C_W_LOAD, C_E_TILT, C_QP_MAX,
+ C_QLAND_MAX, C_SLIDE2_MAX, C_PV6_MAX, C_SIN_MIN, C_SIN_MAX, C_RACE_P3_MAX, C_RACE_P3_TMAX, C_LIFE_I,
+ C_LIFE_O, C_REV) = range(6, 25)
+N_ACC = 25
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 
@@ -71,13 +90,21 @@ RK4_REAL_LIMIT = 2.785
 
 def new_accumulators(n_phases: int, n_sensors: int = 0, n_rows: int = 1):
     """Empty ``(signal_acc, scalar_acc)`` for ``n_phases`` phases, ``n_sensors`` sensors
-    and ``n_rows`` rows of balls (the scalar accumulators are per row)."""
+    and ``n_rows`` rows of balls (the scalar accumulators are per row).
+
+    ``scalar_acc`` has ``n_phases + 1`` lines: the last accumulates every step of the
+    integration, whatever its phase (the whole cycle).
+    """
     sig = np.zeros((n_phases, SIG_SENSOR0 + n_sensors, N_SACC))
     sig[:, :, S_MIN] = np.inf
     sig[:, :, S_MAX] = -np.inf
     sig[:, :, S_TMIN] = np.nan
     sig[:, :, S_TMAX] = np.nan
-    return sig, np.zeros((n_phases, n_rows, N_ACC))
+    acc = np.zeros((n_phases + 1, n_rows, N_ACC))
+    acc[:, :, C_SIN_MIN] = np.inf
+    acc[:, :, C_SIN_MAX] = -np.inf
+    acc[:, :, C_RACE_P3_TMAX] = np.nan
+    return sig, acc
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST)
@@ -130,6 +157,51 @@ def kinetic_energy(y, params, rows):
     return e
 
 
+@njit(cache=True, nogil=True, inline="always")
+def static_safety_factor(race_p3):
+    """ISO 76 static safety factor ``4200 MPa / p_max`` [1] from the largest ball–race
+    ``p_max³`` [Pa³]; NaN when no ball–race contact is loaded."""
+    if race_p3 > 0.0:
+        return ISO76_BALL_STRESS / race_p3 ** (1.0 / 3.0)
+    return math.nan
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _add_energies(a, diag, w):
+    """Add the powers of ``diag`` times the weight ``w`` [s] to the energies of ``a`` [J]."""
+    a[C_E_FRICTION] += diag[D_FRICTION_POWER] * w
+    a[C_E_DAMPING] += diag[D_DAMPING_POWER] * w
+    a[C_W_DRIVE] += diag[D_DRIVE_POWER] * w
+    a[C_W_LOAD] += diag[D_LOAD_POWER] * w
+    a[C_E_TILT] += diag[D_TILT_POWER] * w
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _step_stats(a, diag, t, dt):
+    """Add the step from ``t`` (``diag`` of the rhs at its start) to one phase's (or the
+    cycle's) scalar accumulators of row 0 ``a``: the designer's outputs.
+
+    The energies get the half ``dt/2`` of the trapezoid rule from the step's start;
+    :func:`_add_energies` adds the other half from its end. (The powers are evaluated at
+    each step's state, not at the RK4 stages, to keep the stages' cost unchanged.)
+    """
+    torque = diag[D_DRIVE_TORQUE]
+    a[C_T_SUM] += torque
+    a[C_T_ABS_MAX] = max(a[C_T_ABS_MAX], abs(torque))
+    a[C_PF_SUM] += diag[D_FRICTION_POWER]
+    _add_energies(a, diag, 0.5 * dt)
+    a[C_QP_MAX] = max(a[C_QP_MAX], diag[D_MAX_QP])
+    a[C_QLAND_MAX] = max(a[C_QLAND_MAX], diag[D_LAND_Q])
+    a[C_SLIDE2_MAX] = max(a[C_SLIDE2_MAX], diag[D_MAX_SLIDE2])
+    a[C_PV6_MAX] = max(a[C_PV6_MAX], diag[D_MAX_PV6])
+    if diag[D_SIN_MAX] >= 0.0:
+        a[C_SIN_MIN] = min(a[C_SIN_MIN], diag[D_SIN_MIN])
+        a[C_SIN_MAX] = max(a[C_SIN_MAX], diag[D_SIN_MAX])
+    if diag[D_RACE_P3] > a[C_RACE_P3_MAX]:
+        a[C_RACE_P3_MAX] = diag[D_RACE_P3]
+        a[C_RACE_P3_TMAX] = t
+
+
 # FAST (rvcore.contact: no fast-math flags) keeps IEEE semantics, so the non-finite check
 # below works and the state sums are rounded in the same order on every CPU.
 @njit(cache=True, nogil=True, fastmath=FAST)
@@ -143,7 +215,10 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     state at the step's start is added to the accumulators of the phase it falls in
     (``phases[k] = (start, end)``): ``sig_acc[k, signal]`` for δ_r, δ_a and each sensor
     of ``sensors`` (rows ``(px, py, pz, dx, dy, dz)``), ``acc[k]`` for the speeds and the
-    peak pressure, per row (``acc[k, r]``). ``cos_nominal[r]`` is cos α of row r's nominal
+    peak pressure, per row (``acc[k, r]``), plus the designer's outputs (issue 10: drive
+    torque, friction, forces, sliding, contact angles, safety factor, energies) and the
+    life sums of rvcore.life; the line ``acc[len(phases)]`` of :func:`new_accumulators`
+    takes the life sums and energies of every step. ``cos_nominal[r]`` is cos α of row r's nominal
     contact angle. Columns ``N_OUT + n_sensors + r - 1`` of ``out`` hold row r's cage speed
     (r ≥ 1; row 0's is ``cage_speed``).
 
@@ -164,8 +239,11 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     n_rows = rows.shape[0]
     n_out = 0
     half = 0.5 * dt
+    n_ph = phases.shape[0]
+    has_cycle = acc.shape[0] > n_ph     # the whole-cycle line of new_accumulators
     for i in range(n_steps + 1):
         t = t_start + i * dt
+        # the designer's diagnostics at the step's state only (rhs_stage skips them)
         rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
         # blow-up checks on the state at t
         total = 0.0
@@ -183,8 +261,40 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         dr = y[0] * math.cos(psi) + y[1] * math.sin(psi)
         da = y[2]
         w_ring = channel_value(table, meta, CH_SPEED, t)
+        if i > 0:
+            # the end half of the previous step's trapezoid, to that step's phases
+            tp = t_start + (i - 1) * dt
+            for k in range(n_ph + 1):
+                if (k < n_ph and phases[k, 0] <= tp < phases[k, 1]) or (k == n_ph and has_cycle):
+                    _add_energies(acc[k, 0], diag, half)
         if i < n_steps:
-            for k in range(phases.shape[0]):
+            # the inner ring's revolutions against the fixed outer ring over this step
+            # Life sums (the accumulation contract of rvcore.life): over the step's d_rev
+            # revolutions, per row of Z balls, A_i += d_rev·(1/Z)·Σ Q_i³ (rotating inner
+            # ring) and A_o += d_rev·((1/Z)·Σ Q_o^(10/3))^(9/10) (stationary outer ring),
+            # with the ball-race loads of the step's state (bdiag) [N³ rev]
+            d_rev = abs(w_ring) * dt / (2.0 * math.pi)
+            for r in range(n_rows):
+                z = int(rows[r, R_Z])
+                p0 = int(rows[r, R_POCKET0])
+                si, so = 0.0, 0.0
+                for j in range(p0, p0 + z):
+                    qi, qo = bdiag[j, B_QI], bdiag[j, B_QO]
+                    si += qi * qi * qi
+                    if qo > 0.0:
+                        so += qo ** (10.0 / 3.0)
+                life_i = d_rev * si / z
+                life_o = d_rev * (so / z) ** 0.9 if so > 0.0 else 0.0
+                for k in range(n_ph + 1):
+                    if (k < n_ph and phases[k, 0] <= t < phases[k, 1]) or (k == n_ph and has_cycle):
+                        a = acc[k, r]
+                        a[C_REV] += d_rev
+                        a[C_LIFE_I] += life_i
+                        a[C_LIFE_O] += life_o
+            for k in range(n_ph + 1):
+                if (k < n_ph and phases[k, 0] <= t < phases[k, 1]) or (k == n_ph and has_cycle):
+                    _step_stats(acc[k, 0], diag, t, dt)
+            for k in range(n_ph):
                 if phases[k, 0] <= t < phases[k, 1]:
                     _track(sig_acc[k, SIG_DR], dr, t)
                     _track(sig_acc[k, SIG_DA], da, t)
@@ -216,6 +326,15 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                 o[N_OUT + n_sensors + r - 1] = y[int(rows[r, R_CAGE0]) + 7]
             o[O_QI], o[O_QO], o[O_LOADED] = diag[D_MAX_QI], diag[D_MAX_QO], diag[D_LOADED]
             o[O_PMAX] = diag[D_MAX_P3] ** (1.0 / 3.0)
+            o[O_TORQUE] = diag[D_DRIVE_TORQUE]
+            o[O_PFRIC] = diag[D_FRICTION_POWER]
+            o[O_QP] = diag[D_MAX_QP]
+            o[O_QLAND] = diag[D_LAND_Q]
+            o[O_SLIDE] = math.sqrt(max(diag[D_MAX_SLIDE2], 0.0))
+            o[O_PV] = diag[D_MAX_PV6] ** (1.0 / 6.0)
+            o[O_AMIN] = math.asin(min(diag[D_SIN_MIN], 1.0)) if diag[D_SIN_MAX] >= 0.0 else math.nan
+            o[O_AMAX] = math.asin(min(diag[D_SIN_MAX], 1.0)) if diag[D_SIN_MAX] >= 0.0 else math.nan
+            o[O_SSF] = static_safety_factor(diag[D_RACE_P3])
             for s in range(n_sensors):
                 o[N_OUT + s] = sensor_reading(y, sensors[s])
             n_out += 1
@@ -224,13 +343,13 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         # classical RK4
         for m in range(n):
             tmp[m] = y[m] + half * k1[m]
-        rhs(t + half, tmp, k2, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        rhs_stage(t + half, tmp, k2, params, rows, arcs, pockets, table, meta, diag, bdiag)
         for m in range(n):
             tmp[m] = y[m] + half * k2[m]
-        rhs(t + half, tmp, k3, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        rhs_stage(t + half, tmp, k3, params, rows, arcs, pockets, table, meta, diag, bdiag)
         for m in range(n):
             tmp[m] = y[m] + dt * k3[m]
-        rhs(t + dt, tmp, k4, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        rhs_stage(t + dt, tmp, k4, params, rows, arcs, pockets, table, meta, diag, bdiag)
         sixth = dt / 6.0
         for m in range(n):
             y[m] += sixth * (k1[m] + 2.0 * (k2[m] + k3[m]) + k4[m])

@@ -49,19 +49,37 @@ from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_
                     R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
                     R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .contact import (FAST, arc_penetration, ball_contact_force, friction_coefficient,  # noqa: F401
-                      friction_force, friction_slope_at_zero_slip, hertz_energy, land_penetration,
+                      friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
                       channel_rate, channel_value)
 
-# diag slots written by rhs()
+# diag slots written by rhs(): largest inner / outer race loads, loaded balls, largest p³
+# (any contact), deepest penetration and its ball
 D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
+# the designer's outputs (issue 10), all from the forces of this same evaluation:
+# D_DRIVE_TORQUE  moment about the ring's spin axis the prescribed spin needs [N m]
+# D_FRICTION_POWER Σ|F_t·u| over every friction contact [W]
+# D_DAMPING_POWER  Σ (q − K·δ^1.5)·dδ/dt over every contact (damper dissipation) [W]
+# D_LOAD_POWER     power of the applied loads and of gravity on every body [W]
+# D_TILT_POWER     power the small-tilt ring equations leave out (see rhs Notes) [W]
+# D_MAX_QP, D_LAND_Q  largest ball–pocket and cage–land normal forces [N]
+# D_MAX_SLIDE2     largest squared sliding speed at a loaded ball–race contact [m² s^-2]
+# D_MAX_PV6        largest (p_max·s)⁶ at a ball–race contact [(Pa m s^-1)⁶]
+# D_RACE_P3        largest p_max³ over the ball–race contacts only (ISO 76) [Pa³]
+# D_SIN_MIN, D_SIN_MAX  extreme |n_z| (sine of the contact angle) of loaded race contacts
+#                  (2 and −1 when none is loaded)
+# D_DRIVE_POWER    T·ω, the drive's power [W]
+# rhs() writes them all; rhs_stage() (the integrator's intermediate RK4 stages, where
+# nobody reads them) leaves the slots from D_FRICTION_POWER on untouched
+(D_DRIVE_TORQUE, D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q,
+ D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER) = range(6, 19)
 # from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
 # (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
 # actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
-D_COS_ALPHA = 6
-N_DIAG = 7
+D_COS_ALPHA = 19
+N_DIAG = 20
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -75,7 +93,42 @@ def new_diagnostics(n_rows: int, n_balls: int):
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
-    """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``."""
+    """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``.
+
+    Notes
+    -----
+    The designer's diagnostics (``D_DRIVE_TORQUE`` …, issue 10) come from the forces of
+    this same evaluation, no second pass. :func:`rhs_stage` neither computes nor writes
+    the slots from ``D_FRICTION_POWER`` on; the drive torque it does.
+
+    - Drive torque ``T = I_p·ω̇ − M_c·e``: ``M_c`` the contact forces' moment on the
+      ring about its centre, ``e = R·ẑ`` the spin axis.
+    - Friction power ``Σ −F_t·u`` (``u`` the slip of the ball's or cage's material
+      point against the other body's; ``F_t·u = F·u + q·u_n`` since ``F = −q·n + F_t``);
+      damping power ``Σ (q − K·δ^1.5)·δ̇``, which counts a clipped (zero) force too.
+    - The energy balance these give (derived in tests/core/test_energy_balance.py)::
+
+          T·ω + P_load = d/dt(E_kin + ½·I_p·ω² + V_el) + P_fric + P_damp + P_tilt
+          P_tilt = θ̇x·(M_x·(cos θy − 1) − M_z·sin θy) − I_p·ω̇·(θx·θ̇y − θy·θ̇x)
+
+      ``P_tilt`` is what the small-tilt ring equations leave out of the rigid ring's
+      power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
+      tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
+    """
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True)
+
+
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
+    """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
+    on): the integrator's intermediate RK4 stages, whose diagnostics nobody reads. The
+    same code with ``full`` a constant False, which the compiler removes."""
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False)
+
+
+@njit(nogil=True, fastmath=FAST, error_model="numpy", inline="always")
+def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
+    """The body of :func:`rhs` (``full`` True) and :func:`rhs_stage` (False)."""
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
@@ -99,8 +152,11 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
     omx, omy, omz = ring_angular_velocity(w_ring, wxi, wyi, r00, r20, r02, r12, r22)
 
-    fxi, fyi, fzi, mxi, myi = 0.0, 0.0, 0.0, 0.0, 0.0
+    fxi, fyi, fzi, mxi, myi, mzi = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
+    # issue 10's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
+    p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
+    max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
     for r in range(rows.shape[0]):
         cos_sum, cos_balls = 0.0, 0.0
         nz_balls = int(rows[r, R_Z])
@@ -111,7 +167,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
         na = int(rows[r, R_NARC])
         zrow = rows[r, R_ZROW]
         h = rows[r, R_HALF_D]
-        inv_mb = 1.0 / rows[r, R_MB]
+        m_b = rows[r, R_MB]
+        inv_mb = 1.0 / m_b
         inv_ib = 1.0 / rows[r, R_IB]
         pocket_r = rows[r, R_POCKET_R]
         k_pocket = rows[r, R_POCKET_K]
@@ -166,7 +223,12 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     ux -= vxi + omy * qz - omz * qy
                     uy -= vyi + omz * qx - omx * qz
                     uz -= vzi + omx * qy - omy * qx
-                q = normal_force(delta, ux * nx + uy * ny + uz * nz, arcs[a, A_K], c_race, inv_dmax)
+                un = ux * nx + uy * ny + uz * nz    # dδ/dt
+                q = normal_force(delta, un, arcs[a, A_K], c_race, inv_dmax)
+                # the damper's dissipation: the normal force's power beyond the elastic one
+                # (also when the force is clipped to zero and the spring unloads unresisted)
+                if full:
+                    p_damp += (q - hertz_load(arcs[a, A_K], delta)) * un
                 if q <= 0.0:
                     continue
                 fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
@@ -182,6 +244,23 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 p3 = arcs[a, A_PC3] * q
                 if p3 > max_p3:
                     max_p3 = p3
+                if full:
+                    # friction power −F_t·u = −F·u − q·u_n (F = −q·n + F_t on the ball)
+                    p_fric -= fx * ux + fy * uy + fz * uz + q * un
+                    # sliding speed |u_t|² and (p_max·s)⁶ = p³²·s²³: no root in the loop
+                    s2 = ux * ux + uy * uy + uz * uz - un * un
+                    if s2 > max_s2:
+                        max_s2 = s2
+                    pv6 = p3 * p3 * s2 * s2 * s2
+                    if pv6 > max_pv6:
+                        max_pv6 = pv6
+                    if p3 > race_p3:
+                        race_p3 = p3
+                    sin_a = abs(nz)     # sine of the contact angle to the bearing's radial plane
+                    if sin_a < sin_min:
+                        sin_min = sin_a
+                    if sin_a > sin_max:
+                        sin_max = sin_a
                 if inner:
                     # reaction on the ring, and its moment about the ring centre
                     fxi -= fx
@@ -189,6 +268,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     fzi -= fz
                     mxi -= qy * fz - qz * fy
                     myi -= qz * fx - qx * fz
+                    mzi -= qx * fy - qy * fx
                     qi_sum += q
                     fi_rad += fx * erx + fy * ery
                 else:
@@ -222,7 +302,10 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 ux = vx + wy * az - wz * ay - (vxc - wc * (cy - yc))
                 uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
                 uz = vz + wx * ay - wy * ax - vzc
-                qp = normal_force(delta, ux * dgx + uy * dgy + uz * dgz, k_pocket, c_pocket, inv_dmax)
+                un = ux * dgx + uy * dgy + uz * dgz   # dδ/dt
+                qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
+                if full:
+                    p_damp += (qp - hertz_load(k_pocket, delta)) * un
                 if qp > 0.0:
                     # friction tangential to the ball's surface there, normal a/h
                     inv_h = 1.0 / h
@@ -236,6 +319,10 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                     p3 = pc3_pocket * qp
                     if p3 > max_p3:
                         max_p3 = p3
+                    if full:
+                        p_fric -= fpx * ux + fpy * uy + fpz * uz + qp * un
+                        if qp > max_qp:
+                            max_qp = qp
 
             bdiag[p0 + j, B_QI] = qi_sum
             bdiag[p0 + j, B_QO] = qo_sum
@@ -247,6 +334,8 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
             dy[b + 1] = vy
             dy[b + 2] = vz
             # race contacts plus the pocket's (zero without pocket contact)
+            if full:
+                p_load += m_b * (gx * vx + gy * vy + gz * vz)
             dy[b + 3] = (fbx + fpx) * inv_mb + gx
             dy[b + 4] = (fby + fpy) * inv_mb + gy
             dy[b + 5] = (fbz + fpz) * inv_mb + gz
@@ -264,17 +353,25 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
                 uz = vzc
                 un = ux * nx + uy * ny
                 ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, inv_dmax)
+                if full:
+                    p_damp += (ql - hertz_load(rows[r, R_LAND_K], delta)) * un
                 if ql > 0.0:
                     fxc -= ql * nx
                     fyc -= ql * ny
+                    if ql > land_q:
+                        land_q = ql
                     if friction_on:
                         ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, mu_s, v_s, mu_d, v_d, inv_vs)
                         fxc += ftx
                         fyc += fty
                         fzc += ftz
                         tzc += cage_ro * (nx * fty - ny * ftx)
+                        if full:
+                            p_fric -= ftx * ux + fty * uy + ftz * uz
 
         mc = rows[r, R_CAGE_M]
+        if full:
+            p_load += mc * (gx * vxc + gy * vyc + gz * vzc)
         dy[c0] = vxc
         dy[c0 + 1] = vyc
         dy[c0 + 2] = vzc
@@ -304,6 +401,26 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     diag[D_MAX_P3] = max_p3
     diag[D_MAX_PEN] = max_pen
     diag[D_PEN_BALL] = pen_ball
+    # the drive: what the prescribed spin needs about its (tilted) axis e = R·ẑ
+    torque = ip * dw_ring - (mxi * r02 + myi * r12 + mzi * r22)
+    diag[D_DRIVE_TORQUE] = torque
+    diag[D_DRIVE_POWER] = torque * w_ring
+    if not full:
+        return
+    diag[D_FRICTION_POWER] = p_fric
+    diag[D_DAMPING_POWER] = p_damp
+    diag[D_LOAD_POWER] = (p_load + m_ring * (gx * vxi + gy * vyi + gz * vzi)
+                          + fr * (lc * vxi + ls * vyi) + fa * vzi + moment * (lc * wyi - ls * wxi))
+    # the rigid ring's contact power on θ̇x is M·(Ry·x̂) = M_x·cos θy − M_z·sin θy, the
+    # small-tilt equation above takes M_x; and I_p·ω̇ does work on the tilts (see Notes)
+    diag[D_TILT_POWER] = wxi * (mxi * (r00 - 1.0) + mzi * r20) - ip * dw_ring * (tx * wyi - ty * wxi)
+    diag[D_MAX_QP] = max_qp
+    diag[D_LAND_Q] = land_q
+    diag[D_MAX_SLIDE2] = max_s2
+    diag[D_MAX_PV6] = max_pv6
+    diag[D_RACE_P3] = race_p3
+    diag[D_SIN_MIN] = sin_min
+    diag[D_SIN_MAX] = sin_max
 
 
 @njit(cache=True, nogil=True)

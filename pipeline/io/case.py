@@ -9,12 +9,21 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
   ``axial_displacement``, ``inner_ring_x|y|z``, ``inner_ring_tilt_x|y``,
   ``applied_radial_load``, ``applied_axial_load``, ``inner_ring_speed``, ``cage_speed``,
   ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
-  ``max_contact_pressure``, ``applied_moment``, ``load_direction``;
+  ``max_contact_pressure``, ``applied_moment``, ``load_direction``, and the designer's
+  outputs (issue 10) ``inner_ring_drive_torque``, ``friction_power``,
+  ``max_pocket_force``, ``cage_land_force``, ``max_race_sliding_speed``, ``max_race_pv``,
+  ``min_contact_angle``, ``max_contact_angle``, ``static_safety_factor``;
 - phase metrics, over ``phase``, accumulated at every integrator step:
   ``radial_displacement_range|mean|std|min_time|max_time|range_at_edge`` and the same for
   ``axial_displacement``, ``cage_speed_mean``, ``inner_ring_speed_mean``,
   ``epicyclic_cage_speed``, ``cage_slip``, ``cage_slip_nominal``,
-  ``peak_contact_pressure``, and the windows ``phase_start``/``phase_end``;
+  ``peak_contact_pressure``, the windows ``phase_start``/``phase_end``, the designer's
+  ``inner_ring_drive_torque_peak|mean``, ``friction_power_mean``, ``friction_energy``,
+  ``max_pocket_force_peak``, ``cage_land_force_peak``, ``max_race_sliding_speed_peak``,
+  ``max_race_pv_peak``, ``contact_angle_min|max``, ``static_safety_factor_min|min_time``
+  and, with rvcore.life, ``fatigue_damage``;
+- duty-cycle scalars (with rvcore.life): ``rating_life_L10r``, ``rating_life_cycles``,
+  ``fatigue_damage_cycle``;
 - with virtual sensors, dimension ``sensor`` (int8 flags named by the sensors) with
   coordinates ``sensor_position_x|y|z`` and ``sensor_direction_x|y|z``:
   ``sensor_displacement`` over ``(elapsed_time, sensor)`` and
@@ -35,6 +44,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from rvcore.driver import DUTY_CYCLE_OUTPUTS
 from rvcore.operating import STEADY_OUTPUTS
 from rvcore.profile import PHASES
 
@@ -66,6 +76,22 @@ SERIES = {
     "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
     "applied_moment": ("N m", "tilting moment applied by the profile, about the axis normal to the radial load"),
     "load_direction": ("rad", "direction of the radial load applied by the profile, from +x"),
+    "inner_ring_drive_torque": ("N m", "moment about the inner ring's spin axis that the prescribed spin needs: "
+                                       "polar inertia times the prescribed angular acceleration minus the "
+                                       "contact forces' moment on the ring about that axis"),
+    "friction_power": ("W", "power dissipated by friction at every ball-race, ball-pocket and cage-land "
+                            "contact, summed (sum of |F_t . v_slip|)"),
+    "max_pocket_force": ("N", "largest ball-pocket normal force (all rows)"),
+    "cage_land_force": ("N", "cage-land normal force (the largest over rows)"),
+    "max_race_sliding_speed": ("m s-1", "largest sliding speed at a loaded ball-race contact"),
+    "max_race_pv": ("Pa m s-1", "largest product of the Hertz peak pressure and the sliding speed at a "
+                                "ball-race contact"),
+    "min_contact_angle": ("rad", "smallest contact angle of the loaded ball-race contacts, from the bearing's "
+                                 "radial plane (NaN when none is loaded)"),
+    "max_contact_angle": ("rad", "largest contact angle of the loaded ball-race contacts, from the bearing's "
+                                 "radial plane (NaN when none is loaded)"),
+    "static_safety_factor": ("1", "static safety factor S0 = 4200 MPa / largest ball-race Hertz pressure "
+                                  "(ISO 76, ball bearings; NaN when no ball-race contact is loaded)"),
 }
 
 def _extreme_metrics(name: str, what: str) -> dict:
@@ -93,6 +119,21 @@ PHASE_METRICS = {
                        "(0: rolling without slip)"),
     "cage_slip_nominal": ("1", "1 - mean cage speed / epicyclic cage speed at the nominal contact angle"),
     "peak_contact_pressure": ("Pa", "largest Hertz contact pressure over the phase"),
+    "inner_ring_drive_torque_peak": ("N m", "largest magnitude of the inner-ring drive torque over the phase"),
+    "inner_ring_drive_torque_mean": ("N m", "time mean of the inner-ring drive torque over the phase"),
+    "friction_power_mean": ("W", "time mean of the friction power over the phase"),
+    "friction_energy": ("J", "energy dissipated by friction over the phase (integral of the friction power)"),
+    "max_pocket_force_peak": ("N", "largest ball-pocket normal force over the phase"),
+    "cage_land_force_peak": ("N", "largest cage-land normal force over the phase"),
+    "max_race_sliding_speed_peak": ("m s-1", "largest ball-race sliding speed over the phase"),
+    "max_race_pv_peak": ("Pa m s-1", "largest ball-race Hertz peak pressure times sliding speed over the phase"),
+    "contact_angle_min": ("rad", "smallest contact angle of a loaded ball-race contact over the phase"),
+    "contact_angle_max": ("rad", "largest contact angle of a loaded ball-race contact over the phase"),
+    "static_safety_factor_min": ("1", "smallest static safety factor S0 (ISO 76: 4200 MPa / peak ball-race "
+                                      "Hertz pressure) over the phase"),
+    "static_safety_factor_min_time": ("s", "elapsed time at which the static safety factor is smallest in the phase"),
+    "fatigue_damage": ("1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile "
+                            "(ISO/TS 16281 contact loads at every integrator step)"),
     "phase_start": ("s", "start of the phase window"),
     "phase_end": ("s", "end of the phase window"),
 }
@@ -110,10 +151,13 @@ PER_ROW = ("cage_speed", "cage_speed_mean", "epicyclic_cage_speed", "cage_slip",
 
 #: Scalars at the steady operating point (no dims in a case file), from the statics there.
 STEADY = dict(STEADY_OUTPUTS)
+#: Duty-cycle life scalars (no dims): ``CaseResult.life``, present when rvcore.life is.
+DUTY_CYCLE = dict(DUTY_CYCLE_OUTPUTS)
 
 #: Every labelled variable: name -> (dims, units, long_name).
 VARIABLES = {
     **{k: ((), *v) for k, v in STEADY.items()},
+    **{k: ((), *v) for k, v in DUTY_CYCLE.items()},
     **{k: (("elapsed_time",), *v) for k, v in SERIES.items()},
     **{k: (("elapsed_time", "sensor"), *v) for k, v in SENSOR_SERIES.items()},
     **{k: (("phase",), *v) for k, v in PHASE_METRICS.items()},
@@ -197,7 +241,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     data = {}
     for name, (dims, units, long_name) in VARIABLES.items():
         if not dims:
-            source = getattr(result, "steady", None) or {}
+            source = {**(getattr(result, "steady", None) or {}), **(getattr(result, "life", None) or {})}
         else:
             source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):

@@ -318,7 +318,9 @@ def _metric_changes(coarse, fine):
         if name.startswith("cage_slip"):
             out[name] = np.abs(coarse.phase_metrics[name] - v)
         elif name != "inner_ring_speed_mean":  # prescribed
-            out[name] = np.abs(coarse.phase_metrics[name] / v - 1)
+            c = coarse.phase_metrics[name]
+            # a force that is zero in both (no cage-land contact in a phase) has converged
+            out[name] = np.where((c == 0) & (v == 0), 0.0, np.abs(c / np.where(v == 0, np.nan, v) - 1))
     return out
 
 
