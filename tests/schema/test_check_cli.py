@@ -172,7 +172,6 @@ def test_missing_file_is_an_error(capsys, tmp_path):
 
 
 def test_sweep_file_is_recognised(capsys, tmp_path):
-    pytest.importorskip("pipeline.sweepfile")
     sweep = tmp_path / "grid.toml"
     sweep.write_text(
         f'name = "grid"\nbearing = "{STUDY.as_posix()}"\nprofile = "{PROFILE.as_posix()}"\n'
