@@ -38,53 +38,24 @@ ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_
 
 _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
 
-#: Stiffness at the steady operating point, one scalar per case (no ``phase``): name ->
-#: (units, long_name) used when the sweep's variable lacks its own attributes. The case
-#: files carry them (issue 9); sweeps written before lack them and are reported without.
-STIFFNESS = {
-    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point: direct term of the "
-                                  "tangent stiffness along the radial load"),
-    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point: direct term of the "
-                                 "tangent stiffness along the axis"),
-    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
-                                       "tangent stiffness about the axis normal to the radial load"),
-}
+# Units and long names come from the case files' one table, pipeline.io.VARIABLES; sweeps
+# written before issues 9 and 10 lack these variables and are reported without them.
 
+#: Stiffness at the steady operating point, one scalar per case (no ``phase``):
+#: name -> (units, long_name).
+STIFFNESS = {k: VARIABLES[k][1:] for k in ("radial_stiffness", "axial_stiffness", "tilting_stiffness")}
 
-#: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name),
-#: used when the sweep's variable lacks its own attributes. Sweeps written before issue 10
-#: lack them and are reported without.
-DESIGNER_METRICS = {
-    "inner_ring_drive_torque_peak": ("N m", "largest magnitude of the inner-ring drive torque over the phase"),
-    "inner_ring_drive_torque_mean": ("N m", "time mean of the inner-ring drive torque over the phase"),
-    "friction_power_mean": ("W", "time mean of the power dissipated by friction at every contact over the phase"),
-    "friction_energy": ("J", "energy dissipated by friction at every contact over the phase"),
-    "max_pocket_force_peak": ("N", "largest ball-pocket normal force over the phase"),
-    "cage_land_force_peak": ("N", "largest cage-land normal force over the phase"),
-    "max_race_sliding_speed_peak": ("m s-1", "largest sliding speed at a ball-race contact over the phase"),
-    "max_race_pv_peak": ("Pa m s-1", "largest Hertz peak pressure times sliding speed at a ball-race contact "
-                                     "over the phase"),
-    "contact_angle_min": ("rad", "smallest contact angle of the loaded ball-race contacts over the phase"),
-    "contact_angle_max": ("rad", "largest contact angle of the loaded ball-race contacts over the phase"),
-    "static_safety_factor_min": ("1", "smallest static safety factor (ISO 76: 4200 MPa over the peak Hertz "
-                                      "pressure) over the phase"),
-    "static_safety_factor_min_time": ("s", "elapsed time at which the static safety factor is smallest in the phase"),
-    "fatigue_damage": ("1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile"),
-}
+#: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name).
+DESIGNER_METRICS = {k: VARIABLES[k][1:] for k in (
+    "inner_ring_drive_torque_peak", "inner_ring_drive_torque_mean", "friction_power_mean", "friction_energy",
+    "max_pocket_force_peak", "cage_land_force_peak", "max_race_sliding_speed_peak", "max_race_pv_peak",
+    "contact_angle_min", "contact_angle_max", "static_safety_factor_min", "static_safety_factor_min_time",
+    "fatigue_damage")}
 
-#: The designer's scalars of a case (issue 10), no ``phase``: name -> (units, long_name).
-#: Lives are in revolutions of the inner ring (units "1"), the duty-cycle life also in
-#: cycles of the profile.
-DESIGNER_SCALARS = {
-    "rating_life_L10r": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle (Palmgren-Miner over "
-                              "the simulated cycle), in revolutions of the inner ring"),
-    "rating_life_cycles": ("1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in cycles of the profile"),
-    "fatigue_damage_cycle": ("1", "Palmgren-Miner fatigue damage of one cycle of the profile"),
-    "reference_rating_life_L10r": ("1", "ISO/TS 16281 reference rating life L10r at the steady operating point "
-                                        "(statics), in revolutions of the inner ring"),
-    "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P)^3 at the steady operating point, "
-                                   "in revolutions of the inner ring"),
-}
+#: The designer's scalars of a case (issue 10), no ``phase``: the rating lives (in
+#: revolutions of the inner ring, units "1"; the duty cycle's also in cycles of the
+#: profile) and the cycle's damage.
+DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items() if v[0] == () and k not in STIFFNESS}
 
 #: Every per-case scalar (no ``phase``) ``metrics.nc`` carries when the sweep holds it.
 SCALARS = {**STIFFNESS, **DESIGNER_SCALARS}
