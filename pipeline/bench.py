@@ -89,10 +89,9 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
         sig_acc, acc = ig.new_accumulators(0)
         phases = np.zeros((0, 2))
         sensors = np.zeros((0, 6))
-        work = np.zeros((5, y.size))
         t0 = time.perf_counter()
-        status, *_ = ig.integrate(y, t_start, window / n, n, n, *args, phases, sensors, out, sig_acc, acc,
-                                  diag, bdiag, work, 1.0, 1e30, np.ones(model.rows.shape[0]))
+        status, *_ = ig.advance("rk4", y, t_start, window / n, n, n, model, table, meta, phases, sensors, out,
+                                sig_acc, acc, diag, bdiag, 1.0, 1e30, np.ones(model.rows.shape[0]))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         return y, wall

@@ -87,6 +87,10 @@ OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_LIMIT = 2.785
 
+#: The integrators, by their ``solver.method`` names; the kernel takes the index.
+METHODS = ("rk4", "imex")
+RK4, IMEX = 0, 1
+
 
 def new_accumulators(n_phases: int, n_sensors: int = 0, n_rows: int = 1):
     """Empty ``(signal_acc, scalar_acc)`` for ``n_phases`` phases, ``n_sensors`` sensors
@@ -207,8 +211,9 @@ def _step_stats(a, diag, t, dt):
 @njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
-              cos_nominal):
-    """Advance ``y`` in place by ``n_steps`` RK4 steps of ``dt``.
+              cos_nominal, method, jwork, schur):
+    """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of ``method`` (``RK4`` or
+    ``IMEX``; :func:`advance` allocates ``work``, ``jwork`` and ``schur`` for it).
 
     Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
     written (columns :data:`OUTPUT_SERIES`, then one per sensor). At every step the
@@ -354,6 +359,37 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         for m in range(n):
             y[m] += sixth * (k1[m] + 2.0 * (k2[m] + k3[m]) + k4[m])
     return OK, t_start + n_steps * dt, -1, n_out
+
+
+def new_work(model, method: str):
+    """The scratch arrays ``(work, jwork, schur)`` that :func:`integrate` needs for ``method``."""
+    if method == "rk4":
+        return np.zeros((5, model.n_states)), np.zeros((1, 1)), np.zeros((1, 1))
+    from . import imex
+    return imex.new_work(model)
+
+
+def time_step(model, peak_contact_load: float, method: str, *, safety: float = 0.8) -> float:
+    """The fixed step [s] of ``method`` (:func:`stable_time_step` for RK4,
+    :func:`rvcore.imex.stable_time_step` for the IMEX scheme)."""
+    if method == "rk4":
+        return stable_time_step(model, peak_contact_load, safety=safety)
+    from . import imex
+    return imex.stable_time_step(model, peak_contact_load, safety=safety)
+
+
+def advance(method: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
+            sig_acc, acc, diag, bdiag, pen_limit, ke_limit, cos_nominal):
+    """:func:`integrate` with ``method`` by name (:data:`METHODS`) and its scratch allocated.
+
+    Returns ``(status, t_fail, where, n_out)`` as :func:`integrate`.
+    """
+    if method not in METHODS:
+        raise ValueError(f"unknown integrator {method!r}: use one of {', '.join(METHODS)}")
+    work, jwork, schur = new_work(model, method)
+    return integrate(y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
+                     table, meta, phases, sensors, out, sig_acc, acc, diag, bdiag, work, pen_limit, ke_limit,
+                     cos_nominal, METHODS.index(method), jwork, schur)
 
 
 def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,

@@ -277,7 +277,8 @@ _PROFILE += [Field(f"phases.{_p}", "list", "profile", "time", "nonnegative", uni
 
 _SOLVER_DOC = {
     "output_rate": ("frequency", "Hz", "positive", "stored samples per second"),
-    "step_safety": ("dimensionless", "", "positive", "fraction of the explicit RK4 stability limit"),
+    "method": (None, "", None, "integrator: rk4 (the reference) or imex (friction and damping implicit)"),
+    "step_safety": ("dimensionless", "", "positive", "fraction of the method's explicit stability limit"),
     "time_step": ("time", "us", "nonnegative", "fixed step; 0 derives it from the stiffest contact"),
     "start_time": ("time", "s", "nonnegative", "start of the simulated window"),
     "end_time": ("time", "s", "nonnegative", "end of the simulated window; 0: the profile's duration"),
@@ -293,6 +294,9 @@ def _solver_field(f) -> Field:
     path = f"solver.{f.name}"
     if isinstance(f.default, bool):
         return Field(path, "boolean", "solver", default=f.default, doc=doc, source=f.name)
+    if isinstance(f.default, str):
+        from rvcore.integrator import METHODS
+        return Field(path, "choice", "solver", default=f.default, choices=METHODS, doc=doc, source=f.name)
     if isinstance(f.default, int):
         return Field(path, "integer", "solver", default=f.default, minimum=-1, doc=doc, source=f.name)
     return _q(path, unit_kind, unit, doc, file="solver", bounds=bounds, default=f.default, source=f.name)

@@ -196,7 +196,6 @@ def test_energy_conserved_without_friction_and_damping():
     out = np.zeros((per + 2, ig.N_OUT))
     sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0])
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
-    work = np.zeros((5, model.n_states))
 
     def energy(t):
         kin = ig.kinetic_energy(y, model.params, model.rows)
@@ -207,9 +206,9 @@ def test_energy_conserved_without_friction_and_damping():
     pocket_hits = land_hits = 0
     t = 0.0
     for _ in range(chunks):
-        status, *_ = ig.integrate(y, t, dt, per, per, model.params, model.rows, model.arcs, model.pockets,
-                                  table, meta, resolved.phases, np.zeros((0, 6)), out, sig_acc, acc, diag, bdiag,
-                                  work, 1e-3, 1e9, np.ones(model.rows.shape[0]))
+        status, *_ = ig.advance("rk4", y, t, dt, per, per, model, table, meta, resolved.phases,
+                                np.zeros((0, 6)), out, sig_acc, acc, diag, bdiag, 1e-3, 1e9,
+                                np.ones(model.rows.shape[0]))
         assert status == ig.OK
         t += per * dt
         pocket_hits += np.count_nonzero(bdiag[:, 4])
