@@ -52,6 +52,8 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
                       friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
+from .implicit import J_B, accumulate, friction_tangent, g_ball, g_cage, g_ring
+from .contact import damping_coefficient
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
                       channel_rate, channel_value)
 
@@ -115,7 +117,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
       power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
       tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
     """
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, False, 0.0, bdiag, bdiag, diag)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -123,12 +125,25 @@ def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
     on): the integrator's intermediate RK4 stages, whose diagnostics nobody reads. The
     same code with ``full`` a constant False, which the compiler removes."""
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False, False, 0.0, bdiag, bdiag, diag)
+
+
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg, jwork, schur, dv):
+    """:func:`rhs`, and the stiff damping of every contact for the IMEX integrator.
+
+    Besides everything :func:`rhs` does, accumulates ``hg·GᵀCG`` of every loaded contact
+    into ``jwork`` (per ball) and ``schur`` (ring and cages), and ``D·V`` into ``dv``
+    (layouts and the tangent ``C`` in :mod:`rvcore.implicit`), from the geometry and
+    slips of this same evaluation. ``hg`` is ``h·γ`` [s].
+    """
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, True, hg, jwork, schur, dv)
 
 
 @njit(nogil=True, fastmath=FAST, error_model="numpy", inline="always")
-def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
-    """The body of :func:`rhs` (``full`` True) and :func:`rhs_stage` (False)."""
+def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, jac, hg, jwork, schur, dv):
+    """The body of :func:`rhs` (``full`` True), :func:`rhs_stage` (False) and
+    :func:`rhs_jac` (``jac`` True)."""
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
@@ -145,6 +160,13 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
     inv_dmax = 1.0 / params[P_DAMP_D]
 
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
+    sc = jwork[jwork.shape[0] - 1]         # the scratch row of rvcore.implicit (jac only)
+    if jac:
+        for i in range(schur.shape[1]):
+            for k in range(schur.shape[1]):
+                schur[i, k] = 0.0
+        for i in range(dv.size):
+            dv[i] = 0.0
 
     # ---- inner ring pose and its full angular velocity (spin about its tilted axis)
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
@@ -191,6 +213,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
             cos_b, n_b = 0.0, 0.0
             rho_b = math.sqrt(px * px + py * py)
             inv_rho_b = 1.0 / rho_b
+            if jac:
+                for i in range(J_B + 54):
+                    jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
             # ball centre in the inner ring's frame: Rᵀ·(p − r_i)
@@ -233,6 +258,18 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
                     continue
                 fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
                                                                friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                if jac:
+                    tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
+                    alpha, beta = friction_tangent(q, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                    cd = damping_coefficient(delta, c_race, inv_dmax)
+                    g_ball(sc, ax, ay, az)
+                    if inner:
+                        g_ring(sc, 6, cx - xi, cy - yi, cz - zi, r00, r20)
+                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 5, 0, 0, b + 3, 5, hg, alpha,
+                                   cd - alpha, nx, ny, nz, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
+                    else:
+                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 0, 0, 0, b + 3, 5, hg, alpha,
+                                   cd - alpha, nx, ny, nz, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
                 mbx += dmx
                 mby += dmy
                 mbz += dmz
@@ -312,6 +349,17 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
                     fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(
                         qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h, az * inv_h, ax, ay, az,
                         friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                    if jac:
+                        nfx, nfy, nfz = ax * inv_h, ay * inv_h, az * inv_h
+                        unf = ux * nfx + uy * nfy + uz * nfz
+                        tvx, tvy, tvz = ux - unf * nfx, uy - unf * nfy, uz - unf * nfz
+                        alpha, beta = friction_tangent(qp, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d,
+                                                       inv_vs)
+                        cd = damping_coefficient(delta, c_pocket, inv_dmax)
+                        g_ball(sc, ax, ay, az)
+                        g_cage(sc, 6, cx - xc, cy - yc)
+                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 4, 5, 5 + 4 * r, b + 3, c0 + 4, hg,
+                                   alpha, -alpha, nfx, nfy, nfz, beta, tvx, tvy, tvz, cd, dgx, dgy, dgz)
                     fxc -= fpx
                     fyc -= fpy
                     fzc -= fpz
@@ -352,7 +400,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
                 uy = vyc + wc * cage_ro * nx
                 uz = vzc
                 un = ux * nx + uy * ny
-                ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, inv_dmax)
+                c_land = params[P_LAND_C] * damp_scale
+                ql = normal_force(delta, un, rows[r, R_LAND_K], c_land, inv_dmax)
                 if full:
                     p_damp += (ql - hertz_load(rows[r, R_LAND_K], delta)) * un
                 if ql > 0.0:
@@ -360,6 +409,13 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full):
                     fyc -= ql * ny
                     if ql > land_q:
                         land_q = ql
+                    if jac:
+                        tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz
+                        alpha, beta = friction_tangent(ql, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                        cd = damping_coefficient(delta, c_land, inv_dmax)
+                        g_cage(sc, 0, cage_ro * nx, cage_ro * ny)
+                        accumulate(jwork, 0, sc, schur, dv, y, 0, 4, 0, 5 + 4 * r, 0, c0 + 4, hg, alpha,
+                                   cd - alpha, nx, ny, 0.0, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
                     if friction_on:
                         ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, mu_s, v_s, mu_d, v_d, inv_vs)
                         fxc += ftx
