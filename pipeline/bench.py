@@ -4,12 +4,16 @@ Everything is measured in one run, side by side, and reported as figures; nothin
 asserts a time (these machines are noisy).
 
 - ``full_cycle``: the study bearing (51 balls) through the whole 4.6 s cycle at
-  660 deg/s, 30 kN radial and 10 kN axial, on one core.
+  660 deg/s, 30 kN radial and 10 kN axial, on one core, with each integrator of
+  :data:`rvcore.integrator.METHODS` in turn (``rk4_full_cycle_wall_s``,
+  ``imex_full_cycle_wall_s``, ``rk4_steps``, ...; ``speedup_vs_rk4`` = RK4's wall over
+  IMEX's). The unprefixed figures (``full_cycle_wall_s``, ``steps``, ...) are those of
+  the default method, ``method`` (``SolverSettings().method``).
 - ``scipy_ratio``: ``scipy.integrate.solve_ivp`` (DOP853) on the same numba right-hand
   side over the same short window of steady running, at a tolerance whose error against
-  a fine reference is no larger than ours, timed (median of repeats) against our RK4 over
-  that window. Both start from the same state; the reference is our RK4 at a step 8x
-  smaller.
+  a fine reference is no larger than ours, timed (median of repeats) against our IMEX
+  integrator over that window (``rk4_scipy_ratio``: the same against our RK4). All start
+  from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
   serial wall / (workers x parallel wall).
 """
@@ -41,14 +45,25 @@ def _study():
             OperatingPoint(math.radians(660.0), 30e3, 10e3))
 
 
-def full_cycle() -> dict:
-    """The study bearing through the full cycle on one core."""
+#: The figures :func:`full_cycle_of` reports for one method (prefixed by its name in
+#: :func:`full_cycle`; unprefixed for the default method).
+CYCLE_FIGURES = ("full_cycle_wall_s", "integrator_wall_s", "simulated_s", "steps", "time_step_s",
+                 "rhs_evaluations", "ns_per_ball_rhs", "simulated_s_per_wall_s")
+
+
+def full_cycle_of(method: str) -> dict:
+    """The study bearing through the full cycle on one core with integrator ``method``.
+
+    A short run of the same case first loads every kernel the method calls, so that the
+    timed run holds no compilation or cache loading.
+    """
     from rvcore.driver import SolverSettings, run_case, warm_up
 
     warm_up()
     bearing, profile, op = _study()
+    run_case(bearing, profile, op, SolverSettings(method=method, end_time=2e-4))
     t0 = time.perf_counter()
-    r = run_case(bearing, profile, op, SolverSettings())
+    r = run_case(bearing, profile, op, SolverSettings(method=method))
     wall = time.perf_counter() - t0
     n_balls = r.info["ball_count"]
     return {
@@ -64,8 +79,38 @@ def full_cycle() -> dict:
     }
 
 
-def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 3) -> dict:
-    """Our RK4 against solve_ivp(DOP853) on the same right-hand side and window."""
+def full_cycle(methods=None) -> dict:
+    """:func:`full_cycle_of` for each of ``methods`` (default: every method) in one run.
+
+    Returns each method's figures prefixed by its name (``rk4_full_cycle_wall_s``), the
+    default method's also unprefixed, ``method`` (the default) and, with both RK4 and
+    IMEX, ``speedup_vs_rk4`` = RK4's full-cycle wall time over IMEX's [-].
+    """
+    from rvcore.driver import SolverSettings
+    from rvcore.integrator import METHODS
+
+    default = SolverSettings().method
+    methods = tuple(methods or METHODS)
+    per = {m: full_cycle_of(m) for m in methods}
+    out = {"method": default}
+    if default in per:
+        out.update(per[default])
+    for m, figures in per.items():
+        out.update({f"{m}_{k}": v for k, v in figures.items()})
+    if "rk4" in per and "imex" in per:
+        out["speedup_vs_rk4"] = per["rk4"]["full_cycle_wall_s"] / per["imex"]["full_cycle_wall_s"]
+    return out
+
+
+def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float = 1.5,
+                     repeats: int = 3) -> dict:
+    """Our integrator ``method`` against solve_ivp(DOP853) on the same right-hand side and
+    window [s], from the state at ``t_start`` [s]; medians of ``repeats`` timings.
+
+    The accuracy both must reach is measured against our RK4 at a step 8x smaller than
+    RK4's own, whatever ``method`` is. ``ours_window_rhs_evaluations`` counts 4 per step
+    (+1) for either method.
+    """
     from scipy.integrate import solve_ivp
 
     from rvcore import integrator as ig
@@ -78,11 +123,13 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
     resolved = profile.resolve(op)
     table, meta = resolved.arrays()
     y0 = initial_state(model, resolved, t_start)
-    dt_ours = ig.stable_time_step(model, peak_contact_load(model, resolved))
+    q_peak = peak_contact_load(model, resolved)
+    dt_rk4 = ig.time_step(model, q_peak, "rk4")
+    dt_ours = ig.time_step(model, q_peak, method)
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     args = (model.params, model.rows, model.arcs, model.pockets, table, meta)
 
-    def ours(dt):
+    def ours(dt, method=method):
         y = y0.copy()
         n = int(math.ceil(window / dt))
         out = np.zeros((n + 2, ig.N_OUT))
@@ -90,14 +137,14 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
         phases = np.zeros((0, 2))
         sensors = np.zeros((0, 6))
         t0 = time.perf_counter()
-        status, *_ = ig.advance("rk4", y, t_start, window / n, n, n, model, table, meta, phases, sensors, out,
+        status, *_ = ig.advance(method, y, t_start, window / n, n, n, model, table, meta, phases, sensors, out,
                                 sig_acc, acc, diag, bdiag, 1.0, 1e30, np.ones(model.rows.shape[0]))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         return y, wall
 
     ours(dt_ours)  # compile / warm
-    reference, _ = ours(dt_ours / 8)
+    reference, _ = ours(dt_rk4 / 8, "rk4")
     y_ours, _ = ours(dt_ours)
     ours_walls = [ours(dt_ours)[1] for _ in range(repeats)]
 
@@ -126,7 +173,8 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
             chosen = (rtol, err, sol.nfev)
             break
     if chosen is None:
-        return {"scipy_ratio": float("nan"), "scipy_note": "DOP853 did not reach our accuracy"}
+        return {"scipy_method": method, "scipy_ratio": float("nan"),
+                "scipy_note": "DOP853 did not reach our accuracy"}
     rtol = chosen[0]
     scipy_walls = []
     for _ in range(repeats):
@@ -135,12 +183,14 @@ def scipy_comparison(window: float = 0.01, t_start: float = 1.5, repeats: int = 
         scipy_walls.append(time.perf_counter() - t0)
     ours_med, scipy_med = statistics.median(ours_walls), statistics.median(scipy_walls)
     return {
+        "scipy_method": method,
         "scipy_ratio": scipy_med / ours_med,
         "scipy_window_s": window,
         "scipy_wall_s": scipy_med,
         "ours_window_wall_s": ours_med,
         "scipy_rtol": rtol,
         "scipy_rhs_evaluations": int(chosen[2]),
+        "ours_window_time_step_s": window / int(math.ceil(window / dt_ours)),
         "ours_window_rhs_evaluations": 4 * int(math.ceil(window / dt_ours)) + 1,
         "ours_position_error_m": err_ours,
         "scipy_position_error_m": chosen[1],
@@ -187,9 +237,11 @@ def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
 
 
 def run_all(*, quick: bool = False) -> dict:
+    """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``)."""
     out = {}
     out.update(full_cycle())
-    out.update(scipy_comparison())
+    out.update(scipy_comparison("imex"))
+    out.update({f"rk4_{k}": v for k, v in scipy_comparison("rk4").items()})
     if not quick:
         out.update(parallel_efficiency())
     return out

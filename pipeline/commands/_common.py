@@ -60,6 +60,16 @@ def add_load_arguments(parser, *, speed: bool) -> None:
                              '--set solver.output_rate="2 kHz"; `rvsweep check --fields` lists the keys')
 
 
+def add_method_argument(parser) -> None:
+    """``--method {rk4,imex}``: the integrator (``solver.method``; its choices, default
+    and doc come from the schema)."""
+    from ..schema.fields import solver_fields
+
+    f = solver_fields()["method"]
+    parser.add_argument("--method", choices=f.choices, default=None,
+                        help=f"{f.doc} (default {f.default}; the same as --set solver.method=NAME)")
+
+
 def split_sets(items) -> tuple:
     """``--set`` items as ([solver] table, values for a case): parsed by
     :func:`pipeline.schema.parse_sets`, each key checked against the schema."""
@@ -82,6 +92,14 @@ def one_case_sweep(args, *, profile: str | None):
     fixed = {"speed": getattr(args, "speed", "0 deg/s"), "radial_load": args.radial_load,
              "axial_load": args.axial_load, "moment": args.moment, "load_angle": args.load_angle}
     solver, values = split_sets(args.set)
+    method = getattr(args, "method", None)
+    if method is not None:
+        if "method" in solver:
+            from ..errors import ConfigError
+
+            raise ConfigError("--method", "solver.method", method,
+                              f"given twice (also as --set solver.method={solver['method']})")
+        solver["method"] = method
     fixed.update(values)
     raw = {"name": "cli", "bearing": str(input_file(args.bearing).resolve()),
            "profile": str(input_file(profile).resolve()) if profile else str(default_profile()),

@@ -3,7 +3,19 @@ from __future__ import annotations
 
 import json
 
-HELP = "performance figures: full study cycle on one core, scipy comparison, sweep efficiency"
+HELP = ("performance figures: full study cycle on one core with each integrator, scipy comparison, "
+        "sweep efficiency")
+
+#: (label, figure of pipeline.bench.CYCLE_FIGURES, format) of the full-cycle table.
+_CYCLE_ROWS = (
+    ("wall time [s]", "full_cycle_wall_s", "12.2f"),
+    ("integrator wall [s]", "integrator_wall_s", "12.2f"),
+    ("steps", "steps", "12d"),
+    ("time step [us]", "time_step_s", "12.3f"),
+    ("RHS evaluations", "rhs_evaluations", "12d"),
+    ("per ball per RHS [ns]", "ns_per_ball_rhs", "12.1f"),
+    ("simulated s per wall s", "simulated_s_per_wall_s", "12.3f"),
+)
 
 
 def add_arguments(parser):
@@ -12,6 +24,8 @@ def add_arguments(parser):
 
 
 def run(args):
+    from rvcore.integrator import METHODS
+
     from ..bench import run_all
 
     figures = run_all(quick=args.quick)
@@ -19,16 +33,27 @@ def run(args):
         print(json.dumps(figures, indent=1))
         return 0
     f = figures
-    print("Study bearing (51 balls), full 4.6 s cycle at 660 deg/s, 30 kN + 10 kN, one core")
-    print(f"  wall time               {f['full_cycle_wall_s']:8.2f} s  (integrator {f['integrator_wall_s']:.2f} s)")
-    print(f"  steps                   {f['steps']:8d}  (dt {f['time_step_s'] * 1e6:.3f} us)")
-    print(f"  RHS evaluations         {f['rhs_evaluations']:8d}")
-    print(f"  per ball per RHS        {f['ns_per_ball_rhs']:8.1f} ns")
-    print(f"  simulated s per wall s  {f['simulated_s_per_wall_s']:8.3f}")
-    print(f"scipy solve_ivp(DOP853) on the same RHS, {f.get('scipy_window_s', float('nan')) * 1e3:.0f} ms window, matched accuracy")
-    print(f"  scipy / ours wall       {f['scipy_ratio']:8.2f}x  (scipy {f.get('scipy_wall_s', float('nan')):.3f} s, "
-          f"ours {f.get('ours_window_wall_s', float('nan')):.3f} s; rtol {f.get('scipy_rtol')}, "
-          f"errors {f.get('scipy_position_error_m', float('nan')):.2e} vs {f.get('ours_position_error_m', float('nan')):.2e} m)")
+    methods = [m for m in METHODS if f"{m}_full_cycle_wall_s" in f]
+    print("Study bearing (51 balls), full 4.6 s cycle at 660 deg/s, 30 kN + 10 kN, one core "
+          f"(default method: {f['method']})")
+    print("  " + " " * 24 + "".join(f"{m:>12s}" for m in methods))
+    for label, key, fmt in _CYCLE_ROWS:
+        print(f"  {label:24s}" + "".join(format(f[f"{m}_{key}"] * (1e6 if key == "time_step_s" else 1), fmt)
+                                          for m in methods))
+    if "rk4" in methods:
+        print(f"  {'speedup vs rk4':24s}" + "".join(
+            f"{f['rk4_full_cycle_wall_s'] / f[f'{m}_full_cycle_wall_s']:12.2f}" for m in methods))
+    print(f"scipy solve_ivp(DOP853) on the same RHS, {f.get('scipy_window_s', float('nan')) * 1e3:.0f} ms window, "
+          "matched accuracy (reference: rk4 at 1/8 of its step)")
+    for prefix in ("rk4_", ""):
+        m = f.get(f"{prefix}scipy_method", "?")
+        if f"{prefix}scipy_ratio" not in f:
+            continue
+        print(f"  scipy / {m:4s} wall        {f[f'{prefix}scipy_ratio']:8.2f}x  "
+              f"(scipy {f.get(f'{prefix}scipy_wall_s', float('nan')):.3f} s, "
+              f"{m} {f.get(f'{prefix}ours_window_wall_s', float('nan')):.3f} s; "
+              f"rtol {f.get(f'{prefix}scipy_rtol')}, errors {f.get(f'{prefix}scipy_position_error_m', float('nan')):.2e} "
+              f"vs {f.get(f'{prefix}ours_position_error_m', float('nan')):.2e} m)")
     if "parallel_efficiency" in f:
         print(f"Smoke sweep ({f['smoke_cases']} cases, median of {f['smoke_repeats']}), first case submitted to last finished: serial "
               f"{f['smoke_serial_wall_s']:.1f} s, {f['smoke_workers']} workers {f['smoke_parallel_wall_s']:.1f} s")

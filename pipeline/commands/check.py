@@ -160,9 +160,12 @@ def profile_summary(profile) -> dict:
 
 
 def _axis_range(axis):
-    """"first ... last" of a numeric axis in its schema field's display unit, or None."""
+    """"first ... last" of a numeric axis in its schema field's display unit, the values
+    of a categorical one (``solver.method``: "rk4, imex"), or None."""
     from ..schema.fields import check_set_key
 
+    if axis.coords and all(isinstance(c, str) for c in axis.coords):
+        return ", ".join(axis.coords)
     try:
         f = check_set_key(axis.key)
     except UserError:

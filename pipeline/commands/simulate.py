@@ -6,7 +6,7 @@ import time
 from pathlib import Path
 
 from ..errors import UserError
-from ._common import add_load_arguments, one_case_sweep
+from ._common import add_load_arguments, add_method_argument, one_case_sweep
 
 HELP = "one dynamic case through the duty cycle to a CF NetCDF file"
 
@@ -15,6 +15,7 @@ def add_arguments(parser):
     add_load_arguments(parser, speed=True)
     parser.add_argument("--profile", metavar="FILE", help="duty-cycle TOML (default: the study's cycle)")
     parser.add_argument("--out", required=True, metavar="FILE", help="the NetCDF file to write")
+    add_method_argument(parser)
 
 
 def run(args):

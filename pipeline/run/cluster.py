@@ -45,14 +45,24 @@ def load_kernels_on_worker() -> None:
     warm_up()
 
 
+#: Rough step length of each integrator relative to RK4's at the same ``step_safety`` [-]:
+#: the IMEX scheme treats friction and damping implicitly, so its step is set by the
+#: contact oscillation alone: about 5x RK4's, a rough figure (``rvsweep bench`` reports
+#: ``rk4_time_step_s`` and ``imex_time_step_s`` for the study case). Its steps are taken as
+#: costing what RK4's do (4 right-hand sides each; the implicit solves are not counted).
+#: Only the order of the cases depends on it, never a result.
+_STEP_LENGTH = {"rk4": 1.0, "imex": 5.0}
+
+
 def estimated_cost(spec: CaseSpec) -> float:
     """A relative cost of a case, to start the longest ones first [-].
 
     The integrator's fixed step is inversely proportional to the peak contact load (the
     friction-mode limit, ``rvcore.integrator.stable_time_step``), and each step costs in
     proportion to the number of balls, so the cost scales as
-    ``balls × simulated time × peak load``. The peak load is taken as the larger of the
-    radial and axial loads (enough to order cases; it is not used for anything else).
+    ``balls × simulated time × peak load``, divided by the method's relative step length
+    (:data:`_STEP_LENGTH`). The peak load is taken as the larger of the radial and axial
+    loads (enough to order cases; it is not used for anything else).
     """
     balls = sum(row.ball_count for row in spec.bearing.rows)
     s = spec.settings
@@ -61,7 +71,7 @@ def estimated_cost(spec: CaseSpec) -> float:
     peak = max(abs(op.radial_load), abs(op.axial_load), 1.0)
     if s.time_step > 0:
         return balls * duration / s.time_step
-    return balls * duration * peak / max(s.step_safety, 1e-9)
+    return balls * duration * peak / (max(s.step_safety, 1e-9) * _STEP_LENGTH.get(s.method, 1.0))
 
 
 def serial(todo, case_fn):

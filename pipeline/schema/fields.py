@@ -103,13 +103,16 @@ class Field:
 
     @property
     def axis_kind(self) -> str | None:
-        """The kind of this field's values on a sweep axis (``SI_UNITS`` key or ``"bool"``)."""
+        """The kind of this field's values on a sweep axis (``SI_UNITS`` key, ``"bool"``,
+        or ``"category"`` for a ``choice``: its coordinates are the strings themselves)."""
         if self.kind in ("quantity", "list"):
             return self.unit_kind
         if self.kind == "integer":
             return "dimensionless"
         if self.kind == "boolean":
             return "bool"
+        if self.kind == "choice":
+            return "category"
         return None
 
     def bounds_text(self) -> str:

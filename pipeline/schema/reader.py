@@ -63,6 +63,8 @@ def check_value(f: schema.Field, v, file, key, bounds=_SAME):
             raise ConfigError(file, key, short(v), "must be true or false")
         return v
     if f.kind in ("string", "choice"):
+        if f.choices and not isinstance(v, str):
+            raise ConfigError(file, key, short(v), f"must be one of the strings {join(f.choices, quote=True)}")
         if not isinstance(v, str):
             raise ConfigError(file, key, short(v), "must be a string")
         if f.choices and v not in f.choices:

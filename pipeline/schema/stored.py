@@ -21,7 +21,9 @@ from rvcore.geometry import Arc, Bearing, Row
 from rvcore.profile import Profile
 
 from ..errors import ConfigError
-from .sweepfile import MODEL_VERSION
+from . import fields
+from .reader import check_value
+from .sweepfile import _SOLVER_SINCE_PINNED, MODEL_VERSION
 
 #: Where the configuration comes from, in error messages.
 WHERE = "configuration"
@@ -158,6 +160,13 @@ def stored_configuration(text: str) -> StoredConfiguration:
     name = doc.get("name")
     if not isinstance(name, str):
         raise ConfigError(WHERE, "name", name, "must be a string")
+    # A setting left out because it had the value every earlier case ran with
+    # (sweepfile._SOLVER_SINCE_PINNED: method "rk4") is that value, whatever the default.
+    solver = {**_SOLVER_SINCE_PINNED, **_table(doc, "solver")}
+    settings = rebuild(SolverSettings, solver, "solver")
+    for k, f in fields.solver_fields().items():
+        if f.kind == "choice":
+            check_value(f, getattr(settings, k), WHERE, f"solver.{k}")
     sensors = doc.get("sensors", [])
     if not isinstance(sensors, list):
         raise ConfigError(WHERE, "sensors", None, "must be an array of tables")
@@ -165,6 +174,6 @@ def stored_configuration(text: str) -> StoredConfiguration:
         name=name, model_version=version,
         bearing=rebuild(Bearing, _table(doc, "bearing"), "bearing"),
         profile=rebuild(Profile, _table(doc, "profile"), "profile"),
-        settings=rebuild(SolverSettings, _table(doc, "solver"), "solver"),
+        settings=settings,
         sensors=tuple(rebuild(Sensor, s, f"sensors[{i}]") for i, s in enumerate(sensors)),
         axes=dict(_table(doc, "axes")), fixed=dict(_table(doc, "fixed")))

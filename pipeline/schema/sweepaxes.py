@@ -15,6 +15,7 @@ from rvcore.driver import SolverSettings
 from ..errors import ConfigError
 from ..io import UDUNITS, cf_name
 from . import fields
+from .reader import check_value
 from .tomlfile import parse_key_path
 from .units import SI_UNITS, parse_quantity, registry
 
@@ -171,8 +172,18 @@ def target_of(key: str, file, where: str) -> tuple:
                         "friction.mu_static (write bearing.<key> for a top-level bearing key)")
 
 def solver_kind(name: str):
-    """Kind of a ``[solver]`` value, from the schema ("bool" for a switch)."""
+    """Kind of a ``[solver]`` value, from the schema ("bool" for a switch, "category"
+    for a choice such as ``method``)."""
     return fields.solver_fields()[name].axis_kind
+
+
+def solver_value(name: str, value, file, key: str):
+    """One ``[solver]`` value as written, checked against the schema: an SI float, a
+    bool, or one of a choice's strings (``method = "imex"``)."""
+    f = fields.solver_fields()[name]
+    if f.kind == "choice":
+        return check_value(f, value, file, key)
+    return quantity(value, f.axis_kind, file, key)
 
 
 def _key_kind(target: str, key: str):
@@ -297,7 +308,7 @@ def parse_axis(key: str, spec, file) -> Axis:
         coords = values
     elif target == "solver":
         kind = solver_kind(inner)
-        values = tuple(quantity(v, kind, file, f"{where}[{i}]") for i, v in enumerate(items))
+        values = tuple(solver_value(inner, v, file, f"{where}[{i}]") for i, v in enumerate(items))
         coords = values
     else:
         pairs = [_override_coord(v, target, inner, file, f"{where}[{i}]") for i, v in enumerate(items)]
@@ -340,6 +351,8 @@ def check_settings(settings: SolverSettings, file, where: str):
             raise ConfigError(file, f"{where}.{k}", x, "must be positive")
         if f.bounds == "nonnegative" and x < 0:
             raise ConfigError(file, f"{where}.{k}", x, "must not be negative")
+        if f.kind == "choice":
+            check_value(f, x, file, f"{where}.{k}")
     if settings.end_time and settings.end_time <= settings.start_time:
         raise ConfigError(file, f"{where}.end_time", settings.end_time,
                           "must come after start_time (or be 0: the profile's duration)")
@@ -372,7 +385,7 @@ def fixed_value(key: str, v, file, prefix: str) -> tuple:
         x = quantity(v, OPERATING_POINT[inner], file, where)
         return target, inner, x, x
     if target == "solver":
-        x = quantity(v, solver_kind(inner), file, where)
+        x = solver_value(inner, v, file, where)
         return target, inner, x, x
     if isinstance(v, list):
         return target, inner, v, str(v)

@@ -14,6 +14,7 @@ A sweep file is TOML::
     "friction.mu_static" = [0.08, 0.1, 0.12]        # any bearing value, by its key path
     "rows[0].cage.pocket_clearance" = ["0.3 mm", "0.5 mm"]
     "solver.time_step" = ["2 us", "1 us"]           # any solver setting
+    "solver.method" = ["rk4", "imex"]               # a choice: a categorical axis
 
     [fixed]                                 # one value each, for every case
     axial_load = "10 kN"
@@ -21,6 +22,7 @@ A sweep file is TOML::
 
     [solver]                                # fields of rvcore.driver.SolverSettings
     output_rate = "1000 Hz"
+    method = "rk4"                          # the integrator: "rk4" or "imex"
     time_step = "0 s"                       # 0: derived from the stiffest contact
     step_safety = 0.8
     gravity = true                          # false only for conservation checks
@@ -71,7 +73,10 @@ A case's id is the first 16 hex digits of the SHA-256 of the canonical JSON (sor
 keys, no spaces, ``repr`` floats) of everything that determines its result: the
 resolved bearing, profile, solver settings and operating point, all in SI, and
 :data:`MODEL_VERSION`. The same values written in other units give the same id; a
-changed value gives new ids to exactly the cases it changes.
+changed value gives new ids to exactly the cases it changes. ``solver.method`` is
+hashed only when it is not ``"rk4"``: RK4 was the only integrator when the
+``MODEL_VERSION`` 4 ids were made, so an RK4 case keeps its id (and a resumed sweep its
+results), while an IMEX case of the same point gets another.
 """
 from __future__ import annotations
 
@@ -92,8 +97,8 @@ from .caseids import canonical_json, hash_id, plain
 from .resolver import Resolver, resolve_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         check_operating_point, check_settings, coord_kind, fixed_value, flatten,
-                        parse_axis, parse_sensors, quantity, realization_axis, short, solver_kind,
-                        sort_key, target_of)
+                        parse_axis, parse_sensors, realization_axis, short, solver_value, sort_key,
+                        target_of)
 from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
@@ -110,6 +115,16 @@ TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solve
 # Free text that does not change a result: left out of the case id.
 _BEARING_METADATA = ("description", "source", "extra")
 _PROFILE_METADATA = ("description",)
+
+#: Solver settings added after MODEL_VERSION 4 was pinned, with the value every earlier
+#: case ran with: hashed only when a case differs from it, so that the earlier ids hold.
+_SOLVER_SINCE_PINNED = {"method": "rk4"}
+
+
+def _solver_plain(settings: SolverSettings) -> dict:
+    """The solver settings' plain form as hashed and stored (see the module docstring)."""
+    return {k: v for k, v in plain(settings).items()
+            if not (k in _SOLVER_SINCE_PINNED and v == _SOLVER_SINCE_PINNED[k])}
 
 
 @dataclass(frozen=True)
@@ -182,12 +197,12 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
     """Everything that determines a case's result, as plain SI data (hashed for the id).
 
     The solver settings carry the seed of the random start, so each realization of an
-    ensemble has its own id.
+    ensemble has its own id, and the integrator when it is not RK4 (``_solver_plain``).
     """
     b = {k: v for k, v in plain(bearing).items() if k not in _BEARING_METADATA}
     p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}
     conf = {"model_version": MODEL_VERSION, "operating_point": plain(op),
-            "solver": plain(settings), "bearing": b, "profile": p}
+            "solver": _solver_plain(settings), "bearing": b, "profile": p}
     if sensors:
         conf["sensors"] = plain(list(sensors))
     return conf
@@ -255,7 +270,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         if k not in known:
             raise ConfigError(file, f"solver.{k}", short(v) if not isinstance(v, dict) else None,
                               f"unknown solver setting (known: {', '.join(sorted(known))})")
-        solver_values[k] = quantity(v, solver_kind(k), file, f"solver.{k}")
+        solver_values[k] = solver_value(k, v, file, f"solver.{k}")
 
     # [fixed]
     fixed_raw = raw.get("fixed", {})
@@ -379,7 +394,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "profile_file": str(profile_file),
         "axes": {a.key: list(a.coords) for a in axes},
         "fixed": {k: coord for k, (_, _, _, coord) in fixed.items()},
-        "solver": plain(base_settings),
+        "solver": _solver_plain(base_settings),
         "case_ids": [c.case_id for c in cases],
         "bearing": {k: v for k, v in plain(base_bearing).items() if k != "extra"},
         "profile": plain(base_profile),
