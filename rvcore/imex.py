@@ -26,8 +26,9 @@ factorization serves the three implicit stages::
     y_{n+1} = y_n + h·Σ_i (b_i·F_i + (b̂_i − b_i)·g_i)
 
 with ``F_i = F(Y_i)`` the full right-hand side: four evaluations per step, as RK4.
-``M + h·γ·D`` is block-arrowhead (each ball coupled only to the ring and its cage); it
-is solved exactly through the Schur complement on the ring and cages, O(Z) per stage.
+``M + h·γ·D`` is block-arrowhead (each ball coupled only to the ring; which couplings
+are in ``D`` and why: :mod:`rvcore.implicit`); it is solved exactly through the Schur
+complement on the ring, O(Z) per stage.
 Both tableaux satisfy the order-2 conditions, the coupling ones included
 (``Σ b·ĉ = Σ b̂·c = ½`` with ``c = ĉ``).
 
@@ -48,9 +49,9 @@ import math
 import numpy as np
 from numba import njit
 
-from .implicit import J_A, J_B, J_W, N_JWORK
+from .implicit import J_A, J_B, J_COUPLED, J_W, N_JWORK
 from .kernels import rhs_stage
-from .model import (BALL_STATES, P_RING_IT, P_RING_M, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_IB,
+from .model import (BALL_STATES, P_RING_IT, P_RING_M, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
@@ -77,48 +78,33 @@ def new_work(model):
     p, rows = model.params, model.rows
     inv_m[5:8] = 1.0 / p[P_RING_M]
     inv_m[8:10] = 1.0 / p[P_RING_IT]
-    for r in range(rows.shape[0]):
-        c0 = int(rows[r, R_CAGE0])
-        inv_m[c0 + 4:c0 + 7] = 1.0 / rows[r, R_CAGE_M]
-        inv_m[c0 + 7] = 1.0 / rows[r, R_CAGE_I]
+    for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
-    m = 5 + 4 * rows.shape[0]
-    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((m + 1, m))
-
-
-@njit(cache=True, nogil=True, inline="always")
-def _z(c, r):
-    """Row in ``schur`` of column c (0–8) of a row-r ball's B block."""
-    return c if c < 5 else 5 + 4 * r + (c - 5)
+    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((6, 5))
 
 
 @njit(cache=True, nogil=True)
 def factor(jwork, schur, rows, mass):
     """Factor ``M + h·γ·D`` from the blocks :func:`rvcore.kernels.rhs_jac` accumulated.
 
-    Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle), ``X = U⁻ᵀ·B`` in place
-    of B, and the Schur complement ``S = M_Z + h·γ·D_ZZ − Σ Xᵀ·X`` on the ring and cages,
-    then ``S = Uᵀ·U`` in place. ``mass`` is the state-indexed mass (0 at positions).
+    Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle) and ``X = U⁻ᵀ·B`` in place
+    of B; then the ring's Schur complement ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and
+    ``S = Uᵀ·U`` in place. ``mass`` is the state-indexed mass (0 at positions). A ball
+    with no inner-race contact has ``B = 0``: flagged, and skipped here and in
+    :func:`solve`.
     """
-    m = schur.shape[1]
-    # the ring's and cages' masses on S's diagonal
     for i in range(5):
         schur[i, i] += mass[5 + i]
     for r in range(rows.shape[0]):
-        c0 = int(rows[r, R_CAGE0])
-        for i in range(4):
-            schur[5 + 4 * r + i, 5 + 4 * r + i] += mass[c0 + 4 + i]
-    for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
-            k = p0 + j
+            jw = jwork[p0 + j]
             b = b0 + BALL_STATES * j
-            jw = jwork[k]
             for i in range(6):
                 jw[J_A + 7 * i] += mass[b + 3 + i]
             # Cholesky A = UᵀU, upper triangle
@@ -134,34 +120,35 @@ def factor(jwork, schur, rows, mass):
                     for l in range(i):
                         s -= jw[J_A + 6 * l + i] * jw[J_A + 6 * l + c]
                     jw[J_A + 6 * i + c] = s * inv
-            # X = U⁻ᵀ B (forward substitution, column by column), and S −= XᵀX
-            any_b = False
-            for c in range(9):
-                for i in range(6):
-                    s = jw[J_B + 9 * i + c]
-                    for l in range(i):
-                        s -= jw[J_A + 6 * l + i] * jw[J_B + 9 * l + c]
-                    s /= jw[J_A + 7 * i]
-                    jw[J_B + 9 * i + c] = s
-                    if s != 0.0:
-                        any_b = True
-            if not any_b:
+            coupled = False
+            for i in range(30):
+                if jw[J_B + i] != 0.0:
+                    coupled = True
+                    break
+            jw[J_COUPLED] = 1.0 if coupled else 0.0
+            if not coupled:
                 continue
-            for c in range(9):
-                zc = _z(c, r)
-                for d in range(c, 9):
+            # X = U⁻ᵀ B (forward substitution, column by column), and S −= XᵀX
+            for c in range(5):
+                for i in range(6):
+                    s = jw[J_B + 5 * i + c]
+                    for l in range(i):
+                        s -= jw[J_A + 6 * l + i] * jw[J_B + 5 * l + c]
+                    jw[J_B + 5 * i + c] = s / jw[J_A + 7 * i]
+            for c in range(5):
+                for d in range(c, 5):
                     s = 0.0
                     for i in range(6):
-                        s += jw[J_B + 9 * i + c] * jw[J_B + 9 * i + d]
-                    schur[zc, _z(d, r)] -= s
+                        s += jw[J_B + 5 * i + c] * jw[J_B + 5 * i + d]
+                    schur[c, d] -= s
     # Cholesky of S (upper triangle)
-    for i in range(m):
+    for i in range(5):
         s = schur[i, i]
         for l in range(i):
             s -= schur[l, i] ** 2
         d = math.sqrt(s)
         schur[i, i] = d
-        for c in range(i + 1, m):
+        for c in range(i + 1, 5):
             s = schur[i, c]
             for l in range(i):
                 s -= schur[l, i] * schur[l, c]
@@ -170,16 +157,11 @@ def factor(jwork, schur, rows, mass):
 
 @njit(cache=True, nogil=True)
 def solve(v, jwork, schur, rows, mass):
-    """Overwrite the velocities of the state ``v`` with ``(M + h·γ·D)⁻¹·M·v`` (factors of
-    :func:`factor`); positions are untouched."""
-    m = schur.shape[1]
-    rz = schur[m]
+    """Overwrite the velocities of the balls and the ring in the state ``v`` with
+    ``(M + h·γ·D)⁻¹·M·v`` (factors of :func:`factor`); the rest is untouched."""
+    rz = schur[5]
     for i in range(5):
         rz[i] = mass[5 + i] * v[5 + i]
-    for r in range(rows.shape[0]):
-        c0 = int(rows[r, R_CAGE0])
-        for i in range(4):
-            rz[5 + 4 * r + i] = mass[c0 + 4 + i] * v[c0 + 4 + i]
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
@@ -190,37 +172,36 @@ def solve(v, jwork, schur, rows, mass):
                 for l in range(i):
                     s -= jw[J_A + 6 * l + i] * jw[J_W + l]
                 jw[J_W + i] = s / jw[J_A + 7 * i]
-            for c in range(9):     # r_Z −= Xᵀ·w
-                s = 0.0
-                for i in range(6):
-                    s += jw[J_B + 9 * i + c] * jw[J_W + i]
-                rz[_z(c, r)] -= s
-    # S·Z = r_Z: Uᵀ then U
-    for i in range(m):
+            if jw[J_COUPLED] != 0.0:
+                for c in range(5):     # r_ring −= Xᵀ·w
+                    s = 0.0
+                    for i in range(6):
+                        s += jw[J_B + 5 * i + c] * jw[J_W + i]
+                    rz[c] -= s
+    # S·Z = r: Uᵀ then U
+    for i in range(5):
         s = rz[i]
         for l in range(i):
             s -= schur[l, i] * rz[l]
         rz[i] = s / schur[i, i]
-    for i in range(m - 1, -1, -1):
+    for i in range(4, -1, -1):
         s = rz[i]
-        for l in range(i + 1, m):
+        for l in range(i + 1, 5):
             s -= schur[i, l] * rz[l]
         rz[i] = s / schur[i, i]
     for i in range(5):
         v[5 + i] = rz[i]
     for r in range(rows.shape[0]):
-        c0 = int(rows[r, R_CAGE0])
-        for i in range(4):
-            v[c0 + 4 + i] = rz[5 + 4 * r + i]
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
             jw = jwork[p0 + j]
             b = b0 + BALL_STATES * j
-            for i in range(6):     # w − X·Z
-                s = jw[J_W + i]
-                for c in range(9):
-                    s -= jw[J_B + 9 * i + c] * rz[_z(c, r)]
-                jw[J_W + i] = s
+            if jw[J_COUPLED] != 0.0:
+                for i in range(6):     # w − X·Z
+                    s = jw[J_W + i]
+                    for c in range(5):
+                        s -= jw[J_B + 5 * i + c] * rz[c]
+                    jw[J_W + i] = s
             for i in range(5, -1, -1):   # v_b = U⁻¹·(w − X·Z)
                 s = jw[J_W + i]
                 for l in range(i + 1, 6):
@@ -236,7 +217,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g0, g1, g2 = work[W_G], work[W_G + 1], work[W_G + 2]
-    mass = work[W_M]
+    mass, inv_m = work[W_M], work[W_INVM]
     for m in range(n):
         s = a1 * f0[m] + (i1 - a1) * g0[m]
         if i >= 2:

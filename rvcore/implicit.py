@@ -1,10 +1,10 @@
 """The stiff linear part of the equations of motion, contact by contact. SI throughout.
 
 What the IMEX integrator (:mod:`rvcore.imex`) treats implicitly is the velocity
-dependence of the contact forces: the friction law at small slip, whose slope
+dependence of the ball contacts' forces: the friction law at small slip, whose slope
 ``q·dμ/ds = 1.5·μ_s·q/v_s`` is a stiff viscous damper, and the contact damper. Frozen at a
-state, it is a damping matrix ``D`` on the generalized velocities (every ball's 6, each
-cage's 4, the inner ring's 5)::
+state, it is a damping matrix ``D`` on the generalized velocities (every ball's 6 and the
+inner ring's 5)::
 
     generalized contact force ≈ f(x, V) − D·(V − V₀),   D = Σ_contacts Gᵀ·C·G
 
@@ -14,10 +14,20 @@ point; ``G`` the linear map, the prescribed ring spin left out) and ``C = −∂
 once, and accumulates ``h·γ·GᵀCG`` into the blocks the integrator factors:
 
 - per ball ``k``: ``jwork[k, 0:36]`` the 6×6 ball–ball block ``A`` (row-major), and
-  ``jwork[k, 36:90]`` the 6×9 ball–(ring, own cage) block ``B``: columns 0–4 the ring's
-  ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``, 5–8 the cage's ``(v_x, v_y, v_z, φ̇)``;
-- ``schur[0:m, 0:m]`` the (ring, cages) block, ring at 0–4, row r's cage at ``5 + 4r``;
+  ``jwork[k, 36:66]`` the 6×5 ball–ring block ``B`` (the ring's
+  ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``);
+- ``schur[0:5, 0:5]`` the ring's block;
 - ``dv`` (indexed like the state vector) ``D·V``: the damping forces at the state.
+
+Which couplings are stiff decides what is in ``D``. A race contact's friction damper
+(≈ 5e3 N s/m at 3.5 kN) is stiff on the ball (rate ≈ 5e5 1/s) and, summed over the
+loaded balls, on the ring (25 × 5e3 N s/m on 2.4 kg: ≈ 5e4 1/s, c·h ≈ 1 at 2e-5 s): the
+ball–race contacts enter with both bodies. A pocket's is not stiff on the cage: its
+friction damper 1.5·Q_p (Q_p ≲ 100 N) and its damper (150 N s/m) summed over 51 pockets on
+the 0.47 kg cage give ≲ 3e4 1/s, c·h ≲ 0.6; but they act on a 0.05 kg ball (rate up to
+≈ 2e4 1/s and more at start-up), so a pocket contact enters on the ball's side only (the
+cage's velocity taken as given over the stage, a W-method approximation of the
+Jacobian). The cage–land contact (≲ 50 N on the cage) stays explicit.
 
 Every function is ``@njit`` on scalars and preallocated arrays; none allocates.
 
@@ -45,11 +55,8 @@ from numba import njit
 from .contact import FAST, friction_per_slip, step_slope
 
 #: Columns of the per-ball Jacobian row ``jwork[k]``.
-J_A, J_B, J_W = 0, 36, 90
-N_JWORK = 96
-#: The scratch row (``jwork[n_balls]``): G (3×11, row-major) at 0, C·G at 33.
-J_G, J_CG = 0, 33
-N_COLS = 11
+J_A, J_B, J_W, J_COUPLED = 0, 36, 66, 72
+N_JWORK = 73
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
@@ -87,96 +94,137 @@ def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
     return alpha, (q * slope - alpha) / s2
 
 
-@njit(cache=True, nogil=True)
-def g_ball(sc, ax, ay, az):
-    """Columns 0–5 of G: a ball's ``(v, ω)`` → slip at the arm ``a``: ``[I, −[a]×]``."""
-    for i in range(3):
-        for k in range(6):
-            sc[J_G + N_COLS * i + k] = 0.0
-    sc[J_G + 0] = 1.0
-    sc[J_G + N_COLS + 1] = 1.0
-    sc[J_G + 2 * N_COLS + 2] = 1.0
-    # u = v + ω × a: ∂u/∂ω = −[a]×
-    sc[J_G + 4], sc[J_G + 5] = az, -ay
-    sc[J_G + N_COLS + 3], sc[J_G + N_COLS + 5] = -az, ax
-    sc[J_G + 2 * N_COLS + 3], sc[J_G + 2 * N_COLS + 4] = ay, -ax
-
-
-@njit(cache=True, nogil=True)
-def g_ring(sc, c0, qx, qy, qz, e1x, e1z):
-    """Columns ``c0 … c0+4`` of G: minus the ring point's velocity ``v + Ω × q`` by the
-    ring's ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``; ``∂Ω/∂θ̇_x = e1 = (e1x, 0, e1z)``,
-    ``∂Ω/∂θ̇_y = ŷ`` (rvcore.contact.ring_angular_velocity)."""
-    for i in range(3):
-        for k in range(3):
-            sc[J_G + N_COLS * i + c0 + k] = -1.0 if i == k else 0.0
-    # −(e1 × q) and −(ŷ × q)
-    sc[J_G + c0 + 3] = -(0.0 * qz - e1z * qy)
-    sc[J_G + N_COLS + c0 + 3] = -(e1z * qx - e1x * qz)
-    sc[J_G + 2 * N_COLS + c0 + 3] = -(e1x * qy - 0.0 * qx)
-    sc[J_G + c0 + 4] = -qz
-    sc[J_G + N_COLS + c0 + 4] = 0.0
-    sc[J_G + 2 * N_COLS + c0 + 4] = qx
-
-
-@njit(cache=True, nogil=True)
-def g_cage(sc, c0, rx, ry):
-    """Columns ``c0 … c0+3`` of G: minus the cage point's velocity ``v + φ̇·ẑ × ρ`` by the
-    cage's ``(v_x, v_y, v_z, φ̇)``; ``ρ = (rx, ry, ·)`` from the cage centre [m]."""
-    for i in range(3):
-        for k in range(3):
-            sc[J_G + N_COLS * i + c0 + k] = -1.0 if i == k else 0.0
-    sc[J_G + c0 + 3] = ry
-    sc[J_G + N_COLS + c0 + 3] = -rx
-    sc[J_G + 2 * N_COLS + c0 + 3] = 0.0
-
-
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
-def accumulate(jwork, k, sc, schur, dv, y, n_ball, n_other, bcol0, z0, vb0, vo0, hg, alpha,
-               w1, p1x, p1y, p1z, w2, p2x, p2y, p2z, w3, p3x, p3y, p3z):
-    """Add one contact's ``h·γ·GᵀCG`` to the blocks and ``GᵀC·(G·V)`` to ``dv``.
+def contact_blocks(jwork, k, schur, dv, y, b, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
+                   w3, p3x, p3y, p3z, ax, ay, az, qx, qy, qz, e1x, e1z):
+    """Add one ball contact's ``h·γ·GᵀCG`` to the blocks and ``GᵀC·(G·V)`` to ``dv``.
 
-    ``sc`` holds G: ``n_ball`` (6 or 0) ball columns, then ``n_other`` columns of the
-    other body (the ring's 5 or a cage's 4; 0 for the fixed outer ring). ``C = α·I +
-    Σ w_m·p_m·p_mᵀ``. ``k`` is the ball (its ``jwork`` row), ``bcol0`` the other body's
-    first column in the ball's B block (0 ring, 5 cage), ``z0`` its first row in ``schur``,
-    ``vb0`` and ``vo0`` the state indices of the ball's and the other body's first
-    velocity.
+    ``C = α·I + Σ w_m·p_m·p_mᵀ`` (module Notes). The ball (state offset ``b``, ``jwork``
+    row ``k``) touches at the arm ``a`` from its centre, so its slip is ``v + ω × a``:
+    ``G_ball = [I, S]`` with ``S = −[a]×``. With ``ring`` the other body is the inner ring,
+    the contact point at ``q`` from the ring centre, ``∂Ω/∂θ̇_x = e1 = (e1x, 0, e1z)``,
+    ``∂Ω/∂θ̇_y = ŷ``: ``G_ring = −[I, e1 × q, ŷ × q]``. Otherwise (outer ring, pocket)
+    only the ball's side enters.
     """
-    nc = n_ball + n_other
-    # u_lin = G·V, and C·u_lin
-    ux, uy, uz = 0.0, 0.0, 0.0
-    for c in range(nc):
-        v = y[vb0 + c] if c < n_ball else y[vo0 + c - n_ball]
-        ux += sc[J_G + c] * v
-        uy += sc[J_G + N_COLS + c] * v
-        uz += sc[J_G + 2 * N_COLS + c] * v
-    d1 = w1 * (p1x * ux + p1y * uy + p1z * uz)
-    d2 = w2 * (p2x * ux + p2y * uy + p2z * uz)
-    d3 = w3 * (p3x * ux + p3y * uy + p3z * uz)
-    fx = alpha * ux + d1 * p1x + d2 * p2x + d3 * p3x
-    fy = alpha * uy + d1 * p1y + d2 * p2y + d3 * p3y
-    fz = alpha * uz + d1 * p1z + d2 * p2z + d3 * p3z
-    for c in range(nc):
-        gx, gy, gz = sc[J_G + c], sc[J_G + N_COLS + c], sc[J_G + 2 * N_COLS + c]
-        if c < n_ball:
-            dv[vb0 + c] += gx * fx + gy * fy + gz * fz
+    # C, symmetric
+    c00 = alpha + w1 * p1x * p1x + w2 * p2x * p2x + w3 * p3x * p3x
+    c11 = alpha + w1 * p1y * p1y + w2 * p2y * p2y + w3 * p3y * p3y
+    c22 = alpha + w1 * p1z * p1z + w2 * p2z * p2z + w3 * p3z * p3z
+    c01 = w1 * p1x * p1y + w2 * p2x * p2y + w3 * p3x * p3y
+    c02 = w1 * p1x * p1z + w2 * p2x * p2z + w3 * p3x * p3z
+    c12 = w1 * p1y * p1z + w2 * p2y * p2z + w3 * p3y * p3z
+    # C·S, S = −[a]× = [[0, az, −ay], [−az, 0, ax], [ay, −ax, 0]]
+    m00 = -c01 * az + c02 * ay
+    m01 = c00 * az - c02 * ax
+    m02 = -c00 * ay + c01 * ax
+    m10 = -c11 * az + c12 * ay
+    m11 = c01 * az - c12 * ax
+    m12 = -c01 * ay + c11 * ax
+    m20 = -c12 * az + c22 * ay
+    m21 = c02 * az - c22 * ax
+    m22 = -c02 * ay + c12 * ax
+    jw = jwork[k]
+    # A: [[C, C·S], [., Sᵀ·C·S]], upper triangle; (Sᵀ·X)[i] = (a × X)[i] column-wise
+    jw[J_A + 0] += hg * c00
+    jw[J_A + 1] += hg * c01
+    jw[J_A + 2] += hg * c02
+    jw[J_A + 7] += hg * c11
+    jw[J_A + 8] += hg * c12
+    jw[J_A + 14] += hg * c22
+    jw[J_A + 3] += hg * m00
+    jw[J_A + 4] += hg * m01
+    jw[J_A + 5] += hg * m02
+    jw[J_A + 9] += hg * m10
+    jw[J_A + 10] += hg * m11
+    jw[J_A + 11] += hg * m12
+    jw[J_A + 15] += hg * m20
+    jw[J_A + 16] += hg * m21
+    jw[J_A + 17] += hg * m22
+    # Sᵀ·(C·S): row i of Sᵀ is column i of S
+    jw[J_A + 21] += hg * (-az * m10 + ay * m20)
+    jw[J_A + 22] += hg * (-az * m11 + ay * m21)
+    jw[J_A + 23] += hg * (-az * m12 + ay * m22)
+    jw[J_A + 28] += hg * (az * m01 - ax * m21)
+    jw[J_A + 29] += hg * (az * m02 - ax * m22)
+    jw[J_A + 35] += hg * (-ay * m02 + ax * m12)
+    # the linear slip G·V (the prescribed ring spin left out) and the damping force C·u
+    vx, vy, vz, wx, wy, wz = y[b + 3], y[b + 4], y[b + 5], y[b + 6], y[b + 7], y[b + 8]
+    ux = vx + wy * az - wz * ay
+    uy = vy + wz * ax - wx * az
+    uz = vz + wx * ay - wy * ax
+    if ring:
+        r1x, r1y, r1z = -e1z * qy, e1z * qx - e1x * qz, e1x * qy     # e1 × q
+        r2x, r2y, r2z = qz, 0.0, -qx                                  # ŷ × q
+        ux -= y[5] + y[8] * r1x + y[9] * r2x
+        uy -= y[6] + y[8] * r1y + y[9] * r2y
+        uz -= y[7] + y[8] * r1z + y[9] * r2z
+    fx = c00 * ux + c01 * uy + c02 * uz
+    fy = c01 * ux + c11 * uy + c12 * uz
+    fz = c02 * ux + c12 * uy + c22 * uz
+    dv[b + 3] += fx
+    dv[b + 4] += fy
+    dv[b + 5] += fz
+    dv[b + 6] += ay * fz - az * fy
+    dv[b + 7] += az * fx - ax * fz
+    dv[b + 8] += ax * fy - ay * fx
+    if not ring:
+        return
+    dv[5] -= fx
+    dv[6] -= fy
+    dv[7] -= fz
+    dv[8] -= r1x * fx + r1y * fy + r1z * fz
+    dv[9] -= r2x * fx + r2y * fy + r2z * fz
+    # C·r1, C·r2
+    s1x = c00 * r1x + c01 * r1y + c02 * r1z
+    s1y = c01 * r1x + c11 * r1y + c12 * r1z
+    s1z = c02 * r1x + c12 * r1y + c22 * r1z
+    s2x = c00 * r2x + c01 * r2y + c02 * r2z
+    s2y = c01 * r2x + c11 * r2y + c12 * r2z
+    s2z = c02 * r2x + c12 * r2y + c22 * r2z
+    # B = G_ballᵀ·C·G_ring = −[[C, C·r1, C·r2], [Sᵀ·C, Sᵀ·C·r1, Sᵀ·C·r2]] (6×5, row-major)
+    jw[J_B + 0] -= hg * c00
+    jw[J_B + 1] -= hg * c01
+    jw[J_B + 2] -= hg * c02
+    jw[J_B + 3] -= hg * s1x
+    jw[J_B + 4] -= hg * s2x
+    jw[J_B + 5] -= hg * c01
+    jw[J_B + 6] -= hg * c11
+    jw[J_B + 7] -= hg * c12
+    jw[J_B + 8] -= hg * s1y
+    jw[J_B + 9] -= hg * s2y
+    jw[J_B + 10] -= hg * c02
+    jw[J_B + 11] -= hg * c12
+    jw[J_B + 12] -= hg * c22
+    jw[J_B + 13] -= hg * s1z
+    jw[J_B + 14] -= hg * s2z
+    # rows 3–5: a × (column of C·G_ring); Sᵀ·x = a × x, so row i of Sᵀ·X is (a × X[:, l])_i
+    for l in range(5):
+        if l == 0:
+            xx, xy, xz = c00, c01, c02
+        elif l == 1:
+            xx, xy, xz = c01, c11, c12
+        elif l == 2:
+            xx, xy, xz = c02, c12, c22
+        elif l == 3:
+            xx, xy, xz = s1x, s1y, s1z
         else:
-            dv[vo0 + c - n_ball] += gx * fx + gy * fy + gz * fz
-        # C·G[:, c]
-        e1 = w1 * (p1x * gx + p1y * gy + p1z * gz)
-        e2 = w2 * (p2x * gx + p2y * gy + p2z * gz)
-        e3 = w3 * (p3x * gx + p3y * gy + p3z * gz)
-        sc[J_CG + c] = alpha * gx + e1 * p1x + e2 * p2x + e3 * p3x
-        sc[J_CG + N_COLS + c] = alpha * gy + e1 * p1y + e2 * p2y + e3 * p3y
-        sc[J_CG + 2 * N_COLS + c] = alpha * gz + e1 * p1z + e2 * p2z + e3 * p3z
-    for c in range(nc):
-        gx, gy, gz = sc[J_G + c], sc[J_G + N_COLS + c], sc[J_G + 2 * N_COLS + c]
-        for d in range(c, nc):
-            h = hg * (gx * sc[J_CG + d] + gy * sc[J_CG + N_COLS + d] + gz * sc[J_CG + 2 * N_COLS + d])
-            if d < n_ball:                       # ball–ball: the upper triangle of A
-                jwork[k, J_A + 6 * c + d] += h
-            elif c < n_ball:                     # ball–other: B
-                jwork[k, J_B + 9 * c + bcol0 + d - n_ball] += h
-            else:                                # other–other: the upper triangle of S
-                schur[z0 + c - n_ball, z0 + d - n_ball] += h
+            xx, xy, xz = s2x, s2y, s2z
+        jw[J_B + 15 + l] -= hg * (ay * xz - az * xy)
+        jw[J_B + 20 + l] -= hg * (az * xx - ax * xz)
+        jw[J_B + 25 + l] -= hg * (ax * xy - ay * xx)
+    # the ring's block G_ringᵀ·C·G_ring, upper triangle
+    schur[0, 0] += hg * c00
+    schur[0, 1] += hg * c01
+    schur[0, 2] += hg * c02
+    schur[1, 1] += hg * c11
+    schur[1, 2] += hg * c12
+    schur[2, 2] += hg * c22
+    schur[0, 3] += hg * s1x
+    schur[1, 3] += hg * s1y
+    schur[2, 3] += hg * s1z
+    schur[0, 4] += hg * s2x
+    schur[1, 4] += hg * s2y
+    schur[2, 4] += hg * s2z
+    schur[3, 3] += hg * (r1x * s1x + r1y * s1y + r1z * s1z)
+    schur[3, 4] += hg * (r1x * s2x + r1y * s2y + r1z * s2z)
+    schur[4, 4] += hg * (r2x * s2x + r2y * s2y + r2z * s2z)

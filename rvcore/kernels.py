@@ -52,7 +52,7 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
                       friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
-from .implicit import J_B, accumulate, friction_tangent, g_ball, g_cage, g_ring
+from .implicit import J_W, contact_blocks, friction_tangent
 from .contact import damping_coefficient
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
                       channel_rate, channel_value)
@@ -160,7 +160,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     inv_dmax = 1.0 / params[P_DAMP_D]
 
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
-    sc = jwork[jwork.shape[0] - 1]         # the scratch row of rvcore.implicit (jac only)
     if jac:
         for i in range(schur.shape[1]):
             for k in range(schur.shape[1]):
@@ -214,7 +213,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             rho_b = math.sqrt(px * px + py * py)
             inv_rho_b = 1.0 / rho_b
             if jac:
-                for i in range(J_B + 54):
+                for i in range(J_W):
                     jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
@@ -262,14 +261,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
                     alpha, beta = friction_tangent(q, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
                     cd = damping_coefficient(delta, c_race, inv_dmax)
-                    g_ball(sc, ax, ay, az)
-                    if inner:
-                        g_ring(sc, 6, cx - xi, cy - yi, cz - zi, r00, r20)
-                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 5, 0, 0, b + 3, 5, hg, alpha,
-                                   cd - alpha, nx, ny, nz, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
-                    else:
-                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 0, 0, 0, b + 3, 5, hg, alpha,
-                                   cd - alpha, nx, ny, nz, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
+                    contact_blocks(jwork, p0 + j, schur, dv, y, b, inner, hg, alpha, cd - alpha, nx, ny, nz,
+                                   beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0, ax, ay, az,
+                                   cx - xi, cy - yi, cz - zi, r00, r20)
                 mbx += dmx
                 mby += dmy
                 mbz += dmz
@@ -356,10 +350,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                         alpha, beta = friction_tangent(qp, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d,
                                                        inv_vs)
                         cd = damping_coefficient(delta, c_pocket, inv_dmax)
-                        g_ball(sc, ax, ay, az)
-                        g_cage(sc, 6, cx - xc, cy - yc)
-                        accumulate(jwork, p0 + j, sc, schur, dv, y, 6, 4, 5, 5 + 4 * r, b + 3, c0 + 4, hg,
-                                   alpha, -alpha, nfx, nfy, nfz, beta, tvx, tvy, tvz, cd, dgx, dgy, dgz)
+                        # the cage's side stays explicit (rvcore.implicit)
+                        contact_blocks(jwork, p0 + j, schur, dv, y, b, False, hg, alpha, -alpha, nfx, nfy, nfz,
+                                       beta, tvx, tvy, tvz, cd, dgx, dgy, dgz, ax, ay, az, 0.0, 0.0, 0.0, 0.0, 0.0)
                     fxc -= fpx
                     fyc -= fpy
                     fzc -= fpz
@@ -400,8 +393,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                 uy = vyc + wc * cage_ro * nx
                 uz = vzc
                 un = ux * nx + uy * ny
-                c_land = params[P_LAND_C] * damp_scale
-                ql = normal_force(delta, un, rows[r, R_LAND_K], c_land, inv_dmax)
+                ql = normal_force(delta, un, rows[r, R_LAND_K], params[P_LAND_C] * damp_scale, inv_dmax)
                 if full:
                     p_damp += (ql - hertz_load(rows[r, R_LAND_K], delta)) * un
                 if ql > 0.0:
@@ -409,13 +401,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     fyc -= ql * ny
                     if ql > land_q:
                         land_q = ql
-                    if jac:
-                        tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz
-                        alpha, beta = friction_tangent(ql, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
-                        cd = damping_coefficient(delta, c_land, inv_dmax)
-                        g_cage(sc, 0, cage_ro * nx, cage_ro * ny)
-                        accumulate(jwork, 0, sc, schur, dv, y, 0, 4, 0, 5 + 4 * r, 0, c0 + 4, hg, alpha,
-                                   cd - alpha, nx, ny, 0.0, beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0)
                     if friction_on:
                         ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, mu_s, v_s, mu_d, v_d, inv_vs)
                         fxc += ftx
