@@ -36,6 +36,9 @@ state advances by RK4: the two agree to O(dt²) (measured: 0.03 % of the drive's
 constant speed, 0.1 % of the dissipation over the study cycle), well inside the 1 %. (A
 rectangle rule left an O(dt) error of 10 % of the drive's work after the start
 transient: the tests do resolve the quadrature.)
+
+The balance is the equations of motion's, whatever integrates them: the tests run for
+every integrator of ``rvcore.integrator.METHODS`` (issue 11), each at its default step.
 """
 from __future__ import annotations
 
@@ -46,6 +49,7 @@ import pytest
 
 from rvcore import integrator as ig
 from rvcore.driver import SolverSettings, initial_state, run_case
+from rvcore.integrator import METHODS
 from rvcore.kernels import potential_energy
 from rvcore.model import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
 from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile
@@ -82,14 +86,16 @@ def _balance(bearing, profile, op, settings):
     return supplied, stored_and_lost, e, res
 
 
-def test_energy_balance_at_constant_speed_and_load():
+@pytest.mark.parametrize("method", METHODS)
+def test_energy_balance_at_constant_speed_and_load(method):
     """Loads held and the ring spinning at 660 °/s from the start (rolling start at the
     statics): the drive's work and the elastic energy the start transient releases go
     into friction and damping; the balance closes within 1 % of the drive's work."""
     bearing = section_bearing(8)
     op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
     supplied, balance, e, res = _balance(bearing, constant_profile(0.0, 0.02), op,
-                                         SolverSettings(output_rate=1e3))
+                                         SolverSettings(output_rate=1e3, method=method))
+    assert res.info["method"] == method
     assert e["drive"] > 0.0 and e["friction"] > 0.0 and e["damping"] > 0.0
     assert abs(e["tilt"]) < 1e-3 * e["drive"]
     assert balance == pytest.approx(supplied, rel=0.01, abs=0.0)
@@ -102,7 +108,8 @@ def test_energy_balance_at_constant_speed_and_load():
                                rtol=0.0, atol=0.01 * e["drive"])
 
 
-def test_energy_balance_over_a_study_cycle():
+@pytest.mark.parametrize("method", METHODS)
+def test_energy_balance_over_a_study_cycle(method):
     """The study's cycle scaled to 60 ms (speed and loads ramp up, hold and the speed
     ramps down): the drive's work, positive while the ring speeds up and negative while it
     slows, plus the work of the ramping loads equals the change of kinetic (free and spin)
@@ -110,7 +117,8 @@ def test_energy_balance_over_a_study_cycle():
     bearing = section_bearing(8)
     op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
     profile = scaled_study_profile(0.02)
-    supplied, balance, e, res = _balance(bearing, profile, op, SolverSettings(output_rate=1e3))
+    supplied, balance, e, res = _balance(bearing, profile, op, SolverSettings(output_rate=1e3, method=method))
+    assert res.info["method"] == method
     dissipated = e["friction"] + e["damping"]
     assert dissipated > 0.0
     assert abs(e["tilt"]) < 1e-3 * dissipated
@@ -119,11 +127,13 @@ def test_energy_balance_over_a_study_cycle():
     assert abs(balance - supplied) < 0.01 * dissipated
 
 
-def test_energy_balance_fails_without_the_damping_term():
+@pytest.mark.parametrize("method", METHODS)
+def test_energy_balance_fails_without_the_damping_term(method):
     """The check can fail: leaving out the damper's dissipation breaks the balance by far
     more than the tolerance (at constant speed with stiff damping)."""
     bearing = section_bearing(8, damping=2500.0)
     op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
-    supplied, balance, e, _ = _balance(bearing, constant_profile(0.0, 0.01), op, SolverSettings(output_rate=1e3))
+    supplied, balance, e, _ = _balance(bearing, constant_profile(0.0, 0.01), op,
+                                       SolverSettings(output_rate=1e3, method=method))
     assert e["damping"] > 0.02 * supplied
     assert abs(balance - e["damping"] - supplied) > 0.01 * supplied

@@ -1,0 +1,198 @@
+"""The IMEX integrator against RK4 on the study bearing (issue 11; slow).
+
+The case is the study's: the bearing of ``sweeps/bearings/rv-main-study.toml`` (51 balls),
+the cycle of ``sweeps/profiles/study.toml`` and the operating point of
+``pipeline.bench._study`` (660 °/s, 30 kN radial, 10 kN axial), gravity on (the default).
+The run ends where the last phase (deceleration) ends: nothing after it enters a metric.
+It starts at t = 0 with the load ramp, so the steady phase and the transients are the
+real ones.
+
+What is compared
+----------------
+The reference is RK4 at ``step_safety`` 0.25 (a step 3.2× below RK4's default) from the
+centred start (seed −1); the candidate is IMEX at its default settings
+(``SolverSettings(method="imex")``), from the same start.
+
+- **Steady metrics** (within 0.5 %, or within the reference's own step error where
+  that is larger, see below): every per-phase metric of the steady phase
+  (``CaseResult.phase_metrics``, the steady line), except the locators
+  (``*_min_time``, ``*_max_time``, ``static_safety_factor_min_time``: when an extreme
+  occurs, not a magnitude), the flags (``*_range_at_edge``), the windows
+  (``phase_start``, ``phase_end``) and the prescribed ring speed
+  (``inner_ring_speed_mean``: the profile's, not the integrator's). A metric that is
+  NaN in both runs (nothing to measure) is skipped, and one that is exactly zero in both
+  agrees. The cage slips (``cage_slip``, ``cage_slip_nominal``) are ``1 − ω_c/ω_epi``,
+  differences near zero where a relative comparison means nothing: they are compared
+  absolutely, against the same 0.5 % of the cage speed (``|Δslip| ≤ 0.005·(1 − slip)``,
+  since ``Δslip = −Δω_c/ω_epi``).
+
+  The reference is itself known only to within its step error, estimated as the change
+  ``|RK4(0.8) − RK4(0.25)|`` from RK4's default step to the reference's (one more run,
+  from the same centred start); a steady metric passes within the larger of 0.5 % and
+  that. For nearly every metric the 0.5 % is the larger by far (RK4 moved them by
+  ≤ 0.2 %, the cage slip by 2e-8 absolute), but not for the peak drive torque
+  (``inner_ring_drive_torque_peak``, the largest ``|T|`` at any step of the 3 s): RK4
+  gives 1.46 N m at step_safety 0.8 and 1.54 N m at 0.25 (measured, 5 %), so the
+  reference cannot decide it to 0.5 %, and IMEX is held to RK4's own uncertainty there.
+- **Transient ranges** (within 3 % or the ensemble's standard error, whichever is
+  larger): the δ_r and δ_a ranges (max − min) of the start-up and deceleration phases.
+
+The ensemble's standard error
+-----------------------------
+A transient range depends on where the balls start in their pockets (model.md §8): a
+different start is a different, equally valid realization, so two integrators cannot be
+asked to agree closer than the spread of the realizations allows. The spread is
+estimated from N = 3 random starts (``SolverSettings.seed`` 0, 1, 2) run with RK4 at its
+default ``step_safety`` 0.8 (the seed spread is a property of the dynamics, not of the
+step, and the default step costs a third of the reference's), and its standard error is
+``s/√N`` with ``s`` the sample standard deviation (ddof 1). Three draws give a rough
+``s`` (for normal draws ``s/σ`` lies within [0.16, 1.92] with 95 % probability); it only
+widens the 3 % where the realizations really scatter by more, and three is what a slow
+test can afford: six runs of the 4.3 s cycle in all (reference, RK4 default, candidate,
+three seeds), which share the cores through threads (the kernels release the GIL).
+Measured with RK4 at 0.5 as the candidate on two shared cores: 4.6 min (the reference
+alone 3.2 min).
+
+Verification of the test's logic
+--------------------------------
+``RV_IMEX_ACCURACY_CANDIDATE="rk4:0.5"`` (method, optionally ``:step_safety``) puts
+another candidate in IMEX's place: RK4 at a step between the two must pass too (it
+converges: test_dynamics.py, test_truth.py). (RK4 at 0.8 would pass by construction: it
+is the step-error run itself.)
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rvcore.driver import SolverSettings, run_case
+from rvcore.profile import OperatingPoint
+
+REPO = Path(__file__).resolve().parents[2]
+CANDIDATE_ENV = "RV_IMEX_ACCURACY_CANDIDATE"
+REFERENCE_SAFETY = 0.25
+ENSEMBLE_SEEDS = (0, 1, 2)
+STEADY_TOL = 0.005       # issue 11: every steady metric within 0.5 %
+RANGE_TOL = 0.03         # issue 11: every transient range within 3 % (or the standard error)
+#: per-phase metrics that are not magnitudes of the motion (see the module docstring)
+NOT_COMPARED = ("phase_start", "phase_end", "inner_ring_speed_mean")
+SLIPS = ("cage_slip", "cage_slip_nominal")
+RANGES = ("radial_displacement_range", "axial_displacement_range")
+
+
+def study_case():
+    """The study's bearing, cycle and operating point (those of ``pipeline.bench._study``)."""
+    from pipeline.schema import load_bearing, load_profile
+
+    return (load_bearing(REPO / "sweeps" / "bearings" / "rv-main-study.toml"),
+            load_profile(REPO / "sweeps" / "profiles" / "study.toml"),
+            OperatingPoint(math.radians(660.0), 30e3, 10e3))
+
+
+def candidate_settings(end_time: float) -> SolverSettings:
+    """IMEX at its defaults, or the candidate named by ``$RV_IMEX_ACCURACY_CANDIDATE``."""
+    spec = os.environ.get(CANDIDATE_ENV, "").strip()
+    if not spec:
+        return SolverSettings(method="imex", end_time=end_time)
+    method, _, safety = spec.partition(":")
+    extra = {"step_safety": float(safety)} if safety else {}
+    return SolverSettings(method=method, end_time=end_time, **extra)
+
+
+def phase_index(profile, name: str) -> int:
+    return [p[0] for p in profile.phases].index(name)
+
+
+def agrees(c: float, r: float, tol: float) -> bool:
+    """``c`` within ``tol`` of ``r`` (both exactly zero agree; a NaN in one does not)."""
+    return (r == 0.0 and c == 0.0) or abs(c - r) <= tol
+
+
+def steady_comparison(candidate: dict, reference: dict, coarse: dict, k: int) -> dict:
+    """Every compared steady-phase metric (line ``k``): ``{name: (candidate, reference,
+    tolerance)}``, the tolerance the larger of 0.5 % and the reference's step error
+    ``|coarse − reference|``. The rules are the module docstring's.
+    """
+    out = {}
+    for name, ref in reference.items():
+        if name in NOT_COMPARED or name.endswith(("_time", "_at_edge")):
+            continue
+        r, c = float(np.asarray(ref)[k]), float(np.asarray(candidate[name])[k])
+        if math.isnan(r) and math.isnan(c):
+            continue
+        step_error = abs(float(np.asarray(coarse[name])[k]) - r)
+        out[name] = (c, r, max(STEADY_TOL * ((1.0 - r) if name in SLIPS else abs(r)), step_error))
+    return out
+
+
+def range_comparison(candidate: dict, reference: dict, ensemble: list, phases) -> dict:
+    """The transient ranges: ``{(name, k): (candidate, reference, tolerance)}``, the
+    tolerance the larger of 3 % and the ensemble's standard error.
+
+    ``ensemble`` holds the phase metrics of the seeded runs; ``phases`` the phase lines.
+    """
+    out = {}
+    for name in RANGES:
+        for k in phases:
+            r, c = float(reference[name][k]), float(candidate[name][k])
+            draws = np.array([m[name][k] for m in ensemble])
+            se = draws.std(ddof=1) / math.sqrt(len(draws))
+            out[(name, k)] = (c, r, max(RANGE_TOL * abs(r), se))
+    return out
+
+
+@pytest.mark.slow
+def test_imex_matches_rk4_on_the_study_cycle():
+    """Issue 11: IMEX's steady metrics within 0.5 % of RK4 at step_safety 0.25, its
+    start-up and deceleration ranges within 3 % or the seed ensemble's standard error."""
+    bearing, profile, op = study_case()
+    k_start, k_steady, k_decel = (phase_index(profile, n) for n in ("startup", "steady", "deceleration"))
+    end = max(p[2] for p in profile.phases)
+    assert end < profile.duration   # only the unloading after the last phase is left out
+
+    jobs = {"reference": SolverSettings(step_safety=REFERENCE_SAFETY, end_time=end),
+            "rk4 default": SolverSettings(end_time=end),
+            "candidate": candidate_settings(end)}
+    jobs.update({f"seed {s}": SolverSettings(seed=s, end_time=end) for s in ENSEMBLE_SEEDS})
+
+    def run(item):
+        label, settings = item
+        t0 = time.perf_counter()
+        res = run_case(bearing, profile, op, settings)
+        return label, res, time.perf_counter() - t0
+
+    # the kernels release the GIL: the six runs share the cores
+    with ThreadPoolExecutor(max_workers=min(len(jobs), os.cpu_count() or 1)) as pool:
+        done = {label: (res, wall) for label, res, wall in pool.map(run, jobs.items())}
+    for label, (res, wall) in done.items():
+        print(f"{label}: {res.info['method']} dt = {res.info['time_step']:.3g} s, "
+              f"{res.info['steps']} steps, {wall:.1f} s")
+    ref, cand = done["reference"][0], done["candidate"][0]
+    ensemble = [done[f"seed {s}"][0].phase_metrics for s in ENSEMBLE_SEEDS]
+
+    # the runs are what they claim to be
+    assert cand.info["method"] == jobs["candidate"].method
+    assert ref.info["method"] == "rk4"
+    coarse = done["rk4 default"][0]
+    assert ref.info["time_step"] < 0.35 * coarse.info["time_step"]
+    assert float(cand.time[-1]) == pytest.approx(end) and float(ref.time[-1]) == pytest.approx(end)
+    # the seeds are different realizations of the transients, and the ranges are real
+    for name in RANGES:
+        for k in (k_start, k_decel):
+            draws = [m[name][k] for m in ensemble]
+            assert len(set(draws)) == len(draws), (name, k, draws)
+            assert ref.phase_metrics[name][k] > 0.0
+
+    steady = steady_comparison(cand.phase_metrics, ref.phase_metrics, coarse.phase_metrics, k_steady)
+    assert len(steady) >= 20, sorted(steady)   # the displacements, speeds, forces, energies, angles
+    ranges = range_comparison(cand.phase_metrics, ref.phase_metrics, ensemble, (k_start, k_decel))
+    for key, (c, r, tol) in {**steady, **ranges}.items():   # with -s: how close each came
+        print(f"{key}: candidate {c:.6g}, reference {r:.6g}, |Δ|/tolerance {abs(c - r) / tol:.3g}")
+    bad = {key: v for key, v in {**steady, **ranges}.items() if not agrees(*v)}
+    assert not bad, bad
