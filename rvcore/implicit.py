@@ -6,18 +6,17 @@ dependence of the ball contacts' forces: the friction law at small slip, whose s
 state, it is a damping matrix ``D`` on the generalized velocities (every ball's 6 and the
 inner ring's 5)::
 
-    generalized contact force ≈ f(x, V) − D·(V − V₀),   D = Σ_contacts Gᵀ·C·G
+    generalized contact force ≈ F(x, V₀) − D·(V − V₀),   D = Σ_contacts Gᵀ·C·G
 
 with ``u = G·V`` the slip velocity of the contact (ball point against the other body's
-point; ``G`` the linear map, the prescribed ring spin left out) and ``C = −∂F/∂u`` the
+point, linear in V) and ``C = −∂F/∂u`` the
 3×3 tangent of the force on the ball with respect to the slip. This module writes ``C``
 once, and accumulates ``h·γ·GᵀCG`` into the blocks the integrator factors:
 
 - per ball ``k``: ``jwork[k, 0:36]`` the 6×6 ball–ball block ``A`` (row-major), and
   ``jwork[k, 36:66]`` the 6×5 ball–ring block ``B`` (the ring's
   ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``);
-- ``schur[0:5, 0:5]`` the ring's block;
-- ``dv`` (indexed like the state vector) ``D·V``: the damping forces at the state.
+- ``schur[0:5, 0:5]`` the ring's block.
 
 Which couplings are stiff decides what is in ``D``. A race contact's friction damper
 (≈ 5e3 N s/m at 3.5 kN) is stiff on the ball (rate ≈ 5e5 1/s) and, summed over the
@@ -95,9 +94,9 @@ def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
-def contact_blocks(jwork, k, schur, dv, y, b, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
+def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
                    w3, p3x, p3y, p3z, ax, ay, az, qx, qy, qz, e1x, e1z):
-    """Add one ball contact's ``h·γ·GᵀCG`` to the blocks and ``GᵀC·(G·V)`` to ``dv``.
+    """Add one ball contact's ``h·γ·GᵀCG``: its blocks of ``M + h·γ·D``.
 
     ``C = α·I + Σ w_m·p_m·p_mᵀ`` (module Notes). The ball (state offset ``b``, ``jwork``
     row ``k``) touches at the arm ``a`` from its centre, so its slip is ``v + ω × a``:
@@ -147,33 +146,10 @@ def contact_blocks(jwork, k, schur, dv, y, b, ring, hg, alpha, w1, p1x, p1y, p1z
     jw[J_A + 28] += hg * (az * m01 - ax * m21)
     jw[J_A + 29] += hg * (az * m02 - ax * m22)
     jw[J_A + 35] += hg * (-ay * m02 + ax * m12)
-    # the linear slip G·V (the prescribed ring spin left out) and the damping force C·u
-    vx, vy, vz, wx, wy, wz = y[b + 3], y[b + 4], y[b + 5], y[b + 6], y[b + 7], y[b + 8]
-    ux = vx + wy * az - wz * ay
-    uy = vy + wz * ax - wx * az
-    uz = vz + wx * ay - wy * ax
-    if ring:
-        r1x, r1y, r1z = -e1z * qy, e1z * qx - e1x * qz, e1x * qy     # e1 × q
-        r2x, r2y, r2z = qz, 0.0, -qx                                  # ŷ × q
-        ux -= y[5] + y[8] * r1x + y[9] * r2x
-        uy -= y[6] + y[8] * r1y + y[9] * r2y
-        uz -= y[7] + y[8] * r1z + y[9] * r2z
-    fx = c00 * ux + c01 * uy + c02 * uz
-    fy = c01 * ux + c11 * uy + c12 * uz
-    fz = c02 * ux + c12 * uy + c22 * uz
-    dv[b + 3] += fx
-    dv[b + 4] += fy
-    dv[b + 5] += fz
-    dv[b + 6] += ay * fz - az * fy
-    dv[b + 7] += az * fx - ax * fz
-    dv[b + 8] += ax * fy - ay * fx
     if not ring:
         return
-    dv[5] -= fx
-    dv[6] -= fy
-    dv[7] -= fz
-    dv[8] -= r1x * fx + r1y * fy + r1z * fz
-    dv[9] -= r2x * fx + r2y * fy + r2z * fz
+    r1x, r1y, r1z = -e1z * qy, e1z * qx - e1x * qz, e1x * qy     # e1 × q
+    r2x, r2y, r2z = qz, 0.0, -qx                                  # ŷ × q
     # C·r1, C·r2
     s1x = c00 * r1x + c01 * r1y + c02 * r1z
     s1y = c01 * r1x + c11 * r1y + c12 * r1z

@@ -117,7 +117,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
       power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
       tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
     """
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, False, 0.0, bdiag, bdiag, diag)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, False, 0.0, bdiag, bdiag)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -125,23 +125,23 @@ def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
     on): the integrator's intermediate RK4 stages, whose diagnostics nobody reads. The
     same code with ``full`` a constant False, which the compiler removes."""
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False, False, 0.0, bdiag, bdiag, diag)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False, False, 0.0, bdiag, bdiag)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
-def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg, jwork, schur, dv):
+def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg, jwork, schur):
     """:func:`rhs`, and the stiff damping of every contact for the IMEX integrator.
 
     Besides everything :func:`rhs` does, accumulates ``hg·GᵀCG`` of every loaded contact
-    into ``jwork`` (per ball) and ``schur`` (ring and cages), and ``D·V`` into ``dv``
-    (layouts and the tangent ``C`` in :mod:`rvcore.implicit`), from the geometry and
-    slips of this same evaluation. ``hg`` is ``h·γ`` [s].
+    into ``jwork`` (per ball) and ``schur`` (the ring; layouts and the tangent ``C`` in
+    :mod:`rvcore.implicit`), from the geometry and slips of this same evaluation.
+    ``hg`` is ``h·γ`` [s].
     """
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, True, hg, jwork, schur, dv)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, True, hg, jwork, schur)
 
 
 @njit(nogil=True, fastmath=FAST, error_model="numpy", inline="always")
-def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, jac, hg, jwork, schur, dv):
+def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, jac, hg, jwork, schur):
     """The body of :func:`rhs` (``full`` True), :func:`rhs_stage` (False) and
     :func:`rhs_jac` (``jac`` True)."""
     # ---- applied loads and the prescribed speed
@@ -164,8 +164,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
         for i in range(schur.shape[1]):
             for k in range(schur.shape[1]):
                 schur[i, k] = 0.0
-        for i in range(dv.size):
-            dv[i] = 0.0
 
     # ---- inner ring pose and its full angular velocity (spin about its tilted axis)
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
@@ -261,7 +259,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
                     alpha, beta = friction_tangent(q, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
                     cd = damping_coefficient(delta, c_race, inv_dmax)
-                    contact_blocks(jwork, p0 + j, schur, dv, y, b, inner, hg, alpha, cd - alpha, nx, ny, nz,
+                    contact_blocks(jwork, p0 + j, schur, inner, hg, alpha, cd - alpha, nx, ny, nz,
                                    beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0, ax, ay, az,
                                    cx - xi, cy - yi, cz - zi, r00, r20)
                 mbx += dmx
@@ -351,7 +349,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                                                        inv_vs)
                         cd = damping_coefficient(delta, c_pocket, inv_dmax)
                         # the cage's side stays explicit (rvcore.implicit)
-                        contact_blocks(jwork, p0 + j, schur, dv, y, b, False, hg, alpha, -alpha, nfx, nfy, nfz,
+                        contact_blocks(jwork, p0 + j, schur, False, hg, alpha, -alpha, nfx, nfy, nfz,
                                        beta, tvx, tvy, tvz, cd, dgx, dgy, dgz, ax, ay, az, 0.0, 0.0, 0.0, 0.0, 0.0)
                     fxc -= fpx
                     fyc -= fpy

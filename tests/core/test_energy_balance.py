@@ -86,7 +86,10 @@ def _balance(bearing, profile, op, settings):
     return supplied, stored_and_lost, e, res
 
 
-@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("method", [pytest.param(m, marks=pytest.mark.xfail(
+    m == "imex", strict=True, reason="issue 11, open: the IMEX stages damp the stiff slip modes of the "
+    "rolling start numerically, energy that the powers sampled at the steps do not see (the balance "
+    "closes to 0.0025 J of 0.0118 J)")) for m in METHODS])
 def test_energy_balance_at_constant_speed_and_load(method):
     """Loads held and the ring spinning at 660 °/s from the start (rolling start at the
     statics): the drive's work and the elastic energy the start transient releases go
