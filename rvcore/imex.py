@@ -287,19 +287,14 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
 
     ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope.
     """
-    from .integrator import RK4_REAL_LIMIT
-    from .model import A_K, P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S, R_ARC0, R_HALF_D, R_NARC
+    from .integrator import RK4_REAL_LIMIT, row_rates
+    from .model import P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S
 
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
     falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
     dts = []
-    for r in range(model.rows.shape[0]):
-        row = model.rows[r]
-        a0, na = int(row[R_ARC0]), int(row[R_NARC])
-        k_hertz = model.arcs[a0:a0 + na, A_K].max()
-        m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
-        omega = math.sqrt(2.0 * 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0) / m)
-        lam = 2.0 * q * falling * max(1.0 / m, h * h / i_b)
+    for omega, m, rot in row_rates(model, q):
+        lam = 2.0 * q * falling * max(1.0 / m, rot)
         dts.append(min(IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
     return safety * min(dts)

@@ -425,20 +425,28 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
         dt  = safety · min(2√2/ω_n, 2.785/λ)
     """
-    from .model import P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_S, P_V_S, R_HALF_D, R_ARC0, R_NARC
-    from .model import A_K
+    from .model import P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_S, P_V_S
 
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
+    c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
     dts = []
+    for omega, m, rot in row_rates(model, q):
+        lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
+        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    return safety * min(dts)
+
+
+def row_rates(model, q: float):
+    """Per row: the contact oscillation ``ω_n = √(2k/m_b)`` [rad s^-1] of a ball between
+    its two race contacts at the load ``q`` [N] (``k = 1.5·K^(2/3)·q^(1/3)``, K of the
+    stiffest arc), the ball mass ``m_b`` [kg] and ``r²/I_b`` [kg^-1]: the rates both
+    integrators' steps come from."""
+    from .model import A_K, R_ARC0, R_HALF_D, R_NARC
+
     for r in range(model.rows.shape[0]):
         row = model.rows[r]
         a0, na = int(row[R_ARC0]), int(row[R_NARC])
         k_hertz = model.arcs[a0:a0 + na, A_K].max()
         m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
-        k_lin = 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0)
-        omega = math.sqrt(2.0 * k_lin / m)
-        c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
-        lam = 2.0 * (c_f * max(1.0 / m, h * h / i_b) + p[P_DAMP_C] * p[P_DAMPING] / m)
-        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
-    return safety * min(dts)
+        yield math.sqrt(2.0 * 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0) / m), m, h * h / i_b
