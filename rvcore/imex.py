@@ -103,118 +103,171 @@ def factor(jwork, schur, rows, mass):
     Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle) and ``X = U⁻ᵀ·B`` in place
     of B; then the ring's Schur complement ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and
     ``S = Uᵀ·U`` in place. ``mass`` is the state-indexed mass (0 at positions). A ball
-    with no inner-race contact has ``B = 0``: flagged, and skipped here and in
+    with no inner-race contact has ``B = 0`` (``J_COUPLED`` clear, set by
+    :func:`rvcore.implicit.contact_blocks` when it writes B): skipped here and in
     :func:`solve`.
+
+    Notes
+    -----
+    The diagonals of U (the balls' and the ring's) are stored as their reciprocals: they
+    are only ever divisors, and a multiplication costs a fraction of a division. The
+    ball's 6×6 block lives in scalar locals (no allocation, no index arithmetic in the
+    inner loops; the 5 columns of B share them).
     """
     for i in range(5):
         schur[i, i] += mass[5 + i]
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            b = b0 + BALL_STATES * j
-            for i in range(6):
-                jw[J_A + 7 * i] += mass[b + 3 + i]
-            # Cholesky A = UᵀU, upper triangle
-            for i in range(6):
-                s = jw[J_A + 7 * i]
-                for l in range(i):
-                    s -= jw[J_A + 6 * l + i] ** 2
-                d = math.sqrt(s)
-                jw[J_A + 7 * i] = d
-                inv = 1.0 / d
-                for c in range(i + 1, 6):
-                    s = jw[J_A + 6 * i + c]
-                    for l in range(i):
-                        s -= jw[J_A + 6 * l + i] * jw[J_A + 6 * l + c]
-                    jw[J_A + 6 * i + c] = s * inv
-            coupled = False
-            for i in range(30):
-                if jw[J_B + i] != 0.0:
-                    coupled = True
-                    break
-            jw[J_COUPLED] = 1.0 if coupled else 0.0
-            if not coupled:
+            k = p0 + j
+            b = b0 + BALL_STATES * j + 3
+            # Cholesky A = UᵀU, row by row of U (same operation order as the textbook loop)
+            u00 = math.sqrt(jwork[k, J_A + 0] + mass[b])
+            i0 = 1.0 / u00
+            u01 = jwork[k, J_A + 1] * i0
+            u02 = jwork[k, J_A + 2] * i0
+            u03 = jwork[k, J_A + 3] * i0
+            u04 = jwork[k, J_A + 4] * i0
+            u05 = jwork[k, J_A + 5] * i0
+            u11 = math.sqrt(jwork[k, J_A + 7] + mass[b + 1] - u01 * u01)
+            i1 = 1.0 / u11
+            u12 = (jwork[k, J_A + 8] - u01 * u02) * i1
+            u13 = (jwork[k, J_A + 9] - u01 * u03) * i1
+            u14 = (jwork[k, J_A + 10] - u01 * u04) * i1
+            u15 = (jwork[k, J_A + 11] - u01 * u05) * i1
+            u22 = math.sqrt(jwork[k, J_A + 14] + mass[b + 2] - u02 * u02 - u12 * u12)
+            i2 = 1.0 / u22
+            u23 = (jwork[k, J_A + 15] - u02 * u03 - u12 * u13) * i2
+            u24 = (jwork[k, J_A + 16] - u02 * u04 - u12 * u14) * i2
+            u25 = (jwork[k, J_A + 17] - u02 * u05 - u12 * u15) * i2
+            u33 = math.sqrt(jwork[k, J_A + 21] + mass[b + 3] - u03 * u03 - u13 * u13 - u23 * u23)
+            i3 = 1.0 / u33
+            u34 = (jwork[k, J_A + 22] - u03 * u04 - u13 * u14 - u23 * u24) * i3
+            u35 = (jwork[k, J_A + 23] - u03 * u05 - u13 * u15 - u23 * u25) * i3
+            u44 = math.sqrt(jwork[k, J_A + 28] + mass[b + 4] - u04 * u04 - u14 * u14 - u24 * u24
+                            - u34 * u34)
+            i4 = 1.0 / u44
+            u45 = (jwork[k, J_A + 29] - u04 * u05 - u14 * u15 - u24 * u25 - u34 * u35) * i4
+            u55 = math.sqrt(jwork[k, J_A + 35] + mass[b + 5] - u05 * u05 - u15 * u15 - u25 * u25
+                            - u35 * u35 - u45 * u45)
+            i5 = 1.0 / u55
+            jwork[k, J_A + 0], jwork[k, J_A + 1], jwork[k, J_A + 2] = i0, u01, u02
+            jwork[k, J_A + 3], jwork[k, J_A + 4], jwork[k, J_A + 5] = u03, u04, u05
+            jwork[k, J_A + 7], jwork[k, J_A + 8], jwork[k, J_A + 9] = i1, u12, u13
+            jwork[k, J_A + 10], jwork[k, J_A + 11] = u14, u15
+            jwork[k, J_A + 14], jwork[k, J_A + 15], jwork[k, J_A + 16] = i2, u23, u24
+            jwork[k, J_A + 17] = u25
+            jwork[k, J_A + 21], jwork[k, J_A + 22], jwork[k, J_A + 23] = i3, u34, u35
+            jwork[k, J_A + 28], jwork[k, J_A + 29] = i4, u45
+            jwork[k, J_A + 35] = i5
+            if jwork[k, J_COUPLED] == 0.0:
                 continue
-            # X = U⁻ᵀ B (forward substitution, column by column), and S −= XᵀX
+            # X = U⁻ᵀ B (forward substitution, column by column)
             for c in range(5):
-                for i in range(6):
-                    s = jw[J_B + 5 * i + c]
-                    for l in range(i):
-                        s -= jw[J_A + 6 * l + i] * jw[J_B + 5 * l + c]
-                    jw[J_B + 5 * i + c] = s / jw[J_A + 7 * i]
+                x0 = jwork[k, J_B + c] * i0
+                x1 = (jwork[k, J_B + 5 + c] - u01 * x0) * i1
+                x2 = (jwork[k, J_B + 10 + c] - u02 * x0 - u12 * x1) * i2
+                x3 = (jwork[k, J_B + 15 + c] - u03 * x0 - u13 * x1 - u23 * x2) * i3
+                x4 = (jwork[k, J_B + 20 + c] - u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
+                x5 = (jwork[k, J_B + 25 + c] - u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
+                jwork[k, J_B + c], jwork[k, J_B + 5 + c], jwork[k, J_B + 10 + c] = x0, x1, x2
+                jwork[k, J_B + 15 + c], jwork[k, J_B + 20 + c], jwork[k, J_B + 25 + c] = x3, x4, x5
+            # S −= XᵀX (upper triangle)
             for c in range(5):
                 for d in range(c, 5):
-                    s = 0.0
-                    for i in range(6):
-                        s += jw[J_B + 5 * i + c] * jw[J_B + 5 * i + d]
-                    schur[c, d] -= s
-    # Cholesky of S (upper triangle)
+                    schur[c, d] -= (jwork[k, J_B + c] * jwork[k, J_B + d]
+                                    + jwork[k, J_B + 5 + c] * jwork[k, J_B + 5 + d]
+                                    + jwork[k, J_B + 10 + c] * jwork[k, J_B + 10 + d]
+                                    + jwork[k, J_B + 15 + c] * jwork[k, J_B + 15 + d]
+                                    + jwork[k, J_B + 20 + c] * jwork[k, J_B + 20 + d]
+                                    + jwork[k, J_B + 25 + c] * jwork[k, J_B + 25 + d])
+    # Cholesky of S (upper triangle; reciprocal diagonal, as the balls')
     for i in range(5):
         s = schur[i, i]
         for l in range(i):
             s -= schur[l, i] ** 2
-        d = math.sqrt(s)
-        schur[i, i] = d
+        inv = 1.0 / math.sqrt(s)
+        schur[i, i] = inv
         for c in range(i + 1, 5):
             s = schur[i, c]
             for l in range(i):
                 s -= schur[l, i] * schur[l, c]
-            schur[i, c] = s / d
+            schur[i, c] = s * inv
 
 
 @njit(cache=True, nogil=True)
 def solve(v, jwork, schur, rows, mass):
     """Overwrite the velocities of the balls and the ring in the state ``v`` with
-    ``(M + h·γ·D)⁻¹·M·v`` (factors of :func:`factor`); the rest is untouched."""
+    ``(M + h·γ·D)⁻¹·M·v`` (factors of :func:`factor`, reciprocal diagonals); the rest is
+    untouched. ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
     rz = schur[5]
     for i in range(5):
         rz[i] = mass[5 + i] * v[5 + i]
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            b = b0 + BALL_STATES * j
-            for i in range(6):     # w = U⁻ᵀ·M_b·v_b
-                s = mass[b + 3 + i] * v[b + 3 + i]
-                for l in range(i):
-                    s -= jw[J_A + 6 * l + i] * jw[J_W + l]
-                jw[J_W + i] = s / jw[J_A + 7 * i]
-            if jw[J_COUPLED] != 0.0:
+            k = p0 + j
+            b = b0 + BALL_STATES * j + 3
+            # w = U⁻ᵀ·M_b·v_b
+            w0 = mass[b] * v[b] * jwork[k, J_A + 0]
+            w1 = (mass[b + 1] * v[b + 1] - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
+            w2 = (mass[b + 2] * v[b + 2] - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
+            w3 = (mass[b + 3] * v[b + 3] - jwork[k, J_A + 3] * w0 - jwork[k, J_A + 9] * w1
+                  - jwork[k, J_A + 15] * w2) * jwork[k, J_A + 21]
+            w4 = (mass[b + 4] * v[b + 4] - jwork[k, J_A + 4] * w0 - jwork[k, J_A + 10] * w1
+                  - jwork[k, J_A + 16] * w2 - jwork[k, J_A + 22] * w3) * jwork[k, J_A + 28]
+            w5 = (mass[b + 5] * v[b + 5] - jwork[k, J_A + 5] * w0 - jwork[k, J_A + 11] * w1
+                  - jwork[k, J_A + 17] * w2 - jwork[k, J_A + 23] * w3 - jwork[k, J_A + 29] * w4) * jwork[k, J_A + 35]
+            jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2] = w0, w1, w2
+            jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5] = w3, w4, w5
+            if jwork[k, J_COUPLED] != 0.0:
                 for c in range(5):     # r_ring −= Xᵀ·w
-                    s = 0.0
-                    for i in range(6):
-                        s += jw[J_B + 5 * i + c] * jw[J_W + i]
-                    rz[c] -= s
+                    rz[c] -= (jwork[k, J_B + c] * w0 + jwork[k, J_B + 5 + c] * w1
+                              + jwork[k, J_B + 10 + c] * w2 + jwork[k, J_B + 15 + c] * w3
+                              + jwork[k, J_B + 20 + c] * w4 + jwork[k, J_B + 25 + c] * w5)
     # S·Z = r: Uᵀ then U
     for i in range(5):
         s = rz[i]
         for l in range(i):
             s -= schur[l, i] * rz[l]
-        rz[i] = s / schur[i, i]
+        rz[i] = s * schur[i, i]
     for i in range(4, -1, -1):
         s = rz[i]
         for l in range(i + 1, 5):
             s -= schur[i, l] * rz[l]
-        rz[i] = s / schur[i, i]
-    for i in range(5):
-        v[5 + i] = rz[i]
+        rz[i] = s * schur[i, i]
+    z0, z1, z2, z3, z4 = rz[0], rz[1], rz[2], rz[3], rz[4]
+    v[5], v[6], v[7], v[8], v[9] = z0, z1, z2, z3, z4
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            b = b0 + BALL_STATES * j
-            if jw[J_COUPLED] != 0.0:
-                for i in range(6):     # w − X·Z
-                    s = jw[J_W + i]
-                    for c in range(5):
-                        s -= jw[J_B + 5 * i + c] * rz[c]
-                    jw[J_W + i] = s
-            for i in range(5, -1, -1):   # v_b = U⁻¹·(w − X·Z)
-                s = jw[J_W + i]
-                for l in range(i + 1, 6):
-                    s -= jw[J_A + 6 * i + l] * v[b + 3 + l]
-                v[b + 3 + i] = s / jw[J_A + 7 * i]
+            k = p0 + j
+            b = b0 + BALL_STATES * j + 3
+            w0, w1, w2 = jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2]
+            w3, w4, w5 = jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5]
+            if jwork[k, J_COUPLED] != 0.0:     # w − X·Z
+                w0 -= (jwork[k, J_B + 0] * z0 + jwork[k, J_B + 1] * z1 + jwork[k, J_B + 2] * z2
+                       + jwork[k, J_B + 3] * z3 + jwork[k, J_B + 4] * z4)
+                w1 -= (jwork[k, J_B + 5] * z0 + jwork[k, J_B + 6] * z1 + jwork[k, J_B + 7] * z2
+                       + jwork[k, J_B + 8] * z3 + jwork[k, J_B + 9] * z4)
+                w2 -= (jwork[k, J_B + 10] * z0 + jwork[k, J_B + 11] * z1 + jwork[k, J_B + 12] * z2
+                       + jwork[k, J_B + 13] * z3 + jwork[k, J_B + 14] * z4)
+                w3 -= (jwork[k, J_B + 15] * z0 + jwork[k, J_B + 16] * z1 + jwork[k, J_B + 17] * z2
+                       + jwork[k, J_B + 18] * z3 + jwork[k, J_B + 19] * z4)
+                w4 -= (jwork[k, J_B + 20] * z0 + jwork[k, J_B + 21] * z1 + jwork[k, J_B + 22] * z2
+                       + jwork[k, J_B + 23] * z3 + jwork[k, J_B + 24] * z4)
+                w5 -= (jwork[k, J_B + 25] * z0 + jwork[k, J_B + 26] * z1 + jwork[k, J_B + 27] * z2
+                       + jwork[k, J_B + 28] * z3 + jwork[k, J_B + 29] * z4)
+            # v_b = U⁻¹·(w − X·Z)
+            x5 = w5 * jwork[k, J_A + 35]
+            x4 = (w4 - jwork[k, J_A + 29] * x5) * jwork[k, J_A + 28]
+            x3 = (w3 - jwork[k, J_A + 22] * x4 - jwork[k, J_A + 23] * x5) * jwork[k, J_A + 21]
+            x2 = (w2 - jwork[k, J_A + 15] * x3 - jwork[k, J_A + 16] * x4 - jwork[k, J_A + 17] * x5) * jwork[k, J_A + 14]
+            x1 = (w1 - jwork[k, J_A + 8] * x2 - jwork[k, J_A + 9] * x3 - jwork[k, J_A + 10] * x4
+                  - jwork[k, J_A + 11] * x5) * jwork[k, J_A + 7]
+            x0 = (w0 - jwork[k, J_A + 1] * x1 - jwork[k, J_A + 2] * x2 - jwork[k, J_A + 3] * x3
+                  - jwork[k, J_A + 4] * x4 - jwork[k, J_A + 5] * x5) * jwork[k, J_A + 0]
+            v[b], v[b + 1], v[b + 2], v[b + 3], v[b + 4], v[b + 5] = x0, x1, x2, x3, x4, x5
 
 
 @njit(cache=True, nogil=True, inline="always")

@@ -15,7 +15,8 @@ once, and accumulates ``h·γ·GᵀCG`` into the blocks the integrator factors:
 
 - per ball ``k``: ``jwork[k, 0:36]`` the 6×6 ball–ball block ``A`` (row-major), and
   ``jwork[k, 36:66]`` the 6×5 ball–ring block ``B`` (the ring's
-  ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``);
+  ``(v_x, v_y, v_z, θ̇_x, θ̇_y)``), and ``jwork[k, 72]`` set to 1 where B is written (a
+  ball off the inner race has ``B = 0``, which the factorization and solves skip);
 - ``schur[0:5, 0:5]`` the ring's block.
 
 Which couplings are stiff decides what is in ``D``. A race contact's friction damper
@@ -148,6 +149,7 @@ def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x,
     jw[J_A + 35] += hg * (-ay * m02 + ax * m12)
     if not ring:
         return
+    jw[J_COUPLED] = 1.0      # B is written: the factorization and solves must use it
     r1x, r1y, r1z = -e1z * qy, e1z * qx - e1x * qz, e1x * qy     # e1 × q
     r2x, r2y, r2z = qz, 0.0, -qx                                  # ŷ × q
     # C·r1, C·r2

@@ -52,7 +52,7 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
                       friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
-from .implicit import J_W, contact_blocks, friction_tangent
+from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
 from .contact import damping_coefficient
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
                       channel_rate, channel_value)
@@ -213,6 +213,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             if jac:
                 for i in range(J_W):
                     jwork[p0 + j, i] = 0.0
+                jwork[p0 + j, J_COUPLED] = 0.0    # contact_blocks sets it when it writes B
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
             # ball centre in the inner ring's frame: Rᵀ·(p − r_i)
