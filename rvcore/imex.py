@@ -20,8 +20,8 @@ Linearising about ``V_n`` (not about V = 0) keeps ``f`` and ``g`` each small: a 
 orbiting at 20 m/s has a near-zero slip but ``D·V`` of thousands of g, and splitting that
 large pair left a 10 % error in the balls' centrifugal force balance at this step. Explicit tableau: classical RK4 (``c = 0, ½, ½, 1``), kept for its
 imaginary-axis stability (|λ·h| ≤ 2√2) on the contact oscillation. Implicit tableau: an
-ESDIRK with the same nodes and a constant diagonal γ (:data:`GAMMA`), so one
-factorization serves the three implicit stages::
+ESDIRK with the same nodes, the same weights ``b̂ = b`` and a constant diagonal γ
+(:data:`GAMMA`), so one factorization serves the three implicit stages::
 
     Ŷ_i = y_n + h·Σ_{j<i} (a_ij·F_j + (â_ij − a_ij)·g_j)
     (M + h·γ·D)·(V_i − V_n) = M·(V̂_i − V_n) ,   g_i = (V_i − V̂_i)/(h·γ),   g_1 = 0
@@ -31,17 +31,19 @@ with ``F_i = F(Y_i)`` the full right-hand side: four evaluations per step, as RK
 ``M + h·γ·D`` is block-arrowhead (each ball coupled only to the ring; which couplings
 are in ``D`` and why: :mod:`rvcore.implicit`); it is solved exactly through the Schur
 complement on the ring, O(Z) per stage.
-Both tableaux satisfy the order-2 conditions, the coupling ones included
-(``Σ b·ĉ = Σ b̂·c = ½`` with ``c = ĉ``).
+The pair satisfies every order-3 condition, the coupling ones included. With ``b̂ = b``
+the velocity update weighs the stages' full forces by ``b`` alone, so ``Σ b_i·T(Y_i)`` is
+the drive torque whose impulse the step gave the balls (the step's torque that
+:func:`rvcore.integrator.integrate` accumulates). A change to ``b̂ ≠ b`` must change that.
 
 Step
 ----
 What remains explicit: the Hertz contact oscillation, the friction law's negative slope
 between v_s and v_d (at most 1.5·(μ_s − μ_d)/(v_d − v_s)·Q), and slow terms (gyroscopic
 coupling of the ring, gravity). :func:`stable_time_step` takes the step from the first
-two (:data:`IMAG_LIMIT`: why it is 1.4, not the explicit tableau's 2.8).
-On the study case (Q = 3.55 kN): ω_n ≈ 1.1e5 rad/s → about 1.0e-5 s at safety 0.8,
-against RK4's 4.1e-6 s.
+two (:data:`IMAG_LIMIT`: why it is 2.4, not the explicit tableau's 2.83).
+On the study case (Q = 3.55 kN): ω_n ≈ 1.08e5 rad/s → 1.75e-5 s at safety 0.8,
+against RK4's 4.1e-6 s (4.3×).
 """
 from __future__ import annotations
 
@@ -51,27 +53,34 @@ import numpy as np
 from numba import njit
 
 from .implicit import J_A, J_B, J_COUPLED, J_W, N_JWORK
-from .kernels import rhs_stage
+from .kernels import D_DRIVE_TORQUE, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
 A21, A32, A43 = 0.5, 0.5, 1.0
 B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
-GAMMA = 1.0 / 6.0
-I21 = 1.0 / 3.0
-I31, I32 = 5.0 / 36.0, 7.0 / 36.0
-I41, I42, I43 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0
-IB1, IB2, IB3, IB4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
-#: Limit on |ω_n·h| (ω_n the contact oscillation), the damping implicit. The scheme is
-#: stable on the undamped oscillator to 2.8 (RK4's explicit tableau), but with the
-#: friction damper implicit the ball's coupled modes are not: on ẍ = −ω²x − c·ẋ (c
-#: implicit) the amplification exceeds 1 for ω·h ≥ 1.5 once c·h ≳ 20, and on the
-#: 12-ball section at 300 rad/s (tests/core/test_dynamics.py) a step at ω·h = 2.1 leaves a
-#: step-locked ball oscillation that spoils the centrifugal balance by 10 % (0.85 % at
-#: ω·h = 1.05). 1.4 keeps the checks of model.md §9 within their tolerances at the
-#: default step_safety.
-IMAG_LIMIT = 1.4
+#: The implicit tableau: a third-order ESDIRK paired with RK4 (γ = 0.55, b̂ = b, rows
+#: summing to c; every order-3 condition of the pair holds, the coupling ones included),
+#: chosen for the coupled stability of the contact oscillation with its damping implicit
+#: (:data:`IMAG_LIMIT`). Free entries I32, I42, I43; the rest follow from the row sums.
+#: (Found by a constrained search over the one-parameter family of order-3 tableaux:
+#: a larger γ buys a larger ω·h limit at a larger |R(−∞)|: γ 0.50 → 2.25 and 0.33,
+#: 0.55 → 2.65 and 0.50, 0.58 → 2.80 and 0.57.)
+GAMMA = 0.55
+I32 = -1.114469965957916
+I42, I43 = 0.4502370361034324, 0.478702895812399
+I21 = 0.5 - GAMMA
+I31 = 0.5 - GAMMA - I32
+I41 = 1.0 - GAMMA - I42 - I43
+IB1, IB2, IB3, IB4 = B1, B2, B3, B4
+#: Limit on |ω_n·h| (ω_n the contact oscillation), the damping implicit. On the damped
+#: oscillator ẍ = −ω²x − c·ẋ with c implicit, the pair is stable for ω·h ≤ 2.65 at every
+#: c·h (0 to 1e8; the explicit tableau alone: 2.83). The earlier stiffly accurate
+#: γ = 1/6 tableau was not (unstable from ω·h = 0.96 as c·h → ∞, from 1.5 at c·h ≈ 20),
+#: which left a step-locked ball oscillation that spoiled the centrifugal balance by 10 %
+#: at ω·h = 2.1. 2.4 keeps a 10 % margin below 2.65.
+IMAG_LIMIT = 1.7
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass.
 W_F, W_TMP, W_G, W_INVM, W_M = 0, 4, 5, 9, 10
@@ -298,6 +307,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
         else:
             g[m] = 0.0
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
+    return diag[D_DRIVE_TORQUE]
 
 
 @njit(cache=True, nogil=True)
@@ -306,23 +316,26 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
 
     On entry ``work[W_F]`` holds ``F(y)``, and ``jwork`` and ``schur`` the blocks that
     :func:`rvcore.kernels.rhs_jac` accumulated at ``(t, y)`` with ``h·γ = dt·GAMMA``.
+    Returns ``Σ_{i≥2} b_i·T(Y_i)``, the later stages' share of the step's drive torque
+    [N m] (the first stage's, ``b_1·T(y)``, the caller has).
     """
     n = y.size
     factor(jwork, schur, rows, work[W_M])
     g0 = work[W_G]
     for m in range(n):
         g0[m] = 0.0       # g(y_n) = −M⁻¹·D·(V_n − V_n)
-    _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
+    torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
-    _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
+    torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     0.0, A32, 0.0, I31, I32, 0.0, 0.5)
-    _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
+    torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     0.0, 0.0, A43, I41, I42, I43, 1.0)
     f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
     g1, g2, g3 = work[W_G + 1], work[W_G + 2], work[W_G + 3]
     for m in range(n):
         y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m]
                       + (IB1 - B1) * g0[m] + (IB2 - B2) * g1[m] + (IB3 - B3) * g2[m] + (IB4 - B4) * g3[m])
+    return torque
 
 
 def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,

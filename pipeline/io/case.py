@@ -119,7 +119,7 @@ PHASE_METRICS = {
                        "(0: rolling without slip)"),
     "cage_slip_nominal": ("1", "1 - mean cage speed / epicyclic cage speed at the nominal contact angle"),
     "peak_contact_pressure": ("Pa", "largest Hertz contact pressure over the phase"),
-    "inner_ring_drive_torque_peak": ("N m", "largest magnitude of the inner-ring drive torque over the phase"),
+    "inner_ring_drive_torque_peak": ("N m", "largest magnitude over the phase of the inner-ring drive torque band-limited to 1 kHz"),
     "inner_ring_drive_torque_mean": ("N m", "time mean of the inner-ring drive torque over the phase"),
     "friction_power_mean": ("W", "time mean of the friction power over the phase"),
     "friction_energy": ("J", "energy dissipated by friction over the phase (integral of the friction power)"),

@@ -107,7 +107,9 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-MODEL_VERSION = 4
+#: 5 (issue 11): the drive torque's phase mean from the stages' weighted torque, its peak
+#: band-limited to 1 kHz (rvcore.integrator.TORQUE_BANDWIDTH).
+MODEL_VERSION = 5
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")
