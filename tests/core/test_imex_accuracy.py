@@ -148,10 +148,6 @@ def range_comparison(candidate: dict, reference: dict, ensemble: list, phases) -
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(not os.environ.get(CANDIDATE_ENV), strict=True, reason=(
-    "issue 11, open: the steady peak drive torque is IMEX's one miss (measured at |w h| = 2.4, step 17.5 us: "
-    "1.568 against RK4's 1.603 N m, 2.2 %; tolerance 0.5 %); every other steady metric and every transient "
-    "range agrees"))
 def test_imex_matches_rk4_on_the_study_cycle():
     """Issue 11: IMEX's steady metrics within 0.5 % of RK4 at step_safety 0.25, its
     start-up and deceleration ranges within 3 % or the seed ensemble's standard error."""
