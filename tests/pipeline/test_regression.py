@@ -1,22 +1,35 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 5: the drive
-torque's peak re-pinned, band-limited (issue 11), everything else as at 4; MODEL_VERSION 4: the pair,
-the load channels, the stiffness, the designer's outputs and the rating lives, from a freshly compiled numba cache. The
-MODEL_VERSION 3 pins did not reproduce on a fresh install even with that version's
-rvcore; a compiled kernel that numba had not invalidated after a change in another
-module is the likely cause, which rvcore._cache now prevents): they prove nothing about
-physics. They exist so that a change
-that alters results fails here, which forces a deliberate decision: either the change
-was meant to keep results (then it is a bug), or it was meant to change them (then bump
-``MODEL_VERSION`` in ``pipeline/schema/sweepfile.py``, which changes every case id, and
-re-pin both tables below from a fresh run).
+These numbers were copied from the code's own output (MODEL_VERSION 5): they prove
+nothing about physics. They exist so that a change that alters results fails here, which
+forces a deliberate decision: either the change was meant to keep results (then it is a
+bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
+``pipeline/schema/sweepfile.py``, which changes every case id, and re-pin the tables
+below from a fresh run).
 
 The case: the smoke sweep's corner at 660 deg/s and 40 kN, 10 kN axial (the reduced
-12-ball test bearing on the study's cycle scaled by 0.1), about 5 s of computing.
+12-ball test bearing on the study's cycle scaled by 0.1).
+
+Why two runs of it, and the tolerances. A pin must hold on any machine, and in gravity
+this case's transients do not: the ring's weight alone (the start of every cycle) leaves
+its statics nearly a mechanism, so the start pose that scipy's BFGS returns depends on
+the BLAS kernels numpy picks for the CPU, and the reduced bearing's start-up and steady
+ranges and torque peaks moved by 8-32 % between OpenBLAS's default, Prescott and Nehalem
+kernels on one machine (``OPENBLAS_CORETYPE``; the pins of MODEL_VERSION 5 were taken on
+a machine with other kernels and failed on this one by as much). Hence:
+
+- weightless (``solver.gravity = false``): the start needs no statics (nothing loads the
+  ring), and every metric came out the same under the three kernels to 3e-8: pinned to
+  1e-6, but for the displacement ranges, which a round-off-sized break of the start's
+  symmetry moves (1e-15 of every state: 3.4e-6; 1e-12: 4e-5), pinned to 1e-4; and the
+  stiffness, a finite difference of the statics (BLAS: 2e-6), to 1e-5;
+- in gravity, as the smoke sweep runs it: only what the statics set and the transients
+  do not, the phase means of the displacements and the lives (across the kernels: at
+  most 1.7e-5 and 2.1e-5) to 1e-4, the stiffness to 1e-5.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -36,31 +49,48 @@ PINNED_CASE_IDS = {
     (660, 40): "47290cd0ebe8caef",
 }
 
-#: per phase (start-up, steady, deceleration), SI: m, m, 1.
+#: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
+#: m, 1; N/m, N/m, N m/rad; N m, 1, J, 1; revolutions.
 PINNED_METRICS = {
-    "radial_displacement_range": [1.5091446441382894e-06, 8.121544573534473e-07, 2.9489714478849295e-07],
-    "radial_displacement_mean": [0.00014765494611134115, 0.0001473608730743912, 0.00014722973910377422],
-    "axial_displacement_range": [4.068702285303915e-06, 1.7250001646363993e-06, 2.6418159156071355e-07],
-    "axial_displacement_mean": [7.29491060698494e-05, 7.308480530387463e-05, 7.304965252746453e-05],
-    "cage_slip": [0.012491862576786472, 0.0012361551646407065, 0.0030147255441850263],
-    # the statics at the steady point (MODEL_VERSION 4): N/m, N/m, N m/rad
-    "radial_stiffness": 862620057.7200507,
-    "axial_stiffness": 226974499.06977454,
-    "tilting_stiffness": 4335231.639746697,
-    # the designer's outputs (issue 10; the torque peak band-limited since MODEL_VERSION 5):
-    # N m, 1, J, 1 per phase; revolutions
-    "inner_ring_drive_torque_peak": [27.376052081077066, 5.386420211361867, 18.357840746329202],
-    "static_safety_factor_min": [1.3471956690599542, 1.350463347167115, 1.3667700161264797],
-    "friction_energy": [0.04416953861269615, 3.778720066741821, 0.7379345957594453],
-    "fatigue_damage": [5.0134620557837924e-09, 5.965664245226578e-08, 4.9490922850894266e-09],
-    "rating_life_L10r": 9216806.516361775,
-    "reference_rating_life_L10r": 9129371.692216659,
+    "radial_displacement_range": [2.549425919173105e-06, 6.935421413740994e-07, 2.8806572640728925e-07],
+    "radial_displacement_mean": [0.00014765748267688515, 0.00014737533801082491, 0.00014723951952852767],
+    "axial_displacement_range": [6.8590398917663055e-06, 1.0088909612581955e-06, 2.617779824001847e-07],
+    "axial_displacement_mean": [7.295329764106605e-05, 7.308291792905533e-05, 7.30463022661043e-05],
+    "cage_slip": [0.011454905525086545, 0.0012374875375327221, 0.0029868559924771665],
+    "radial_stiffness": 862619655.5046893,
+    "axial_stiffness": 226974931.67556787,
+    "tilting_stiffness": 4335229.580950013,
+    "inner_ring_drive_torque_peak": [46.060865655973565, 3.2817543117594794, 18.341213496762286],
+    "static_safety_factor_min": [1.3452542499812974, 1.3505464718597329, 1.3665794035847825],
+    "friction_energy": [0.04721608043500863, 3.618839185073242, 0.7129885442432055],
+    "fatigue_damage": [5.013626226038437e-09, 5.968043852578169e-08, 4.950105963906165e-09],
+    "rating_life_L10r": 9213501.432675939,
+    "reference_rating_life_L10r": 9129374.665455196,
+    "basic_rating_life_L10": 12760404.244598672,
+}
+
+#: The run in gravity: what its transients do not set (module docstring).
+PINNED_GRAVITY_METRICS = {
+    "radial_displacement_mean": [0.00014765283807652304, 0.00014736134343358668, 0.00014723017922631135],
+    "axial_displacement_mean": [7.294980359773524e-05, 7.308439260814908e-05, 7.304954380622633e-05],
+    "radial_stiffness": 862619756.6567497,
+    "axial_stiffness": 226974514.85444918,
+    "tilting_stiffness": 4335219.539574244,
+    "rating_life_L10r": 9216744.083944729,
+    "reference_rating_life_L10r": 9129370.875033936,
     "basic_rating_life_L10": 12760397.473857554,
 }
 
-#: Round-off may differ between CPUs and compilers; a change of the model moves these
-#: metrics by far more than this.
-RTOL = 1e-6
+STIFFNESS = ("radial_stiffness", "axial_stiffness", "tilting_stiffness")
+
+
+def _rtol(name: str, gravity: bool) -> float:
+    """The tolerance of a pin (why: module docstring)."""
+    if name in STIFFNESS:
+        return 1e-5
+    if gravity:
+        return 1e-4
+    return 1e-4 if name.endswith("_range") else 1e-6
 
 
 def _smoke_cases():
@@ -80,9 +110,18 @@ def test_pinned_case_ids():
         "the case ids changed: the hashed configuration or MODEL_VERSION changed")
 
 
-def test_pinned_reduced_case_metrics():
-    ds = run_one_case(_smoke_cases()[(660, 40)])
-    for name, pinned in PINNED_METRICS.items():
+def _check(ds, pins, gravity):
+    for name, pinned in pins.items():
         np.testing.assert_allclose(
-            ds[name].values, pinned, rtol=RTOL, atol=0,
+            ds[name].values, pinned, rtol=_rtol(name, gravity), atol=0,
             err_msg=f"{name} moved: a result changed; bump MODEL_VERSION if that was meant")
+
+
+def test_pinned_reduced_case_metrics_weightless():
+    spec = _smoke_cases()[(660, 40)]
+    spec = dataclasses.replace(spec, settings=dataclasses.replace(spec.settings, gravity=False))
+    _check(run_one_case(spec), PINNED_METRICS, gravity=False)
+
+
+def test_pinned_reduced_case_metrics_in_gravity():
+    _check(run_one_case(_smoke_cases()[(660, 40)]), PINNED_GRAVITY_METRICS, gravity=True)
