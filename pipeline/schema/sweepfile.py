@@ -109,7 +109,9 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
 #: 5 (issue 11): the drive torque's phase mean from the stages' weighted torque, its peak
 #: band-limited to 1 kHz (rvcore.integrator.TORQUE_BANDWIDTH).
-MODEL_VERSION = 5
+#: 6 (issue 11): the band-limited peak drive torque's unfiltered inertial part weighed
+#: over the stages as the step's torque is (only that peak moves, in both integrators).
+MODEL_VERSION = 6
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")

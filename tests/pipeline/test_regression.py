@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 5): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 6): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -26,6 +26,11 @@ a machine with other kernels and failed on this one by as much). Hence:
 - in gravity, as the smoke sweep runs it: only what the statics set and the transients
   do not, the phase means of the displacements and the lives (across the kernels: at
   most 1.7e-5 and 2.1e-5) to 1e-4, the stiffness to 1e-5.
+
+MODEL_VERSION 6 (the peak drive torque's inertial part weighed over the stages) moved
+only the weightless run's steady and deceleration torque peaks (3.28175 → 3.28211 and
+18.3412 → 18.3410 N m; the start-up's is set before any corner) and the case ids; every
+other pin held at its tolerance without re-pinning.
 """
 from __future__ import annotations
 
@@ -39,14 +44,14 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, load_sweep
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 5
+PINNED_MODEL_VERSION = 6
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 PINNED_CASE_IDS = {
-    (120, 20): "2d0d3ad8b6505469",
-    (120, 40): "b81ac6975c97cebf",
-    (660, 20): "3032dc84bc6bc1da",
-    (660, 40): "47290cd0ebe8caef",
+    (120, 20): "42138a979c1ce70f",
+    (120, 40): "41b3002266cf6568",
+    (660, 20): "cec0418a50c2aa6a",
+    (660, 40): "e42e13a8a3e80cab",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
@@ -60,7 +65,7 @@ PINNED_METRICS = {
     "radial_stiffness": 862619655.5046893,
     "axial_stiffness": 226974931.67556787,
     "tilting_stiffness": 4335229.580950013,
-    "inner_ring_drive_torque_peak": [46.060865655973565, 3.2817543117594794, 18.341213496762286],
+    "inner_ring_drive_torque_peak": [46.060865655973565, 3.282111418337451, 18.340999060670022],
     "static_safety_factor_min": [1.3452542499812974, 1.3505464718597329, 1.3665794035847825],
     "friction_energy": [0.04721608043500863, 3.618839185073242, 0.7129885442432055],
     "fatigue_damage": [5.013626226038437e-09, 5.968043852578169e-08, 4.950105963906165e-09],
