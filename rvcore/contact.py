@@ -59,6 +59,15 @@ from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE
 # reproducibility. The regression metrics moved by at most 7e-8 relative.
 FAST = False
 
+#: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
+#: more than this normal load on the inner race *and* on the outer race [N]: it passes
+#: load from ring to ring. Why 1 N: a ball out of the load zone is still pressed on one
+#: race by its weight and its centrifugal force (0.49 N and 0.06 N for the study's 23 mm
+#: ball at 660 °/s), and a statically unloaded contact is the solver's round-off
+#: (1e-16 N); a ball of the load zone carries hundreds to thousands of newtons. A steel
+#: ball heavier than 1 N (D > 31 mm) resting on the inner race in gravity would count.
+LOADED_BALL_LOAD = 1.0
+
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def unit_step(d):

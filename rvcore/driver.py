@@ -421,7 +421,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
             "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
-            "seed": int(settings.seed)}
+            "seed": int(settings.seed), "inner_ring_tilt": bearing.inner_ring.tilt}
     from .operating import steady_outputs
 
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
@@ -515,8 +515,11 @@ def phase_metrics(sig_acc, acc, phases, edge_tolerance: float) -> dict:
         out["contact_angle_min"] = np.where(loaded, np.arcsin(np.clip(a0[:, ig.C_SIN_MIN], -1.0, 1.0)), np.nan)
         out["contact_angle_max"] = np.where(loaded, np.arcsin(np.clip(a0[:, ig.C_SIN_MAX], -1.0, 1.0)), np.nan)
         p3 = a0[:, ig.C_RACE_P3_MAX]
-        out["static_safety_factor_min"] = np.where(ok & (p3 > 0), ig.ISO76_BALL_STRESS / np.cbrt(p3), np.nan)
+        out["static_safety_factor_min"] = np.where(ok & (p3 > 0), ig.ISO76_BALL_STRESS ** 3 / np.where(p3 > 0, p3, 1.0), np.nan)
         out["static_safety_factor_min_time"] = np.where(ok & (p3 > 0), a0[:, ig.C_RACE_P3_TMAX], np.nan)
+        # the moment that holds a "held" ring square (0 for a free ring: nothing holds it)
+        out["tilt_reaction_moment_mean"] = a0[:, ig.C_HOLD_SUM] / nn
+        out["tilt_reaction_moment_peak"] = np.where(ok, a0[:, ig.C_HOLD_MAX], np.nan)
     out["phase_start"] = start.astype(float).copy()
     out["phase_end"] = end.astype(float).copy()
     return out

@@ -152,6 +152,10 @@ class Row:
         return self.outer_arcs[0].contact_angle
 
 
+#: How the inner ring may tilt (:attr:`InnerRing.tilt`).
+TILT_CONDITIONS = ("free", "held")
+
+
 @dataclass(frozen=True)
 class InnerRing:
     """Mass properties of the inner ring.
@@ -165,11 +169,22 @@ class InnerRing:
         Mass of reducer parts bolted to the inner ring [kg].
     attached_inertia : float
         Their transverse moment of inertia about the bearing centre [kg m^2].
+    tilt : str
+        How the ring is held about its two tilt axes (model.md §11): ``"free"`` (zero
+        moment: a single row under a radial load tilts and loads fewer balls harder) or
+        ``"held"`` (kept square, as a shaft on a second support holds it; the statics,
+        the stiffness and the dynamics fix both tilts at 0 and report the reaction
+        moment that holds them).
     """
 
     shoulder_diameter: float
     attached_mass: float = 0.0
     attached_inertia: float = 0.0
+    tilt: str = "free"
+
+    def __post_init__(self):
+        if self.tilt not in TILT_CONDITIONS:
+            raise ValueError(f"inner ring tilt {self.tilt!r} is not one of {', '.join(TILT_CONDITIONS)}")
 
 
 @dataclass(frozen=True)

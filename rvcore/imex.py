@@ -84,7 +84,7 @@ from numba import njit
 
 from .implicit import J_A, J_B, J_COUPLED, J_W, N_JWORK
 from .kernels import D_DRIVE_TORQUE, rhs_stage
-from .model import (BALL_STATES, P_RING_IT, P_RING_M, R_BALL0, R_IB,
+from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
@@ -124,7 +124,11 @@ def new_work(model):
     inv_m = work[W_INVM]
     p, rows = model.params, model.rows
     inv_m[5:8] = 1.0 / p[P_RING_M]
-    inv_m[8:10] = 1.0 / p[P_RING_IT]
+    # a held ring's tilts (InnerRing.tilt "held") are constrained: an inertia 1e12 times
+    # its own keeps the implicit solve from giving them a rate (its coupling to the
+    # balls then drops out of the Schur complement to 1e-12), and the right-hand side
+    # reads them as 0 whatever they hold
+    inv_m[8:10] = 1.0 / (p[P_RING_IT] * (1e12 if p[P_TILT_HELD] != 0.0 else 1.0))
     for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):

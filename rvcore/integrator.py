@@ -35,7 +35,7 @@ import numpy as np
 from numba import njit
 
 from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
-from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, D_FRICTION_POWER, D_LAND_Q,
+from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, D_FRICTION_POWER, D_HOLD_MX, D_HOLD_MY, D_LAND_Q,
                       D_DRIVE_POWER, D_LOAD_POWER, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_PV6, D_MAX_QI, D_MAX_QO, D_MAX_QP,
                       D_MAX_SLIDE2, D_PEN_BALL, D_RACE_P3, D_SIN_MAX, D_SIN_MIN, D_TILT_POWER, rhs, rhs_jac, rhs_stage)
 from .imex import B1, B2, B3, B4, GAMMA, imex_step
@@ -52,13 +52,13 @@ OUTPUT_SERIES = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_til
                  "max_contact_pressure", "applied_moment", "load_direction",
                  "inner_ring_drive_torque", "friction_power", "max_pocket_force", "cage_land_force",
                  "max_race_sliding_speed", "max_race_pv", "min_contact_angle", "max_contact_angle",
-                 "static_safety_factor")
+                 "static_safety_factor", "tilt_reaction_moment_x", "tilt_reaction_moment_y")
 (O_X, O_Y, O_Z, O_TX, O_TY, O_DR, O_DA, O_FR, O_FA, O_W, O_CAGE, O_QI, O_QO, O_LOADED,
  O_PMAX, O_M, O_PSI, O_TORQUE, O_PFRIC, O_QP, O_QLAND, O_SLIDE, O_PV, O_AMIN, O_AMAX,
- O_SSF) = range(len(OUTPUT_SERIES))
+ O_SSF, O_HOLD_X, O_HOLD_Y) = range(len(OUTPUT_SERIES))
 
-#: ISO 76 (ball bearings): the reference contact stress of the basic static load rating,
-#: 4200 MPa at the most heavily loaded ball–race contact; S_0 = 4200 MPa / p_max.
+#: ISO 76 (radial ball bearings): the contact pressure at the most heavily loaded
+#: ball–race contact under the basic static load rating C_0, 4200 MPa.
 ISO76_BALL_STRESS = 4.2e9
 N_OUT = len(OUTPUT_SERIES)
 
@@ -75,13 +75,14 @@ N_SACC = 7
 #: drive torque, Σ friction power, the energies integrated over the steps (trapezoid
 #: rule on the powers at the steps' states: friction, damping, drive work ∫T·ω, work of the loads and gravity, the tilt
 #: term of the rhs Notes) [J], peak pocket and land forces, peak squared race sliding
-#: speed, peak (p·s)⁶, extreme sines of the contact angle, peak race p³ and its time, and
-#: the life sums of rvcore.life (A_i, A_o [N³ rev], revolutions [rev]).
+#: speed, peak (p·s)⁶, extreme sines of the contact angle, peak race p³ and its time, the
+#: life sums of rvcore.life (A_i, A_o [N³ rev], revolutions [rev]), and Σ and max of the
+#: magnitude of the moment that holds a "held" ring square [N m].
 C_N, C_CAGE_SUM, C_RING_SUM, C_EPI_SUM, C_EPI_NOMINAL_SUM, C_P3_MAX = range(6)
 (C_T_SUM, C_T_ABS_MAX, C_PF_SUM, C_E_FRICTION, C_E_DAMPING, C_W_DRIVE, C_W_LOAD, C_E_TILT, C_QP_MAX,
  C_QLAND_MAX, C_SLIDE2_MAX, C_PV6_MAX, C_SIN_MIN, C_SIN_MAX, C_RACE_P3_MAX, C_RACE_P3_TMAX, C_LIFE_I,
- C_LIFE_O, C_REV) = range(6, 25)
-N_ACC = 25
+ C_LIFE_O, C_REV, C_HOLD_SUM, C_HOLD_MAX) = range(6, 27)
+N_ACC = 27
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 
@@ -175,10 +176,14 @@ def kinetic_energy(y, params, rows):
 
 @njit(cache=True, nogil=True, inline="always")
 def static_safety_factor(race_p3):
-    """ISO 76 static safety factor ``4200 MPa / p_max`` [1] from the largest ball–race
-    ``p_max³`` [Pa³]; NaN when no ball–race contact is loaded."""
+    """ISO 76 static safety factor ``s_0 = C_0/P_0 = (4200 MPa / p_max)³`` [1] from the
+    largest ball–race ``p_max³`` [Pa³]; NaN when no ball–race contact is loaded.
+
+    ISO 76 defines ``s_0 = C_0/P_0``, a load ratio; 4200 MPa is the pressure at C_0 and
+    the Hertz pressure goes as the load^(1/3), so the load ratio is the pressure ratio
+    cubed (:func:`rvcore.static_rating.static_safety_factor_from_pressure`)."""
     if race_p3 > 0.0:
-        return ISO76_BALL_STRESS / race_p3 ** (1.0 / 3.0)
+        return ISO76_BALL_STRESS ** 3 / race_p3
     return math.nan
 
 
@@ -214,6 +219,9 @@ def _step_stats(a, diag, t, dt):
     if diag[D_RACE_P3] > a[C_RACE_P3_MAX]:
         a[C_RACE_P3_MAX] = diag[D_RACE_P3]
         a[C_RACE_P3_TMAX] = t
+    hold = math.sqrt(diag[D_HOLD_MX] * diag[D_HOLD_MX] + diag[D_HOLD_MY] * diag[D_HOLD_MY])
+    a[C_HOLD_SUM] += hold
+    a[C_HOLD_MAX] = max(a[C_HOLD_MAX], hold)
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -370,6 +378,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
             o[O_AMIN] = math.asin(min(diag[D_SIN_MIN], 1.0)) if diag[D_SIN_MAX] >= 0.0 else math.nan
             o[O_AMAX] = math.asin(min(diag[D_SIN_MAX], 1.0)) if diag[D_SIN_MAX] >= 0.0 else math.nan
             o[O_SSF] = static_safety_factor(diag[D_RACE_P3])
+            o[O_HOLD_X], o[O_HOLD_Y] = diag[D_HOLD_MX], diag[D_HOLD_MY]
             for s in range(n_sensors):
                 o[N_OUT + s] = sensor_reading(y, sensors[s])
             n_out += 1

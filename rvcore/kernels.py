@@ -44,7 +44,7 @@ import numpy as np
 from numba import njit
 
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING,
-                    P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_V_D, P_V_S,
+                    P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_TILT_HELD, P_V_D, P_V_S,
                     R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE,
                     R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
                     R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
@@ -53,7 +53,7 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
                       normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
-from .contact import damping_coefficient
+from .contact import LOADED_BALL_LOAD, damping_coefficient
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
                       channel_rate, channel_value)
 
@@ -73,15 +73,17 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
 # D_SIN_MIN, D_SIN_MAX  extreme |n_z| (sine of the contact angle) of loaded race contacts
 #                  (2 and −1 when none is loaded)
 # D_DRIVE_POWER    T·ω, the drive's power [W]
+# D_HOLD_MX, D_HOLD_MY  the moment about x and y that holds a "held" ring's tilts at 0
+#                  (0 for a free ring) [N m]
 # rhs() writes them all; rhs_stage() (the integrator's intermediate RK4 stages, where
 # nobody reads them) leaves the slots from D_FRICTION_POWER on untouched
 (D_DRIVE_TORQUE, D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q,
- D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER) = range(6, 19)
+ D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_HOLD_MX, D_HOLD_MY) = range(6, 21)
 # from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
 # (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
 # actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
-D_COS_ALPHA = 19
-N_DIAG = 20
+D_COS_ALPHA = 21
+N_DIAG = 22
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -168,6 +170,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     # ---- inner ring pose and its full angular velocity (spin about its tilted axis)
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
     vxi, vyi, vzi, wxi, wyi = y[5], y[6], y[7], y[8], y[9]
+    held = params[P_TILT_HELD] != 0.0
+    if held:    # a held ring is square whatever its tilt states hold (they stay 0)
+        tx, ty, wxi, wyi = 0.0, 0.0, 0.0, 0.0
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
     omx, omy, omz = ring_angular_velocity(w_ring, wxi, wyi, r00, r20, r02, r12, r22)
 
@@ -305,8 +310,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     qo_sum += q
                     fo_rad += fx * erx + fy * ery
 
-            if qi_sum > 0.0 or qo_sum > 0.0:
+            if qi_sum > LOADED_BALL_LOAD and qo_sum > LOADED_BALL_LOAD:
                 loaded += 1.0
+            if qi_sum > 0.0 or qo_sum > 0.0:
                 cos_sum += cos_b / n_b
                 cos_balls += 1.0
             if qi_sum > max_qi:
@@ -432,8 +438,15 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     dy[5] = (fxi + fr * lc) / m_ring + gx
     dy[6] = (fyi + fr * ls) / m_ring + gy
     dy[7] = (fzi + fa) / m_ring + gz
-    dy[8] = (mxi - moment * ls - ip * (dw_ring * ty + w_ring * wyi)) / it
-    dy[9] = (myi + moment * lc + ip * (dw_ring * tx + w_ring * wxi)) / it
+    if held:
+        # the support takes the whole moment: the tilt equations' right-hand sides
+        # (at zero tilt and tilt rate) with the opposite sign
+        hold_x, hold_y = -(mxi - moment * ls), -(myi + moment * lc)
+        dy[3] = dy[4] = dy[8] = dy[9] = 0.0
+    else:
+        hold_x, hold_y = 0.0, 0.0
+        dy[8] = (mxi - moment * ls - ip * (dw_ring * ty + w_ring * wyi)) / it
+        dy[9] = (myi + moment * lc + ip * (dw_ring * tx + w_ring * wxi)) / it
 
     diag[D_MAX_QI] = max_qi
     diag[D_MAX_QO] = max_qo
@@ -461,6 +474,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     diag[D_RACE_P3] = race_p3
     diag[D_SIN_MIN] = sin_min
     diag[D_SIN_MAX] = sin_max
+    diag[D_HOLD_MX] = hold_x
+    diag[D_HOLD_MY] = hold_y
 
 
 @njit(cache=True, nogil=True)

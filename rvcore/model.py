@@ -36,7 +36,8 @@ P_POCKET_C, P_LAND_C = 5, 6
 P_MU_S, P_V_S, P_MU_D, P_V_D = 7, 8, 9, 10
 P_FRICTION, P_DAMPING = 11, 12
 P_GX, P_GY, P_GZ = 13, 14, 15      # gravitational acceleration in the bearing frame [m s^-2]
-N_PARAMS = 16
+P_TILT_HELD = 16                   # 1: the inner ring's tilts are held at 0 (InnerRing.tilt "held")
+N_PARAMS = 17
 
 # rows columns
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
@@ -83,6 +84,7 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     params[P_DAMPING] = 1.0 if damping else 0.0
     if gravity:
         params[[P_GX, P_GY, P_GZ]] = bearing.gravity
+    params[P_TILT_HELD] = 1.0 if bearing.inner_ring.tilt == "held" else 0.0
 
     e_race = hertz.effective_modulus(bearing.ring_material.youngs_modulus, bearing.ring_material.poisson_ratio,
                                      bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio)

@@ -48,12 +48,23 @@ def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
 
 #: Scalars of a case at its steady operating point: name -> (units, long_name).
 STEADY_OUTPUTS = {
-    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point: direct term of the "
-                                  "quasi-static tangent stiffness along the radial load"),
-    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point: direct term of the "
-                                 "quasi-static tangent stiffness along the axis"),
-    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point: direct term of the "
-                                       "quasi-static tangent stiffness about the axis normal to the radial load"),
+    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point, direct term K_rr of the "
+                                  "quasi-static tangent stiffness along the radial load: every other "
+                                  "coordinate held"),
+    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point, direct term K_aa of the "
+                                 "quasi-static tangent stiffness along the axis: every other coordinate held"),
+    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point, direct term of the "
+                                       "quasi-static tangent stiffness about the axis normal to the radial load: "
+                                       "every other coordinate held"),
+    "radial_stiffness_compliant": ("N m-1", "radial stiffness at the steady operating point with every other "
+                                            "coordinate free, 1/C_rr of the compliance C = K^-1 (a held ring's "
+                                            "tilts stay held)"),
+    "axial_stiffness_compliant": ("N m-1", "axial stiffness at the steady operating point with every other "
+                                           "coordinate free, 1/C_aa of the compliance C = K^-1 (a held ring's "
+                                           "tilts stay held)"),
+    "tilting_stiffness_compliant": ("N m rad-1", "tilting stiffness at the steady operating point with every other "
+                                                 "coordinate free, 1/C of the compliance C = K^-1 (NaN for a held "
+                                                 "ring)"),
     "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady operating point, in "
                                    "revolutions of the inner ring (90 % reliability, no life modification factor; "
                                    "NaN: not rated or nothing loaded)"),
@@ -72,7 +83,9 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
         st = steady_statics(bearing, profile, op, gravity=gravity)
     except NoEquilibriumError:
         return {k: float("nan") for k in STEADY_OUTPUTS}
-    out = dict(zip(STEADY_OUTPUTS, st.stiffness_scalars()))
+    out = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), st.stiffness_scalars()))
+    out.update(zip(("radial_stiffness_compliant", "axial_stiffness_compliant", "tilting_stiffness_compliant"),
+                   st.free_stiffness_scalars()))
     out.update(_steady_lives(bearing, st))
     return out
 

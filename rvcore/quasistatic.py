@@ -23,17 +23,17 @@ need no special case: they are just more terms in the sums.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
 from scipy import optimize
 
 from .geometry import Bearing
-from .stiffness import stiffness_scalars, tangent_stiffness
-from .contact import (hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
+from .stiffness import free_stiffness_scalars, stiffness_scalars, tangent_stiffness
+from .contact import (LOADED_BALL_LOAD, hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
                       to_ring_frame)
-from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ,
+from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ, P_TILT_HELD,
                     P_RING_M, R_ARC0, R_HALF_D, R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW,
                     CompiledBearing, compile_bearing)
 
@@ -161,7 +161,7 @@ class StaticResult:
     ball_loads: np.ndarray        # [N]
     contact_angles: np.ndarray    # [rad], NaN where unloaded
     arc_rings: np.ndarray         # 0 inner / 1 outer, per arc column
-    loaded_ball_count: int
+    loaded_ball_count: int        # balls carrying more than LOADED_BALL_LOAD on both races
     max_contact_load: float       # [N]
     max_contact_pressure: float   # [Pa]
     residual: np.ndarray          # force/moment imbalance on the ring [N, N m]
@@ -171,6 +171,10 @@ class StaticResult:
     stiffness_matrix: np.ndarray | None  # (5, 5) tangent stiffness over x, y, z, tilt_x, tilt_y [SI]
     stiffness_change: float       # relative change of K when the difference step is halved [-]
     load_angle: float = 0.0       # ψ of the radial load [rad]
+    tilt: str = "free"            # how the ring's tilts were held: "free" or "held"
+    reaction_moment: np.ndarray = field(default_factory=lambda: np.zeros(2))
+    # the moment about x and y [N m] that the support of a "held" ring applies to keep it
+    # square (0 when free)
 
     @property
     def row_axial_loads(self) -> np.ndarray:
@@ -183,8 +187,15 @@ class StaticResult:
         return np.hypot(self.row_forces[:, 0], self.row_forces[:, 1])
 
     def stiffness_scalars(self):
-        """Radial [N/m], axial [N/m] and tilting [N m/rad] stiffness in the load frame."""
+        """Radial [N/m], axial [N/m] and tilting [N m/rad] stiffness in the load frame:
+        the direct terms, every other coordinate held (:func:`rvcore.stiffness.stiffness_scalars`)."""
         return stiffness_scalars(self.stiffness_matrix, self.load_angle)
+
+    def free_stiffness_scalars(self):
+        """Radial [N/m], axial [N/m] and tilting [N m/rad] stiffness in the load frame with
+        the other coordinates free (:func:`rvcore.stiffness.free_stiffness_scalars`); a
+        held ring's tilts stay held (its tilting stiffness is then NaN)."""
+        return free_stiffness_scalars(self.stiffness_matrix, self.load_angle, tilt_held=self.tilt == "held")
 
 
 _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
@@ -193,7 +204,7 @@ _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
 def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
                   moment: float = 0.0, load_angle: float = 0.0, *, moment_x: float = 0.0,
                   moment_y: float = 0.0, x0=None, gravity: bool = True,
-                  stiffness: bool = True) -> StaticResult:
+                  stiffness: bool = True, tilt: str | None = None) -> StaticResult:
     """Equilibrium of the inner ring under the given loads and its own weight.
 
     The applied load vector is ``(F_r·cos ψ, F_r·sin ψ, F_a, M_x, M_y)`` with
@@ -222,6 +233,11 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         balls' weights (a fraction of a newton each) are left out of the statics.
     stiffness : bool
         Also form the 5×5 tangent stiffness at the equilibrium (:mod:`rvcore.stiffness`).
+    tilt : {"free", "held"}, optional
+        How the ring's tilts are held (model.md §11); by default the bearing's
+        ``inner_ring.tilt`` (a ``CompiledBearing``'s ``P_TILT_HELD``). ``"held"`` fixes
+        both tilts at 0, solves the three translations and reports the moment the
+        support takes (``reaction_moment``); the moment balance is then the support's.
 
     Raises
     ------
@@ -230,6 +246,12 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     """
     model = (bearing_or_model if isinstance(bearing_or_model, CompiledBearing)
              else compile_bearing(bearing_or_model, gravity=gravity))
+    if tilt is None:
+        tilt = "held" if model.params[P_TILT_HELD] != 0.0 else "free"
+    if tilt not in ("free", "held"):
+        raise ValueError(f"tilt {tilt!r} is not 'free' or 'held'")
+    # the unknowns: all five pose coordinates, or the three translations of a held ring
+    n_free = 3 if tilt == "held" else 5
     rows, arcs, pockets = model.rows, model.arcs, model.pockets
     n_arcs = int(rows[:, R_NARC].max())
     nb = model.n_balls
@@ -247,21 +269,26 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         applied[:3] += model.params[P_RING_M] * model.params[[P_GX, P_GY, P_GZ]]
     d_max = float(rows[:, R_HALF_D].max()) * 2
 
+    def pose(v):
+        """The five pose coordinates of the unknowns ``v`` (scaled), held tilts 0."""
+        u = np.zeros(5)
+        u[:n_free] = v[:n_free] * _SCALE[:n_free]
+        return u
+
     def balance(v):
-        u = v * _SCALE
-        fx, fy, fz, mx, my, e = ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)
-        return np.array([fx, fy, fz, mx, my]) + applied, e
+        fx, fy, fz, mx, my, e = ring_balance(pose(v), rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)
+        return np.array([fx, fy, fz, mx, my])[:n_free] + applied[:n_free], e
 
     # a preloaded bearing carries internal loads at rest: they set the scale too
-    v_start = np.zeros(5) if x0 is None else np.asarray(x0, float) / _SCALE
+    v_start = np.zeros(n_free) if x0 is None else np.asarray(x0, float)[:n_free] / _SCALE[:n_free]
     balance(v_start)
     internal = float(q_out.max(initial=0.0))
     load_scale = max(np.abs(applied[:3]).sum(), np.abs(applied[3:]).sum() / 0.1, internal, 1.0)
 
     def objective(v):
         res, e = balance(v)
-        u = v * _SCALE
-        return (e - applied @ u) / load_scale / 1e-5, -res * _SCALE / load_scale / 1e-5
+        u = pose(v)
+        return (e - applied @ u) / load_scale / 1e-5, -res * _SCALE[:n_free] / load_scale / 1e-5
 
     # Below a micronewton a contact load is the round-off of a closed groove's geometry
     # (δ ~ 1e-11 m at K ~ 4e10 N/m^1.5), not a preload, and does not move the ring.
@@ -278,18 +305,23 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
             opt = optimize.minimize(objective, v0, jac=True, method="BFGS",
                                     options={"gtol": 1e-10, "maxiter": 2000})
             v = opt.x
-            if np.all(np.isfinite(v)) and np.linalg.norm(v[:3] * _SCALE[:3]) <= d_max:
+            if np.all(np.isfinite(v)) and np.linalg.norm(pose(v)[:3]) <= d_max:
                 sol = optimize.root(lambda x: balance(x)[0] / load_scale, v, method="hybr",
                                     options={"xtol": 1e-14, "maxfev": 2000})
                 if np.all(np.isfinite(sol.x)) and np.abs(balance(sol.x)[0]).max() <= np.abs(balance(v)[0]).max():
                     v = sol.x
-    u = v * _SCALE
+    u = pose(v) if np.all(np.isfinite(v)) else np.full(5, np.nan)
     if not np.all(np.isfinite(u)) or np.linalg.norm(u[:3]) > d_max:
         raise NoEquilibriumError(
             f"no equilibrium: under F_r = {radial_load:.6g} N, F_a = {axial_load:.6g} N, M = {moment:.6g} N m "
             f"the inner ring runs away (more than a ball diameter, {d_max * 1e3:.4g} mm) without the "
             f"balls carrying the load")
     res, _ = balance(v)
+    # a held ring's moment balance is its support's: the reaction is what the contacts
+    # and the applied moment leave
+    full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)[:5]) + applied
+    reaction = -full[3:5] if tilt == "held" else np.zeros(2)
+    res = np.concatenate([res, full[3:5] + reaction]) if tilt == "held" else res
     loaded = (q_out > 0).any(axis=1)
     if np.any(applied) and not loaded.any():
         raise NoEquilibriumError(
@@ -327,14 +359,24 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
 
         def ball_forces(uu):
             ball_rz[:] = base   # every pose starts from the equilibrium's balls
-            return balance(np.asarray(uu) / _SCALE)[0] - applied
+            return np.array(ring_balance(np.asarray(uu, dtype=float), rows, arcs, pockets, ball_rz, q_out,
+                                         n_out, 1e-15)[:5])
 
         k_matrix, k_change = tangent_stiffness(ball_forces, u, float(rows[:, R_PITCH_R].max()))
         ball_rz[:] = base
     return StaticResult(
         displacement=u, radial_displacement=float(u[0] * c + u[1] * s), axial_displacement=float(u[2]),
-        azimuths=azim, contact_angles=angles, arc_rings=rings, loaded_ball_count=int(loaded.sum()),
+        azimuths=azim, contact_angles=angles, arc_rings=rings, loaded_ball_count=_loaded_balls(q_out, rings),
         max_contact_pressure=p_max, residual=res,
         applied=applied, row_of_ball=row_of_ball, row_forces=row_forces,
-        stiffness_matrix=k_matrix, stiffness_change=k_change, load_angle=float(load_angle), **result,
+        stiffness_matrix=k_matrix, stiffness_change=k_change, load_angle=float(load_angle), tilt=tilt,
+        reaction_moment=reaction, **result,
     )
+
+
+def _loaded_balls(ball_loads, arc_rings) -> int:
+    """Balls carrying more than :data:`rvcore.contact.LOADED_BALL_LOAD` on both races
+    (several arcs of a ring summed), as the dynamics count them."""
+    inner = np.where((arc_rings == 0)[None, :], ball_loads, 0.0).sum(axis=1)
+    outer = np.where((arc_rings == 1)[None, :], ball_loads, 0.0).sum(axis=1)
+    return int(np.count_nonzero((inner > LOADED_BALL_LOAD) & (outer > LOADED_BALL_LOAD)))

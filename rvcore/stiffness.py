@@ -117,3 +117,47 @@ def stiffness_scalars(k: np.ndarray, load_angle: float = 0.0):
     t = load_frame(load_angle)
     kl = t @ k @ t.T
     return float(kl[0, 0]), float(kl[2, 2]), float(kl[4, 4])
+
+
+def free_stiffness_scalars(k: np.ndarray, load_angle: float = 0.0, tilt_held: bool = False):
+    """The designer's three stiffnesses with the other coordinates free: ``1/C_ii``.
+
+    Each is the load per unit displacement (tilt) in its own direction when only that
+    load changes and the ring moves freely in the others, the compliance view: ``C =
+    K⁻¹`` over the free coordinates, in the load frame. With the ring's tilts held
+    (``tilt_held``) the compliance is over the three translations only, and the tilting
+    stiffness is not defined (NaN).
+
+    Parameters
+    ----------
+    k : ndarray (5, 5)
+        Tangent stiffness in the bearing frame (:func:`tangent_stiffness`).
+    load_angle : float
+        Direction ψ of the radial load from +x [rad].
+    tilt_held : bool
+        The tilts are held by a support (:attr:`rvcore.geometry.InnerRing.tilt`).
+
+    Returns
+    -------
+    radial : float
+        Along the radial load [N m^-1].
+    axial : float
+        Along z [N m^-1].
+    tilting : float
+        About the axis normal to the radial load [N m rad^-1]; NaN when held.
+
+    Notes
+    -----
+    ``1/C_ii ≤ K_ii`` always (K symmetric positive definite): freeing the other
+    coordinates lets the ring give way along couplings that the direct term holds, such
+    as the tilt that a single row's radial load brings.
+    """
+    t = load_frame(load_angle)
+    kl = t @ np.asarray(k, dtype=float) @ t.T
+    n = 3 if tilt_held else 5
+    try:
+        c = np.linalg.inv(kl[:n, :n])
+    except np.linalg.LinAlgError:
+        return math.nan, math.nan, math.nan
+    inv = lambda x: 1.0 / x if x > 0.0 else math.nan  # noqa: E731  a singular direction has no stiffness
+    return inv(c[0, 0]), inv(c[2, 2]), (math.nan if tilt_held else inv(c[4, 4]))

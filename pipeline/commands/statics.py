@@ -51,6 +51,7 @@ def run(args):
     from rvcore.life import LifeError, static_life
     from rvcore.preload import preload_force
     from rvcore.quasistatic import NoEquilibriumError, solve_statics
+    from rvcore.contact import LOADED_BALL_LOAD
     from rvcore.stiffness import COORDINATES, stiffness_scalars
 
     sweep = one_case_sweep(args, profile=None)
@@ -64,6 +65,7 @@ def run(args):
         raise UserError(str(exc)) from None
     k = np.asarray(st.stiffness_matrix, dtype=float)
     k_radial, k_axial, k_tilt = stiffness_scalars(k, op.load_angle)
+    kc_radial, kc_axial, kc_tilt = st.free_stiffness_scalars()
     preload = preload_force(bearing)
     pair = len(bearing.rows) > 1
     for w in bearing.warnings:
@@ -90,7 +92,14 @@ def run(args):
             "inner_ring_x_m": st.displacement[0], "inner_ring_y_m": st.displacement[1],
             "inner_ring_z_m": st.displacement[2],
             "inner_ring_tilt_x_rad": st.displacement[3], "inner_ring_tilt_y_rad": st.displacement[4],
+            "inner_ring_tilt": st.tilt,
+            "tilt_reaction_moment_Nm": np.asarray(st.reaction_moment, dtype=float).tolist(),
+            "tilt_note": ("free: the ring tilts under zero moment; held: both tilts fixed at 0 by a support "
+                          "(a shaft on a second bearing), tilt_reaction_moment_Nm the moment about x, y it "
+                          "applies (inner_ring.tilt in the bearing file, or --set inner_ring.tilt=held)"),
             "loaded_ball_count": st.loaded_ball_count,
+            "loaded_ball_note": (f"balls carrying more than {LOADED_BALL_LOAD:g} N on both the inner and the "
+                                 "outer race"),
             "max_contact_load_N": st.max_contact_load,
             "max_contact_pressure_Pa": st.max_contact_pressure,
             "ball_azimuth_rad": st.azimuths.tolist(),
@@ -119,6 +128,13 @@ def run(args):
             "radial_stiffness_N_per_m": k_radial,
             "axial_stiffness_N_per_m": k_axial,
             "tilting_stiffness_Nm_per_rad": k_tilt,
+            "radial_stiffness_compliant_N_per_m": _finite(kc_radial),
+            "axial_stiffness_compliant_N_per_m": _finite(kc_axial),
+            "tilting_stiffness_compliant_Nm_per_rad": _finite(kc_tilt),
+            "stiffness_note": ("*_stiffness: direct terms K_ii of the tangent stiffness in the load frame, "
+                               "every other coordinate held; *_stiffness_compliant: 1/C_ii of the compliance "
+                               "C = K^-1, every other coordinate free (a held ring's tilts stay held: its "
+                               "tilting value is null)"),
             "reference_rating_life_L10r_Mrev": _finite(life["reference_rating_life_L10r_Mrev"]),
             "basic_rating_life_L10_Mrev": _finite(life["basic_rating_life_L10_Mrev"]),
             "dynamic_load_rating_N": _finite(life["dynamic_load_rating_N"]),
@@ -150,14 +166,23 @@ def run(args):
             print(f"  row {r} load           axial {fa / 1e3:10.4f} kN, radial {fr / 1e3:.4f} kN")
     print(f"  radial displacement  {st.radial_displacement * 1e6:10.4f} um")
     print(f"  axial displacement   {st.axial_displacement * 1e6:10.4f} um")
-    print(f"  tilt x, y            {st.displacement[3] * 1e3:10.5f}, {st.displacement[4] * 1e3:.5f} mrad")
-    print(f"  loaded balls         {st.loaded_ball_count} of {st.ball_loads.shape[0]}")
+    print(f"  tilt x, y            {st.displacement[3] * 1e3:10.5f}, {st.displacement[4] * 1e3:.5f} mrad "
+          + ("(free: zero moment)" if st.tilt == "free" else "(held at 0)"))
+    if st.tilt == "held":
+        print(f"  reaction moment x, y {st.reaction_moment[0]:10.1f}, {st.reaction_moment[1]:.1f} N m "
+              "(the support holding the tilt)")
+    print(f"  loaded balls         {st.loaded_ball_count} of {st.ball_loads.shape[0]} "
+          f"(more than {LOADED_BALL_LOAD:g} N on both races)")
     print(f"  max contact load     {st.max_contact_load:10.1f} N")
     print(f"  max Hertz pressure   {st.max_contact_pressure / 1e9:10.4f} GPa")
     # engineering units: N/m -> N/um, N m/rad -> N m/mrad
-    print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um (along the radial load)")
-    print(f"  axial stiffness      {k_axial * 1e-6:10.4g} N/um")
-    print(f"  tilting stiffness    {k_tilt * 1e-3:10.4g} N m/mrad")
+    # direct: every other coordinate held; compliant: every other coordinate free
+    print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um direct, {kc_radial * 1e-6:.4g} N/um compliant "
+          "(along the radial load)")
+    print(f"  axial stiffness      {k_axial * 1e-6:10.4g} N/um direct, {kc_axial * 1e-6:.4g} N/um compliant")
+    print(f"  tilting stiffness    {k_tilt * 1e-3:10.4g} N m/mrad direct, "
+          + ("- (tilt held)" if st.tilt == "held" else f"{kc_tilt * 1e-3:.4g} N m/mrad compliant"))
+    print("                       (direct: the other coordinates held; compliant: the others free)")
     _print_life(life, bearing, life_note)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")

@@ -72,7 +72,8 @@ SERIES = {
     "cage_speed": ("rad s-1", "cage angular speed"),
     "max_inner_contact_load": ("N", "largest ball to inner-race normal force"),
     "max_outer_contact_load": ("N", "largest ball to outer-race normal force"),
-    "loaded_ball_count": ("1", "number of balls touching either race"),
+    "loaded_ball_count": ("1", "number of balls carrying more than 1 N on both the inner and the outer race "
+                               "(rvcore.contact.LOADED_BALL_LOAD)"),
     "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
     "applied_moment": ("N m", "tilting moment applied by the profile, about the axis normal to the radial load"),
     "load_direction": ("rad", "direction of the radial load applied by the profile, from +x"),
@@ -90,8 +91,13 @@ SERIES = {
                                  "radial plane (NaN when none is loaded)"),
     "max_contact_angle": ("rad", "largest contact angle of the loaded ball-race contacts, from the bearing's "
                                  "radial plane (NaN when none is loaded)"),
-    "static_safety_factor": ("1", "static safety factor S0 = 4200 MPa / largest ball-race Hertz pressure "
-                                  "(ISO 76, ball bearings; NaN when no ball-race contact is loaded)"),
+    "static_safety_factor": ("1", "ISO 76 static safety factor s0 = C0/P0 from the Hertz pressure: "
+                                  "(4200 MPa / largest ball-race Hertz pressure)^3 (radial ball bearings; "
+                                  "NaN when no ball-race contact is loaded)"),
+    "tilt_reaction_moment_x": ("N m", "moment about x that the support applies to hold the inner ring's tilt "
+                                      "at 0 (inner_ring.tilt = held; 0 when the tilt is free)"),
+    "tilt_reaction_moment_y": ("N m", "moment about y that the support applies to hold the inner ring's tilt "
+                                      "at 0 (inner_ring.tilt = held; 0 when the tilt is free)"),
 }
 
 def _extreme_metrics(name: str, what: str) -> dict:
@@ -129,9 +135,13 @@ PHASE_METRICS = {
     "max_race_pv_peak": ("Pa m s-1", "largest ball-race Hertz peak pressure times sliding speed over the phase"),
     "contact_angle_min": ("rad", "smallest contact angle of a loaded ball-race contact over the phase"),
     "contact_angle_max": ("rad", "largest contact angle of a loaded ball-race contact over the phase"),
-    "static_safety_factor_min": ("1", "smallest static safety factor S0 (ISO 76: 4200 MPa / peak ball-race "
-                                      "Hertz pressure) over the phase"),
+    "static_safety_factor_min": ("1", "smallest ISO 76 static safety factor s0 = (4200 MPa / peak ball-race "
+                                      "Hertz pressure)^3 over the phase"),
     "static_safety_factor_min_time": ("s", "elapsed time at which the static safety factor is smallest in the phase"),
+    "tilt_reaction_moment_mean": ("N m", "time mean over the phase of the magnitude of the moment that holds "
+                                         "the inner ring's tilt at 0 (0 when the tilt is free)"),
+    "tilt_reaction_moment_peak": ("N m", "largest magnitude over the phase of the moment that holds the inner "
+                                         "ring's tilt at 0 (0 when the tilt is free)"),
     "fatigue_damage": ("1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile "
                             "(ISO/TS 16281 contact loads at every integrator step)"),
     "phase_start": ("s", "start of the phase window"),
@@ -267,8 +277,12 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         "profile": profile_name,
         "caveats": caveat_text,
         "assumptions": ", ".join(assumptions),
+        # how the inner ring's tilts were held (model.md §11): every result depends on it
+        "inner_ring_tilt": str(result.info.get("inner_ring_tilt", "free")),
     }
     for key, value in result.info.items():
+        if key == "inner_ring_tilt":
+            continue
         if isinstance(value, (int, float, str, np.integer, np.floating)):
             attrs[f"solver_{key}"] = value
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)

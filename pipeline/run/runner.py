@@ -432,6 +432,9 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         "assumptions": ", ".join(sweep.bearing.assumptions),
         "sweep": sweep.name,
         "sweep_axes": " ".join(case_dims),
+        # how the inner ring's tilts were held (model.md §11): every result depends on it
+        "inner_ring_tilt": " and ".join(sorted({c.bearing.inner_ring.tilt for c in sweep.cases}))
+                           or sweep.bearing.inner_ring.tilt,
     }
     if sweep.description:
         attrs["comment"] = sweep.description

@@ -289,7 +289,8 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     ring_mat, ball_mat = _materials(top)
     ir = top.table("inner_ring")
     inner_ring = InnerRing(shoulder_diameter=ir.get("shoulder_diameter"),
-                           attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"))
+                           attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"),
+                           tilt=ir.get("tilt"))
     contact = _contact(top)
     row_tables = top.tables("rows")
     rows = tuple(_row(t) for t in row_tables)

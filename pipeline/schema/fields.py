@@ -32,7 +32,7 @@ import re
 from dataclasses import dataclass
 
 from rvcore.driver import SolverSettings
-from rvcore.geometry import MOUNTINGS, ContactLaw
+from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 
@@ -186,6 +186,9 @@ _BEARING = [
        default=0.0, source="inner_ring.attached_mass"),
     _q("inner_ring.attached_inertia", "inertia", "kg m^2", "inertia moving with the inner ring",
        bounds="nonnegative", default=0.0, source="inner_ring.attached_inertia"),
+    Field("inner_ring.tilt", "choice", "bearing", default="free", choices=TILT_CONDITIONS,
+          doc="free: the ring tilts under zero moment; held: kept square (a second support), "
+              "the reaction moment reported", source="inner_ring.tilt"),
     _q("contact.damping", "damping", "N s/m", "ball-race contact damping", bounds="nonnegative",
        source="contact.damping"),
     _q("contact.damping_depth", "length", "um", "penetration over which contact damping ramps in",
