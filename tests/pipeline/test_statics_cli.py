@@ -124,3 +124,30 @@ def test_check_prints_the_pair(capsys):
     out = capsys.readouterr().out
     assert "back-to-back pair, rows 30 mm apart; preload 3.5 kN" in out
     assert "axial position -15 mm" in out and "axial position 15 mm" in out
+
+
+def test_loaded_balls_are_those_carrying_load_on_both_races(capsys):
+    """At 3.1 preloads of thrust one row of the pair is unloaded (its contacts carry the
+    statics' round-off, ~1e-16 N): only the other row's 42 balls carry load."""
+    out = statics(capsys, "--bearing", PAIR, "--axial-load", "10850N", "--no-gravity")
+    q_in, q_out = np.array(out["ball_inner_load_N"]), np.array(out["ball_outer_load_N"])
+    rows = np.array(out["row_axial_load_N"])
+    assert rows.min() < 1e-6 * rows.max()            # one row really carries nothing
+    assert out["loaded_ball_count"] == 42
+    # counted by the rule the JSON states: more than 1 N on both races
+    assert out["loaded_ball_count"] == int(np.count_nonzero((q_in > 1.0) & (q_out > 1.0)))
+
+
+def test_statics_says_how_the_tilt_is_held_and_which_stiffness_is_which(capsys):
+    """Free (the file's default) the single row tilts under zero moment; held, its tilt is
+    0 and the reaction moment is reported. Both stiffnesses are in the JSON, named."""
+    free = statics(capsys, "--bearing", BUILDABLE, "--radial-load", "30kN", "--axial-load", "10kN", "--no-gravity")
+    held = statics(capsys, "--bearing", BUILDABLE, "--radial-load", "30kN", "--axial-load", "10kN", "--no-gravity",
+                   "--set", "inner_ring.tilt=held")
+    assert free["inner_ring_tilt"] == "free" and held["inner_ring_tilt"] == "held"
+    assert abs(free["inner_ring_tilt_y_rad"]) > 1e-4 and free["tilt_reaction_moment_Nm"] == [0.0, 0.0]
+    assert held["inner_ring_tilt_x_rad"] == 0.0 and held["inner_ring_tilt_y_rad"] == 0.0
+    assert abs(held["tilt_reaction_moment_Nm"][1]) > 100.0
+    for key in ("radial_stiffness", "axial_stiffness"):
+        assert 0 < free[f"{key}_compliant_N_per_m"] < free[f"{key}_N_per_m"]
+    assert held["tilting_stiffness_compliant_Nm_per_rad"] is None
