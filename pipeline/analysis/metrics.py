@@ -44,21 +44,24 @@ _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial
 #: Stiffness at the steady operating point, one scalar per case (no ``phase``):
 #: name -> (units, long_name).
 STIFFNESS = {k: VARIABLES[k][1:] for k in ("radial_stiffness", "axial_stiffness", "tilting_stiffness")}
+#: The same with every other coordinate free (1/C_ii of the compliance), beside each.
+COMPLIANT_STIFFNESS = {f"{k}_compliant": VARIABLES[f"{k}_compliant"][1:] for k in STIFFNESS}
 
 #: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name).
 DESIGNER_METRICS = {k: VARIABLES[k][1:] for k in (
     "inner_ring_drive_torque_peak", "inner_ring_drive_torque_mean", "friction_power_mean", "friction_energy",
     "max_pocket_force_peak", "cage_land_force_peak", "max_race_sliding_speed_peak", "max_race_pv_peak",
     "contact_angle_min", "contact_angle_max", "static_safety_factor_min", "static_safety_factor_min_time",
-    "fatigue_damage")}
+    "tilt_reaction_moment_mean", "tilt_reaction_moment_peak", "fatigue_damage")}
 
 #: The designer's scalars of a case (issue 10), no ``phase``: the rating lives (in
 #: revolutions of the inner ring, units "1"; the duty cycle's also in cycles of the
 #: profile) and the cycle's damage.
-DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items() if v[0] == () and k not in STIFFNESS}
+DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
+                    if v[0] == () and k not in STIFFNESS and k not in COMPLIANT_STIFFNESS}
 
 #: Every per-case scalar (no ``phase``) ``metrics.nc`` carries when the sweep holds it.
-SCALARS = {**STIFFNESS, **DESIGNER_SCALARS}
+SCALARS = {**STIFFNESS, **COMPLIANT_STIFFNESS, **DESIGNER_SCALARS}
 
 
 def load_sweep(directory) -> xr.Dataset:

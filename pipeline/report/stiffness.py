@@ -21,6 +21,9 @@ from .context import SENSOR, Context
 from .figures import _new_figure, _save
 from .render import Heading, Image, Para, _g
 
+#: Suffix of the compliant stiffness (1/C_ii, every other coordinate free) beside each direct one.
+COMPLIANT = "_compliant"
+
 #: Engineering scale and unit of each stiffness: (factor from SI, unit, symbol).
 _DISPLAY = {"radial_stiffness": (1e-6, "N/µm", "k_r"), "axial_stiffness": (1e-6, "N/µm", "k_a"),
             "tilting_stiffness": (1e-3, "N m/mrad", "k_θ")}
@@ -116,13 +119,23 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
                 label = _value_text(ctx, other, p) if other is not None else None
                 ok = np.isfinite(y)
                 ax.plot(x[ok], y[ok], marker="o", ms=4, lw=1.0, color=f"C{m}", label=label)
+                compliant = f"{name}{COMPLIANT}"
+                if compliant in ctx.metrics:   # the same line with the other coordinates free, dashed
+                    cl = ctx.metrics[compliant].isel({d: k for d, k in held.items()
+                                                      if d in ctx.metrics[compliant].dims})
+                    cl = cl.isel({other: p}) if other is not None else cl
+                    cl = cl.isel({d: 0 for d in cl.dims if d != axis})
+                    yc = np.asarray(cl.values, dtype=np.float64) * scale
+                    okc = np.isfinite(yc)
+                    ax.plot(x[okc], yc[okc], marker="s", ms=3, lw=1.0, ls="--", color=f"C{m}")
             ax.set_xlabel(xlabel)
             ax.set_ylabel(f"{sym} [{unit}]")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, lw=0.3)
             if other is not None and i == 0:
                 ax.legend(fontsize=7, title=olabel, title_fontsize=7)
-    fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness)", fontsize=10)
+    fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness): solid, direct "
+                 "(the other coordinates held); dashed, compliant (the others free)", fontsize=10)
     _save(fig, path)
     return notes
 
@@ -162,7 +175,12 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
             "stiffness k_θ (about the axis normal to the radial load) are the direct terms of the quasi-static "
             "tangent stiffness of the inner ring at the steady loads (those the profile applies in the middle "
             "of its steady phase): Hertz's law at every contact, the balls in equilibrium, rigid rings, "
-            "differentiated about the equilibrium. They are in N/µm and N m/mrad. Being quasi-static, they do not "
+            "differentiated about the equilibrium. A direct term is the load per unit displacement in its own "
+            "direction with every other coordinate held; beside it (dashed) the compliant stiffness 1/C_ii, "
+            "C = K⁻¹, with every other coordinate free, which is what a single load change meets (with the "
+            "ring's tilt free, a radial load also tilts the ring, and the compliant k_r is much lower). "
+            f"The inner ring's tilt was {ctx.sweep.attrs.get('inner_ring_tilt', 'free')} "
+            "(`inner_ring.tilt`). They are in N/µm and N m/mrad. Being quasi-static, they do not "
             "depend on the speed except through the loads.")
     fc, w = centrifugal_ball_load(ctx)
     if math.isfinite(fc):

@@ -75,8 +75,8 @@ class Column:
 
 #: The quantities of the summary table, in column order (after speed and radial load).
 COLUMNS = (
-    Column("safety", "min static safety factor s₀ (ISO 76) [1]", "static_safety_factor_min", over="min",
-           figure="smallest static safety factor s₀ over the cycle [1]"),
+    Column("safety", "min static safety factor s₀ = (4200 MPa/p_max)³ (ISO 76) [1]", "static_safety_factor_min",
+           over="min", figure="smallest static safety factor s₀ = (4200 MPa/p_max)³ over the cycle [1]"),
     Column("life_mrev", "L10r of the duty cycle [Mrev]", "rating_life_L10r", scale=1e-6,
            figure="rating life L10r of the duty cycle [Mrev]"),
     Column("life_cycles", "L10r of the duty cycle [cycles]", "rating_life_cycles"),

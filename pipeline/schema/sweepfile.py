@@ -107,11 +107,8 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-#: 5 (issue 11): the drive torque's phase mean from the stages' weighted torque, its peak
-#: band-limited to 1 kHz (rvcore.integrator.TORQUE_BANDWIDTH).
-#: 6 (issue 11): the band-limited peak drive torque's unfiltered inertial part weighed
-#: over the stages as the step's torque is (only that peak moves, in both integrators).
-MODEL_VERSION = 6
+#: What each version changed is in CHANGELOG.md.
+MODEL_VERSION = 7
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")

@@ -49,7 +49,7 @@ def made_up(name: str, speed_deg: float, load: float) -> np.ndarray:
         return np.array([0.5, 2.0, 4.0])
     if name in DESIGNER_SCALARS:
         return np.array(1e7 * x + {"rating_life_L10r": 1, "rating_life_cycles": 2, "fatigue_damage_cycle": 3,
-                                   "reference_rating_life_L10r": 4, "basic_rating_life_L10": 5}[name] * 1e5)
+                                   "reference_rating_life_L10r": 4, "basic_rating_life_L10": 5}.get(name, 6) * 1e5)
     scale = {"max_race_pv_peak": 1e7, "max_race_sliding_speed_peak": 0.01}.get(name, 10.0)
     return scale * x * per_phase
 
