@@ -32,7 +32,8 @@ import re
 from dataclasses import dataclass
 
 from rvcore.driver import SolverSettings
-from rvcore.geometry import MOUNTINGS, ContactLaw
+from rvcore.friction_moment import LUBRICATIONS
+from rvcore.geometry import MOUNTINGS, ContactLaw, Lubricant
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 
@@ -202,6 +203,14 @@ _BEARING = [
        bounds="nonnegative", default=_default(ContactLaw, "mu_dynamic"), source="contact.mu_dynamic"),
     _q("friction.v_dynamic", "speed", "m/s", "sliding speed from which friction is dynamic (> v_static)",
        default=_default(ContactLaw, "v_dynamic"), source="contact.v_dynamic"),
+    _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
+       "kinematic viscosity of the oil (a grease: its base oil) at the operating temperature, for the "
+       "friction-moment estimate only; default ISO VG 68 at 40 degC, an assumption",
+       default=_default(Lubricant, "kinematic_viscosity"), source="lubricant.kinematic_viscosity",
+       why="must be positive: a kinematic viscosity is a positive quantity (e.g. \"68 mm^2/s\")"),
+    Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
+          doc="how the bearing is lubricated, for the friction-moment estimate's f0 (Palmgren); "
+              "default grease, an assumption", source="lubricant.method"),
     _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
     _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
        source="rows[].axial_position"),
