@@ -387,7 +387,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         settings = dataclasses.replace(base_settings, **solver_over)
         settings = dataclasses.replace(settings, seed=int(settings.seed))
         if solver_over:
-            check_settings(settings, file, next(w for (t, _, _, _, w) in merged.values() if t == "solver"))
+            check_settings(settings, file, {inner: w for (t, inner, _, _, w) in merged.values() if t == "solver"})
         bearing = resolver.bearing(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
                                          if t == "bearing"))
         profile = resolver.profile(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
