@@ -32,10 +32,11 @@ import re
 from dataclasses import dataclass
 
 from rvcore.driver import SolverSettings
-from rvcore.friction_moment import LUBRICATIONS
-from rvcore.geometry import MOUNTINGS, ContactLaw, Lubricant
+from rvcore.geometry import MOUNTINGS, ContactLaw
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
+from rvcore.friction_moment import LUBRICATIONS
+from rvcore.geometry import Lubricant
 
 from ..errors import ConfigError
 
