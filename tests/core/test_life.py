@@ -150,7 +150,18 @@ def test_duty_cycle_at_one_point_equals_static_l10r(alpha_deg, fr, fa):
     assert dc["rating_life_L10r_Mrev"] == pytest.approx(static, rel=0.01)
     assert dc["rating_life_L10r"] == pytest.approx(static * 1e6, rel=0.01)
     assert dc["rating_life_cycles"] == pytest.approx(static * 1e6 / revs.sum(), rel=0.01)
-    assert dc["fatigue_damage_cycle"] == pytest.approx(1 / dc["rating_life_cycles"], rel=1e-12)
+    # the cycle's damage is its revolutions over the static L10r, written here from the
+    # contact ratings and the ball loads (ISO/TS 16281 eq. (25), (26), (29))
+    q_ci, q_ce = life.bearing_contact_ratings(b)
+    inner = (st.ball_loads * (st.arc_rings == 0)).sum(axis=1)
+    outer = (st.ball_loads * (st.arc_rings != 0)).sum(axis=1)
+    l_i = (q_ci / np.mean(inner ** 3) ** (1 / 3)) ** 3
+    l_e = (q_ce / np.mean(outer ** (10 / 3)) ** 0.3) ** 3
+    l10r_by_hand = (l_i ** (-10 / 9) + l_e ** (-10 / 9)) ** -0.9 * 1e6           # [rev]
+    assert dc["fatigue_damage_cycle"] == pytest.approx(revs.sum() / l10r_by_hand, rel=1e-9)
+    # Palmgren–Miner: twice the revolutions at the same loads, twice the damage
+    twice = life.duty_cycle_life(b, _hand_life_sums(b, st, 2 * revs))
+    assert twice["fatigue_damage_cycle"] == pytest.approx(2 * dc["fatigue_damage_cycle"], rel=1e-12)
     np.testing.assert_allclose(dc["fatigue_damage"], dc["fatigue_damage_cycle"] * revs / revs.sum(), rtol=1e-9)
     # the helper that builds the same sums agrees with the hand-built ones
     assert life.duty_cycle_life(b, life.life_sums_at(b, st, revs))["rating_life_L10r"] == \
