@@ -216,6 +216,28 @@ class ContactLaw:
 
 
 @dataclass(frozen=True)
+class Lubricant:
+    """The lubricant, as the friction-moment estimate needs it (:mod:`rvcore.friction_moment`).
+
+    Parameters
+    ----------
+    kinematic_viscosity : float
+        Kinematic viscosity of the oil (of a grease: its base oil) at the operating
+        temperature [m^2 s^-1]. Default 68 mm²/s: ISO VG 68 at 40 °C, an assumption (the
+        study names no lubricant).
+    method : str
+        How the bearing is lubricated: ``"grease"`` (the default, an assumption),
+        ``"oil-mist"``, ``"oil-bath"`` or ``"oil-jet"`` (Palmgren's ``f_0`` table).
+
+    Neither value enters the dynamics: the model's contact friction law does not depend
+    on the lubricant.
+    """
+
+    kinematic_viscosity: float = 68e-6
+    method: str = "grease"
+
+
+@dataclass(frozen=True)
 class Bearing:
     """A whole bearing: envelope, rows, rings, materials and contact law.
 
@@ -228,7 +250,8 @@ class Bearing:
     ``gravity`` is the gravitational acceleration in the bearing frame [m s^-2], set by
     the mounting (:data:`MOUNTINGS`; horizontal axis by default).
     ``dynamic_load_rating`` is the catalogue basic dynamic radial load rating C_r [N]
-    (ISO 281); 0 means "from the geometry" (:mod:`rvcore.life`). ``warnings`` carries caveats that every output of a run must repeat (for example a
+    (ISO 281); 0 means "from the geometry" (:mod:`rvcore.life`). ``lubricant`` is what
+    the friction-moment estimate takes (:class:`Lubricant`; not used by the dynamics). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
     dotted keys whose values the source does not give.
     """
@@ -250,6 +273,7 @@ class Bearing:
     preload: float = 0.0
     preload_offset: float = 0.0
     dynamic_load_rating: float = 0.0
+    lubricant: Lubricant = Lubricant()
     source: str = ""
     description: str = ""
     extra: dict = field(default_factory=dict, compare=False, hash=False)

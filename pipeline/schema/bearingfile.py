@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row,
+from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
                              geometry_problems)
 
 from ..errors import ConfigError
@@ -262,6 +262,11 @@ def _contact(top: Table) -> ContactLaw:
     return contact
 
 
+def _lubricant(top: Table) -> Lubricant:
+    lub = top.table("lubricant", required=False)
+    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity"), method=lub.get("method"))
+
+
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     """Validate a bearing file's contents and build the :class:`rvcore.geometry.Bearing`.
 
@@ -303,7 +308,8 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       arrangement=arrangement, preload=preload, preload_offset=offset,
                       source=top.get("source"), description=top.get("description"),
                       # left out: 0, "from the geometry" (rvcore.life)
-                      dynamic_load_rating=top.get("dynamic_load_rating", default=0.0))
+                      dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
+                      lubricant=_lubricant(top))
 
     warnings = []
     problems = list(geometry_problems(bearing)) + extra_geometry_problems(bearing)

@@ -35,6 +35,8 @@ from rvcore.driver import SolverSettings
 from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
+from rvcore.friction_moment import LUBRICATIONS
+from rvcore.geometry import Lubricant
 
 from ..errors import ConfigError
 
@@ -63,7 +65,8 @@ class Field:
     unit_kind : str or None
         A key of :data:`pipeline.schema.units.SI_UNITS` (quantities and lists of them).
     bounds : str, tuple or None
-        ``"positive"``, ``"nonnegative"``, an open interval ``(lo, hi)`` in SI, or None.
+        ``"positive"``, ``"nonnegative"``, ``"fraction"`` (``0 < x ≤ 1``), an open
+        interval ``(lo, hi)`` in SI, or None.
     default :
         The value (SI) when the key is left out, or :data:`REQUIRED`.
     unit : str
@@ -121,6 +124,8 @@ class Field:
             return "> 0"
         if b == "nonnegative":
             return ">= 0"
+        if b == "fraction":
+            return "in (0, 1]"
         if isinstance(b, tuple):
             return f"in ({b[0]:g}, {b[1]:g}) SI"
         if self.minimum is not None:
@@ -205,6 +210,14 @@ _BEARING = [
        bounds="nonnegative", default=_default(ContactLaw, "mu_dynamic"), source="contact.mu_dynamic"),
     _q("friction.v_dynamic", "speed", "m/s", "sliding speed from which friction is dynamic (> v_static)",
        default=_default(ContactLaw, "v_dynamic"), source="contact.v_dynamic"),
+    _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
+       "kinematic viscosity of the oil (a grease: its base oil) at the operating temperature, for the "
+       "friction-moment estimate only; default ISO VG 68 at 40 degC, an assumption",
+       default=_default(Lubricant, "kinematic_viscosity"), source="lubricant.kinematic_viscosity",
+       why="must be positive: a kinematic viscosity is a positive quantity (e.g. \"68 mm^2/s\")"),
+    Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
+          doc="how the bearing is lubricated, for the friction-moment estimate's f0 (Palmgren); "
+              "default grease, an assumption", source="lubricant.method"),
     _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
     _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
        source="rows[].axial_position"),
@@ -284,7 +297,7 @@ _PROFILE += [Field(f"phases.{_p}", "list", "profile", "time", "nonnegative", uni
 _SOLVER_DOC = {
     "output_rate": ("frequency", "Hz", "positive", "stored samples per second"),
     "method": (None, "", None, "integrator: rk4 (the reference) or imex (friction and damping implicit)"),
-    "step_safety": ("dimensionless", "", "positive", "fraction of the method's explicit stability limit"),
+    "step_safety": ("dimensionless", "", "fraction", "fraction of the method's explicit stability limit"),
     "time_step": ("time", "us", "nonnegative", "fixed step; 0 derives it from the stiffest contact"),
     "start_time": ("time", "s", "nonnegative", "start of the simulated window"),
     "end_time": ("time", "s", "nonnegative", "end of the simulated window; 0: the profile's duration"),
@@ -293,6 +306,11 @@ _SOLVER_DOC = {
     "gravity": (None, "", None, "gravity on every body (false only for conservation checks)"),
     "seed": (None, "", None, "seed of the random start; -1: every ball at its pocket centre"),
 }
+
+
+#: Reasons given when a solver setting is out of its bounds, where the generic one says too little.
+_SOLVER_WHY = {"step_safety": "must lie in (0, 1]: it is a fraction of the method's explicit stability "
+                              "limit, and 1 is that limit (a larger step may diverge or silently lose accuracy)"}
 
 
 def _solver_field(f) -> Field:
@@ -305,7 +323,8 @@ def _solver_field(f) -> Field:
         return Field(path, "choice", "solver", default=f.default, choices=METHODS, doc=doc, source=f.name)
     if isinstance(f.default, int):
         return Field(path, "integer", "solver", default=f.default, minimum=-1, doc=doc, source=f.name)
-    return _q(path, unit_kind, unit, doc, file="solver", bounds=bounds, default=f.default, source=f.name)
+    return _q(path, unit_kind, unit, doc, file="solver", bounds=bounds, default=f.default, source=f.name,
+              why=_SOLVER_WHY.get(f.name, ""))
 
 
 _SOLVER = [_solver_field(f) for f in dataclasses.fields(SolverSettings)]

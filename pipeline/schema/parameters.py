@@ -19,7 +19,7 @@ __all__ = ["ParameterRow", "parameter_table", "format_value", "display_unit", "r
 #: How a reader is shown the schema's file units (which stay ASCII so that a value can be
 #: pasted back into a TOML file): symbols in place of the ASCII spellings.
 _DISPLAY_UNITS = {"deg/s": "°/s", "deg": "°", "um": "µm", "us": "µs", "kg/m^3": "kg/m³", "kg m^2": "kg m²",
-                  "m/s^2": "m/s²", "N/m^1.5": "N/m¹·⁵"}
+                  "m/s^2": "m/s²", "N/m^1.5": "N/m¹·⁵", "mm^2/s": "mm²/s"}
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 

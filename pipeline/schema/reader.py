@@ -42,6 +42,8 @@ def check_quantity(v, kind, file, key, bounds=None, why=""):
         raise ConfigError(file, key, v, why or f"must be positive (got {x:g} in SI)")
     if bounds == "nonnegative" and x < 0:
         raise ConfigError(file, key, v, why or f"must not be negative (got {x:g} in SI)")
+    if bounds == "fraction" and not 0 < x <= 1:
+        raise ConfigError(file, key, v, why or f"must lie in (0, 1] (got {x:g})")
     if isinstance(bounds, tuple) and not bounds[0] < x < bounds[1]:
         raise ConfigError(file, key, v, why or f"must lie strictly between {bounds[0]:g} and "
                                                f"{bounds[1]:g} (got {x:g} in SI)")

@@ -343,18 +343,27 @@ def check_operating_point(values: dict, file, where: dict):
             raise ConfigError(file, where.get(k, k), values[k], f.why or "must not be negative")
 
 
-def check_settings(settings: SolverSettings, file, where: str):
-    """The solver settings within the schema's bounds, and the window in order."""
+def check_settings(settings: SolverSettings, file, where):
+    """The solver settings within the schema's bounds, and the window in order.
+
+    ``where`` names the table (``"solver"``: keys ``solver.<name>``), or maps a setting's
+    name to the key its value was written under (a case's axis or ``[fixed]`` entry);
+    settings it does not name are ``solver.<name>``."""
+    def key(k):
+        return where.get(k, f"solver.{k}") if isinstance(where, dict) else f"{where}.{k}"
+
     for k, f in fields.solver_fields().items():
         x = getattr(settings, k)
         if f.bounds == "positive" and not x > 0:
-            raise ConfigError(file, f"{where}.{k}", x, "must be positive")
+            raise ConfigError(file, key(k), x, "must be positive")
         if f.bounds == "nonnegative" and x < 0:
-            raise ConfigError(file, f"{where}.{k}", x, "must not be negative")
+            raise ConfigError(file, key(k), x, "must not be negative")
+        if f.bounds == "fraction" and not 0 < x <= 1:
+            raise ConfigError(file, key(k), x, f.why or "must lie in (0, 1]")
         if f.kind == "choice":
-            check_value(f, x, file, f"{where}.{k}")
+            check_value(f, x, file, key(k))
     if settings.end_time and settings.end_time <= settings.start_time:
-        raise ConfigError(file, f"{where}.end_time", settings.end_time,
+        raise ConfigError(file, key("end_time"), settings.end_time,
                           "must come after start_time (or be 0: the profile's duration)")
 
 def sort_key(c):

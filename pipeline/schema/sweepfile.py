@@ -76,7 +76,9 @@ resolved bearing, profile, solver settings and operating point, all in SI, and
 changed value gives new ids to exactly the cases it changes. ``solver.method`` is
 hashed only when it is not ``"rk4"``: RK4 was the only integrator when the
 ``MODEL_VERSION`` 4 ids were made, so an RK4 case keeps its id (and a resumed sweep its
-results), while an IMEX case of the same point gets another.
+results), while an IMEX case of the same point gets another. Likewise the bearing's ``lubricant``
+(added after the ``MODEL_VERSION`` 6 ids, used only by the friction-moment estimate) is
+hashed only when it is not the default (68 mm²/s, grease).
 """
 from __future__ import annotations
 
@@ -88,7 +90,7 @@ from pathlib import Path
 import tomli_w
 
 from rvcore.driver import SolverSettings
-from rvcore.geometry import Bearing
+from rvcore.geometry import Bearing, Lubricant
 from rvcore.profile import OperatingPoint, Profile
 
 from ..errors import ConfigError
@@ -120,6 +122,19 @@ _PROFILE_METADATA = ("description",)
 #: Solver settings added after MODEL_VERSION 4 was pinned, with the value every earlier
 #: case ran with: hashed only when a case differs from it, so that the earlier ids hold.
 _SOLVER_SINCE_PINNED = {"method": "rk4"}
+
+#: Bearing values added after MODEL_VERSION 6 was pinned, with the value every earlier
+#: case had: hashed and stored only when a bearing differs from it, so that the earlier
+#: case ids hold. The lubricant enters only the friction-moment estimate
+#: (rvcore.friction_moment), not the dynamics.
+_BEARING_SINCE_PINNED = {"lubricant": plain(Lubricant())}
+
+
+def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
+    """The bearing's plain form as hashed and stored: ``drop`` left out, and the values of
+    :data:`_BEARING_SINCE_PINNED` left out where they are the pinned ones."""
+    return {k: v for k, v in plain(bearing).items()
+            if k not in drop and not (k in _BEARING_SINCE_PINNED and v == _BEARING_SINCE_PINNED[k])}
 
 
 def _solver_plain(settings: SolverSettings) -> dict:
@@ -200,7 +215,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
     The solver settings carry the seed of the random start, so each realization of an
     ensemble has its own id, and the integrator when it is not RK4 (``_solver_plain``).
     """
-    b = {k: v for k, v in plain(bearing).items() if k not in _BEARING_METADATA}
+    b = _bearing_plain(bearing, _BEARING_METADATA)
     p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}
     conf = {"model_version": MODEL_VERSION, "operating_point": plain(op),
             "solver": _solver_plain(settings), "bearing": b, "profile": p}
@@ -369,7 +384,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         settings = dataclasses.replace(base_settings, **solver_over)
         settings = dataclasses.replace(settings, seed=int(settings.seed))
         if solver_over:
-            check_settings(settings, file, next(w for (t, _, _, _, w) in merged.values() if t == "solver"))
+            check_settings(settings, file, {inner: w for (t, inner, _, _, w) in merged.values() if t == "solver"})
         bearing = resolver.bearing(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
                                          if t == "bearing"))
         profile = resolver.profile(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
@@ -397,7 +412,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "fixed": {k: coord for k, (_, _, _, coord) in fixed.items()},
         "solver": _solver_plain(base_settings),
         "case_ids": [c.case_id for c in cases],
-        "bearing": {k: v for k, v in plain(base_bearing).items() if k != "extra"},
+        "bearing": _bearing_plain(base_bearing),
         "profile": plain(base_profile),
         "sensors": plain(list(sensors)),
     }

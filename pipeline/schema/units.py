@@ -29,6 +29,7 @@ SI_UNITS = {
     "stiffness": "N/m",
     "damping": "N*s/m",
     "inertia": "kg*m**2",
+    "kinematic_viscosity": "m**2/s",
     "frequency": "Hz",
     "dimensionless": "dimensionless",
 }

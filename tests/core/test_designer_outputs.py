@@ -141,8 +141,9 @@ def test_case_file_labels_every_new_output():
 
 def test_duty_cycle_life_reaches_the_case_file():
     """With rvcore.life (issue 10's other half) the case file holds the duty-cycle life:
-    the scalars, and the damage per phase, whose sum over phases that cover the cycle is
-    the cycle's damage, the inverse of the life in cycles."""
+    the scalars, the cycle's damage as the test computes it from the run's accumulated
+    sums, and the damage per phase, whose sum over phases that cover the cycle is the
+    cycle's damage."""
     pytest.importorskip("rvcore.life")
     from pipeline.io.case import case_dataset
 
@@ -153,5 +154,12 @@ def test_duty_cycle_life_reaches_the_case_file():
     for name in ("rating_life_L10r", "rating_life_cycles", "fatigue_damage_cycle"):
         assert ds[name].dims == () and ds[name].attrs["units"] == "1" and ds[name].attrs["long_name"]
     assert ds["fatigue_damage"].dims == ("phase",)
-    assert float(ds["fatigue_damage_cycle"]) == pytest.approx(1.0 / float(ds["rating_life_cycles"]), rel=1e-9)
+    # the cycle's damage written here from the run's accumulated sums (Palmgren–Miner per
+    # ring, D_k = Σ dN·Q_e^3 / (10^6·Q_c^3), rings combined as ISO/TS 16281 eq. (29))
+    from rvcore.life import bearing_contact_ratings
+
+    q_ci, q_ce = bearing_contact_ratings(bearing)
+    d_i = res.life_sums["inner"][-1, 0] / (1e6 * q_ci ** 3)
+    d_e = res.life_sums["outer"][-1, 0] / (1e6 * q_ce ** 3)
+    assert float(ds["fatigue_damage_cycle"]) == pytest.approx((d_i ** (10 / 9) + d_e ** (10 / 9)) ** 0.9, rel=1e-9)
     assert float(ds["fatigue_damage"].sum()) == pytest.approx(float(ds["fatigue_damage_cycle"]), rel=1e-6)

@@ -150,7 +150,18 @@ def test_duty_cycle_at_one_point_equals_static_l10r(alpha_deg, fr, fa):
     assert dc["rating_life_L10r_Mrev"] == pytest.approx(static, rel=0.01)
     assert dc["rating_life_L10r"] == pytest.approx(static * 1e6, rel=0.01)
     assert dc["rating_life_cycles"] == pytest.approx(static * 1e6 / revs.sum(), rel=0.01)
-    assert dc["fatigue_damage_cycle"] == pytest.approx(1 / dc["rating_life_cycles"], rel=1e-12)
+    # the cycle's damage is its revolutions over the static L10r, written here from the
+    # contact ratings and the ball loads (ISO/TS 16281 eq. (25), (26), (29))
+    q_ci, q_ce = life.bearing_contact_ratings(b)
+    inner = (st.ball_loads * (st.arc_rings == 0)).sum(axis=1)
+    outer = (st.ball_loads * (st.arc_rings != 0)).sum(axis=1)
+    l_i = (q_ci / np.mean(inner ** 3) ** (1 / 3)) ** 3
+    l_e = (q_ce / np.mean(outer ** (10 / 3)) ** 0.3) ** 3
+    l10r_by_hand = (l_i ** (-10 / 9) + l_e ** (-10 / 9)) ** -0.9 * 1e6           # [rev]
+    assert dc["fatigue_damage_cycle"] == pytest.approx(revs.sum() / l10r_by_hand, rel=1e-9)
+    # Palmgren–Miner: twice the revolutions at the same loads, twice the damage
+    twice = life.duty_cycle_life(b, _hand_life_sums(b, st, 2 * revs))
+    assert twice["fatigue_damage_cycle"] == pytest.approx(2 * dc["fatigue_damage_cycle"], rel=1e-12)
     np.testing.assert_allclose(dc["fatigue_damage"], dc["fatigue_damage_cycle"] * revs / revs.sum(), rtol=1e-9)
     # the helper that builds the same sums agrees with the hand-built ones
     assert life.duty_cycle_life(b, life.life_sums_at(b, st, revs))["rating_life_L10r"] == \
@@ -271,3 +282,36 @@ def test_dynamic_constant_point_life_equals_static_l10r():
     # and the case's own cycle scalars are this module's
     assert res.life["rating_life_cycles"] == pytest.approx(
         life.duty_cycle_life(b, sums)["rating_life_cycles"], rel=1e-12)
+
+
+#: ISO 281:2007 Table 3, angular contact groove ball bearings, α = 15° (the study bearing's
+#: row), typed from the standard: i·f_0·F_a/C_0r, e, single row Y (F_a/F_r > e, X = 0.44),
+#: double row Y for F_a/F_r ≤ e (X = 1) and for F_a/F_r > e (X = 0.72).
+ISO281_TABLE3_15DEG = [
+    (0.178, 0.38, 1.47, 1.65, 2.39), (0.357, 0.40, 1.40, 1.57, 2.28), (0.714, 0.43, 1.30, 1.46, 2.11),
+    (1.07, 0.46, 1.23, 1.38, 2.00), (1.43, 0.47, 1.19, 1.34, 1.93), (2.14, 0.50, 1.12, 1.26, 1.82),
+    (3.57, 0.55, 1.02, 1.14, 1.66), (5.35, 0.56, 1.00, 1.12, 1.63), (7.14, 0.56, 1.00, 1.12, 1.63)]
+
+
+@pytest.mark.parametrize("rel, e, y1, y2_low, y2_high", ISO281_TABLE3_15DEG)
+def test_table3_15_degree_row_of_the_study_bearing(rel, e, y1, y2_low, y2_high):
+    """ISO 281 Table 3 at α = 15° for the study bearing (Z = 51, D_w = 23 mm). With ISO 76's
+    C_0r = f_0·i·Z·D_w²·cos α the relative axial load i·f_0·F_a/C_0r is F_a/(Z·D_w²·cos α)
+    [N, mm], so the axial load of each row of the table is set here from that; F_r puts
+    F_a/F_r at twice e (above) and half e (below)."""
+    a, z, d = math.radians(15.0), 51, 0.023
+    fa = rel * z * 23.0 ** 2 * math.cos(a)
+    above, below = fa / (2 * e), fa / (0.5 * e)
+    for got, want in ((life.xy_factors(above, fa, a, z, d), (0.44, y1, e)),
+                      (life.xy_factors(below, fa, a, z, d), (1.0, 0.0, e)),
+                      (life.xy_factors(above, fa, a, z, d, double_row=True, rows=2), (0.72, y2_high, e)),
+                      (life.xy_factors(below, fa, a, z, d, double_row=True, rows=2), (1.0, y2_low, e))):
+        assert got == pytest.approx(want, abs=1e-9)
+
+
+def test_table3_15_degree_interpolates_between_rows():
+    """Halfway between the 1.07 and 1.43 rows: e = 0.465, single-row Y = 1.21 (linear, as
+    ISO 281 allows)."""
+    a, z = math.radians(15.0), 51
+    fa = (1.07 + 1.43) / 2 * z * 23.0 ** 2 * math.cos(a)
+    assert life.xy_factors(fa, fa, a, z, 0.023) == pytest.approx((0.44, 1.21, 0.465), abs=1e-9)
