@@ -41,6 +41,7 @@ from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, 
 from .imex import B1, B2, B3, B4, GAMMA, imex_step
 from .model import (BALL_STATES, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_POCKET0, R_Z)
+from .static_rating import ISO76_BALL_PRESSURE
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
 
 #: Output columns of ``out``, in order, by their pipeline.md names; the sensor readings
@@ -59,7 +60,7 @@ OUTPUT_SERIES = ("inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_til
 
 #: ISO 76 (radial ball bearings): the contact pressure at the most heavily loaded
 #: ball–race contact under the basic static load rating C_0, 4200 MPa.
-ISO76_BALL_STRESS = 4.2e9
+ISO76_BALL_STRESS = ISO76_BALL_PRESSURE
 N_OUT = len(OUTPUT_SERIES)
 
 #: Tracked signals, one accumulator block each per phase: δ_r, δ_a, then sensor s at

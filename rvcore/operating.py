@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
 from .quasistatic import StaticResult, solve_statics
 
@@ -65,6 +67,18 @@ STEADY_OUTPUTS = {
     "tilting_stiffness_compliant": ("N m rad-1", "tilting stiffness at the steady operating point with every other "
                                                  "coordinate free, 1/C of the compliance C = K^-1 (NaN for a held "
                                                  "ring)"),
+    "static_safety_factor_steady": ("1", "ISO 76 static safety factor s0 = (4200 MPa / p_max)^3 from the peak "
+                                         "ball-race Hertz pressure of the statics at the steady operating point"),
+    "static_safety_factor_catalogue": ("1", "ISO 76 static safety factor s0 = C0r/P0r by the catalogue formula at "
+                                            "the steady loads: C0r = f0 i Z Dw^2 cos(alpha) (ISO 76 Table 1 f0), "
+                                            "P0r = max(X0 Fr + Y0 Fa, Fr) (NaN: not rated)"),
+    "friction_moment_palmgren": ("N m", "Palmgren's estimate of the bearing's friction moment at the steady "
+                                        "operating point, M = f1 F_beta d_m + M_v (Harris & Kotzalas; load and "
+                                        "viscous terms; NaN where it does not apply: pairs, four-point rows)"),
+    "friction_moment_palmgren_load": ("N m", "load term f1 F_beta d_m of Palmgren's friction moment at the "
+                                             "steady operating point"),
+    "friction_moment_palmgren_viscous": ("N m", "viscous term M_v of Palmgren's friction moment at the steady "
+                                                "speed, with the bearing's lubricant viscosity"),
     "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady operating point, in "
                                    "revolutions of the inner ring (90 % reliability, no life modification factor; "
                                    "NaN: not rated or nothing loaded)"),
@@ -87,6 +101,34 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     out.update(zip(("radial_stiffness_compliant", "axial_stiffness_compliant", "tilting_stiffness_compliant"),
                    st.free_stiffness_scalars()))
     out.update(_steady_lives(bearing, st))
+    out.update(_steady_ratings(bearing, st, abs(op.speed)))
+    return out
+
+
+def _steady_ratings(bearing, st: StaticResult, speed: float) -> dict:
+    """ISO 76's s0 both ways and Palmgren's friction moment at the equilibrium (the loads it
+    carries, the ring's weight included) and ``speed`` [rad s^-1]; NaN where not rated."""
+    from .friction_moment import FrictionMomentError, friction_moment
+    from .life import LifeError
+    from .static_rating import StaticRatingError, static_safety_factor, static_safety_factor_from_pressure
+
+    fr, fa = float(np.hypot(*st.applied[:2])), float(abs(st.applied[2]))
+    nan = float("nan")
+    s0 = float(static_safety_factor_from_pressure(st.max_contact_pressure))
+    out = {"static_safety_factor_steady": s0 if math.isfinite(s0) else nan}
+    try:
+        cat = static_safety_factor(bearing, fr, fa)["static_safety_factor"]
+        out["static_safety_factor_catalogue"] = cat if math.isfinite(cat) else nan
+    except (LifeError, StaticRatingError):
+        out["static_safety_factor_catalogue"] = nan
+    try:
+        m = friction_moment(bearing, fr, fa, speed)
+        out.update({"friction_moment_palmgren": m["friction_moment_N_m"],
+                    "friction_moment_palmgren_load": m["load_moment_N_m"],
+                    "friction_moment_palmgren_viscous": m["viscous_moment_N_m"]})
+    except (LifeError, StaticRatingError, FrictionMomentError):
+        out.update(dict.fromkeys(("friction_moment_palmgren", "friction_moment_palmgren_load",
+                                  "friction_moment_palmgren_viscous"), nan))
     return out
 
 

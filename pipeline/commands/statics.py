@@ -83,6 +83,7 @@ def run(args):
         life = dict.fromkeys(("reference_rating_life_L10r_Mrev", "basic_rating_life_L10_Mrev",
                               "dynamic_load_rating_N", "equivalent_load_N"), math.nan)
         life_note = str(exc)
+    ratings = _ratings(bearing, st, fr, fa)
     if args.json:
         obj = {
             "bearing": bearing.name,
@@ -144,6 +145,17 @@ def run(args):
                                  "factor; L10r per ISO/TS 16281 from the ball loads, L10 per ISO 281 with "
                                  "P = X F_r + Y F_a; null: infinite (nothing loaded) or not rated"
                                  + (f" ({life_note})" if life_note else "")),
+            **{k: _finite(v) if isinstance(v, float) else v for k, v in ratings.items()},
+            "static_safety_factor_note": ("ISO 76 3.6 s0 = C0/P0, a load ratio, two ways: "
+                                          "static_safety_factor_pressure = (4200 MPa / max_contact_pressure)^3 from "
+                                          "this load distribution (ISO 76 3.2: 4200 MPa at C0; p_max ~ Q^(1/3)); "
+                                          "static_safety_factor_catalogue = C0r/P0r, C0r = f0 i Z Dw^2 cos(alpha) "
+                                          "(6.1.1, Table 1), P0r = max(X0 Fr + Y0 Fa, Fr) (6.2, Table 2): "
+                                          "Stribeck's idealised distribution, no tilt, no moment"),
+            "friction_moment_note": ("Palmgren's load term f1 F_beta d_m (Harris & Kotzalas) at these loads; its "
+                                     "viscous term needs a speed and is in each case file "
+                                     "(friction_moment_palmgren_viscous); null where it does not apply (pairs, "
+                                     "four-point rows)"),
             "warnings": list(bearing.warnings),
         }
         if pair:
@@ -175,6 +187,11 @@ def run(args):
           f"(more than {LOADED_BALL_LOAD:g} N on both races)")
     print(f"  max contact load     {st.max_contact_load:10.1f} N")
     print(f"  max Hertz pressure   {st.max_contact_pressure / 1e9:10.4f} GPa")
+    print(f"  static safety s0     {_num(ratings['static_safety_factor_pressure'])} = (4200 MPa/p_max)^3, "
+          f"{_num(ratings['static_safety_factor_catalogue'])} = C0r/P0r (ISO 76; C0r "
+          f"{_num(ratings['static_load_rating_N'] / 1e3)} kN, P0r {_num(ratings['static_equivalent_load_N'] / 1e3)} kN)")
+    print(f"  friction moment      {_num(ratings['friction_moment_load_term_Nm'])} N m (Palmgren's load term; the "
+          "model's own torque is in a simulation)")
     # engineering units: N/m -> N/um, N m/rad -> N m/mrad
     # direct: every other coordinate held; compliant: every other coordinate free
     print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um direct, {kc_radial * 1e-6:.4g} N/um compliant "
@@ -190,6 +207,33 @@ def run(args):
         angles = " ".join("   -  " if math.isnan(a) else f"{math.degrees(a):6.2f}" for a in st.contact_angles[j])
         print(f"  {j:4d}  {math.degrees(st.azimuths[j]):12.2f}  {q_in[j]:10.2f}  {q_out[j]:10.2f}  {angles}")
     return 0
+
+
+def _num(x) -> str:
+    """``x`` to 4 significant digits, or '-' where not rated."""
+    return f"{x:10.4g}" if x is not None and math.isfinite(x) else "         -"
+
+
+def _ratings(bearing, st, fr: float, fa: float) -> dict:
+    """ISO 76's s0 both ways and Palmgren's load term at these loads [SI]; NaN where not rated."""
+    from rvcore.friction_moment import FrictionMomentError, friction_moment
+    from rvcore.life import LifeError
+    from rvcore.static_rating import (StaticRatingError, static_safety_factor,
+                                      static_safety_factor_from_pressure)
+
+    out = {"static_safety_factor_pressure": float(static_safety_factor_from_pressure(st.max_contact_pressure))}
+    try:
+        cat = static_safety_factor(bearing, fr, abs(fa))
+    except (LifeError, StaticRatingError):
+        cat = dict.fromkeys(("static_safety_factor", "static_load_rating_N", "static_equivalent_load_N"), math.nan)
+    out["static_safety_factor_catalogue"] = float(cat["static_safety_factor"])
+    out["static_load_rating_N"] = float(cat["static_load_rating_N"])
+    out["static_equivalent_load_N"] = float(cat["static_equivalent_load_N"])
+    try:
+        out["friction_moment_load_term_Nm"] = float(friction_moment(bearing, fr, abs(fa), 0.0)["load_moment_N_m"])
+    except (LifeError, StaticRatingError, FrictionMomentError):
+        out["friction_moment_load_term_Nm"] = math.nan
+    return out
 
 
 def _print_life(life: dict, bearing, note: str) -> None:

@@ -52,6 +52,7 @@ from .sections_fits import _comparison, section_comparison, section_physics, sec
 from .select import _axis_specs, _base_states, _extreme_cases
 from .loads import section_load_distribution, solve_extremes
 from .stiffness import section_stiffness
+from .definitions import section_definitions
 from .summary import section_designer_figures, section_summary
 
 
@@ -163,6 +164,7 @@ def build_report(directory, reference=None) -> ReportFiles:
                                "its results are reported with that caveat:\n" + "\n".join(caveats)))
     summary_blocks, summary, summary_path = section_summary(ctx, outdir)
     blocks += summary_blocks
+    blocks += section_definitions(ctx)
     blocks += section_cases(ctx)
     figures = []
     designer_blocks, designer_figures = section_designer_figures(ctx, summary, figdir)
