@@ -66,7 +66,8 @@ def section_definitions(ctx: Context) -> list:
         "bearings is the contact pressure at C₀, and a Hertz pressure goes as the load^(1/3), so from a peak "
         "pressure s₀ = (4200 MPa / p_max)³. The catalogue formula takes Stribeck's idealised load distribution "
         "(Q_max = 5 F_r / (Z cos α)), ISO 76's osculations 0.52/0.53, no tilt and no moment; the pressure route "
-        "takes this bearing's own load distribution. They differ by that much and no more."))
+        "takes this bearing's own load distribution, so the two differ by how far that distribution departs from "
+        "the idealisation."))
     blocks.append(Table(["s₀", "definition", "over the sweep"], rows))
     stiff = [(f"{k} stiffness", _span(ctx, f"{k}_stiffness", f), _span(ctx, f"{k}_stiffness_compliant", f), u)
              for k, f, u in (("radial", 1e-6, "N/µm"), ("axial", 1e-6, "N/µm"), ("tilting", 1e-3, "N m/mrad"))]
