@@ -6,6 +6,7 @@ import sys
 from pathlib import Path
 
 from ..errors import UserError
+from ..io.folders import writable_folder
 from ._common import SHIPPED_HELP, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
@@ -54,6 +55,7 @@ def run(args) -> int:
                             "--scheduler, --scheduler-file or --serial")
     sweep = load_sweep(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
+    writable_folder(out / "cases", f"--out {args.out}")
     previous = signal.getsignal(signal.SIGTERM)
     try:
         signal.signal(signal.SIGTERM, _terminate_as_interrupt)   # a kill saves like Ctrl-C
