@@ -86,3 +86,19 @@ def test_a_negative_speed_axis_is_refused(tmp_path):
     with pytest.raises(ConfigError) as err:
         load_sweep(path)
     assert "axes.speed[0]" in str(err.value) and "must not be negative" in str(err.value)
+
+
+def test_check_prints_the_overlap_warning_once(capsys):
+    """The default check reads the study sweep and its bearing: both carry the caveat."""
+    assert main(["check"]) == 0
+    out, err = capsys.readouterr()
+    assert (out + err).count("need a pitch diameter of at least") == 1, out + err
+    assert "warning:" in err
+
+
+@pytest.mark.parametrize("path, kind", [("bearings/reduced-test.toml", "bearing"),
+                                        ("profiles/short.toml", "profile")])
+def test_sweep_given_another_kind_of_file_says_what_it_is(capsys, path, kind):
+    code = main(["sweep", str(REPO / "sweeps" / path), "--serial", "--no-progress"])
+    err = _one_line(capsys, code)
+    assert f"this is a {kind} file, not a sweep file" in err and "unknown key" not in err
