@@ -22,12 +22,14 @@ def run(args):
     from rvcore.driver import SimulationError
     from ..io import write_atomic
     from ..run import run_one_case
+    from ..run.estimate import say_if_compiling
 
     sweep = one_case_sweep(args, profile=args.profile)
     out = writable_file(args.out, f"--out {args.out}")   # before the case, not after it
     spec = sweep.cases[0]
     for w in spec.bearing.warnings:
         print(f"warning: {w}", file=sys.stderr)
+    say_if_compiling()
     t0 = time.perf_counter()
     try:
         ds = run_one_case(spec)
