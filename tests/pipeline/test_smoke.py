@@ -49,3 +49,19 @@ def test_smoke_report_compares_all_twelve_study_fits(smoke_run):
     rows = [line for line in text.splitlines() if re.match(r"\| Table [34], row \d", line)]
     assert len(rows) == 12
     assert all(line.rstrip(" |").split("|")[-2].strip() == "3" for line in rows)
+
+
+def test_the_report_says_what_was_run_under_its_title(smoke_run):
+    """Bearing, profile, grid, integrator and model version, from the sweep file itself."""
+    from pipeline.schema import MODEL_VERSION, load_sweep
+    from tests.pipeline.conftest import REPO
+
+    sweep = load_sweep(REPO / "sweeps" / "smoke.toml")
+    lines = (smoke_run.out / "report" / "report.md").read_text().splitlines()
+    assert lines[0] == "# Sweep report: smoke"
+    header = next(line for line in lines[1:] if line.strip())
+    assert header.startswith("**Run:**")
+    for text in (f"bearing {sweep.bearing.name}", f"profile {sweep.profile.name}",
+                 f"({sweep.profile.duration:g} s cycle)", f"= {len(sweep.cases)} cases",
+                 f"integrator {sweep.settings.method.upper()}", f"model version {MODEL_VERSION}"):
+        assert text in header, (text, header)
