@@ -3,7 +3,7 @@
 ``rvsweep sweep sweeps/smoke.toml --serial`` then ``rvsweep report``: 9 real cases of the
 reduced bearing (about 20 s serial once numba has compiled). Serial, so the default run
 starts no cluster for it; the same sweep on a local cluster is compared with a serial
-run in ``test_sweep.py`` (marked slow).
+run in ``tests/pipeline/test_sweep.py`` (marked slow).
 """
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[1]
 
 
 @dataclass
