@@ -87,6 +87,7 @@ def split_sets(items) -> tuple:
 
 def one_case_sweep(args, *, profile: str | None):
     """A one-case sweep built from the command line, validated like a sweep file."""
+    from ..errors import ConfigError
     from ..schema import sweep_from_dict
 
     fixed = {"speed": getattr(args, "speed", "0 deg/s"), "radial_load": args.radial_load,
@@ -104,7 +105,33 @@ def one_case_sweep(args, *, profile: str | None):
     raw = {"name": "cli", "bearing": str(input_file(args.bearing).resolve()),
            "profile": str(input_file(profile).resolve()) if profile else str(default_profile()),
            "solver": solver, "cases": [fixed]}
-    return sweep_from_dict(raw, Path.cwd() / "command line")
+    try:
+        return sweep_from_dict(raw, Path.cwd() / "command line")
+    except ConfigError as exc:
+        raise _as_typed(exc, args) from None
+
+
+#: The one-case sweep's keys and the options that set them.
+_FLAGS = {"speed": "--speed", "radial_load": "--radial-load", "axial_load": "--axial-load",
+          "moment": "--moment", "load_angle": "--load-angle"}
+
+
+def _as_typed(exc, args):
+    """A schema error about the command line's one case, told as the user typed it: the
+    option and its text ("--radial-load '30 kg'"), not the sweep's internal key and SI value."""
+    from ..errors import UserError
+
+    key = exc.key or ""
+    if exc.file != str(Path.cwd() / "command line"):
+        return exc   # about a bearing or profile file: that file's own message says it
+    if key.startswith("cases[0]."):
+        key = key[len("cases[0]."):]
+        if key in _FLAGS:
+            return UserError(f"{_FLAGS[key]} {getattr(args, key)!r}: {exc.reason}")
+    typed = next((item for item in args.set if item.split("=", 1)[0].strip() == key), None)
+    if typed is not None:
+        return UserError(f"--set {typed!r}: {exc.reason}")
+    return exc
 
 
 def default_profile() -> Path:

@@ -12,8 +12,9 @@ and ``duration``/``[phases]`` a profile. For a bearing it prints what it derived
 contact angle, groove ratios, radial clearance, Hertz K of the inner and outer contact at
 the nominal angle, ball mass, the epicyclic cage ratio, the smallest pitch diameter for
 the ball count, the masses of the inner ring and the cage, the row count and preload force
-(``row_count``, ``preload_N``: 0 for a single row), and the warnings. Warnings are
-repeated on stderr as ``warning: ...``.
+(``row_count``, ``preload_N``: 0 for a single row), and how many warnings it has. The
+warnings go to stderr as ``warning: <file>: ...``, each text once however many of the
+files checked carry it.
 
 Exit status 0 when every file is valid. Otherwise each invalid file's error is one line
 on stderr and the status is 2 (the last error is raised as a ConfigError and printed by
@@ -282,11 +283,14 @@ def _format_bearing(s: dict) -> list:
                  f"{_bearing_value('gravity', s['gravity_m_per_s2'])} in the bearing frame")
     if s["assumptions"]:
         lines.append(f"  assumptions ({len(s['assumptions'])}): {', '.join(s['assumptions'])}")
-    for w in s["warnings"]:
-        lines.append(f"  warning: {_explain(s, w)}")
-    if not s["warnings"]:
-        lines.append("  no warnings")
+    lines.append(_warning_count(s))
     return lines
+
+
+def _warning_count(s: dict) -> str:
+    """The summary's line about warnings; their text goes to stderr once (:func:`run`)."""
+    n = len(s["warnings"])
+    return f"  {n} warning{'s' if n != 1 else ''} (on stderr)" if n else "  no warnings"
 
 
 def _format_profile(s: dict) -> list:
@@ -317,7 +321,7 @@ def _format(s: dict) -> list:
     for attr in ("bearing_file", "profile_file"):
         if attr in s:
             lines.append(f"  {attr.replace('_file', '')}: {s[attr]}")
-    lines += [f"  warning: {_explain(s, w)}" for w in s["warnings"]]
+    lines.append(_warning_count(s))
     return lines
 
 
@@ -380,9 +384,15 @@ def run(args) -> int:
     else:
         for s in summaries:
             print("\n".join(_format(s)))
+    # Each warning once: a sweep carries its bearing's warnings, and the default check
+    # reads the sweep and its bearing, so the same text would come twice (four times when
+    # the summaries repeated it too).
+    seen = set()
     for s in summaries:
         for w in s["warnings"]:
-            print(f"warning: {s['file']}: {_explain(s, w)}", file=sys.stderr)
+            if w not in seen:
+                seen.add(w)
+                print(f"warning: {s['file']}: {_explain(s, w)}", file=sys.stderr)
     if errors:
         for exc in errors[:-1]:
             print(f"rvsweep check: error: {exc}", file=sys.stderr)

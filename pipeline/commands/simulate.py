@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import sys
 import time
-from pathlib import Path
 
 from ..errors import UserError
+from ..io.folders import writable_file
 from ._common import add_load_arguments, add_method_argument, one_case_sweep
 
 HELP = "one dynamic case through the duty cycle to a CF NetCDF file"
@@ -22,19 +22,19 @@ def run(args):
     from rvcore.driver import SimulationError
     from ..io import write_atomic
     from ..run import run_one_case
+    from ..run.estimate import say_if_compiling
 
     sweep = one_case_sweep(args, profile=args.profile)
+    out = writable_file(args.out, f"--out {args.out}")   # before the case, not after it
     spec = sweep.cases[0]
     for w in spec.bearing.warnings:
         print(f"warning: {w}", file=sys.stderr)
+    say_if_compiling()
     t0 = time.perf_counter()
     try:
         ds = run_one_case(spec)
     except SimulationError as exc:
         raise UserError(str(exc)) from None
-    out = Path(args.out)
-    if out.parent and not out.parent.exists():
-        out.parent.mkdir(parents=True)
     write_atomic(ds, out)
     wall = time.perf_counter() - t0
     m = ds

@@ -6,6 +6,9 @@ import sys
 from pathlib import Path
 
 from ..errors import UserError
+from ..io.folders import writable_folder
+from ..run.estimate import (CONFIRM_CASES, CONFIRM_SECONDS, duration_text, local_workers,
+                            sweep_seconds)
 from ._common import SHIPPED_HELP, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
@@ -29,6 +32,9 @@ def add_arguments(parser):
     parser.add_argument("--rerun", action="store_true",
                         help="recompute every case, even those whose file exists")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--yes", action="store_true",
+                        help=f"start a sweep of more than {CONFIRM_CASES} cases to compute or of "
+                             f"more than {CONFIRM_SECONDS / 3600:.0f} h estimated (refused without it)")
 
 
 def sweep_path(arg) -> Path:
@@ -36,6 +42,27 @@ def sweep_path(arg) -> Path:
     from ..schema.shipped import DEFAULT_SWEEP, shipped_file
 
     return shipped_file(DEFAULT_SWEEP) if arg is None else input_file(arg)
+
+
+def _announce(sweep, out: Path, args) -> None:
+    """Say what is about to run (cases, a rough time) and refuse a very large sweep
+    without --yes, before anything is computed."""
+    todo = [c for c in sweep.cases if args.rerun or not (out / "cases" / f"{c.case_id}.nc").is_file()]
+    external = bool(args.scheduler or args.scheduler_file)
+    workers = 1 if args.serial else local_workers(args.workers, len(todo))
+    line = f"{sweep.name}: {len(sweep.cases)} cases, {len(todo)} to compute"
+    if todo:
+        if external:
+            line += f", about {duration_text(sweep_seconds(todo, 1))} of one core in all (rough)"
+        else:
+            line += (f", about {duration_text(sweep_seconds(todo, workers))} on {workers} "
+                     f"worker{'s' if workers != 1 else ''} (rough estimate)")
+    print(line, flush=True)
+    seconds = sweep_seconds(todo, 1 if external else workers)
+    if (len(todo) > CONFIRM_CASES or seconds > CONFIRM_SECONDS) and not args.yes:
+        raise UserError(f"{sweep.file}: {len(todo)} cases to compute, about {duration_text(seconds)}: "
+                        f"more than {CONFIRM_CASES} cases or {CONFIRM_SECONDS / 3600:.0f} h starts "
+                        "only with --yes")
 
 
 def _terminate_as_interrupt(signum, frame):
@@ -54,6 +81,8 @@ def run(args) -> int:
                             "--scheduler, --scheduler-file or --serial")
     sweep = load_sweep(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
+    writable_folder(out / "cases", f"--out {args.out}")
+    _announce(sweep, out, args)
     previous = signal.getsignal(signal.SIGTERM)
     try:
         signal.signal(signal.SIGTERM, _terminate_as_interrupt)   # a kill saves like Ctrl-C

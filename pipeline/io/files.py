@@ -31,10 +31,29 @@ def history_line(text: str) -> str:
     return f"{utc_stamp()} {text}"
 
 
+def _umask() -> int:
+    """The process's umask. Linux shows it in /proc (read-only, so safe beside other
+    threads); elsewhere it can only be read by setting it and setting it back."""
+    try:
+        for line in Path("/proc/self/status").read_text().splitlines():
+            if line.startswith("Umask:"):
+                return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _temp_path(path: Path) -> Path:
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.{os.getpid()}.",
                                suffix=TEMP_SUFFIX)
-    os.close(fd)
+    try:
+        # mkstemp creates 0600 whatever the umask; the final file should have the mode any
+        # tool would give it (0666 less the umask), so others may read the results.
+        os.fchmod(fd, 0o666 & ~_umask())
+    finally:
+        os.close(fd)
     return Path(tmp)
 
 

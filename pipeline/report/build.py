@@ -121,6 +121,29 @@ def _windows_text(windows, source: str) -> str:
             + ", ".join(f"{_PHASE_TITLE.get(k, k)} {_g(a, 4)}–{_g(b, 4)} s" for k, (a, b) in windows.items()) + ".")
 
 
+def header_line(ctx) -> str:
+    """The line under the title: what was run, so that a number in the summary is never
+    read without its bearing, cycle, grid, integrator and model version."""
+    sweep, conf = ctx.sweep, ctx.configuration
+    dims = {d: n for d, n in sweep.sizes.items() if d not in ("elapsed_time", "phase", "sensor", "row")}
+    total = 1
+    for n in dims.values():
+        total *= n
+    grid = " × ".join(f"{n} {d.replace('_', ' ')}{'s' if n != 1 else ''}" for d, n in dims.items())
+    grid += f" = {total} case{'s' if total != 1 else ''}"
+    parts = [f"bearing {sweep.attrs.get('bearing', '?')}"]
+    if conf is not None:
+        parts.append(f"profile {conf.profile.name} ({conf.profile.duration:g} s cycle)")
+        parts.append(f"grid {grid}")
+        parts.append(f"integrator {conf.settings.method.upper()} (step_safety {conf.settings.step_safety:g}"
+                     + (f", step {conf.settings.time_step * 1e6:g} µs" if conf.settings.time_step > 0 else "")
+                     + f", gravity {'on' if conf.settings.gravity else 'off'})")
+        parts.append(f"model version {conf.model_version}")
+    else:
+        parts += [f"profile {sweep.attrs.get('profile', '?')}", f"grid {grid}"]
+    return "**Run:** " + "; ".join(parts) + "."
+
+
 def build_report(directory, reference=None) -> ReportFiles:
     """Metrics, fits and the report of a finished or partial sweep.
 
@@ -157,7 +180,7 @@ def build_report(directory, reference=None) -> ReportFiles:
     figdir.mkdir(parents=True, exist_ok=True)
     windows, windows_src = phase_windows(ctx)
 
-    blocks = [Heading(1, f"Sweep report: {directory.name}")]
+    blocks = [Heading(1, f"Sweep report: {directory.name}"), Para(header_line(ctx))]
     caveats = [c.strip() for c in str(sweep.attrs.get("caveats", "")).split(" | ") if c.strip()]
     if caveats:
         blocks.append(Warning_("**Geometry caveat.** This bearing is not buildable as specified; "

@@ -33,6 +33,9 @@ def warm_up(case_fn) -> float:
     warm = getattr(driver, "warm_up", None)
     if not callable(warm):
         return 0.0
+    from .estimate import say_if_compiling
+
+    say_if_compiling()   # a minute or more of silence otherwise
     t0 = time.perf_counter()
     warm()
     return time.perf_counter() - t0

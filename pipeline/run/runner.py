@@ -31,6 +31,7 @@ How a run goes
 from __future__ import annotations
 
 import contextlib
+import os
 import sys
 import time
 import traceback
@@ -42,6 +43,7 @@ import xarray as xr
 
 from .. import __version__
 from ..errors import UserError
+from ..io.folders import sweep_lock, writable_folder
 from ..io import (REFERENCES, UDUNITS, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
                   git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
@@ -196,8 +198,42 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
     if not isinstance(sweep, Sweep):
         sweep = load_sweep(sweep)
     out = Path(out_dir) if out_dir is not None else Path("results") / sweep.name
+    writable_folder(out / "cases", str(out))
+    with sweep_lock(out, str(out)):
+        return _run_sweep(sweep, out, t_start, workers=workers, scheduler=scheduler,
+                          scheduler_file=scheduler_file, serial=serial, case_fn=case_fn,
+                          progress=progress, resume=resume, allowed_failures=allowed_failures,
+                          combine_at_end=combine_at_end)
+
+
+def _reusable(path: Path) -> bool:
+    """Whether a case file exists and opens. A file that does not open (truncated by a
+    full disk or a copy, say) is set aside as ``<name>.damaged``, not deleted (it may be
+    worth a look), with one warning line, and its case is computed again."""
+    if not path.is_file():
+        return False
+    import netCDF4
+
+    try:
+        netCDF4.Dataset(path, "r").close()
+        return True
+    except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
+        reason = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+    aside = path.with_name(path.name + ".damaged")
+    k = 1
+    while aside.exists():
+        k += 1
+        aside = path.with_name(f"{path.name}.damaged{k}")
+    os.replace(path, aside)
+    print(f"warning: {path} could not be read ({reason}); moved to {aside.name}, "
+          f"the case will be computed again", file=sys.stderr)
+    return False
+
+
+def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, serial, case_fn,
+               progress, resume, allowed_failures, combine_at_end) -> SweepResult:
+    """:func:`run_sweep` once its folder is checked and locked."""
     cases_dir = out / "cases"
-    cases_dir.mkdir(parents=True, exist_ok=True)
     remove_stale_temporaries(cases_dir)
     remove_stale_temporaries(out)
 
@@ -205,7 +241,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
     todo = []
     for i, spec in enumerate(sweep.cases):
         st = CaseState(spec.case_id, i, spec.point)
-        if resume and (cases_dir / f"{spec.case_id}.nc").is_file():
+        if resume and _reusable(cases_dir / f"{spec.case_id}.nc"):
             st.state = "ok"
         else:
             todo.append(spec)

@@ -330,8 +330,11 @@ def _solver_field(f) -> Field:
 _SOLVER = [_solver_field(f) for f in dataclasses.fields(SolverSettings)]
 
 _OPERATING_POINT = [
-    _q("speed", "angular_speed", "deg/s", "steady inner-ring speed", file="operating_point", bounds=None,
-       source="speed"),
+    # Refused rather than read as a direction: the metrics, the cage slip, the fits and the
+    # report take the speed as a magnitude, and nothing checks a reversed spin.
+    _q("speed", "angular_speed", "deg/s", "steady inner-ring speed (a magnitude)", file="operating_point",
+       bounds="nonnegative", why="must not be negative: the speed is a magnitude (the direction of "
+       "rotation is not an input)", source="speed"),
     _q("radial_load", "force", "kN", "radial load (its direction is load_angle)", file="operating_point",
        bounds="nonnegative", why="must not be negative (its direction is load_angle)", source="radial_load"),
     _q("axial_load", "force", "kN", "axial load towards +z", file="operating_point", bounds=None,

@@ -249,9 +249,28 @@ def load_sweep(path) -> Sweep:
     return sweep_from_dict(raw, file)
 
 
+#: A sweep file names a bearing and a profile; these keys say a file is one of those instead
+#: (the markers ``rvsweep check`` tells the kinds of file apart by).
+_OTHER_KINDS = {"bearing": ("rows", "envelope"), "profile": ("duration", "phases")}
+
+
+def _refuse_other_kinds(raw: dict, file) -> None:
+    """A bearing or profile file given where a sweep file belongs: say which it is, not
+    "unknown key" about its first key."""
+    if any(k in raw for k in ("bearing", "profile")):
+        return
+    for kind, markers in _OTHER_KINDS.items():
+        if any(k in raw for k in markers):
+            raise ConfigError(file, None, None,
+                              f"this is a {kind} file, not a sweep file; a sweep file names a bearing "
+                              f"and a profile and gives the grid, e.g. bearing = \"bearings/rv-main-study.toml\", "
+                              f"profile = \"profiles/study.toml\" and [axes] (see sweeps/smoke.toml)")
+
+
 def sweep_from_dict(raw: dict, file) -> Sweep:
     """:func:`load_sweep` on already-read TOML (``file`` names it and anchors paths)."""
     file = Path(file)
+    _refuse_other_kinds(raw, file)
     for k, v in raw.items():
         if k not in TOP_KEYS:
             hint = ""

@@ -6,6 +6,7 @@ parsed here with pint, or plain numbers which are taken as SI.
 from __future__ import annotations
 
 import functools
+import math
 import re
 
 import pint
@@ -69,12 +70,20 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
     if not isinstance(value, str):
         raise ConfigError(file, key, value, f"expected a number or a string with units of {target}")
     ureg = registry()
+    _check_text(value, target, file, key)
     # Engineers write torque as "Nm"/"kNm"; pint would not read that as newton·metre.
     text = _TORQUE.sub(lambda m: f"{m.group(1) or ''}N*m", value.strip())
     try:
         q = ureg.Quantity(text)
-    except Exception as exc:  # pint raises several types for unparsable strings
-        raise ConfigError(file, key, value, f"cannot read as a quantity ({exc.__class__.__name__}: {exc})") from None
+    except pint.UndefinedUnitError as exc:
+        names = ", ".join(repr(n) for n in getattr(exc, "unit_names", ()) or ()) or "a name"
+        raise ConfigError(file, key, value, f"not a quantity: {names} is not a unit") from None
+    except Exception:  # pint raises several types (some of them internal) for unparsable text
+        raise ConfigError(file, key, value, f"not a quantity: expected a number and a unit of "
+                                            f"{target}, e.g. {_EXAMPLE.get(target, '1 ' + target)!r}") from None
+    magnitude = q if isinstance(q, (int, float)) else q.magnitude
+    if not math.isfinite(magnitude):
+        raise ConfigError(file, key, value, "not a finite number")
     try:
         if isinstance(q, (int, float)):
             return float(q)
@@ -84,6 +93,30 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         return float(q.to(target).magnitude)
     except pint.DimensionalityError:
         raise ConfigError(file, key, value, f"wrong units: expected something convertible to {target}, got {q.units:~}") from None
+
+
+#: What a value is allowed to be made of: ASCII digits and letters, the arithmetic of a
+#: unit, and the few non-ASCII unit symbols engineers type. pint reads far more (it drops
+#: a "#..." comment and stray symbols, so "30kN💥" was 30 kN) and fails on the rest with
+#: its internal errors; this keeps both out.
+_ALLOWED = re.compile(r"[0-9A-Za-z .+\-*/^()_°µμΩ%]*")
+#: A number at the start (what a quantity must begin with, or a unit alone such as "rpm").
+_LEADING_NUMBER = re.compile(r"^\s*[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+#: Exponents inside the unit ("m^2", "m**2", "N/m^1.5", "s^-1"): the only digits a unit holds.
+_EXPONENT = re.compile(r"(\^|\*\*)\s*\(?\s*[+-]?\d+(\.\d+)?(/\d+)?\s*\)?")
+_EXAMPLE = {"N": "30 kN", "rad/s": "660 deg/s", "m": "0.5 mm", "s": "0.3 s", "N*m": "2 kN*m"}
+
+
+def _check_text(value: str, target: str, file, key) -> None:
+    """Refuse text that is not one number and one unit: a character outside
+    :data:`_ALLOWED`, or a number after the unit ("30 kN 2", which pint multiplies)."""
+    bad = next((ch for ch in value if not _ALLOWED.fullmatch(ch)), None)
+    if bad is not None:
+        raise ConfigError(file, key, value, f"not a quantity: {bad!r} is not part of a number or a unit")
+    m = _LEADING_NUMBER.match(value)
+    unit = value[m.end():] if m else value
+    if re.search(r"\d", _EXPONENT.sub("", unit)):
+        raise ConfigError(file, key, value, "not a quantity: text after the number and its unit")
 
 
 def format_quantity(value_si: float, unit: str, kind: str) -> str:

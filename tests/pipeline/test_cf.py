@@ -104,21 +104,16 @@ axial_load = "10 kN"
     assert_cf_clean(suite, result.combined)
 
 
-def test_real_smoke_sweep_end_to_end_is_cf(suite, tmp_path, capsys):
-    """``rvsweep sweep sweeps/smoke.toml`` with ``rvcore.driver.run_case``.
-
-    Serial, to stay quick on a small shared machine; the same sweep on a local cluster
-    is compared with this in tests/test_sweep.py (marked slow).
-    """
+def test_real_smoke_sweep_end_to_end_is_cf(suite, smoke_run, capsys):
+    """``rvsweep sweep sweeps/smoke.toml`` with ``rvcore.driver.run_case`` (the session's
+    serial smoke run, ``conftest.smoke_run``)."""
     smoke = REPO / "sweeps" / "smoke.toml"
-    code = main(["sweep", str(smoke), "--out", str(tmp_path), "--serial", "--no-progress"])
-    printed = capsys.readouterr().out
-    assert code == 0, printed
-    out = tmp_path / "smoke"
+    assert smoke_run.sweep_code == 0, smoke_run.sweep_printed
+    out = smoke_run.out
     cases = sorted((out / "cases").glob("*.nc"))
-    assert len(cases) == 4
+    assert len(cases) == 9
     status = json.loads((out / "status.json").read_text())
-    assert sorted(entry["state"] for entry in status.values()) == ["ok"] * 4
+    assert sorted(entry["state"] for entry in status.values()) == ["ok"] * 9
 
     assert_cf_clean(suite, out / "sweep.nc")
     assert_cf_clean(suite, cases[0])
@@ -141,5 +136,5 @@ def test_real_smoke_sweep_end_to_end_is_cf(suite, tmp_path, capsys):
         assert (mean.sel(radial_load=40e3) > mean.sel(radial_load=20e3)).all()
 
     # rerunning finds every case done
-    code = main(["sweep", str(smoke), "--out", str(tmp_path), "--serial", "--no-progress"])
-    assert code == 0 and "4 reused" in capsys.readouterr().out
+    code = main(["sweep", str(smoke), "--out", str(out.parent), "--serial", "--no-progress"])
+    assert code == 0 and "9 reused" in capsys.readouterr().out

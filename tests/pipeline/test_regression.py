@@ -47,10 +47,17 @@ from pipeline.schema.shipped import shipped_file
 PINNED_MODEL_VERSION = 6
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
+#: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
+#: with its 3 x 3 grid (the corners' ids did not move: an id hashes its own case only).
 PINNED_CASE_IDS = {
     (120, 20): "42138a979c1ce70f",
+    (120, 30): "bc16e7b2a2020c8a",
     (120, 40): "41b3002266cf6568",
+    (390, 20): "c78e6a1c23b35aeb",
+    (390, 30): "1e40fdf8b3747005",
+    (390, 40): "db4be27da7097ff4",
     (660, 20): "cec0418a50c2aa6a",
+    (660, 30): "3ca2856a45c9b8e8",
     (660, 40): "e42e13a8a3e80cab",
 }
 

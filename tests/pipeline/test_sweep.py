@@ -427,7 +427,7 @@ def test_real_smoke_cases_do_not_depend_on_the_scheduler(tmp_path):
     local = run_sweep(smoke, tmp_path / "local", workers=2, progress=False)
     assert serial.ok and local.ok
     names = [p.name for p in case_files(serial.out_dir)]
-    assert len(names) == 4 and names == [p.name for p in case_files(local.out_dir)]
+    assert len(names) == 9 and names == [p.name for p in case_files(local.out_dir)]
     for name in names:
         assert_same_case_data(serial.out_dir / "cases" / name, local.out_dir / "cases" / name)
 

@@ -71,12 +71,16 @@ def test_study_sweep_is_the_studys_grid():
     assert len({c.case_id for c in s.cases}) == 50 * n
 
 
-def test_smoke_sweep_is_a_2x2_grid_on_the_reduced_bearing():
+def test_smoke_sweep_is_a_3x3_grid_on_the_reduced_bearing():
     s = load_sweep(SWEEPS / "smoke.toml")
-    assert s.name == "smoke" and len(s.cases) == 4
+    assert s.name == "smoke" and len(s.cases) == 9
     assert s.bearing.name == "reduced-test" and s.profile.name == "short"
     assert s.profile.duration < 1.0
-    assert [len(a) for a in s.axes] == [2, 2]
+    assert [len(a) for a in s.axes] == [3, 3]
+    # three points on each of the study's lines (speed at 30 kN, load at 120 deg/s): fits
+    # with a residual
+    assert sum(math.isclose(c.point["radial_load"], 30e3) for c in s.cases) == 3
+    assert sum(math.isclose(c.point["speed"], math.radians(120), rel_tol=1e-12) for c in s.cases) == 3
 
 
 # --------------------------------------------------------------------------- axes

@@ -1,0 +1,90 @@
+"""What a sweep will cost, said before it starts: case count, a rough time, compiling.
+
+The time is a rough model fitted to two measurements on this project's 2-core machine
+(RK4, step_safety 0.8): a case of the smoke sweep (12 balls, 0.46 s cycle, 30 kN) costs
+2.1 s of one core, one of the study sweep (51 balls, 4.6 s cycle, 30 kN, 2 sensors) about
+43 s, and within the study sweep a 40 kN case about twice a 20 kN one. The derived step
+shrinks with the contact load (``rvcore.integrator.stable_time_step``), so the cost grows
+as ``cycle length x peak load``; the ball count enters as its square root (each step costs
+in proportion to the balls, but more balls share the load and allow a longer step).
+With a fixed ``time_step`` a step costs about 0.56 us per ball (``rvsweep bench``:
+141 ns per ball per right-hand side, four per RK4 step). Another machine, a loaded one
+or another method moves it: it is for "a minute or an hour", not for planning.
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+from pathlib import Path
+
+#: Seconds of one core per (second of cycle x newton of peak load x sqrt(balls) / step_safety).
+_AUTO_STEP = 3.5e-5
+#: Seconds of one core per ball per step at a fixed time_step (RK4).
+_PER_BALL_STEP = 0.56e-6
+#: IMEX's cost of a case relative to RK4's (``rvsweep bench``: 19.4 s against 32.5 s).
+_METHOD = {"rk4": 1.0, "imex": 0.6}
+
+#: Above either, ``rvsweep sweep`` starts only with ``--yes``.
+CONFIRM_CASES = 1000
+CONFIRM_SECONDS = 4 * 3600.0
+
+
+def case_seconds(spec) -> float:
+    """The rough time of one case on one core [s] (module docstring)."""
+    s = spec.settings
+    duration = (s.end_time or spec.profile.duration) - s.start_time
+    balls = sum(row.ball_count for row in spec.bearing.rows)
+    method = _METHOD.get(s.method, 1.0)
+    if s.time_step > 0:
+        return _PER_BALL_STEP * balls * duration / s.time_step * method
+    op = spec.operating_point
+    peak = max(abs(op.radial_load), abs(op.axial_load), 1e3)
+    return _AUTO_STEP * duration * peak * math.sqrt(balls) / max(s.step_safety, 1e-9) * method
+
+
+def sweep_seconds(specs, workers: int) -> float:
+    """The rough wall time of ``specs`` on ``workers`` cores [s]: their sum shared out,
+    but never less than the longest case."""
+    times = [case_seconds(c) for c in specs]
+    return max(sum(times) / max(workers, 1), max(times, default=0.0))
+
+
+def duration_text(seconds: float) -> str:
+    """``"40 s"``, ``"12 min"``, ``"3.5 h"``: as rough as the estimate."""
+    if seconds < 90:
+        return f"{max(1, round(seconds, -1 if seconds >= 20 else 0)):.0f} s"
+    if seconds < 90 * 60:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def local_workers(requested: int | None, n_cases: int) -> int:
+    """How many processes the local cluster will have (as :func:`cluster.client` sizes it)."""
+    return max(1, min(int(requested or os.cpu_count() or 1), max(n_cases, 1)))
+
+
+def kernels_need_compiling() -> bool:
+    """Whether the next run compiles the numba kernels: no cache beside rvcore's sources,
+    or one stamped for other sources (``rvcore._cache`` drops it then)."""
+    try:
+        import rvcore
+        from rvcore._cache import _STAMP, sources_hash
+    except ImportError:
+        return False
+    cache = Path(rvcore.__file__).resolve().parent / "__pycache__"
+    stamp = cache / _STAMP
+    try:
+        fresh = stamp.read_text().strip() == sources_hash()
+    except OSError:
+        return True
+    return not (fresh and any(cache.glob("*.nbi")))
+
+
+def say_if_compiling(stream=None) -> bool:
+    """Print one line when the kernels are about to be compiled; True if they are."""
+    if not kernels_need_compiling():
+        return False
+    print("compiling the numba kernels (once after an install or an rvcore change; about "
+          "a minute here, some minutes on a slow machine) ...", file=stream or sys.stderr, flush=True)
+    return True

@@ -1,0 +1,80 @@
+"""The sweep says what it will cost before it starts, refuses a huge one without --yes,
+and says when numba is compiling."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+import pipeline.run
+import rvcore._cache
+from pipeline.cli import main
+from pipeline.run.estimate import (CONFIRM_CASES, case_seconds, duration_text, kernels_need_compiling,
+                                   say_if_compiling)
+from pipeline.schema import load_sweep
+from tests.schema.test_sweepfile import make_sweep
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _case(sweep, speed_deg, load_kn):
+    return next(c for c in sweep.cases if math.isclose(math.degrees(c.point["speed"]), speed_deg)
+                and math.isclose(c.point["radial_load"], load_kn * 1e3))
+
+
+def test_the_estimate_matches_the_measurements_it_claims():
+    """Measured on this project's 2-core machine (pipeline/run/estimate.py): a smoke case
+    2.1 s of a core, a study case about 43 s, a 40 kN study case twice a 20 kN one."""
+    smoke = load_sweep(REPO / "sweeps" / "smoke.toml")
+    study = load_sweep(REPO / "sweeps" / "study.toml")
+    assert case_seconds(_case(smoke, 390, 30)) == pytest.approx(2.1, rel=0.2)
+    assert case_seconds(_case(study, 420, 30)) == pytest.approx(43, rel=0.2)
+    assert case_seconds(_case(study, 420, 40)) / case_seconds(_case(study, 420, 20)) == pytest.approx(2, rel=0.1)
+
+
+@pytest.mark.parametrize("seconds, text", [(4, "4 s"), (44, "40 s"), (600, "10 min"), (3234, "54 min"),
+                                           (9000, "2.5 h")])
+def test_duration_text(seconds, text):
+    assert duration_text(seconds) == text
+
+
+def _big_grid(tmp_path):
+    n = CONFIRM_CASES // 20 + 1   # 20 x n > CONFIRM_CASES
+    speeds = ", ".join(f'"{100 + k} deg/s"' for k in range(n))
+    loads = ", ".join(f'"{20 + k} kN"' for k in range(20))
+    return make_sweep(tmp_path, f"[axes]\nspeed = [{speeds}]\nradial_load = [{loads}]\n[fixed]\naxial_load = \"10 kN\"\n")
+
+
+class Started(Exception):
+    pass
+
+
+def test_a_huge_sweep_needs_yes(tmp_path, capsys, monkeypatch):
+    def started(*a, **k):
+        raise Started
+    monkeypatch.setattr(pipeline.run, "run_sweep", started)
+    path = _big_grid(tmp_path)
+    code = main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "2", "--no-progress"])
+    out, err = capsys.readouterr()
+    assert code == 2 and err.count("\n") == 1 and "--yes" in err, err
+    n = len(load_sweep(path).cases)
+    assert f"s: {n} cases, {n} to compute, about" in out and "on 2 workers" in out
+    with pytest.raises(Started):
+        main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "2", "--no-progress", "--yes"])
+
+
+def test_the_smoke_run_said_its_cases_and_time_first(smoke_run):
+    first = smoke_run.sweep_printed.splitlines()[0]
+    assert first.startswith("smoke: 9 cases, 9 to compute, about ") and first.endswith("(rough estimate)")
+
+
+def test_compiling_is_announced_only_when_it_happens(smoke_run, monkeypatch, capsys):
+    # after the smoke run the kernels are in the cache
+    assert not kernels_need_compiling()
+    assert say_if_compiling() is False and capsys.readouterr().err == ""
+    # other sources than those the cache was built from: compiling
+    monkeypatch.setattr(rvcore._cache, "sources_hash", lambda: "0" * 64)
+    assert kernels_need_compiling()
+    assert say_if_compiling() is True
+    assert capsys.readouterr().err.startswith("compiling the numba kernels")

@@ -1,0 +1,171 @@
+"""How the files of a sweep behave: their mode, a damaged case file, a busy folder."""
+from __future__ import annotations
+
+import os
+import stat
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from pipeline.io.files import write_atomic, write_text_atomic
+
+
+@pytest.fixture
+def umask():
+    """Set the umask for one test and restore it after."""
+    old = os.umask(0o022)
+    os.umask(old)
+    yield lambda mask: os.umask(mask)
+    os.umask(old)
+
+
+@pytest.mark.parametrize("mask", [0o022, 0o027, 0o002])
+def test_written_files_take_the_umask_mode(tmp_path, umask, mask):
+    umask(mask)
+    nc = write_atomic(xr.Dataset({"x": ("n", np.zeros(2))}), tmp_path / "a.nc", encoding={})
+    txt = write_text_atomic(tmp_path / "a.json", "{}")
+    expected = 0o666 & ~mask
+    assert stat.S_IMODE(nc.stat().st_mode) == expected
+    assert stat.S_IMODE(txt.stat().st_mode) == expected
+
+
+# --------------------------------------------------------------------------- --out checked first
+
+import subprocess  # noqa: E402
+import sys  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import pipeline.run  # noqa: E402
+import pipeline.run.cluster  # noqa: E402
+from pipeline.cli import main  # noqa: E402
+from pipeline.io.folders import LOCK_FILE, sweep_lock  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+SMOKE = str(REPO / "sweeps" / "smoke.toml")
+STUDY_BEARING = str(REPO / "sweeps" / "bearings" / "reduced-test.toml")
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Fail the test if a case is computed or numba is warmed up."""
+    def forbidden(*a, **k):
+        raise AssertionError("work started before the output place was checked")
+    monkeypatch.setattr(pipeline.run, "run_one_case", forbidden)
+    monkeypatch.setattr(pipeline.run.cluster, "warm_up", forbidden)
+
+
+def _one_line_error(capsys, code, *needles):
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    for n in needles:
+        assert n in err, err
+    return err
+
+
+def _simulate(out):
+    return main(["simulate", "--bearing", STUDY_BEARING, "--speed", "660deg/s",
+                 "--radial-load", "30kN", "--axial-load", "10kN", "--out", str(out)])
+
+
+def _can_write_despite_mode(folder: Path) -> bool:
+    """Root writes in a folder whatever its mode: a read-only mode then tests nothing."""
+    try:
+        (folder / "probe").touch()
+    except OSError:
+        return False
+    (folder / "probe").unlink()
+    return True
+
+
+def test_simulate_out_naming_a_folder_fails_in_one_line_before_the_case(tmp_path, capsys, no_work):
+    _one_line_error(capsys, _simulate(tmp_path), "--out", "is a folder")
+
+
+def test_simulate_out_under_a_file_fails_in_one_line_before_the_case(tmp_path, capsys, no_work):
+    (tmp_path / "plain").write_text("x")
+    _one_line_error(capsys, _simulate(tmp_path / "plain" / "case.nc"), "--out", "plain")
+
+
+def test_sweep_out_that_is_a_file_fails_in_one_line_before_any_case(tmp_path, capsys, no_work):
+    (tmp_path / "plain").write_text("x")
+    code = main(["sweep", SMOKE, "--out", str(tmp_path / "plain"), "--serial", "--no-progress"])
+    _one_line_error(capsys, code, "--out", "plain")
+
+
+def test_read_only_out_fails_in_one_line_before_any_case(tmp_path, capsys, no_work):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o555)
+    try:
+        if _can_write_despite_mode(ro):
+            pytest.skip("running as root: a read-only mode does not stop writes")
+        _one_line_error(capsys, _simulate(ro / "case.nc"), "--out", "Permission denied")
+        code = main(["sweep", SMOKE, "--out", str(ro), "--serial", "--no-progress"])
+        _one_line_error(capsys, code, "--out", "Permission denied")
+    finally:
+        ro.chmod(0o755)
+
+
+def test_read_only_file_system_fails_in_one_line(capsys, no_work):
+    """/proc is read-only for everyone, root included."""
+    code = main(["sweep", SMOKE, "--out", "/proc/rvsweep-test", "--serial", "--no-progress"])
+    _one_line_error(capsys, code, "--out /proc/rvsweep-test")
+
+
+# --------------------------------------------------------------------------- one sweep per folder
+
+HOLD = """
+import sys, time
+from pipeline.io.folders import sweep_lock
+with sweep_lock(sys.argv[1]):
+    print("held", flush=True)
+    time.sleep(600)
+"""
+
+
+def test_a_second_sweep_into_a_busy_folder_says_so_and_a_killed_one_leaves_no_lock(tmp_path, capsys, no_work):
+    folder = tmp_path / "smoke"
+    folder.mkdir()
+    holder = subprocess.Popen([sys.executable, "-c", HOLD, str(folder)], stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        code = main(["sweep", SMOKE, "--out", str(tmp_path), "--serial", "--no-progress"])
+        _one_line_error(capsys, code, "in use by another rvsweep sweep", f"pid {holder.pid}")
+    finally:
+        holder.kill()    # SIGKILL: no cleanup runs in the holder
+        holder.wait()
+    assert (folder / LOCK_FILE).exists()          # the file stays ...
+    with sweep_lock(folder):                      # ... and means nothing once its holder is dead
+        pass
+
+
+# --------------------------------------------------------------------------- a damaged case file
+
+def test_a_truncated_case_file_is_set_aside_and_its_case_recomputed(tmp_path, capsys):
+    from pipeline.run import run_sweep
+    from tests.pipeline.test_sweep import Counting, case_files, synthetic_case
+    from tests.schema.test_sweepfile import GRID, make_sweep
+
+    sweep = make_sweep(tmp_path, GRID)
+    out = tmp_path / "out"
+    run_sweep(sweep, out, serial=True, case_fn=synthetic_case, progress=False)
+    damaged = case_files(out)[1]
+    whole = damaged.read_bytes()
+    damaged.write_bytes(whole[: len(whole) // 2])
+    capsys.readouterr()
+
+    counting = Counting()
+    result = run_sweep(sweep, out, serial=True, case_fn=counting, progress=False)
+    err = capsys.readouterr().err
+    assert result.ok and len(counting.calls) == 1 and result.computed == [damaged.stem]
+    warnings = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warnings) == 1 and damaged.name in warnings[0] and "computed again" in warnings[0]
+    aside = damaged.with_name(damaged.name + ".damaged")
+    assert aside.read_bytes() == whole[: len(whole) // 2]      # kept as it was, not deleted
+    assert damaged.read_bytes() != aside.read_bytes()
+    with xr.open_dataset(damaged) as ds:                       # the new file reads
+        assert ds.sizes["elapsed_time"] > 0
+    with xr.open_dataset(result.combined) as ds:
+        assert (ds["case_status"].values == 0).all()
