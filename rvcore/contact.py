@@ -410,24 +410,27 @@ def land_penetration(xc, yc, land_clearance):
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
-                         half_d):
+                         half_d, dr_inner, dr_outer, d_half):
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
 
     An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
     centre being ``(plx, ply, plz)`` there (:func:`to_ring_frame`); an outer-ring arc in
     the fixed frame, the ball centre being ``(px, py, pzr)`` with ``pzr`` from the row
     plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
+    An imperfect bearing (:func:`rvcore.raceway.ball_offsets`) moves the inner or outer
+    groove radially by ``dr_inner``/``dr_outer`` at this ball and has it larger by
+    ``2·d_half`` [m]; all 0 for a perfect one.
 
     Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
     penetration [m] and the unit normal C→P in that ring's frame [-].
     """
     inner = arcs[a, A_RING] == 0.0
     if inner:
-        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, arcs[a, A_CR],
-                                            arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], half_d)
+        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, arcs[a, A_CR] + dr_inner,
+                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
     else:
-        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, arcs[a, A_CR],
-                                            arcs[a, A_CZ], arcs[a, A_RMH], arcs[a, A_SIDE], half_d)
+        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, arcs[a, A_CR] + dr_outer,
+                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
     return inner, delta, nx, ny, nz
 
 

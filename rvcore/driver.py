@@ -257,13 +257,17 @@ def initial_state(model, resolved, t_start, seed: int = -1):
     y = nominal_state(model)
     # the statics always run: a preloaded pair or an interference fit loads its balls even
     # with no load and no weight, and centred balls would start squeezed out of equilibrium
-    st = solve_statics(model, fr, fa, moment, psi, stiffness=False)
+    from .profile import channel_integral
+
+    table, meta = resolved.arrays()
+    st = solve_statics(model, fr, fa, moment, psi, stiffness=False,
+                       ring_angle=channel_integral(table, meta, CH_SPEED, t_start))
     y[0:5] = st.displacement
     for r in range(model.rows.shape[0]):
         b0, z, p0 = int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z]), int(model.rows[r, R_POCKET0])
         for j in range(z):
             b = b0 + BALL_STATES * j
-            cs, sn = model.pockets[p0 + j]
+            cs, sn = model.pockets[p0 + j, 0], model.pockets[p0 + j, 1]
             rho, zz = st.ball_positions[p0 + j]
             y[b:b + 3] = rho * cs, rho * sn, zz
     if seed >= 0:
@@ -341,6 +345,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     from .model import body_name, compile_bearing, R_HALF_D, R_MB, R_IB, R_CAGE_M, R_PITCH_R, R_Z
     from .kernels import new_diagnostics
 
+    from .imperfections import realize
+
+    # the imperfections this case runs with: a tolerance class's high-point angles and
+    # ball sizes drawn from its seed (rvcore.imperfections)
+    bearing = realize(bearing, int(settings.seed))
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
                             gravity=settings.gravity)
     resolved = profile.resolve(op)

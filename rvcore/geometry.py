@@ -36,6 +36,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from .imperfections import PERFECT, Imperfections
+
 INNER = 0
 OUTER = 1
 
@@ -134,6 +136,9 @@ class Row:
     inner_offset : float
         Axial shift of the row's inner raceway from its nominal place [m]: a pair's share
         of the preload offset (:mod:`rvcore.preload`), 0 for a free row.
+    imperfections : rvcore.imperfections.Imperfections or RealizedImperfections
+        Raceway eccentricity and waviness, ball size variation (model.md §12); perfect
+        by default.
     """
 
     ball_count: int
@@ -145,6 +150,7 @@ class Row:
     cage: Cage
     radial_clearance: float = 0.0
     inner_offset: float = 0.0
+    imperfections: Imperfections = PERFECT
 
     @property
     def nominal_contact_angle(self) -> float:

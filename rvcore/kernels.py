@@ -46,7 +46,7 @@ from numba import njit
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING,
                     P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_TILT_HELD, P_V_D, P_V_S,
                     R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE,
-                    R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
+                    R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
                     R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .contact import (FAST, arc_penetration, ball_contact_force, friction_coefficient,  # noqa: F401
                       friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
@@ -55,7 +55,8 @@ from .contact import (FAST, arc_penetration, ball_contact_force, friction_coeffi
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
 from .contact import LOADED_BALL_LOAD, damping_coefficient
 from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
-                      channel_rate, channel_value)
+                      channel_integral, channel_rate, channel_value)
+from .raceway import ball_offsets
 
 # diag slots written by rhs(): largest inner / outer race loads, loaded balls, largest p³
 # (any contact), deepest penetration and its ball
@@ -88,6 +89,18 @@ N_DIAG = 22
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
 N_BDIAG = 5
+
+
+@njit(cache=True, nogil=True, inline="always")
+def spin_of(rows, table, meta, t):
+    """Cosine and sine of the angle the inner ring has turned through by ``t`` (the
+    integral of the prescribed speed), which an imperfect inner raceway turns with;
+    (1, 0) when every row is perfect, which needs no angle."""
+    for r in range(rows.shape[0]):
+        if rows[r, R_IMPERFECT] != 0.0:
+            spin = channel_integral(table, meta, CH_SPEED, t)
+            return math.cos(spin), math.sin(spin)
+    return 1.0, 0.0
 
 
 def new_diagnostics(n_rows: int, n_balls: int):
@@ -154,6 +167,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     lc, ls = math.cos(psi), math.sin(psi)
     w_ring = channel_value(table, meta, CH_SPEED, t)
     dw_ring = channel_rate(table, meta, CH_SPEED, t)
+    cos_spin, sin_spin = spin_of(rows, table, meta, t)
     mu_s, v_s, mu_d, v_d = params[P_MU_S], params[P_V_S], params[P_MU_D], params[P_V_D]
     inv_vs = 1.0 / v_s
     friction_on = params[P_FRICTION] != 0.0
@@ -225,10 +239,15 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             inv_rho_l = 1.0 / rho_l
+            dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+            if rows[r, R_IMPERFECT] != 0.0:
+                dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, p0 + j, plx, ply, inv_rho_l, cos_spin,
+                                                  sin_spin, erx, ery)
 
             for a in range(a0, a0 + na):
                 inner, delta, nlx, nly, nlz = race_arc_penetration(
-                    arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h)
+                    arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h,
+                    dr_i, dr_o, d_half)
                 if delta <= 0.0:
                     continue
                 if delta > max_pen:
@@ -496,6 +515,7 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
+    cos_spin, sin_spin = spin_of(rows, table, meta, t)
     e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
     e -= params[P_RING_M] * (gx * xi + gy * yi + gz * zi)
     for r in range(rows.shape[0]):
@@ -512,9 +532,13 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             rho_b = math.sqrt(px * px + py * py)
+            dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+            if rows[r, R_IMPERFECT] != 0.0:
+                dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
+                                                  sin_spin, px / rho_b, py / rho_b)
             for a in range(a0, a0 + na):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h)
+                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half)
                 e += hertz_energy(arcs[a, A_K], d)
             cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
             d, _, _, _, _ = pocket_penetration(px - xc, py - yc, pz - zc - zrow, cphi * cs0 - sphi * sn0,

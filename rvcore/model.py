@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import hertz
+from .imperfections import MAX_WAVINESS_TERMS, realize
 from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
                        cage_mass_properties, inner_ring_mass_properties)
 
@@ -43,7 +44,15 @@ N_PARAMS = 17
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
  R_POCKET_PC, R_CAGE_M, R_CAGE_I, R_CAGE_RI, R_CAGE_RO, R_LAND_CLEAR, R_LAND_K, R_GUIDE,
  R_ARC0, R_NARC, R_POCKET0) = range(21)
-N_ROWCOLS = 21
+# the row's imperfections (rvcore.imperfections, realized): a flag (0: perfect, every
+# term below skipped), each raceway's eccentricity and its angle, its waviness terms
+# (order, amplitude, phase; MAX_WAVINESS_TERMS a raceway, inner then outer from R_WAVE0)
+(R_IMPERFECT, R_ECC_I, R_ECC_I_ANG, R_ECC_O, R_ECC_O_ANG, R_NWAVE_I, R_NWAVE_O, R_WAVE0) = range(21, 29)
+N_ROWCOLS = R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
+
+# pockets columns (one line a ball): the pocket's azimuth, the ball's diameter deviation [m]
+PK_COS, PK_SIN, PK_BALL_DD = 0, 1, 2
+N_PKCOLS = 3
 
 # arcs columns
 A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE = range(7)
@@ -73,6 +82,7 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     The loads, the tilting moment and the load's direction are not compiled in: they are
     the profile's channels (:meth:`rvcore.profile.Profile.resolve`).
     """
+    bearing = realize(bearing)   # rows realized already keep their draw (rvcore.driver.run_case)
     m_ring, ip_ring, it_ring = inner_ring_mass_properties(bearing)
     c = bearing.contact
     params = np.zeros(N_PARAMS)
@@ -125,12 +135,27 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
                 arcs.append((ring, cr, cz, rmh, hc.stiffness, hc.pressure_coefficient**3, side))
                 contacts.append((r, ring, k, hc))
         rows[r, R_NARC] = len(arcs) - rows[r, R_ARC0]
+        imp = row.imperfections
+        _pack_imperfections(rows[r], imp)
+        dd = imp.ball_diameter_deviation or (0.0,) * row.ball_count
         for j in range(row.ball_count):
             a = 2 * math.pi * j / row.ball_count
-            pockets.append((math.cos(a), math.sin(a)))
+            pockets.append((math.cos(a), math.sin(a), dd[j]))
         n_balls += row.ball_count
     return CompiledBearing(params, rows, np.array(arcs, dtype=float), np.array(pockets, dtype=float),
                            offset, n_balls, tuple(contacts))
+
+
+def _pack_imperfections(line, imp) -> None:
+    """Write a row's realized imperfections into its ``rows`` line (layout above)."""
+    line[R_IMPERFECT] = 0.0 if imp.perfect else 1.0
+    line[R_ECC_I], line[R_ECC_I_ANG] = imp.inner_eccentricity, imp.inner_eccentricity_angle
+    line[R_ECC_O], line[R_ECC_O_ANG] = imp.outer_eccentricity, imp.outer_eccentricity_angle
+    line[R_NWAVE_I], line[R_NWAVE_O] = len(imp.inner_waviness), len(imp.outer_waviness)
+    for ring, terms in enumerate((imp.inner_waviness, imp.outer_waviness)):
+        for k, w in enumerate(terms):
+            c = R_WAVE0 + 3 * (ring * MAX_WAVINESS_TERMS + k)
+            line[c], line[c + 1], line[c + 2] = w.order, w.amplitude, w.phase
 
 
 def nominal_state(model: CompiledBearing) -> np.ndarray:
@@ -140,7 +165,7 @@ def nominal_state(model: CompiledBearing) -> np.ndarray:
         row = model.rows[r]
         b0, z, p0 = int(row[R_BALL0]), int(row[R_Z]), int(row[R_POCKET0])
         for j in range(z):
-            cs, sn = model.pockets[p0 + j]
+            cs, sn = model.pockets[p0 + j, PK_COS], model.pockets[p0 + j, PK_SIN]
             b = b0 + BALL_STATES * j
             y[b:b + 3] = row[R_PITCH_R] * cs, row[R_PITCH_R] * sn, row[R_ZROW]
     return y

@@ -268,6 +268,34 @@ def channel_rate(table, meta, c, t):
     return (v1 - v0) / h
 
 
+@njit(cache=True, nogil=True)
+def _antiderivative(table, meta, c, t):
+    """``∫`` of channel ``c`` from its first breakpoint to ``t`` (negative before it)."""
+    n = meta[c, 0]
+    times, values = table[c, 0], table[c, 1]
+    if t <= times[0]:
+        return values[0] * (t - times[0])
+    total = 0.0
+    for k in range(n - 1):
+        t0, t1 = times[k], times[k + 1]
+        v0, v1 = values[k], values[k + 1]
+        h = t1 - t0
+        s = min((t - t0) / h, 1.0)
+        # ∫₀ˢ of the linear ramp s, or of the cubic STEP 3s² − 2s³ (smoothstep)
+        ramp = s * s * s - 0.5 * s * s * s * s if meta[c, 1] == SMOOTHSTEP else 0.5 * s * s
+        total += h * (v0 * s + (v1 - v0) * ramp)
+        if t <= t1:
+            return total
+    return total + values[n - 1] * (t - times[n - 1])
+
+
+@njit(cache=True, nogil=True)
+def channel_integral(table, meta, c, t):
+    """``∫₀ᵗ`` of channel ``c`` (SI times seconds): for the speed channel, the angle the
+    inner ring has turned through since t = 0 [rad], exact for either interpolation."""
+    return _antiderivative(table, meta, c, t) - _antiderivative(table, meta, c, 0.0)
+
+
 def study_profile() -> Profile:
     """The study's cycle with t0…t4 = 0.3, 0.8, 3.8, 4.3, 4.6 s (model.md §6)."""
     t0, t1, t2, t3, t4 = 0.3, 0.8, 3.8, 4.3, 4.6

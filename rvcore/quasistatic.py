@@ -33,7 +33,8 @@ from .geometry import Bearing
 from .stiffness import free_stiffness_scalars, stiffness_scalars, tangent_stiffness
 from .contact import (LOADED_BALL_LOAD, hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
                       to_ring_frame)
-from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ, P_TILT_HELD,
+from .raceway import ball_offsets
+from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ, P_TILT_HELD, R_IMPERFECT,
                     P_RING_M, R_ARC0, R_HALF_D, R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW,
                     CompiledBearing, compile_bearing)
 
@@ -48,8 +49,10 @@ def _ring_transform(u):
 
 
 @njit(cache=True, nogil=True)
-def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
-    """Forces of every arc on a ball at P; fills q_out[j, k] and n_out[j, k, :] (global normal)."""
+def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j):
+    """Forces of every arc on a ball at P; fills q_out[j, k] and n_out[j, k, :] (global normal).
+    ``spin`` holds the cosine and sine of the inner ring's turn (an imperfect raceway's
+    place, :func:`rvcore.raceway.ball_offsets`)."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
     h = rows[r, R_HALF_D]
     zrow = rows[r, R_ZROW]
@@ -57,11 +60,15 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
     plx, ply, plz, rho_l = to_ring_frame(px, py, pz, u[0], u[1], u[2], r00, r01, r02, r10, r11, r12,
                                          r20, r21, r22, zrow)
     rho_b = math.sqrt(px * px + py * py)
+    dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+    if rows[r, R_IMPERFECT] != 0.0:
+        dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1],
+                                          px / rho_b, py / rho_b)
     energy = 0.0
     for k in range(na):
         a = a0 + k
         inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h)
+                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half)
         if inner:
             nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
@@ -73,10 +80,11 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, q_out, n_out, j):
 
 
 @njit(cache=True, nogil=True)
-def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol):
+def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
     """Equilibrate every ball for ring pose ``u``; return the balls' force/moment on the ring.
 
     ``ball_rz[j]`` (radial, axial position of ball j) is the warm start and the result.
+    ``spin``: cosine and sine of the angle the ring has turned through (imperfections).
     Returns ``(fx, fy, fz, mx, my, potential_energy)``.
     """
     rot = _ring_transform(u)
@@ -92,7 +100,7 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol):
             rho, z = ball_rz[j, 0], ball_rz[j, 1]
             # damped Newton on the convex ball energy in the meridian plane (e, ẑ)
             for it in range(200):
-                e0 = _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, q_out, n_out, j)
+                e0 = _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j)
                 g0 = g1 = 0.0
                 h00 = h01 = h11 = 0.0
                 for k in range(na):
@@ -119,7 +127,8 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol):
                 step_len = 1.0
                 for _ in range(60):
                     e1 = _ball_contacts((rho + step_len * s0) * ex, (rho + step_len * s0) * ey,
-                                        z + step_len * s1, u, rot, r, rows, arcs, q_out, n_out, j)
+                                        z + step_len * s1, u, rot, r, rows, arcs, pockets, spin, q_out,
+                                        n_out, j)
                     if e1 <= e0:
                         break
                     step_len *= 0.5
@@ -128,7 +137,7 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol):
                 if abs(step_len * s0) + abs(step_len * s1) < tol:
                     break
             ball_rz[j, 0], ball_rz[j, 1] = rho, z
-            energy += _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, q_out, n_out, j)
+            energy += _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j)
             # reactions on the inner ring at its contact points
             h = rows[r, R_HALF_D]
             for k in range(na):
@@ -204,7 +213,7 @@ _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
 def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
                   moment: float = 0.0, load_angle: float = 0.0, *, moment_x: float = 0.0,
                   moment_y: float = 0.0, x0=None, gravity: bool = True,
-                  stiffness: bool = True, tilt: str | None = None) -> StaticResult:
+                  stiffness: bool = True, tilt: str | None = None, ring_angle: float = 0.0) -> StaticResult:
     """Equilibrium of the inner ring under the given loads and its own weight.
 
     The applied load vector is ``(F_r·cos ψ, F_r·sin ψ, F_a, M_x, M_y)`` with
@@ -238,6 +247,10 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         ``inner_ring.tilt`` (a ``CompiledBearing``'s ``P_TILT_HELD``). ``"held"`` fixes
         both tilts at 0, solves the three translations and reports the moment the
         support takes (``reaction_moment``); the moment balance is then the support's.
+    ring_angle : float
+        Angle the inner ring has turned through from its position at t = 0 [rad]: where
+        an imperfect inner raceway's eccentricity and waviness stand (model.md §12); no
+        effect on a perfect bearing.
 
     Raises
     ------
@@ -250,6 +263,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         tilt = "held" if model.params[P_TILT_HELD] != 0.0 else "free"
     if tilt not in ("free", "held"):
         raise ValueError(f"tilt {tilt!r} is not 'free' or 'held'")
+    spin = np.array([math.cos(ring_angle), math.sin(ring_angle)])
     # the unknowns: all five pose coordinates, or the three translations of a held ring
     n_free = 3 if tilt == "held" else 5
     rows, arcs, pockets = model.rows, model.arcs, model.pockets
@@ -276,7 +290,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         return u
 
     def balance(v):
-        fx, fy, fz, mx, my, e = ring_balance(pose(v), rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)
+        fx, fy, fz, mx, my, e = ring_balance(pose(v), rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin)
         return np.array([fx, fy, fz, mx, my])[:n_free] + applied[:n_free], e
 
     # a preloaded bearing carries internal loads at rest: they set the scale too
@@ -319,7 +333,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     res, _ = balance(v)
     # a held ring's moment balance is its support's: the reaction is what the contacts
     # and the applied moment leave
-    full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15)[:5]) + applied
+    full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin)[:5]) + applied
     reaction = -full[3:5] if tilt == "held" else np.zeros(2)
     res = np.concatenate([res, full[3:5] + reaction]) if tilt == "held" else res
     loaded = (q_out > 0).any(axis=1)
@@ -340,7 +354,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         pc3[:na] = np.maximum(pc3[:na], arcs[a0:a0 + na, A_PC3])
         row_of_ball[p0:p0 + z] = r
         for j in range(p0, p0 + z):
-            ex, ey = pockets[j]
+            ex, ey = pockets[j, 0], pockets[j, 1]
             azim[j] = math.atan2(ey, ex)
             for k in range(na):
                 if arcs[a0 + k, A_RING] == 0:   # the row's force on the inner ring, as ring_balance sums it
@@ -360,7 +374,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         def ball_forces(uu):
             ball_rz[:] = base   # every pose starts from the equilibrium's balls
             return np.array(ring_balance(np.asarray(uu, dtype=float), rows, arcs, pockets, ball_rz, q_out,
-                                         n_out, 1e-15)[:5])
+                                         n_out, 1e-15, spin)[:5])
 
         k_matrix, k_change = tangent_stiffness(ball_forces, u, float(rows[:, R_PITCH_R].max()))
         ball_rz[:] = base

@@ -16,6 +16,8 @@ import dataclasses
 from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
                              geometry_problems)
 
+from rvcore.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
+
 from ..errors import ConfigError
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
@@ -66,13 +68,48 @@ def _cage(c: Table) -> Cage:
                 material=_material(c), land_stiffness=c.get("land_stiffness", **land))
 
 
-def _row(t: Table) -> Row:
+def _row(t: Table, top: Table) -> Row:
     balls = t.table("balls")
     d = balls.get("diameter")
-    return Row(ball_count=balls.get("count"), ball_diameter=d, pitch_diameter=t.get("pitch_diameter"),
+    count = balls.get("count")
+    return Row(ball_count=count, ball_diameter=d, pitch_diameter=t.get("pitch_diameter"),
                axial_position=t.get("axial_position"), inner_arcs=_arcs(t, "inner_groove", d),
                outer_arcs=_arcs(t, "outer_groove", d), cage=_cage(t.table("cage")),
-               radial_clearance=t.get("radial_clearance"))
+               radial_clearance=t.get("radial_clearance"), imperfections=_imperfections(top, t, count))
+
+
+def _imperfections(top: Table, row: Table, ball_count: int) -> Imperfections:
+    """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (model.md §12)."""
+    tables = [x for x in (row.table("imperfections", required=False), top.table("imperfections", required=False))
+              if x.data]
+    if not tables:
+        return Imperfections()
+
+    def value(name, absent):
+        for x in tables:
+            if x.has(name):
+                return x, x.get(name)
+        return None, absent
+
+    kw = {}
+    for ring in ("inner", "outer"):
+        kw[f"{ring}_eccentricity"] = value(f"{ring}_eccentricity", None)[1]
+        kw[f"{ring}_eccentricity_angle"] = value(f"{ring}_eccentricity_angle", None)[1]
+        where = next((x for x in tables if x.has(f"{ring}_waviness")), None)
+        kw[f"{ring}_waviness"] = () if where is None else tuple(
+            Waviness(int(w.get("order")), w.get("amplitude"), w.get("phase"))
+            for w in where.tables(f"{ring}_waviness"))
+        if len(kw[f"{ring}_waviness"]) > MAX_WAVINESS_TERMS:
+            raise ConfigError(where.file, where.key(f"{ring}_waviness"), None,
+                              f"{len(kw[f'{ring}_waviness'])} terms: at most {MAX_WAVINESS_TERMS} a raceway")
+    x, balls = value("ball_diameter_deviation", ())
+    if len(balls) not in (0, ball_count):
+        raise ConfigError(x.file, x.key("ball_diameter_deviation"), short(x.raw("ball_diameter_deviation")),
+                          f"{len(balls)} values for {ball_count} balls: give one per ball")
+    kw["ball_diameter_deviation"] = tuple(balls)
+    kw["ball_grade"] = value("ball_grade", "")[1]
+    kw["tolerance_class"] = value("tolerance_class", "")[1]
+    return Imperfections(**kw)
 
 
 def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
@@ -298,7 +335,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                            tilt=ir.get("tilt"))
     contact = _contact(top)
     row_tables = top.tables("rows")
-    rows = tuple(_row(t) for t in row_tables)
+    rows = tuple(_row(t, top) for t in row_tables)
     arrangement, preload, offset = "", 0.0, 0.0
     if top.has("pair"):
         rows, arrangement, preload, offset = _pair(top, row_tables, rows)

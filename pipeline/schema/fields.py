@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 from rvcore.driver import SolverSettings
 from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
+from rvcore.tolerances import BALL_GRADES, TOLERANCE_CLASSES
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 from rvcore.friction_moment import LUBRICATIONS
@@ -153,6 +154,36 @@ def _material(prefix: str, source: str, whose: str) -> list:
     ]
 
 
+def _imperfections(prefix: str, where: str) -> list:
+    """The ``[imperfections]`` keys (model.md §12) under ``prefix``: the bearing's, or one
+    row's override (``rows[].imperfections``)."""
+    out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="(none)", choices=TOLERANCE_CLASSES,
+                 doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea "
+                     "and a default ball grade")]
+    for ring in ("inner", "outer"):
+        out += [
+            _q(f"{prefix}.{ring}_eccentricity", "length", "um",
+               f"{ring} raceway's centre offset from its ring's axis ({where}); 0 none",
+               bounds="nonnegative", default="from tolerance_class, else 0"),
+            _q(f"{prefix}.{ring}_eccentricity_angle", "angle", "deg",
+               f"direction of the {ring} raceway's offset (its high point) in its ring's frame",
+               bounds=None, default="(drawn from the case's seed, else 0)"),
+            Field(f"{prefix}.{ring}_waviness[].order", "integer", "bearing", minimum=1, default=REQUIRED,
+                  doc=f"lobes of one {ring} raceway waviness harmonic"),
+            _q(f"{prefix}.{ring}_waviness[].amplitude", "length", "um",
+               f"amplitude of the {ring} raceway radius harmonic", bounds="nonnegative"),
+            _q(f"{prefix}.{ring}_waviness[].phase", "angle", "deg", "phase of the harmonic at the ring's angle 0",
+               bounds=None, default=0.0),
+        ]
+    out += [
+        Field(f"{prefix}.ball_diameter_deviation", "list", "bearing", "length", None, default=(), unit="um",
+              doc=f"one diameter deviation per ball of {where} (else drawn within the ball grade)"),
+        Field(f"{prefix}.ball_grade", "choice", "bearing", default="(from tolerance_class, else none)",
+              choices=tuple(BALL_GRADES), doc="ISO 3290 ball grade: ball sizes drawn within its lot variation V_DwL"),
+    ]
+    return out
+
+
 def _arcs(groove: str, attr: str, ring: str) -> list:
     p = f"rows[].{groove}.arcs[]"
     return [
@@ -218,6 +249,8 @@ _BEARING = [
     Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
           doc="how the bearing is lubricated, for the friction-moment estimate's f0 (Palmgren); "
               "default grease, an assumption", source="lubricant.method"),
+    *_imperfections("imperfections", "every row"),
+    *_imperfections("rows[].imperfections", "this row (overrides [imperfections])"),
     _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
     _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
        source="rows[].axial_position"),

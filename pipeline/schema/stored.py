@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from rvcore.driver import Sensor, SolverSettings
 from rvcore.geometry import Arc, Bearing, Row
+from rvcore.imperfections import Imperfections, Waviness
 from rvcore.profile import Profile
 
 from ..errors import ConfigError
@@ -29,7 +30,8 @@ from .sweepfile import _SOLVER_SINCE_PINNED, MODEL_VERSION
 WHERE = "configuration"
 
 #: Element types of the tuple fields that hold dataclasses.
-_ELEMENTS = {(Bearing, "rows"): Row, (Row, "inner_arcs"): Arc, (Row, "outer_arcs"): Arc}
+_ELEMENTS = {(Bearing, "rows"): Row, (Row, "inner_arcs"): Arc, (Row, "outer_arcs"): Arc,
+             (Imperfections, "inner_waviness"): Waviness, (Imperfections, "outer_waviness"): Waviness}
 
 #: Keys of the stored configuration besides the dataclasses (read or ignored on purpose).
 _BOOKKEEPING = ("description", "sweep_file", "bearing_file", "profile_file", "case_ids")

@@ -91,6 +91,7 @@ import tomli_w
 
 from rvcore.driver import SolverSettings
 from rvcore.geometry import Bearing, Lubricant
+from rvcore.imperfections import PERFECT
 from rvcore.profile import OperatingPoint, Profile
 
 from ..errors import ConfigError
@@ -133,8 +134,14 @@ _BEARING_SINCE_PINNED = {"lubricant": plain(Lubricant())}
 def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
     """The bearing's plain form as hashed and stored: ``drop`` left out, and the values of
     :data:`_BEARING_SINCE_PINNED` left out where they are the pinned ones."""
-    return {k: v for k, v in plain(bearing).items()
-            if k not in drop and not (k in _BEARING_SINCE_PINNED and v == _BEARING_SINCE_PINNED[k])}
+    out = {k: v for k, v in plain(bearing).items()
+           if k not in drop and not (k in _BEARING_SINCE_PINNED and v == _BEARING_SINCE_PINNED[k])}
+    # a perfect row's imperfections (model.md §12) are left out: a perfect bearing keeps
+    # the case ids it had before imperfections existed
+    for row, plain_row in zip(bearing.rows, out.get("rows", [])):
+        if row.imperfections == PERFECT:
+            plain_row.pop("imperfections", None)
+    return out
 
 
 def _solver_plain(settings: SolverSettings) -> dict:

@@ -22,13 +22,16 @@ from pipeline.analysis import DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION
 from pipeline.io import encoding_for
 from pipeline.report import build_report
 from pipeline.report.context import Context
-from pipeline.report.summary import ABSENT, section_summary
+from pipeline.report.summary import ABSENT, COLUMNS, section_summary
 from pipeline.schema import sweep_from_dict
 from rvcore.profile import PHASES
 from tests.pipeline.test_report import _section, _table, synthetic_sweep
 from tests.pipeline.test_report_stiffness import _add_stiffness
 
 REPO = Path(__file__).resolve().parents[2]
+
+#: The summary table's safety-factor column, as the report labels it.
+SAFETY_COLUMN = next(c.header for c in COLUMNS if c.key == "safety")
 
 #: Phase titles as the report writes them.
 TITLE = {"startup": "start-up", "steady": "steady", "deceleration": "deceleration"}
@@ -120,7 +123,7 @@ def test_summary_rows_match_the_dataset(designer):
             continue
         phase = {n: at[n].values for n in DESIGNER_METRICS}
         k = int(np.argmin(phase["static_safety_factor_min"]))
-        assert r[col["min static safety factor s₀ (ISO 76) [1]"]] == _g3(phase["static_safety_factor_min"].min())
+        assert r[col[SAFETY_COLUMN]] == _g3(phase["static_safety_factor_min"].min())
         assert r[col["s₀ smallest in"]] == f"{TITLE[PHASES[k]]}, {phase['static_safety_factor_min_time'][k]:.3g} s"
         assert r[col["L10r of the duty cycle [Mrev]"]] == _g3(float(at["rating_life_L10r"]) / 1e6)
         assert r[col["L10r of the duty cycle [cycles]"]] == _g3(float(at["rating_life_cycles"]))
@@ -244,7 +247,7 @@ def test_ensemble_summary_is_the_mean_over_realizations(tmp_path):
     means[0] = float(lives[0]) * 1.05                # mean of factors 1, 1.1
     assert [r[k] for r in table.rows] == [_g3(x / 1e6) for x in means]
     # s₀: the minimum over the phases per realization, then the mean
-    k = table.header.index("min static safety factor s₀ (ISO 76) [1]")
+    k = table.header.index(SAFETY_COLUMN)
     s0 = made_up("static_safety_factor_min", 120.0, 20e3).min() * 1.1
     assert table.rows[0][k] == _g3(s0)
     assert table.rows[0][k + 1] in TITLE.values()    # an ensemble: the phase, no time
@@ -282,7 +285,7 @@ def test_unloaded_life_is_infinite_and_undefined_safety_is_absent(tmp_path):
     table = next(b for b in blocks if hasattr(b, "rows"))
     row = table.rows[0]
     assert row[table.header.index("L10r of the duty cycle [Mrev]")] == "∞"
-    k = table.header.index("min static safety factor s₀ (ISO 76) [1]")
+    k = table.header.index(SAFETY_COLUMN)
     assert row[k] == ABSENT and row[k + 1] == ABSENT
     with open(path, newline="") as fh:
         first = list(csv.reader(fh))[1]

@@ -70,6 +70,12 @@ def _sample(f):
     """A valid value for field ``f`` as a file would write it (SI numbers)."""
     if f.default is not REQUIRED and not (isinstance(f.default, str) and f.default.startswith(("<", "(", "from"))):
         return list(f.default) if isinstance(f.default, tuple) else f.default
+    leaf = f.path.rsplit(".", 1)[-1]
+    imperfection = {"tolerance_class": "5", "ball_grade": "G10", "inner_eccentricity": "10 um",
+                    "outer_eccentricity": "5 um", "inner_eccentricity_angle": "30 deg",
+                    "outer_eccentricity_angle": "-30 deg"}
+    if "imperfections." in f.path and leaf in imperfection:
+        return imperfection[leaf]
     return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s"}.get(f.path)
 
 
@@ -83,11 +89,22 @@ def _with_bearing_field(raw, f):
         raw.pop("mounting", None)
         raw["assumptions"] = [a for a in raw.get("assumptions", []) if a != "mounting"]
     key = f.path.replace("[]", "[0]")
+    if "_waviness[]" in f.path:   # one harmonic, every key of it
+        table = f.path.split("_waviness[]")[0] + "_waviness"
+        node = raw
+        parts = table.replace("rows[].", "rows[0].").split(".")
+        for part in parts[:-1]:
+            node = node["rows"][0] if part == "rows[0]" else node.setdefault(part, {})
+        node[parts[-1]] = [{"order": 13, "amplitude": "0.5 um", "phase": "20 deg"}]
+    if f.path.endswith("ball_diameter_deviation"):   # one per ball of the row
+        count = raw["rows"][0]["balls"]["count"]
+        node = raw["rows"][0] if f.path.startswith("rows") else raw
+        node.setdefault("imperfections", {})["ball_diameter_deviation"] = ["0.1 um"] * count
     if lookup(raw, key, None) is None:
         parts = key.split(".")
         node = raw
         for part in parts[:-1]:
-            node = node.setdefault(part, {})
+            node = node["rows"][0] if part == "rows[0]" else node.setdefault(part, {})
         node[parts[-1]] = _sample(f)
     return raw, key
 

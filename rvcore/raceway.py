@@ -1,0 +1,55 @@
+"""Where an imperfect raceway is: the radial shift of a groove at a contact's angle.
+
+The one place an imperfection enters the contact geometry (model.md §12,
+:mod:`rvcore.imperfections`): the right-hand side, the potential energy and the statics
+all take the shift from :func:`raceway_offset` and hand it to
+:func:`rvcore.contact.race_arc_penetration`.
+"""
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .imperfections import MAX_WAVINESS_TERMS
+from .model import R_ECC_I, R_ECC_I_ANG, R_ECC_O, R_ECC_O_ANG, R_NWAVE_I, R_NWAVE_O, R_WAVE0
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def raceway_offset(rows, r, outer, ux, uy):
+    """Radial shift of row ``r``'s inner (``outer`` False) or outer raceway [m] at the unit
+    direction ``(ux, uy)`` given in that ring's own frame.
+
+    Notes
+    -----
+    ``Δr(φ) = e·cos(φ − φ_e) + Σ_k A_k·cos(k·φ + φ_k)`` with ``φ`` the direction's angle:
+    the eccentricity as ``e·(u·ê)``, no angle needed; the waviness terms from ``φ``.
+    """
+    if outer:
+        e, a, n, c0 = rows[r, R_ECC_O], rows[r, R_ECC_O_ANG], int(rows[r, R_NWAVE_O]), R_WAVE0 + 3 * MAX_WAVINESS_TERMS
+    else:
+        e, a, n, c0 = rows[r, R_ECC_I], rows[r, R_ECC_I_ANG], int(rows[r, R_NWAVE_I]), R_WAVE0
+    dr = 0.0
+    if e != 0.0:
+        dr = e * (ux * math.cos(a) + uy * math.sin(a))
+    if n > 0:
+        phi = math.atan2(uy, ux)
+        for k in range(n):
+            c = c0 + 3 * k
+            dr += rows[r, c + 1] * math.cos(rows[r, c] * phi + rows[r, c + 2])
+    return dr
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def ball_offsets(rows, r, pockets, j, plx, ply, inv_rho_l, cos_spin, sin_spin, erx, ery):
+    """``(Δr_inner, Δr_outer, ΔD/2)`` of ball ``j`` (global index) of row ``r`` [m].
+
+    ``(plx, ply)·inv_rho_l`` is the ball's direction in the inner ring's (tilted) frame,
+    which the prescribed spin has turned by ``spin`` (its cosine and sine given);
+    ``(erx, ery)`` its direction in the fixed frame, the outer ring's.
+    """
+    exl, eyl = plx * inv_rho_l, ply * inv_rho_l
+    ux = cos_spin * exl + sin_spin * eyl
+    uy = cos_spin * eyl - sin_spin * exl
+    return (raceway_offset(rows, r, False, ux, uy), raceway_offset(rows, r, True, erx, ery),
+            0.5 * pockets[j, 2])
