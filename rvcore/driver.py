@@ -101,6 +101,8 @@ class CaseResult:
     over ``phase + 1`` [rev], the last line the whole simulated cycle.
     ``life`` holds the duty-cycle scalars of :data:`DUTY_CYCLE_OUTPUTS` when
     ``rvcore.life.duty_cycle_life`` is available (empty otherwise).
+    ``spectra`` holds the steady phase's amplitude spectra and the bearing's kinematic
+    frequencies (:func:`rvcore.spectra.steady_spectra`, ``kinematic_frequency`` [Hz]).
     ``energy`` maps ``friction``, ``damping`` (dissipated), ``drive`` (∫T·ω dt),
     ``load`` (work of the applied loads and gravity) and ``tilt`` (the power the
     small-tilt ring equations leave out, see ``rvcore.kernels.rhs``) to arrays over
@@ -117,6 +119,7 @@ class CaseResult:
     life_sums: dict = field(default_factory=dict)
     life: dict = field(default_factory=dict)
     energy: dict = field(default_factory=dict)
+    spectra: dict = field(default_factory=dict)  # rvcore.spectra.steady_spectra and "kinematic_frequency"
 
 
 #: Duty-cycle life scalars of a case (no dims): name -> (units, long_name), from
@@ -432,11 +435,18 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
             "seed": int(settings.seed), "inner_ring_tilt": bearing.inner_ring.tilt}
     from .operating import steady_outputs
+    from .spectra import kinematic_frequencies, steady_spectra
 
+    row0 = bearing.rows[0]
+    kinematic = kinematic_frequencies(row0.ball_count, row0.ball_diameter, row0.pitch_diameter,
+                                      row0.nominal_contact_angle, op.speed)
+    spectra = steady_spectra(time, series, tuple(resolved.phases[1]), kinematic)
+    if spectra:
+        spectra["kinematic_frequency"] = kinematic
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy(),
                       steady=steady_outputs(bearing, profile, op, gravity=settings.gravity),
-                      life_sums=life_sums, life=life, energy=energy)
+                      life_sums=life_sums, life=life, energy=energy, spectra=spectra)
 
 
 def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:

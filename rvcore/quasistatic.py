@@ -213,7 +213,8 @@ _SCALE = np.array([1e-5, 1e-5, 1e-5, 1e-4, 1e-4])
 def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float = 0.0,
                   moment: float = 0.0, load_angle: float = 0.0, *, moment_x: float = 0.0,
                   moment_y: float = 0.0, x0=None, gravity: bool = True,
-                  stiffness: bool = True, tilt: str | None = None, ring_angle: float = 0.0) -> StaticResult:
+                  stiffness: bool = True, tilt: str | None = None, ring_angle: float = 0.0,
+                  ball_angle: float = 0.0) -> StaticResult:
     """Equilibrium of the inner ring under the given loads and its own weight.
 
     The applied load vector is ``(F_r·cos ψ, F_r·sin ψ, F_a, M_x, M_y)`` with
@@ -251,6 +252,10 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         Angle the inner ring has turned through from its position at t = 0 [rad]: where
         an imperfect inner raceway's eccentricity and waviness stand (model.md §12); no
         effect on a perfect bearing.
+    ball_angle : float
+        Angle the balls (the cage) have turned through from their pockets' places at
+        2πj/Z [rad]: where the balls stand against the load, which a few balls' varying
+        compliance depends on (the quasi-static reference of a turning bearing).
 
     Raises
     ------
@@ -267,6 +272,11 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     # the unknowns: all five pose coordinates, or the three translations of a held ring
     n_free = 3 if tilt == "held" else 5
     rows, arcs, pockets = model.rows, model.arcs, model.pockets
+    if ball_angle != 0.0:   # every ball turned about the axis with the cage
+        pockets = pockets.copy()
+        c0, s0 = math.cos(ball_angle), math.sin(ball_angle)
+        pockets[:, 0], pockets[:, 1] = (c0 * model.pockets[:, 0] - s0 * model.pockets[:, 1],
+                                        s0 * model.pockets[:, 0] + c0 * model.pockets[:, 1])
     n_arcs = int(rows[:, R_NARC].max())
     nb = model.n_balls
     q_out = np.zeros((nb, n_arcs))

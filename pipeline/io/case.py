@@ -155,6 +155,25 @@ SENSOR_SERIES = {
 #: Sensor phase metrics over (phase, sensor).
 SENSOR_METRICS = _extreme_metrics("sensor_displacement", "the sensor reading")
 
+#: The steady phase's spectra (rvcore.spectra): name -> (dims, units, long_name).
+SPECTRA = {
+    "kinematic_frequency": (("kinematic",), "Hz", "the bearing's kinematic frequencies at the steady speed (rolling "
+                                                  "without slip at the nominal contact angle): shaft, cage, outer and "
+                                                  "inner ball pass, ball spin, and twice each"),
+    **{f"{n}_spectrum": (("frequency",), "m", f"single-sided amplitude spectrum of {w} over the steady phase "
+                                              "(mean removed, Hann window; a sinusoid of amplitude A reads A)")
+       for n, w in (("radial_displacement", "delta_r"), ("axial_displacement", "delta_a"))},
+    **{f"{n}_kinematic_amplitude": (("kinematic",), "m", f"largest spectral amplitude of {w} within one bin of each "
+                                                         "kinematic frequency, steady phase")
+       for n, w in (("radial_displacement", "delta_r"), ("axial_displacement", "delta_a"))},
+    "sensor_displacement_spectrum": (("frequency", "sensor"), "m", "single-sided amplitude spectrum of each sensor's "
+                                                                  "reading over the steady phase (mean removed, Hann "
+                                                                  "window; a sinusoid of amplitude A reads A)"),
+    "sensor_displacement_kinematic_amplitude": (("kinematic", "sensor"), "m", "largest spectral amplitude of each "
+                                                                             "sensor's reading within one bin of each "
+                                                                             "kinematic frequency, steady phase"),
+}
+
 #: Cage variables of a bearing with several rows of balls gain a trailing ``row``
 #: dimension (one value per row); a single row keeps the dims of :data:`VARIABLES`.
 PER_ROW = ("cage_speed", "cage_speed_mean", "epicyclic_cage_speed", "cage_slip", "cage_slip_nominal")
@@ -172,6 +191,7 @@ VARIABLES = {
     **{k: (("elapsed_time", "sensor"), *v) for k, v in SENSOR_SERIES.items()},
     **{k: (("phase",), *v) for k, v in PHASE_METRICS.items()},
     **{k: (("phase", "sensor"), *v) for k, v in SENSOR_METRICS.items()},
+    **SPECTRA,
 }
 
 
@@ -194,6 +214,16 @@ def phase_coordinate() -> xr.DataArray:
                "flag_values": np.arange(len(PHASES), dtype=np.int8),
                "flag_meanings": " ".join(PHASES)},
     )
+
+
+def kinematic_coordinate() -> xr.DataArray:
+    """The int8 ``kinematic`` coordinate (which kinematic frequency) with CF flag attributes."""
+    from rvcore.spectra import KINEMATIC_NAMES
+
+    return xr.DataArray(np.arange(len(KINEMATIC_NAMES), dtype=np.int8), dims="kinematic",
+                        attrs={"long_name": "kinematic frequency of the bearing",
+                               "flag_values": np.arange(len(KINEMATIC_NAMES), dtype=np.int8),
+                               "flag_meanings": " ".join(KINEMATIC_NAMES)})
 
 
 def sensor_coordinates(sensors) -> dict:
@@ -248,10 +278,17 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     }
     if len(sensors):
         coords.update(sensor_coordinates(sensors))
+    spectra = getattr(result, "spectra", None) or {}
+    if "frequency" in spectra:
+        coords["frequency"] = ("frequency", np.asarray(spectra["frequency"], dtype=np.float64),
+                               {"units": "Hz", "long_name": "frequency of the steady phase's spectra"})
+        coords["kinematic"] = kinematic_coordinate()
     data = {}
     for name, (dims, units, long_name) in VARIABLES.items():
         if not dims:
             source = {**(getattr(result, "steady", None) or {}), **(getattr(result, "life", None) or {})}
+        elif name in SPECTRA:
+            source = getattr(result, "spectra", None) or {}
         else:
             source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):

@@ -134,7 +134,11 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
     # dimension; every case of a sweep has the same rows, so the first such file labels it
     row_case = next((ds for ds in loaded if "row" in ds.dims), None)
     n_r = row_case.sizes["row"] if row_case is not None else 0
-    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s, "row": n_r}
+    # the steady phase's spectra (same window and rate in every case of a sweep)
+    freq_case = next((ds for ds in loaded if "frequency" in ds.dims), None)
+    n_f = freq_case.sizes["frequency"] if freq_case is not None else 0
+    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s, "row": n_r, "frequency": n_f,
+             "kinematic": freq_case.sizes["kinematic"] if freq_case is not None else 0}
     dims_of = {k: dims + (("row",) if n_r and k in PER_ROW else ()) for k, (dims, _, _) in VARIABLES.items()}
     arrays = {k: np.full(shape + tuple(sizes[d] for d in dims), np.nan) for k, dims in dims_of.items()
               if all(sizes[d] for d in dims)}
@@ -147,8 +151,12 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
             continue
         status[entry.at] = CASE_STATUS.index("ok")
         t = ds["elapsed_time"].values
+        same_spectrum = freq_case is not None and "frequency" in ds.dims and np.array_equal(
+            ds["frequency"].values, freq_case["frequency"].values)
         for k, arr in arrays.items():
             if k not in ds:
+                continue
+            if "frequency" in dims_of[k] and not same_spectrum:   # another window or rate: left NaN
                 continue
             v = ds[k].transpose(*dims_of[k]).values
             if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
@@ -166,6 +174,10 @@ def combine_cases(axes, entries, *, output_rate: float | None = None, scalars=No
     coords.update(scalars or {})
     if row_case is not None:
         coords["row"] = xr.DataArray(row_case["row"].values, dims="row", attrs=dict(row_case["row"].attrs))
+    if freq_case is not None:
+        for name in ("frequency", "kinematic"):
+            c = freq_case[name]
+            coords[name] = xr.DataArray(c.values, dims=name, attrs=dict(c.attrs))
     if sensor_case is not None:
         for name, c in sensor_case.coords.items():
             if c.dims == ("sensor",):

@@ -1,0 +1,181 @@
+"""Imperfect bearings (model.md §12): each check derived here from geometry or from the
+classical theory of bearing vibration, never from the code's own output.
+
+The reduced 12-ball section of the study bearing, weightless (so that a perfect bearing
+under pure axial load does not move radially at all and every radial line of a spectrum
+is the imperfection's), turning at a constant speed from t = 0.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from rvcore.driver import Sensor, SolverSettings, run_case
+from rvcore.imperfections import Imperfections, Waviness, realize
+from rvcore.profile import CH_SPEED, OperatingPoint, channel_integral
+from rvcore.quasistatic import solve_statics
+from rvcore.tolerances import ball_lot_variation
+
+from .physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
+
+Z = 12
+#: Start-up 0–0.1 s (the loads ramp over 10 ms), steady 0.1–0.6 s: a 2 Hz spectral bin.
+PROFILE = constant_profile(0.01, 0.61, phases=(("startup", 0.0, 0.1), ("steady", 0.1, 0.6),
+                                               ("deceleration", 0.6, 0.61)))
+BORE_SENSOR = Sensor("bore", (0.16, 0.0, 0.0), (1.0, 0.0, 0.0))
+
+
+def imperfect(**kw):
+    b = section_bearing(Z)
+    return dataclasses.replace(b, rows=(dataclasses.replace(b.rows[0], imperfections=Imperfections(**kw)),))
+
+
+def run(bearing, speed, f_r, f_a, **settings):
+    return run_case(bearing, PROFILE, OperatingPoint(speed, f_r, f_a),
+                    SolverSettings(output_rate=2000.0, gravity=False, **settings), sensors=(BORE_SENSOR,))
+
+
+def cage_frequency(f_i: float) -> float:
+    """Epicyclic cage frequency [Hz]: rolling without slip at the nominal 15°."""
+    return 0.5 * f_i * (1.0 - STUDY_D * math.cos(math.radians(15.0)) / STUDY_DM)
+
+
+def peak(res, name: str, above: float = 1.0) -> tuple:
+    """(frequency [Hz], amplitude, bin width) of the largest line of a steady spectrum,
+    above ``above`` Hz (the window's DC leakage stays below)."""
+    f, a = res.spectra["frequency"], res.spectra[f"{name}_spectrum"]
+    keep = f > above
+    k = int(np.argmax(a[keep]))
+    return float(f[keep][k]), float(a[keep][k]), float(f[1] - f[0])
+
+
+# --------------------------------------------------------------------------- tolerance classes
+
+
+def test_tolerance_class_sets_half_the_iso492_runout_and_draws_within_the_ball_grade():
+    """ISO 492, bore and outside diameter 315–400 mm (the study's 320/383 mm): Normal
+    K_ia 60 µm, K_ea 70 µm; class 5 K_ea 20 µm (the tables as typed here). An
+    eccentricity e gives a runout (total indicator reading) of 2e, so e = K/2. A seed
+    draws the high points; the ball sizes lie within the grade's lot variation."""
+    k_ia, k_ea = {"normal": (60e-6, 70e-6)}, {"5": 20e-6}
+    b = imperfect(tolerance_class="normal")
+    r0 = realize(b, seed=3).rows[0].imperfections
+    assert r0.inner_eccentricity == pytest.approx(k_ia["normal"][0] / 2)
+    assert r0.outer_eccentricity == pytest.approx(k_ia["normal"][1] / 2)
+    assert realize(imperfect(tolerance_class="5"), seed=3).rows[0].imperfections.outer_eccentricity \
+        == pytest.approx(k_ea["5"] / 2)
+    # the seed draws the angles: reproducible, different from another seed, 0 without one
+    assert realize(b, seed=3).rows[0].imperfections == r0
+    assert realize(b, seed=4).rows[0].imperfections.inner_eccentricity_angle != r0.inner_eccentricity_angle
+    assert realize(b).rows[0].imperfections.inner_eccentricity_angle == 0.0
+    # Normal's default grade: the spread of the balls' sizes within its V_DwL
+    dd = np.array(r0.ball_diameter_deviation)
+    assert dd.size == Z and 0 < dd.max() - dd.min() <= ball_lot_variation("G20")
+
+
+def test_zero_imperfections_run_exactly_as_the_perfect_bearing():
+    """Imperfections of zero size (one harmonic of zero amplitude switches the imperfect
+    path of the kernels on) change no bit of the result."""
+    b0 = section_bearing(Z)
+    b1 = imperfect(inner_eccentricity=0.0, outer_eccentricity=0.0, outer_waviness=(Waviness(5, 0.0),))
+    prof = constant_profile(0.002, 0.01)
+    r0 = run_case(b0, prof, OperatingPoint(30.0, 10e3, 5e3), SolverSettings(output_rate=1e4, gravity=False))
+    r1 = run_case(b1, prof, OperatingPoint(30.0, 10e3, 5e3), SolverSettings(output_rate=1e4, gravity=False))
+    for name in ("radial_displacement", "axial_displacement", "cage_speed", "max_inner_contact_load"):
+        np.testing.assert_array_equal(r1.series[name], r0.series[name])
+
+
+# --------------------------------------------------------------------------- eccentricity
+
+
+def test_inner_eccentricity_runout_statically():
+    """The quasi-static pose over one revolution of the ring: an inner raceway eccentric
+    by e moves the ring (held on its balls) by −e·cos(φ + φ_e) along the load."""
+    e, phase = 20e-6, 0.7
+    b = imperfect(inner_eccentricity=e, inner_eccentricity_angle=phase)
+    angles = np.linspace(0.0, 2 * math.pi, 13)
+    path = np.array([solve_statics(b, 10e3, 5e3, gravity=False, stiffness=False, ring_angle=a).radial_displacement
+                     for a in angles])
+    expected = -e * np.cos(angles + phase)
+    assert np.abs((path - path.mean()) - (expected - expected.mean())).max() < 0.01 * e
+
+
+def test_inner_eccentricity_dynamic_runout_is_two_e_and_follows_the_statics():
+    """Radial + axial load, 2 rev/s: over the steady phase's whole revolution the bore
+    sensor along the load reads 2e (3 %), and the displacement the eccentricity adds to
+    the perfect bearing's follows the quasi-static runout path at the same ring angles
+    within 1 % of e (the perfect bearing's own friction offset and ball-pass ripple,
+    present with or without the eccentricity, cancel in the difference)."""
+    e, w, f_r, f_a = 20e-6, 2 * math.pi * 2.0, 10e3, 5e3
+    b = imperfect(inner_eccentricity=e, inner_eccentricity_angle=0.0)
+    res, res0 = run(b, w, f_r, f_a), run(section_bearing(Z), w, f_r, f_a)
+    t = res.time
+    steady = (t >= 0.1) & (t < 0.6)          # one whole revolution at 2 rev/s
+    s = res.series["sensor_displacement"][steady, 0]
+    assert s.max() - s.min() == pytest.approx(2 * e, rel=0.03)
+    table, meta = PROFILE.resolve(OperatingPoint(w, f_r, f_a)).arrays()
+    st0 = solve_statics(section_bearing(Z), f_r, f_a, gravity=False, stiffness=False)
+    worst = 0.0
+    for k in np.flatnonzero(steady)[::50]:
+        st = solve_statics(b, f_r, f_a, gravity=False, stiffness=False,
+                           ring_angle=channel_integral(table, meta, CH_SPEED, t[k]))
+        dyn = res.series["radial_displacement"][k] - res0.series["radial_displacement"][k]
+        worst = max(worst, abs(dyn - (st.radial_displacement - st0.radial_displacement)))
+    assert worst < 0.01 * e
+
+
+# --------------------------------------------------------------------------- waviness, ball size
+
+
+F_I = 10.0   # shaft frequency of the waviness runs [Hz]
+
+
+@pytest.mark.parametrize("ring, order, signal, expected", [
+    # outer race (fixed), order Z ± 1: radial at Z·f_c (Wardle 1988; Yhland 1992)
+    ("outer", Z + 1, "radial", lambda f_i, f_c: Z * f_c),
+    # inner race (turning), order Z + 1: radial at Z·(f_i − f_c) + f_i
+    ("inner", Z + 1, "radial", lambda f_i, f_c: Z * (f_i - f_c) + f_i),
+    # outer race, order Z: every ball meets the same phase, an axial vibration at Z·f_c
+    ("outer", Z, "axial", lambda f_i, f_c: Z * f_c),
+])
+def test_waviness_vibrates_at_the_classical_frequencies(ring, order, signal, expected):
+    """Pure axial load: a perfect bearing does not vibrate at all, so every line is the
+    waviness's. With ball j at cage angle θ_j = 2πj/Z + 2π f_c t, a raceway radius
+    ``A·cos(q·φ)`` (φ = θ_j on the fixed outer ring, θ_j − 2π f_i t on the inner) pushes
+    the ring with ``Σ_j A cos(q φ_j)·e^{iθ_j}``, which is non-zero only for q ≡ ±1 (mod Z)
+    (radial) and q ≡ 0 (mod Z) (axial, all balls in phase); its frequency follows from
+    the phases above. The peak of the steady spectrum lies within one bin of it."""
+    amplitude = 1e-6
+    b = imperfect(**{f"{ring}_waviness": (Waviness(order, amplitude),)})
+    res = run(b, 2 * math.pi * F_I, 0.0, 10e3)
+    f, a, df = peak(res, f"{signal}_displacement")
+    assert abs(f - expected(F_I, cage_frequency(F_I))) <= df
+    assert a > 1e-9          # a real line, not round-off
+
+
+def test_one_larger_ball_vibrates_at_the_cage_frequency():
+    """One ball 2 µm larger under pure axial load carries more load than the others and
+    pushes the ring away from itself as it orbits with the cage: a radial line at f_c."""
+    f_i = 20.0
+    dd = (2e-6,) + (0.0,) * (Z - 1)
+    res = run(imperfect(ball_diameter_deviation=dd), 2 * math.pi * f_i, 0.0, 10e3)
+    f, a, df = peak(res, "radial_displacement")
+    assert abs(f - cage_frequency(f_i)) <= df
+    assert a > 1e-9
+
+
+def test_perfect_bearing_vibrates_radially_only_under_radial_load_at_the_ball_pass():
+    """A perfect bearing: under pure axial load every ball carries the same load and the
+    ring does not move radially (nothing above round-off); under a radial load the balls
+    passing through the load zone vary its compliance, a line at the outer ball pass
+    Z·f_c (or a harmonic of it)."""
+    axial = run(section_bearing(Z), 2 * math.pi * F_I, 0.0, 10e3)
+    assert np.abs(axial.spectra["radial_displacement_spectrum"]).max() < 1e-10
+    radial = run(section_bearing(Z), 2 * math.pi * F_I, 10e3, 5e3)
+    f, a, df = peak(radial, "radial_displacement")
+    ball_pass = Z * cage_frequency(F_I)
+    assert abs(f / round(f / ball_pass) - ball_pass) * round(f / ball_pass) <= df
+    assert a > 1e-9
