@@ -167,15 +167,9 @@ def test_one_larger_ball_vibrates_at_the_cage_frequency():
     assert a > 1e-9
 
 
-def test_perfect_bearing_vibrates_radially_only_under_radial_load_at_the_ball_pass():
-    """A perfect bearing: under pure axial load every ball carries the same load and the
-    ring does not move radially (nothing above round-off); under a radial load the balls
-    passing through the load zone vary its compliance, a line at the outer ball pass
-    Z·f_c (or a harmonic of it)."""
+def test_perfect_bearing_under_pure_axial_load_does_not_move_radially():
+    """A perfect bearing under pure axial load: every ball carries the same load, so the
+    ring does not move radially (its spectrum holds nothing above round-off), the
+    background against which the lines of the waviness tests stand 100× and more."""
     axial = run(section_bearing(Z), 2 * math.pi * F_I, 0.0, 10e3)
     assert np.abs(axial.spectra["radial_displacement_spectrum"]).max() < 1e-10
-    radial = run(section_bearing(Z), 2 * math.pi * F_I, 10e3, 5e3)
-    f, a, df = peak(radial, "radial_displacement")
-    ball_pass = Z * cage_frequency(F_I)
-    assert abs(f / round(f / ball_pass) - ball_pass) * round(f / ball_pass) <= df
-    assert a > 1e-9
