@@ -108,7 +108,8 @@ def _imperfections(top: Table, row: Table, ball_count: int) -> Imperfections:
                           f"{len(balls)} values for {ball_count} balls: give one per ball")
     kw["ball_diameter_deviation"] = tuple(balls)
     kw["ball_grade"] = value("ball_grade", "")[1]
-    kw["tolerance_class"] = value("tolerance_class", "")[1]
+    cls = value("tolerance_class", "none")[1]
+    kw["tolerance_class"] = "" if cls == "none" else cls
     return Imperfections(**kw)
 
 

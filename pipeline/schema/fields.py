@@ -157,9 +157,10 @@ def _material(prefix: str, source: str, whose: str) -> list:
 def _imperfections(prefix: str, where: str) -> list:
     """The ``[imperfections]`` keys (model.md §12) under ``prefix``: the bearing's, or one
     row's override (``rows[].imperfections``)."""
-    out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="(none)", choices=TOLERANCE_CLASSES,
+    out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
+                 choices=("none",) + TOLERANCE_CLASSES,
                  doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea "
-                     "and a default ball grade")]
+                     "and a default ball grade; none: a perfect bearing unless other keys say otherwise")]
     for ring in ("inner", "outer"):
         out += [
             _q(f"{prefix}.{ring}_eccentricity", "length", "um",

@@ -223,6 +223,8 @@ def _override_coord(value, target: str, key: str, file, where: str):
     if isinstance(value, (int, float)):
         return float(value), _key_kind(target, key)
     if isinstance(value, str):
+        if _key_kind(target, key) == "category":   # a choice ("5" is a tolerance class, not a number)
+            return value, "category"
         kind = _kind_of_quantity(value)
         if kind is None:
             return value, "category"
