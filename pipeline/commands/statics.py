@@ -25,6 +25,12 @@ def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     parser.add_argument("--no-gravity", action="store_true",
                         help="leave out the inner ring's weight (it is included by default, along the mounting)")
+    parser.add_argument("--runout", type=int, default=0, metavar="N",
+                        help="also the quasi-static runout path: the pose at N ring angles over one revolution "
+                             "(an imperfect bearing's; see [imperfections])")
+    parser.add_argument("--seed", type=int, default=-1, metavar="S",
+                        help="the realization whose tolerance-class draws (high points, ball sizes) to use; "
+                             "default none (high points at 0)")
 
 
 def stiffness_units() -> list:
@@ -63,6 +69,7 @@ def run(args):
                            moment_x=mx, moment_y=my, gravity=not args.no_gravity)
     except NoEquilibriumError as exc:
         raise UserError(str(exc)) from None
+    path = _runout(args, bearing, op, mx, my)
     k = np.asarray(st.stiffness_matrix, dtype=float)
     k_radial, k_axial, k_tilt = stiffness_scalars(k, op.load_angle)
     kc_radial, kc_axial, kc_tilt = st.free_stiffness_scalars()
@@ -158,6 +165,13 @@ def run(args):
                                      "four-point rows)"),
             "warnings": list(bearing.warnings),
         }
+        if path is not None:
+            obj["runout_path"] = {"ring_angle_rad": path["ring_angle"].tolist(),
+                                  "ball_angle_rad": path["ball_angle"].tolist(),
+                                  "radial_displacement_m": path["radial_displacement"].tolist(),
+                                  "axial_displacement_m": path["axial_displacement"].tolist(),
+                                  "radial_displacement_range_m": path["radial_displacement_range"],
+                                  "axial_displacement_range_m": path["axial_displacement_range"]}
         if pair:
             obj["row_axial_load_N"] = np.asarray(st.row_axial_loads, dtype=float).tolist()
             obj["row_radial_load_N"] = np.asarray(st.row_radial_loads, dtype=float).tolist()
@@ -202,11 +216,37 @@ def run(args):
     print("                       (direct: the other coordinates held; compliant: the others free)")
     _print_life(life, bearing, life_note)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
+    if path is not None:
+        print(f"  runout path          over one revolution, {len(path['ring_angle'])} ring angles: delta_r range "
+              f"{path['radial_displacement_range'] * 1e6:.4g} um, delta_a range "
+              f"{path['axial_displacement_range'] * 1e6:.4g} um")
+        print("    ring[deg]  delta_r[um]  delta_a[um]")
+        for a, r_, z_ in zip(path["ring_angle"], path["radial_displacement"], path["axial_displacement"]):
+            print(f"    {math.degrees(a):9.2f}  {r_ * 1e6:11.4f}  {z_ * 1e6:11.4f}")
     print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")
     for j in range(st.ball_loads.shape[0]):
         angles = " ".join("   -  " if math.isnan(a) else f"{math.degrees(a):6.2f}" for a in st.contact_angles[j])
         print(f"  {j:4d}  {math.degrees(st.azimuths[j]):12.2f}  {q_in[j]:10.2f}  {q_out[j]:10.2f}  {angles}")
     return 0
+
+
+def _runout(args, bearing, op, mx: float, my: float):
+    """The quasi-static runout path of ``--runout N`` (None without it)."""
+    if not args.runout:
+        return None
+    if args.runout < 2:
+        raise UserError(f"--runout {args.runout}: give at least 2 ring angles")
+    if mx or my:
+        raise UserError("--runout takes --moment only (about the axis normal to the radial load), "
+                        "not --moment-x/--moment-y")
+    from rvcore.quasistatic import NoEquilibriumError
+    from rvcore.runout import runout_path
+
+    try:
+        return runout_path(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
+                           points=args.runout, gravity=not args.no_gravity, seed=args.seed)
+    except NoEquilibriumError as exc:
+        raise UserError(str(exc)) from None
 
 
 def _num(x) -> str:
