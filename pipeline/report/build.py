@@ -53,6 +53,7 @@ from .select import _axis_specs, _base_states, _extreme_cases
 from .loads import section_load_distribution, solve_extremes
 from .stiffness import section_stiffness
 from .definitions import section_definitions
+from .imperfect import extra_axes_note, section_classes, section_spectrum
 from .summary import section_designer_figures, section_summary
 
 
@@ -125,11 +126,16 @@ def header_line(ctx) -> str:
     """The line under the title: what was run, so that a number in the summary is never
     read without its bearing, cycle, grid, integrator and model version."""
     sweep, conf = ctx.sweep, ctx.configuration
-    dims = {d: n for d, n in sweep.sizes.items() if d not in ("elapsed_time", "phase", "sensor", "row")}
+    dims = {d: n for d, n in sweep.sizes.items()
+            if d not in ("elapsed_time", "phase", "sensor", "row", "frequency", "kinematic")}
     total = 1
     for n in dims.values():
         total *= n
-    grid = " × ".join(f"{n} {d.replace('_', ' ')}{'s' if n != 1 else ''}" for d, n in dims.items())
+    def counted(d, n):
+        name = str(sweep[d].attrs.get("sweep_key", d)).split(".")[-1].replace("_", " ")
+        return f"{n} {name}" + ("" if n == 1 else "es" if name.endswith("s") else "s")
+
+    grid = " × ".join(counted(d, n) for d, n in dims.items())
     grid += f" = {total} case{'s' if total != 1 else ''}"
     parts = [f"bearing {sweep.attrs.get('bearing', '?')}"]
     if conf is not None:
@@ -186,6 +192,7 @@ def build_report(directory, reference=None) -> ReportFiles:
         blocks.append(Warning_("**Geometry caveat.** This bearing is not buildable as specified; "
                                "its results are reported with that caveat:\n" + "\n".join(caveats)))
     summary_blocks, summary, summary_path = section_summary(ctx, outdir)
+    blocks += extra_axes_note(ctx)
     blocks += summary_blocks
     blocks += section_definitions(ctx)
     blocks += section_cases(ctx)
@@ -269,6 +276,10 @@ def build_report(directory, reference=None) -> ReportFiles:
     blocks += section_window_edges(ctx, windows)
     comparison = _comparison(ctx)
     blocks += section_comparison(ctx, comparison)
+    blocks += section_classes(ctx)
+    spectrum_blocks, spectrum_figures = section_spectrum(ctx, figdir)
+    blocks += spectrum_blocks
+    figures += spectrum_figures
     blocks += section_plane(ctx)
     blocks += section_physics(ctx, comparison, windows)
     blocks.append(Heading(2, "Files"))

@@ -85,10 +85,10 @@ def phase_windows(ctx: Context):
 
 def _extra_dims(ds) -> list:
     """Extra sweep dimensions of ``ds``: all but the grid axes, phase, time, the packed
-    displacement metrics, the ensemble (``realization``), the sensors and the rows of a
-    bearing of several rows (``row``)."""
+    displacement metrics, the ensemble (``realization``), the sensors, the rows of a
+    bearing of several rows (``row``) and the spectra's ``frequency`` and ``kinematic``."""
     return [d for d in ds.dims if d not in ("speed", "radial_load", "phase", "elapsed_time", DISPLACEMENT_COORD,
-                                            REALIZATION, SENSOR, ROW)]
+                                            REALIZATION, SENSOR, ROW, "frequency", "kinematic")]
 
 
 def _base(ds, first_realization: bool = True):
