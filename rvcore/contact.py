@@ -33,7 +33,7 @@ import math
 
 from numba import njit
 
-from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE
+from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 
 # Floating-point flags of every kernel (``fastmath=FAST``): none. Results must be
 # bit-identical for the same inputs on any scheduler, i.e. on whatever CPU model a worker
@@ -392,6 +392,42 @@ def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
     ay = a_sec * ((tan * cth) * inv) + station * sth
     az = a_sec * (dzp * inv)
     return delta, ax, ay, az, a_sec
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
+    """Ball–pocket contact of a ball-guided cage: a spherical pocket of radius ``pocket_r``
+    centred on the cage's pitch circle (radius ``pitch_r`` [m]) at the pocket's azimuth.
+
+    Why spherical: a ball-guided (ball-riding) cage, e.g. a pressed-steel cage, is centred
+    by the balls, its pockets formed around them, so that a radial or axial shift of the
+    cage closes the pocket play as a circumferential one does. A cylindrical pocket with a
+    radial axis (:func:`pocket_penetration`) holds a shifted cage only through the
+    circumferential contacts of the balls 90° away, and those balls are free to slide
+    along their orbit where they carry no load (all of them without friction): a ball-guided
+    cage built from it drifted millimetres off the axis (docs/validation-deep-groove.md).
+
+    Arguments and returns as :func:`pocket_penetration` (``a_sec`` is the ball radius: the
+    normal passes through both centres).
+    """
+    ex = dxp - pitch_r * cth
+    ey = dyp - pitch_r * sth
+    dist = math.sqrt(ex * ex + ey * ey + dzp * dzp)
+    delta = dist + h - pocket_r
+    if not (delta > 0.0 and dist > 0.0):
+        return -1.0, 0.0, 0.0, 0.0, h
+    s = h / dist
+    return delta, ex * s, ey * s, dzp * s, h
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def cage_pocket_penetration(guide, dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h, cage_ri, cage_ro):
+    """The pocket contact of a cage of guidance ``guide`` (rvcore.model.GUIDE_*): spherical
+    pockets for a ball-guided cage (:func:`spherical_pocket_penetration`), cylindrical ones
+    for a land-guided cage (:func:`pocket_penetration`). Returns as those."""
+    if guide == GUIDE_BALL:
+        return spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h)
+    return pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")

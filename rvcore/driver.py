@@ -192,10 +192,16 @@ def inner_race_velocity(y, omega, point):
 def _rolling_velocities(model, y, omega):
     """Set ball and cage velocities for rolling without slip at inner-ring speed ``omega``.
 
-    Each ball's centre velocity v and angular velocity w solve, exactly and with the
-    least norm, the four tangential no-slip conditions at its deepest inner and outer
-    contacts (:func:`race_contacts`): ``(v + w × (c_i − P))_t = (v_race(c_i))_t`` with the
-    race velocity of :func:`inner_race_velocity`, and ``(v + w × (c_o − P))_t = 0``. The
+    Each ball's centre velocity v and angular velocity w solve, exactly, the four
+    tangential no-slip conditions at its deepest inner and outer contacts
+    (:func:`race_contacts`): ``(v + w × (c_i − P))_t = (v_race(c_i))_t`` with the race
+    velocity of :func:`inner_race_velocity`, and ``(v + w × (c_o − P))_t = 0``; and a
+    fifth, ``v·u = 0`` along the contact line ``u ∝ n_i − n_o``: the ball starts at its
+    static position and does not move into its races. Of the rest, the least norm of
+    ``(v, r·w)``, both in m/s (r the ball radius). Why both: the tangential conditions
+    leave v along the contact line free to first order, and a least norm that mixed m/s
+    with rad/s traded it for a smaller spin; with nearly opposite normals (0° contacts)
+    that started the balls of a 6010 moving radially at up to 1.3 m/s (issue 28). The
     cage takes the balls' mean orbital speed.
     """
     from .model import BALL_STATES, R_BALL0, R_CAGE0, R_Z
@@ -211,8 +217,14 @@ def _rolling_velocities(model, y, omega):
             a_i, t_i = _tangent_rows(n_i, c_i - p)
             a_o, _ = _tangent_rows(n_o, c_o - p)
             v_race = inner_race_velocity(y, omega, c_i)
-            rhs_ = np.array([t_i[0] @ v_race, t_i[1] @ v_race, 0.0, 0.0])
-            sol = np.linalg.lstsq(np.vstack([a_i, a_o]), rhs_, rcond=None)[0]
+            rhs_ = np.array([t_i[0] @ v_race, t_i[1] @ v_race, 0.0, 0.0, 0.0])
+            line = (n_i - n_o) / np.linalg.norm(n_i - n_o)
+            h = float(np.linalg.norm(c_i - p))
+            # unknowns (v, h·w): the columns of w scaled by 1/h
+            a = np.vstack([a_i, a_o, np.concatenate([line, np.zeros(3)])])
+            a[:, 3:] /= h
+            sol = np.linalg.lstsq(a, rhs_, rcond=None)[0]
+            sol[3:] /= h
             y[b + 3:b + 9] = sol
             orbit.append(np.cross(p, sol[:3])[2] / (p[0] ** 2 + p[1] ** 2))
         y[int(row[R_CAGE0]) + 7] = float(np.mean(orbit))

@@ -98,7 +98,9 @@ class Cage:
     land_clearance : float
         Radial gap between the cage and its guiding land at the centred cage [m].
     guidance : str
-        ``"outer-land"`` (guided by the outer-ring land) or ``"ball"`` (no land contact).
+        ``"outer-land"`` (guided by the outer-ring land; cylindrical pockets with a radial
+        axis) or ``"ball"`` (no land contact: spherical pockets on the pitch circle centre
+        the cage on its balls, :func:`rvcore.contact.spherical_pocket_penetration`).
     material : Material
     land_stiffness : float
         Cage–land normal stiffness in ``Q = K·δ^1.5`` [N m^-1.5]. The land contact is a

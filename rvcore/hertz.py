@@ -88,6 +88,7 @@ __all__ = [
     "point_contact",
     "race_contact",
     "pocket_contact",
+    "spherical_pocket_contact",
     "hamrock_brewe",
 ]
 
@@ -411,6 +412,19 @@ def pocket_contact(ball_diameter, pocket_diameter, e_eff) -> HertzContact:
     if dp <= d:
         raise ValueError(f"pocket_diameter {dp:.6g} m must exceed ball_diameter {d:.6g} m")
     return point_contact(2.0 / d, 2.0 / d, -2.0 / dp, 0.0, e_eff)
+
+
+def spherical_pocket_contact(ball_diameter, pocket_diameter, e_eff) -> HertzContact:
+    """Hertz constants of a ball in the spherical pocket of a ball-guided cage.
+
+    Parameters and returns as :func:`pocket_contact`; both principal curvatures of the
+    pocket are ``−2/D_p`` (concave), so the contact is circular (κ = 1).
+    """
+    d = _positive("ball_diameter", ball_diameter, "m")
+    dp = _positive("pocket_diameter", pocket_diameter, "m")
+    if dp <= d:
+        raise ValueError(f"pocket_diameter {dp:.6g} m must exceed ball_diameter {d:.6g} m")
+    return point_contact(2.0 / d, 2.0 / d, -2.0 / dp, -2.0 / dp, e_eff)
 
 
 def hamrock_brewe(rho_1x, rho_1y, rho_2x, rho_2y, e_eff) -> dict:

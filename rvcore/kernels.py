@@ -47,10 +47,10 @@ from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_
                     P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_TILT_HELD, P_V_D, P_V_S,
                     R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE,
                     R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
-                    R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
+                    R_PITCH_R, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .contact import (FAST, arc_penetration, ball_contact_force, friction_coefficient,  # noqa: F401
                       friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
-                      normal_force, pocket_penetration, race_arc_penetration, ring_angular_velocity,
+                      normal_force, cage_pocket_penetration, race_arc_penetration, ring_angular_velocity,
                       ring_rotation, ring_to_global, step, to_ring_frame)
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
 from .contact import LOADED_BALL_LOAD, damping_coefficient
@@ -212,7 +212,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
         k_pocket = rows[r, R_POCKET_K]
         pc3_pocket = rows[r, R_POCKET_PC]
         c_pocket = params[P_POCKET_C] * damp_scale
-        cage_ri, cage_ro = rows[r, R_CAGE_RI], rows[r, R_CAGE_RO]
+        cage_ri, cage_ro, guide, pitch_r = rows[r, R_CAGE_RI], rows[r, R_CAGE_RO], rows[r, R_GUIDE], rows[r, R_PITCH_R]
 
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
         vxc, vyc, vzc, wc = y[c0 + 4], y[c0 + 5], y[c0 + 6], y[c0 + 7]
@@ -339,12 +339,12 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             if qo_sum > max_qo:
                 max_qo = qo_sum
 
-            # ---- ball–pocket (rvcore.contact.pocket_penetration)
+            # ---- ball–pocket (rvcore.contact.cage_pocket_penetration)
             cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
             cth = cphi * cs0 - sphi * sn0
             sth = sphi * cs0 + cphi * sn0
-            delta, ax, ay, az, a_sec = pocket_penetration(px - xc, py - yc, pz - zc - zrow, cth, sth,
-                                                          pocket_r, h, cage_ri, cage_ro)
+            delta, ax, ay, az, a_sec = cage_pocket_penetration(guide, px - xc, py - yc, pz - zc - zrow, cth, sth,
+                                                               pitch_r, pocket_r, h, cage_ri, cage_ro)
             qp = 0.0
             fpx, fpy, fpz, mpx, mpy, mpz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             if delta > 0.0:
@@ -541,9 +541,10 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
                                                      px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half)
                 e += hertz_energy(arcs[a, A_K], d)
             cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
-            d, _, _, _, _ = pocket_penetration(px - xc, py - yc, pz - zc - zrow, cphi * cs0 - sphi * sn0,
-                                               sphi * cs0 + cphi * sn0, rows[r, R_POCKET_R], h,
-                                               rows[r, R_CAGE_RI], rows[r, R_CAGE_RO])
+            d, _, _, _, _ = cage_pocket_penetration(rows[r, R_GUIDE], px - xc, py - yc, pz - zc - zrow,
+                                                    cphi * cs0 - sphi * sn0, sphi * cs0 + cphi * sn0,
+                                                    rows[r, R_PITCH_R], rows[r, R_POCKET_R], h,
+                                                    rows[r, R_CAGE_RI], rows[r, R_CAGE_RO])
             e += hertz_energy(rows[r, R_POCKET_K], d)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
             d, _, _ = land_penetration(xc, yc, rows[r, R_LAND_CLEAR])

@@ -106,7 +106,9 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
         cage = row.cage
         e_pocket = hertz.effective_modulus(bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio,
                                            cage.material.youngs_modulus, cage.material.poisson_ratio)
-        pocket = hertz.pocket_contact(row.ball_diameter, row.ball_diameter + cage.pocket_clearance, e_pocket)
+        # a ball-guided cage has spherical pockets (rvcore.contact.spherical_pocket_penetration)
+        pocket = (hertz.pocket_contact if cage.guidance == "outer-land" else hertz.spherical_pocket_contact)(
+            row.ball_diameter, row.ball_diameter + cage.pocket_clearance, e_pocket)
         m_cage, i_cage = cage_mass_properties(row)
         rows[r, R_Z] = row.ball_count
         rows[r, R_CAGE0] = offset
