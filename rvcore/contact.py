@@ -405,7 +405,7 @@ def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
     radial axis (:func:`pocket_penetration`) holds a shifted cage only through the
     circumferential contacts of the balls 90° away, and those balls are free to slide
     along their orbit where they carry no load (all of them without friction): a ball-guided
-    cage built from it drifted millimetres off the axis (docs/validation-deep-groove.md).
+    cage built from it drifted millimetres off the axis (docs/validation.md, "A second bearing family").
 
     Arguments and returns as :func:`pocket_penetration` (``a_sec`` is the ball radius: the
     normal passes through both centres).

@@ -1,6 +1,6 @@
 """The second bearing family of model.md §9 (issue 28): a 6010-sized deep-groove bearing,
 zero clearance, 0° contact angle, loose grooves (f = 0.625) and a ball-guided steel cage,
-in gravity (sweeps/bearings/deep-groove-6010.toml; docs/validation-deep-groove.md).
+in gravity (sweeps/bearings/deep-groove-6010.toml; docs/validation.md, "A second bearing family").
 
 Checked here, each against a value derived in the test:
 
