@@ -16,6 +16,10 @@ asserts a time (these machines are noisy).
   from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
   serial wall / (workers x parallel wall).
+- ``imperfection_cost_ratio``: the study case made to ISO 492's Normal class (its
+  eccentricities, high points and ball sizes drawn from seed 0) against the perfect one,
+  over the cycle's first 0.6 s (load ramp and start-up) with the default method, in
+  alternating pairs; the median of the pairs' wall-time ratios.
 """
 from __future__ import annotations
 
@@ -236,12 +240,34 @@ def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
     }
 
 
+def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
+    """Wall time of the Normal-class study case over the perfect one (module docstring)."""
+    import dataclasses
+
+    from rvcore.driver import SolverSettings, run_case
+    from rvcore.imperfections import Imperfections
+
+    bearing, profile, op = _study()
+    normal = dataclasses.replace(bearing, rows=tuple(
+        dataclasses.replace(r, imperfections=Imperfections(tolerance_class="normal")) for r in bearing.rows))
+    settings = SolverSettings(end_time=end_time, seed=0)
+    run_case(normal, profile, op, dataclasses.replace(settings, end_time=0.01))   # load every kernel
+    perfect, imperfect = [], []
+    for _ in range(pairs):
+        perfect.append(run_case(bearing, profile, op, settings).info["wall_time"])
+        imperfect.append(run_case(normal, profile, op, settings).info["wall_time"])
+    return {"imperfection_perfect_wall_s": statistics.median(perfect),
+            "imperfection_normal_wall_s": statistics.median(imperfect),
+            "imperfection_cost_ratio": statistics.median([b / a for a, b in zip(perfect, imperfect)])}
+
+
 def run_all(*, quick: bool = False) -> dict:
     """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``)."""
     out = {}
     out.update(full_cycle())
     out.update(scipy_comparison("imex"))
     out.update({f"rk4_{k}": v for k, v in scipy_comparison("rk4").items()})
+    out.update(imperfection_cost())
     if not quick:
         out.update(parallel_efficiency())
     return out

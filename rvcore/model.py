@@ -45,9 +45,10 @@ N_PARAMS = 17
  R_POCKET_PC, R_CAGE_M, R_CAGE_I, R_CAGE_RI, R_CAGE_RO, R_LAND_CLEAR, R_LAND_K, R_GUIDE,
  R_ARC0, R_NARC, R_POCKET0) = range(21)
 # the row's imperfections (rvcore.imperfections, realized): a flag (0: perfect, every
-# term below skipped), each raceway's eccentricity and its angle, its waviness terms
-# (order, amplitude, phase; MAX_WAVINESS_TERMS a raceway, inner then outer from R_WAVE0)
-(R_IMPERFECT, R_ECC_I, R_ECC_I_ANG, R_ECC_O, R_ECC_O_ANG, R_NWAVE_I, R_NWAVE_O, R_WAVE0) = range(21, 29)
+# term below skipped), each raceway's eccentricity as a vector in its ring's frame (e·cos
+# φ_e, e·sin φ_e: no trigonometry in the right-hand side), its waviness terms (order,
+# amplitude, phase; MAX_WAVINESS_TERMS a raceway, inner then outer from R_WAVE0)
+(R_IMPERFECT, R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_NWAVE_I, R_NWAVE_O, R_WAVE0) = range(21, 29)
 N_ROWCOLS = R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
 
 # pockets columns (one line a ball): the pocket's azimuth, the ball's diameter deviation [m]
@@ -151,8 +152,9 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
 def _pack_imperfections(line, imp) -> None:
     """Write a row's realized imperfections into its ``rows`` line (layout above)."""
     line[R_IMPERFECT] = 0.0 if imp.perfect else 1.0
-    line[R_ECC_I], line[R_ECC_I_ANG] = imp.inner_eccentricity, imp.inner_eccentricity_angle
-    line[R_ECC_O], line[R_ECC_O_ANG] = imp.outer_eccentricity, imp.outer_eccentricity_angle
+    for cx, cy, e, a in ((R_ECC_I_X, R_ECC_I_Y, imp.inner_eccentricity, imp.inner_eccentricity_angle),
+                         (R_ECC_O_X, R_ECC_O_Y, imp.outer_eccentricity, imp.outer_eccentricity_angle)):
+        line[cx], line[cy] = e * math.cos(a), e * math.sin(a)
     line[R_NWAVE_I], line[R_NWAVE_O] = len(imp.inner_waviness), len(imp.outer_waviness)
     for ring, terms in enumerate((imp.inner_waviness, imp.outer_waviness)):
         for k, w in enumerate(terms):

@@ -12,7 +12,7 @@ import math
 from numba import njit
 
 from .imperfections import MAX_WAVINESS_TERMS
-from .model import R_ECC_I, R_ECC_I_ANG, R_ECC_O, R_ECC_O_ANG, R_NWAVE_I, R_NWAVE_O, R_WAVE0
+from .model import R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_NWAVE_I, R_NWAVE_O, R_WAVE0
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -23,15 +23,14 @@ def raceway_offset(rows, r, outer, ux, uy):
     Notes
     -----
     ``Δr(φ) = e·cos(φ − φ_e) + Σ_k A_k·cos(k·φ + φ_k)`` with ``φ`` the direction's angle:
-    the eccentricity as ``e·(u·ê)``, no angle needed; the waviness terms from ``φ``.
+    the eccentricity as ``u·e⃗`` (its vector stored, no angle needed); the waviness terms
+    from ``φ``.
     """
     if outer:
-        e, a, n, c0 = rows[r, R_ECC_O], rows[r, R_ECC_O_ANG], int(rows[r, R_NWAVE_O]), R_WAVE0 + 3 * MAX_WAVINESS_TERMS
+        ex, ey, n, c0 = rows[r, R_ECC_O_X], rows[r, R_ECC_O_Y], int(rows[r, R_NWAVE_O]), R_WAVE0 + 3 * MAX_WAVINESS_TERMS
     else:
-        e, a, n, c0 = rows[r, R_ECC_I], rows[r, R_ECC_I_ANG], int(rows[r, R_NWAVE_I]), R_WAVE0
-    dr = 0.0
-    if e != 0.0:
-        dr = e * (ux * math.cos(a) + uy * math.sin(a))
+        ex, ey, n, c0 = rows[r, R_ECC_I_X], rows[r, R_ECC_I_Y], int(rows[r, R_NWAVE_I]), R_WAVE0
+    dr = ux * ex + uy * ey
     if n > 0:
         phi = math.atan2(uy, ux)
         for k in range(n):

@@ -54,6 +54,10 @@ def run(args):
               f"{m} {f.get(f'{prefix}ours_window_wall_s', float('nan')):.3f} s; "
               f"rtol {f.get(f'{prefix}scipy_rtol')}, errors {f.get(f'{prefix}scipy_position_error_m', float('nan')):.2e} "
               f"vs {f.get(f'{prefix}ours_position_error_m', float('nan')):.2e} m)")
+    if "imperfection_cost_ratio" in f:
+        print(f"Imperfections: the study case at ISO 492 Normal against perfect, first 0.6 s, median of pairs: "
+              f"{f['imperfection_cost_ratio']:.3f}x ({f['imperfection_normal_wall_s']:.2f} s vs "
+              f"{f['imperfection_perfect_wall_s']:.2f} s)")
     if "parallel_efficiency" in f:
         print(f"Smoke sweep ({f['smoke_cases']} cases, median of {f['smoke_repeats']}), first case submitted to last finished: serial "
               f"{f['smoke_serial_wall_s']:.1f} s, {f['smoke_workers']} workers {f['smoke_parallel_wall_s']:.1f} s")

@@ -54,6 +54,8 @@ def _stand_in_scipy(method: str = "imex", **_) -> dict:
 def stand_ins(monkeypatch):
     monkeypatch.setattr(bench, "full_cycle_of", _stand_in_cycle)
     monkeypatch.setattr(bench, "scipy_comparison", _stand_in_scipy)
+    monkeypatch.setattr(bench, "imperfection_cost", lambda: {
+        "imperfection_perfect_wall_s": 2.0, "imperfection_normal_wall_s": 2.1, "imperfection_cost_ratio": 1.05})
 
 
 def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
@@ -70,6 +72,7 @@ def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
     assert f["scipy_method"] == "imex" and f["scipy_ratio"] == 7.0
     assert f["rk4_scipy_method"] == "rk4" and f["rk4_scipy_ratio"] == 2.0
     assert "parallel_efficiency" not in f   # --quick
+    assert f["imperfection_cost_ratio"] == 1.05
 
 
 def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys):
@@ -85,3 +88,4 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     assert header.split() == list(METHODS)
     speedup = next(line for line in text.splitlines() if line.strip().startswith("speedup vs rk4"))
     assert float(speedup.split()[-1]) == pytest.approx(f["speedup_vs_rk4"], abs=0.005)
+    assert "Imperfections:" in text and "1.050x" in text
