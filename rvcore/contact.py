@@ -446,7 +446,7 @@ def land_penetration(xc, yc, land_clearance):
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
-                         half_d, dr_inner, dr_outer, d_half):
+                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer):
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
 
     An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
@@ -454,19 +454,36 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     the fixed frame, the ball centre being ``(px, py, pzr)`` with ``pzr`` from the row
     plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
     An imperfect bearing (:func:`rvcore.raceway.ball_offsets`) moves the inner or outer
-    groove radially by ``dr_inner``/``dr_outer`` at this ball and has it larger by
-    ``2·d_half`` [m]; all 0 for a perfect one.
+    groove radially by ``dr_inner``/``dr_outer`` at this ball, with the slopes
+    ``slope_*`` = dΔr/dφ along the ring, and has the ball larger by ``2·d_half`` [m]; all
+    0 for a perfect one.
 
     Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
     penetration [m] and the unit normal C→P in that ring's frame [-].
+
+    Notes
+    -----
+    The groove's curvature centres lie on the curve ``(c_r + Δr(φ))·ê_r(φ)``; the normal
+    from it to the ball is perpendicular to the curve's tangent ``Δr'·ê_r + c_r·ê_φ``, so
+    it leaves the meridian plane by ``n_φ = −n_r·Δr'/c_r`` (to first order in Δr/c_r, as
+    the penetration): an eccentric raceway's normals point from its own centre, not the
+    ring's.
     """
     inner = arcs[a, A_RING] == 0.0
     if inner:
-        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, arcs[a, A_CR] + dr_inner,
+        cr = arcs[a, A_CR] + dr_inner
+        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr,
                                             arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, ux, uy = slope_inner, plx * inv_rho_l, ply * inv_rho_l
     else:
-        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, arcs[a, A_CR] + dr_outer,
+        cr = arcs[a, A_CR] + dr_outer
+        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr,
                                             arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, ux, uy = slope_outer, px * inv_rho_b, py * inv_rho_b
+    if slope != 0.0:
+        n_phi = -(nx * ux + ny * uy) * slope / cr
+        scale = 1.0 / math.sqrt(1.0 + n_phi * n_phi)
+        nx, ny, nz = (nx - n_phi * uy) * scale, (ny + n_phi * ux) * scale, nz * scale
     return inner, delta, nx, ny, nz
 
 

@@ -239,15 +239,15 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             inv_rho_l = 1.0 / rho_l
-            dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+            dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
             if rows[r, R_IMPERFECT] != 0.0:
-                dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, p0 + j, plx, ply, inv_rho_l, cos_spin,
+                dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, inv_rho_l, cos_spin,
                                                   sin_spin, erx, ery)
 
             for a in range(a0, a0 + na):
                 inner, delta, nlx, nly, nlz = race_arc_penetration(
                     arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h,
-                    dr_i, dr_o, d_half)
+                    dr_i, dr_o, d_half, sl_i, sl_o)
                 if delta <= 0.0:
                     continue
                 if delta > max_pen:
@@ -532,13 +532,13 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             rho_b = math.sqrt(px * px + py * py)
-            dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+            dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
             if rows[r, R_IMPERFECT] != 0.0:
-                dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
+                dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
                                                   sin_spin, px / rho_b, py / rho_b)
             for a in range(a0, a0 + na):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half)
+                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
                 e += hertz_energy(arcs[a, A_K], d)
             cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
             d, _, _, _, _ = cage_pocket_penetration(rows[r, R_GUIDE], px - xc, py - yc, pz - zc - zrow,

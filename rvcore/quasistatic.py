@@ -60,15 +60,15 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     plx, ply, plz, rho_l = to_ring_frame(px, py, pz, u[0], u[1], u[2], r00, r01, r02, r10, r11, r12,
                                          r20, r21, r22, zrow)
     rho_b = math.sqrt(px * px + py * py)
-    dr_i, dr_o, d_half = 0.0, 0.0, 0.0
+    dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
     if rows[r, R_IMPERFECT] != 0.0:
-        dr_i, dr_o, d_half = ball_offsets(rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1],
+        dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1],
                                           px / rho_b, py / rho_b)
     energy = 0.0
     for k in range(na):
         a = a0 + k
         inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half)
+                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
         if inner:
             nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
