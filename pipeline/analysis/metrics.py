@@ -20,12 +20,13 @@ import xarray as xr
 
 from rvcore.profile import PHASES
 
+from ..io.netcdf import CASE_STATUS, case_status_variable
 from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
                   write_atomic)
 from ..errors import UserError
 
-#: Flag meanings of ``case_status`` in flag-value order.
-CASE_STATES = ("ok", "failed", "not_run")
+#: Flag meanings of ``case_status`` in flag-value order (one home: pipeline.io.netcdf).
+CASE_STATES = CASE_STATUS
 
 #: Phase-metric variables in ``metrics.nc`` (those the sweep holds).
 METRICS = tuple(PHASE_METRICS) + tuple(SENSOR_METRICS)
@@ -108,12 +109,6 @@ def load_sweep(directory) -> xr.Dataset:
     combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n") + "\n" + history_line(
         f"pipeline.metrics.load_sweep: combined {len(files)} case files{note}")).lstrip("\n")
     return combined
-
-
-def _status_attrs() -> dict:
-    return {"long_name": "state of the case",
-            "flag_values": np.arange(len(CASE_STATES), dtype=np.int8),
-            "flag_meanings": " ".join(CASE_STATES), "units": "1"}
 
 
 def case_states(sweep: xr.Dataset) -> xr.DataArray:
@@ -226,7 +221,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     states = states.transpose(*[d for d in order if d in states.dims])
     codes = {s: i for i, s in enumerate(CASE_STATES)}
     status = np.vectorize(lambda s: codes.get(s, codes["not_run"]), otypes=[np.int8])(states.values)
-    ds["case_status"] = (states.dims, status.astype(np.int8), _status_attrs())
+    ds["case_status"] = case_status_variable(status.astype(np.int8), states.dims)
     ds.attrs = {k: v for k, v in sweep.attrs.items()}
     ds.attrs["Conventions"] = "CF-1.8"
     ds.attrs["title"] = (f"RV main-bearing phase metrics: {sweep.attrs.get('bearing', '') or 'unnamed bearing'}, "

@@ -45,7 +45,15 @@ def _shade(ax, windows):
 
 def _legend_outside(fig, ax) -> None:
     handles, labels = ax.get_legend_handles_labels()
-    fig.legend(handles, labels, fontsize=7, loc="outside right upper")
+    fig.legend(handles, labels, fontsize=9, loc="outside right upper")
+
+
+def trace_style(k: int, n: int) -> dict:
+    """Line style of the ``k``-th of ``n`` traces drawn over each other: the first widest and
+    solid, the later ones thinner and dashed, so that a trace drawn over another of the same
+    values leaves it visible."""
+    dashes = ("-", "--", "-.", ":")
+    return {"lw": 1.0 + 1.6 * (n - 1 - k) / max(n - 1, 1), "ls": dashes[k % len(dashes)], "color": f"C{k}"}
 
 
 def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
@@ -61,9 +69,9 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
         ax = axes[k, 0]
         _shade(ax, windows)
         if name in sw:
-            for (s, l) in cases:
+            for k_case, (s, l) in enumerate(cases):
                 y = sw[name].sel(speed=s, radial_load=l).values * 1e6
-                ax.plot(t, y, lw=1.0, label=f"{_dps(s)}, {_kn(l)}")
+                ax.plot(t, y, label=f"{_dps(s)}, {_kn(l)}", **trace_style(k_case, len(cases)))
         ax.set_ylabel(label)
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
@@ -86,9 +94,9 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
     for k, sn in enumerate(sens):
         ax = axes[k, 0]
         _shade(ax, windows)
-        for (s, l) in cases:
+        for k_case, (s, l) in enumerate(cases):
             y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
-            ax.plot(t, y, lw=1.0, label=f"{_dps(s)}, {_kn(l)}")
+            ax.plot(t, y, label=f"{_dps(s)}, {_kn(l)}", **trace_style(k_case, len(cases)))
         ax.set_title(sn.label(code=False), fontsize=8)
         ax.set_ylabel(f"{sn.name} [µm]")
         ax.grid(True, lw=0.3)
@@ -191,7 +199,7 @@ def _finish_panel(ax, axis: str, ylabel: str, title: str, hollow: int) -> None:
     ax.set_title(title, fontsize=8)
     ax.grid(True, lw=0.3)
     if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
 
 
 def _ensemble_label(ctx: Context) -> str:

@@ -268,7 +268,7 @@ def figure_load_distribution(solved: list, path: Path) -> None:
         ax.set_xlabel("azimuth from the radial load's direction [deg]")
         ax.set_ylabel("inner contact load [kN]")
         ax.grid(True, lw=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
     for j in range(n, nrows * ncols):
         axes[j // ncols, j % ncols].set_visible(False)
     fig.suptitle("Ball loads at the inner ring at the steady operating point (quasi-static)", fontsize=10)

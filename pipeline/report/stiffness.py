@@ -133,7 +133,7 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, lw=0.3)
             if other is not None and i == 0:
-                ax.legend(fontsize=7, title=olabel, title_fontsize=7)
+                ax.legend(fontsize=8, title=olabel, title_fontsize=8)
     fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness): solid, direct "
                  "(the other coordinates held); dashed, compliant (the others free)", fontsize=10)
     _save(fig, path)

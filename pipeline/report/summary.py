@@ -310,20 +310,22 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
 
     v = s.values[col.key]
     fig, axes = _new_figure(1, 2, (10.0, 3.8))
+    # a sequential map for many lines, its pale end cut off (yellow on white is unreadable);
+    # distinct colours for up to ten
     cmap = matplotlib.colormaps["viridis"]
     for ax, axis in zip(axes[0], ("speed", "radial_load")):
         x = s.speeds if axis == "speed" else s.loads / 1e3
         others = s.loads if axis == "speed" else s.speeds
         for k, o in enumerate(others):
             y = v[:, k] if axis == "speed" else v[k, :]
-            colour = cmap(k / max(len(others) - 1, 1))
+            colour = f"C{k}" if len(others) <= 10 else cmap(0.85 * k / max(len(others) - 1, 1))
             ax.plot(x, y, "-o", ms=3.5, lw=1.0, color=colour, label=_kn(o) if axis == "speed" else _dps(o))
         if col.key == "safety":   # ISO 76's reference: s₀ = 1 is the peak pressure of 4200 MPa
             ax.axhline(1.0, color="C3", lw=0.8, ls="--", label="s₀ = 1 (4200 MPa)")
         ax.set_xlabel("steady speed [°/s]" if axis == "speed" else "radial load [kN]")
         ax.set_ylabel(col.figure, fontsize=8)
         ax.grid(True, lw=0.3)
-        ax.legend(fontsize=6, title="radial load" if axis == "speed" else "speed", title_fontsize=6)
+        ax.legend(fontsize=8, title="radial load" if axis == "speed" else "speed", title_fontsize=8)
     fig.suptitle(col.figure + (" (ensemble means)" if ens else ""), fontsize=10)
     _save(fig, path)
 

@@ -1,0 +1,52 @@
+"""The report's figures stay readable: contrasting colours, legible legends, every trace
+visible (issue rows 13), and one convention for the case-status flags (row 14)."""
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+import xarray as xr
+
+from pipeline.report.figures import trace_style
+from pipeline.report.summary import COLUMNS, Summary, figure_designer
+
+
+def test_traces_drawn_over_each_other_differ_in_style():
+    """Cases with the same displacements (120 and 660 °/s at one load) are drawn over each
+    other: each must differ from every other in dash pattern or width, the first widest."""
+    styles = [trace_style(k, 4) for k in range(4)]
+    assert len({(s["ls"], round(s["lw"], 3)) for s in styles}) == 4
+    assert styles[0]["lw"] > styles[-1]["lw"] >= 1.0
+
+
+def _luminance(colour) -> float:
+    r, g, b, _ = matplotlib.colors.to_rgba(colour)
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+
+def test_designer_figure_lines_contrast_with_white_and_legends_are_legible(tmp_path, monkeypatch):
+    """Two or three values per axis used to take the colour map's pale-yellow end: every
+    line now has a luminance well below white's, and the legends are 8 pt or more."""
+    captured = {}
+    import pipeline.report.summary as summary
+
+    def save(fig, path):
+        captured["fig"] = fig
+    monkeypatch.setattr(summary, "_save", save)
+    col = next(c for c in COLUMNS if c.key == "safety")
+    s = Summary(speeds=np.array([120.0, 390.0, 660.0]), loads=np.array([20e3, 30e3, 40e3]),
+                values={col.key: np.arange(9.0).reshape(3, 3) + 2.0}, safety_phase=None, safety_time=None)
+    figure_designer(s, col, tmp_path / "x.png", ens=False)
+    for ax in captured["fig"].axes:
+        for line in ax.get_lines():
+            assert _luminance(line.get_color()) < 0.8, line.get_color()
+        legend = ax.get_legend()
+        assert all(t.get_fontsize() >= 8 for t in legend.get_texts())
+
+
+def test_case_status_has_one_convention_in_sweep_and_metrics(smoke_run):
+    """``case_status`` of sweep.nc and metrics.nc: the same flags, meanings and long name."""
+    with xr.open_dataset(smoke_run.out / "sweep.nc") as sw, xr.open_dataset(smoke_run.out / "metrics.nc") as m:
+        a, b = dict(sw["case_status"].attrs), dict(m["case_status"].attrs)
+    assert a.keys() == b.keys()
+    for key in a:
+        assert np.array_equal(np.atleast_1d(a[key]), np.atleast_1d(b[key])), key
