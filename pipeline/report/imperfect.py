@@ -34,6 +34,13 @@ def _class_name(ctx: Context, value) -> str:
     return meanings[flags.index(value)] if value in flags and len(meanings) == len(flags) else str(value)
 
 
+def _ordered(ctx: Context, values) -> list:
+    """Class coordinate values, the perfect bearing first, then the tightest class to the loosest."""
+    order = ("none", "", "4", "5", "6", "normal")
+    return sorted(values, key=lambda v: order.index(_class_name(ctx, v)) if _class_name(ctx, v) in order
+                  else len(order))
+
+
 def _class_label(value) -> str:
     v = str(value)
     return "perfect" if v in ("none", "") else ("Normal" if v == "normal" else f"class {v}")
@@ -51,15 +58,15 @@ def section_classes(ctx: Context) -> list:
     """The study's twelve fits for each tolerance class of the sweep (none: no section)."""
     if CLASS_AXIS not in ctx.fits.dims or not ctx.references:
         return []
-    values = list(ctx.fits[CLASS_AXIS].values)
+    values = _ordered(ctx, ctx.fits[CLASS_AXIS].values)
     per_class = {v: _comparison(_at(ctx, CLASS_AXIS, v)) for v in values}
     label = {v: _class_label(_class_name(ctx, v)) for v in values}
     blocks = [Heading(2, "Tolerance classes beside the study"),
               Para("The same fits as above for each bearing of the sweep (`imperfections.tolerance_class`): a "
                    "perfect one and ISO 492 specimens whose raceways are eccentric by half the class's runout, "
                    "with waviness-free raceways and balls within the class's grade (model.md §12). Every other "
-                   "section of this report shows the first of them, "
-                   f"{label[values[0]]}. Slopes in the study's units; ✓ where the sign agrees with the "
+                   "section of this report shows the first value of the sweep's axis, "
+                   f"{_class_label(_class_name(ctx, ctx.fits[CLASS_AXIS].values[0]))}. Slopes in the study's units; ✓ where the sign agrees with the "
                    "study's.")]
     header = ["study fit", "study slope"] + [label[v] for v in values]
     rows = []
@@ -112,7 +119,7 @@ def section_spectrum(ctx: Context, figdir: Path):
     point = {"speed": sweep["speed"].values.max(), "radial_load": sweep["radial_load"].values.max()}
     da = sweep[name].sel(point)
     kin = sweep["kinematic_frequency"].sel(point)
-    classes = list(sweep[CLASS_AXIS].values) if CLASS_AXIS in sweep.dims else [None]
+    classes = _ordered(ctx, sweep[CLASS_AXIS].values) if CLASS_AXIS in sweep.dims else [None]
     fig, axes = _new_figure(1, 1, (9.0, 4.2))
     ax = axes[0, 0]
     f = sweep["frequency"].values
