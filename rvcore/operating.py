@@ -79,6 +79,9 @@ STEADY_OUTPUTS = {
                                              "steady operating point"),
     "friction_moment_palmgren_viscous": ("N m", "viscous term M_v of Palmgren's friction moment at the steady "
                                                 "speed, with the bearing's lubricant viscosity"),
+    "statically_stable": ("1", "1 where the quasi-static tangent stiffness at the steady operating point is positive "
+                               "definite over the ring's free coordinates (it returns from any small displacement), 0 "
+                               "where it is not: the ring rocks away, as a single deep-groove row free to tilt does"),
     "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady operating point, in "
                                    "revolutions of the inner ring (90 % reliability, no life modification factor; "
                                    "NaN: not rated or nothing loaded)"),
@@ -100,9 +103,22 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     out = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), st.stiffness_scalars()))
     out.update(zip(("radial_stiffness_compliant", "axial_stiffness_compliant", "tilting_stiffness_compliant"),
                    st.free_stiffness_scalars()))
+    out["statically_stable"] = float(positive_definite(st.stiffness_matrix, 3 if st.tilt == "held" else 5))
     out.update(_steady_lives(bearing, st))
     out.update(_steady_ratings(bearing, st, abs(op.speed)))
     return out
+
+
+def positive_definite(k, n: int = 5) -> bool:
+    """Whether the leading ``n`` × ``n`` block of the tangent stiffness ``k`` is positive
+    definite (a Cholesky factorisation of its symmetric part exists): definiteness does not
+    depend on the coordinates' units (a congruence), so the mixed-unit matrix serves."""
+    block = np.asarray(k, dtype=float)[:n, :n]
+    try:
+        np.linalg.cholesky(0.5 * (block + block.T))
+    except np.linalg.LinAlgError:
+        return False
+    return True
 
 
 def _steady_ratings(bearing, st: StaticResult, speed: float) -> dict:

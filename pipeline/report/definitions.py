@@ -13,7 +13,7 @@ import numpy as np
 from rvcore.contact import LOADED_BALL_LOAD
 
 from .context import Context
-from .render import Bullets, Heading, Para, Table, _g
+from .render import Bullets, Heading, Para, Table, Warning_, _g
 
 #: Steady-phase index of the study's phases (start-up, steady, deceleration).
 _STEADY = 1
@@ -39,6 +39,28 @@ def _text(span, unit: str = "") -> str:
     return f"{body} {unit}".strip()
 
 
+def _stability(ctx: Context) -> list:
+    """A warning where the ring is statically unstable at some operating point (its tangent
+    stiffness over its free coordinates is not positive definite), a line where it is not."""
+    if "statically_stable" not in ctx.metrics:
+        return []
+    v = np.asarray(ctx.metrics["statically_stable"].values, dtype=np.float64)
+    v = v[np.isfinite(v)]
+    if not v.size:
+        return []
+    unstable = int(np.count_nonzero(v == 0.0))
+    if not unstable:
+        return [Para("**Stability.** At every operating point the ring's quasi-static tangent stiffness is "
+                     "positive definite over its free coordinates: it returns from any small displacement.")]
+    return [Warning_(f"**The ring is statically unstable at {unstable} of {v.size} operating points**: its "
+                     "tangent stiffness is not positive definite there, so a small displacement grows instead "
+                     "of returning. A single row free to tilt (a deep-groove row, which has no tilt "
+                     "stiffness of its own) rocks onto its most loaded ball and settles tilted; its transient "
+                     "metrics then record that divergence, not a vibration (docs/validation.md, the "
+                     "deep-groove family). A shaft on a second support holds the ring: "
+                     "`inner_ring.tilt = \"held\"`.")]
+
+
 def section_definitions(ctx: Context) -> list:
     """The "What the designer's numbers are" section (a list of blocks)."""
     tilt = str(ctx.sweep.attrs.get("inner_ring_tilt", "free"))
@@ -54,6 +76,7 @@ def section_definitions(ctx: Context) -> list:
            "heaviest ball under more load than a ring held square by a second support would: the peak pressure, "
            "the safety factor, the lives and the stiffness all depend on this condition. Set "
            "`inner_ring.tilt = \"held\"` for a ring held square.")))
+    blocks += _stability(ctx)
     s_cycle = _span(ctx, "static_safety_factor_min")
     rows = [["(4200 MPa / p_max)³ along the cycle, smallest", "ISO 76 3.2, 3.6; this model's Hertz pressure",
              _text(s_cycle)],

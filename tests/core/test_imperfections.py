@@ -160,8 +160,10 @@ F_I = 10.0   # shaft frequency of the waviness runs [Hz]
 @pytest.mark.parametrize("ring, order, signal, expected", [
     # outer race (fixed), order Z ± 1: radial at Z·f_c (Wardle 1988; Yhland 1992)
     ("outer", Z + 1, "radial", lambda f_i, f_c: Z * f_c),
-    # inner race (turning), order Z + 1: radial at Z·(f_i − f_c) + f_i
+    ("outer", Z - 1, "radial", lambda f_i, f_c: Z * f_c),
+    # inner race (turning), order Z ± 1: radial at Z·(f_i − f_c) ± f_i
     ("inner", Z + 1, "radial", lambda f_i, f_c: Z * (f_i - f_c) + f_i),
+    ("inner", Z - 1, "radial", lambda f_i, f_c: Z * (f_i - f_c) - f_i),
     # outer race, order Z: every ball meets the same phase, an axial vibration at Z·f_c
     ("outer", Z, "axial", lambda f_i, f_c: Z * f_c),
 ])

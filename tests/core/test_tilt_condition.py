@@ -112,3 +112,19 @@ def test_free_ring_has_no_support_moment():
     assert np.abs(res.series["tilt_reaction_moment_x"]).max() == 0.0
     assert np.abs(res.series["tilt_reaction_moment_y"]).max() == 0.0
     assert np.abs(res.series["inner_ring_tilt_y"]).max() > 0.0
+
+
+def test_a_free_deep_groove_row_is_statically_unstable_and_held_it_is_not():
+    """At zero clearance and 0° a deep-groove row has no tilt stiffness of its own: with the
+    ring free to tilt, the radial load's moment about the loaded ball's contact makes a
+    tilt-and-shift direction of negative stiffness (docs/validation.md, the deep-groove
+    family), so the 5×5 tangent stiffness is not positive definite. Held square, the three
+    translations are stiff. A 15° row under radial and axial load is stable either way."""
+    from pipeline.schema.bearingfile import load_bearing
+    from pipeline.schema.shipped import shipped_file
+    from rvcore.operating import positive_definite
+
+    dg = load_bearing(shipped_file("bearings/deep-groove-6010.toml"))
+    assert not positive_definite(solve_statics(dg, 500.0, 0.0).stiffness_matrix)
+    assert positive_definite(solve_statics(held(dg), 500.0, 0.0).stiffness_matrix, 3)
+    assert positive_definite(solve_statics(section_bearing(16), 30e3, 10e3, gravity=False).stiffness_matrix)
