@@ -5,7 +5,11 @@ The layout (values SI, as in ``CaseSpec.point``)::
     {"<case id>": {"speed": 2.0944, "radial_load": 20000.0, "axial_load": 10000.0,
                    "<axis key>": ..., "state": "ok" | "failed" | "not_run",
                    "reason": "...", "traceback": "...",   (failed only)
-                   "seconds": 12.3, "index": 0}, ...}
+                   "seconds": 12.3, "index": 0,
+                   "units": {"speed": "rad s-1", "radial_load": "N", ..., "seconds": "s"}}, ...}
+
+``units`` names the UDUNITS unit of every operating-point value and of ``seconds``
+(the wall time the case took).
 """
 from __future__ import annotations
 
@@ -42,7 +46,18 @@ class CaseState:
         if self.seconds is not None:
             d["seconds"] = round(self.seconds, 3)
         d["index"] = self.index
+        d["units"] = _units(self.point)
         return d
+
+
+def _units(point: dict) -> dict:
+    """UDUNITS units of the operating-point values of ``point`` and of ``seconds``."""
+    from ..schema.sweepaxes import OPERATING_POINT
+    from .netcdf import UDUNITS
+
+    out = {k: UDUNITS[OPERATING_POINT[k]] for k in point if k in OPERATING_POINT and OPERATING_POINT[k] in UDUNITS}
+    out["seconds"] = "s"
+    return out
 
 
 def write_status(folder, states: dict) -> Path:

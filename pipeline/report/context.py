@@ -254,7 +254,7 @@ def bearing_numbers(ctx: Context) -> dict:
 
 
 #: Keys of a status.json entry that are not axis values.
-_STATUS_KEYS = ("state", "reason", "traceback", "seconds", "index")
+_STATUS_KEYS = ("state", "reason", "traceback", "seconds", "index", "units")
 
 
 def status_lookup(ctx: Context):

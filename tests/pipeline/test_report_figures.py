@@ -50,3 +50,14 @@ def test_case_status_has_one_convention_in_sweep_and_metrics(smoke_run):
     assert a.keys() == b.keys()
     for key in a:
         assert np.array_equal(np.atleast_1d(a[key]), np.atleast_1d(b[key])), key
+
+
+def test_status_json_names_the_units_of_its_values(smoke_run):
+    """status.json gives each case's operating point in SI and says so: the speed in
+    rad s-1 (the sweep coordinate of the NetCDF files is degree s-1), loads in N."""
+    import json
+
+    status = json.loads((smoke_run.out / "status.json").read_text())
+    for entry in status.values():
+        assert entry["units"]["speed"] == "rad s-1" and entry["units"]["radial_load"] == "N"
+        assert entry["units"]["seconds"] == "s"
