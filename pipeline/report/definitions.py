@@ -95,8 +95,8 @@ def section_definitions(ctx: Context) -> list:
     stiff = [(f"{k} stiffness", _span(ctx, f"{k}_stiffness", f), _span(ctx, f"{k}_stiffness_compliant", f), u)
              for k, f, u in (("radial", 1e-6, "N/µm"), ("axial", 1e-6, "N/µm"), ("tilting", 1e-3, "N m/mrad"))]
     blocks.append(Para(
-        "**Stiffness.** *Direct*: K_ii of the tangent stiffness, the load per unit displacement with every "
-        "other coordinate held (the catalogue convention). *Compliant*: 1/C_ii, C = K⁻¹, every other coordinate "
+        "**Stiffness.** Direct: K_ii of the tangent stiffness, the load per unit displacement with every "
+        "other coordinate held (the catalogue convention). Compliant: 1/C_ii, C = K⁻¹, every other coordinate "
         "free: what one load change meets. Both at the steady operating point."))
     blocks.append(Table(["", "direct", "compliant"],
                         [[name, _text(d, u), _text(c, u)] for name, d, c, u in stiff]))

@@ -81,10 +81,16 @@ def _inline_html(text: str) -> str:
     return s
 
 
-_CSS = """body{font-family:sans-serif;max-width:72em;margin:2em auto;padding:0 1em;line-height:1.45}
-table{border-collapse:collapse;margin:1em 0;font-size:90%}th,td{border:1px solid #bbb;padding:.25em .5em;text-align:left}
-th{background:#eee}.caveat{border-left:.4em solid #c00;background:#fee;padding:.5em 1em}img{max-width:100%}
-code{background:#f4f4f4}"""
+# A wide table (the summary has 18 columns) scrolls inside its own box instead of
+# widening the page; its header stays readable (no wrapping into one letter a line).
+_CSS = """body{font-family:system-ui,sans-serif;max-width:76em;margin:2em auto;padding:0 1em;line-height:1.45;color:#222}
+h1{font-size:1.7em;border-bottom:2px solid #345}h2{font-size:1.3em;margin-top:2em;border-bottom:1px solid #ccd;color:#234}
+h3{font-size:1.1em;color:#345}.table{overflow-x:auto;margin:1em 0;max-width:100%}
+table{border-collapse:collapse;font-size:88%;font-variant-numeric:tabular-nums}
+th,td{border:1px solid #c8c8c8;padding:.25em .55em;text-align:left;vertical-align:top}
+th{background:#e8ecf2;position:sticky;top:0;min-width:5em}tr:nth-child(even) td{background:#f7f8fa}
+.caveat{border-left:.4em solid #c00;background:#fee;padding:.5em 1em;margin:1em 0}
+img{max-width:100%;height:auto;display:block;margin:.5em auto}code{background:#f0f2f5;padding:0 .2em;border-radius:3px}"""
 
 
 def render_html(blocks, title: str) -> str:
@@ -103,7 +109,7 @@ def render_html(blocks, title: str) -> str:
         elif isinstance(b, Table):
             rows = ["<tr>" + "".join(f"<th>{_inline_html(h)}</th>" for h in b.header) + "</tr>"]
             rows += ["<tr>" + "".join(f"<td>{_inline_html(c)}</td>" for c in r) + "</tr>" for r in b.rows]
-            out.append("<table>" + "".join(rows) + "</table>")
+            out.append('<div class="table"><table>' + "".join(rows) + "</table></div>")
         elif isinstance(b, Image):
             out.append(f'<p><img src="{html.escape(b.path)}" alt="{html.escape(b.alt)}"></p>')
     out += ["</body>", "</html>"]

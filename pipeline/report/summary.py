@@ -274,7 +274,7 @@ def section_summary(ctx: Context, outdir: Path):
     blocks = [Heading(2, "Summary per operating point")]
     text = ("What a bearing designer reads, one row per operating point (steady speed and radial load of the "
             "profile)" + (f"; each value the ensemble mean over the finished realizations of {ens}" if ens else "")
-            + ". s₀ = 4200 MPa over the largest Hertz pressure (ISO 76, ball bearings), its smallest value over "
+            + ". s₀ = (4200 MPa / largest Hertz pressure)³, ISO 76's load ratio C₀/P₀ (ball bearings), its smallest value over "
             "the whole cycle and the phase it falls in; L10r of the duty cycle: ISO/TS 16281 reference rating "
             "life with the equivalent contact loads accumulated over the ring's revolutions at every integrator "
             "step (Palmgren–Miner), in million revolutions of the inner ring and in cycles of the profile; "
