@@ -84,6 +84,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -112,6 +113,10 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
 #: What each version changed is in CHANGELOG.md.
 MODEL_VERSION = 7
+
+#: Most cases one sweep file may define: a grid is expanded, hashed and written to one
+#: combined file; beyond this, split the study into several sweeps.
+MAX_CASES = 100_000
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")
@@ -344,6 +349,11 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         for a in axes:
             if a.key in fixed:
                 raise ConfigError(file, f"fixed.{a.key}", None, "is also an axis in [axes]")
+        size = math.prod(len(a) for a in axes)
+        if size > MAX_CASES:   # said before the grid is built, which alone would take minutes
+            raise ConfigError(file, "axes", None,
+                              f"{' x '.join(str(len(a)) for a in axes)} = {size} cases: more than the "
+                              f"{MAX_CASES} a sweep holds; split it into several sweeps")
         points = []
         for combo in itertools.product(*(range(len(a)) for a in axes)):
             points.append({a.key: (a.target, target_of(a.key, file, "axes")[1], a.values[i], a.coords[i],

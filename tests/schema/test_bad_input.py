@@ -102,3 +102,23 @@ def test_sweep_given_another_kind_of_file_says_what_it_is(capsys, path, kind):
     code = main(["sweep", str(REPO / "sweeps" / path), "--serial", "--no-progress"])
     err = _one_line(capsys, code)
     assert f"this is a {kind} file, not a sweep file" in err and "unknown key" not in err
+
+
+def test_a_grid_too_large_is_refused_in_one_line_before_it_is_built(capsys, tmp_path):
+    """A 1000 x 1000 grid took two minutes of silence to expand; now one line says how many
+    cases it is and the limit, before any case is built (the check is on the axes' sizes)."""
+    from pipeline.schema.sweepfile import MAX_CASES
+
+    sweep = tmp_path / "huge.toml"
+    sweep.write_text(f'''name = "huge"
+bearing = "{(REPO / "sweeps/bearings/reduced-test.toml").as_posix()}"
+profile = "{(REPO / "sweeps/profiles/short.toml").as_posix()}"
+[axes]
+speed = {{start = "1 deg/s", stop = "1000 deg/s", step = "1 deg/s"}}
+radial_load = {{start = "1 kN", stop = "1000 kN", step = "1 kN"}}
+[fixed]
+axial_load = "10 kN"
+''')
+    assert main(["check", str(sweep)]) != 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "1000 x 1000 = 1000000 cases" in err[0] and str(MAX_CASES) in err[0]
