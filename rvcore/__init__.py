@@ -12,10 +12,10 @@ Modules, one domain each:
 - ``driver``      ``run_case``: the one entry point for a dynamic case
 """
 
-from ._cache import drop_stale_numba_cache
+from ._cache import use_source_keyed_cache
 
 # numba checks a cached kernel only against its own file's timestamp, so a kernel that
 # inlines a function from another module (integrate -> rhs -> contact laws) would keep
-# the old code after that module changed: drop every cached kernel of rvcore whenever
-# any of its sources differ from those the cache was built from.
-drop_stale_numba_cache()
+# the old code after that module changed: every version of the sources caches in a
+# directory of its own (rvcore._cache), set before any kernel module is imported.
+use_source_keyed_cache()

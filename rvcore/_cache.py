@@ -4,17 +4,27 @@ numba validates a cached function against the modification time of the file that
 defines it, not of the files its callees live in (numba's documented caching
 limitation). rvcore's kernels call across modules (``integrator`` → ``kernels`` →
 ``contact``), so a change to ``contact.py`` alone would leave a stale compiled
-``integrate`` in the cache. :func:`drop_stale_numba_cache` hashes every rvcore source
-and deletes rvcore's cache files when the hash differs from the one stored beside them.
+``integrate`` in the cache.
+
+Hence every version of rvcore's sources gets a cache directory of its own, named by the
+SHA-256 of all of them (:func:`cache_dir`), and numba is pointed there before any kernel
+is defined (:func:`use_source_keyed_cache`). A stamp beside one shared cache would not
+do: a process started from the old sources, still running (a sweep's workers, a test),
+can write kernels compiled from them after a process of the new sources has dropped the
+cache and stamped it, and every later run would compute with them.
 """
 from __future__ import annotations
 
 import hashlib
 import os
+import shutil
+import time
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent
-_STAMP = "rvcore-sources.sha256"
+
+#: Cache directories of other sources older than this are removed [s].
+_KEEP_SECONDS = 86400.0
 
 
 def sources_hash() -> str:
@@ -26,28 +36,32 @@ def sources_hash() -> str:
     return h.hexdigest()
 
 
-def _cache_dirs():
-    """Where numba may keep rvcore's cache: ``__pycache__`` beside the sources, and the
-    mirrored tree under ``NUMBA_CACHE_DIR`` when that is set."""
-    yield _PACKAGE / "__pycache__"
+def cache_dir() -> Path:
+    """The numba cache directory of these sources: ``rvcore-<hash>`` in ``__pycache__``
+    beside them, or under ``NUMBA_CACHE_DIR`` when that is set."""
     root = os.environ.get("NUMBA_CACHE_DIR")
-    if root:
-        yield from (p for p in Path(root).rglob("rvcore") if p.is_dir())
+    base = Path(root) if root else _PACKAGE / "__pycache__"
+    return base / f"rvcore-{sources_hash()[:16]}"
 
 
-def drop_stale_numba_cache() -> None:
-    """Delete rvcore's ``*.nbi``/``*.nbc`` files if the sources changed since they were built."""
-    digest = sources_hash()
-    for folder in _cache_dirs():
-        stamp = folder / _STAMP
+def use_source_keyed_cache() -> None:
+    """Point numba's cache at :func:`cache_dir` (call before any kernel is defined), and
+    remove the directories of other sources that nobody has written to for a day.
+
+    Where the directory cannot be made (a read-only install), numba keeps its default.
+    """
+    import numba
+
+    here = cache_dir()
+    try:
+        here.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return
+    numba.config.CACHE_DIR = str(here)
+    now = time.time()
+    for other in here.parent.glob("rvcore-*"):
         try:
-            if folder == _PACKAGE / "__pycache__":
-                folder.mkdir(exist_ok=True)   # stamp it before numba writes the first kernels
-            if stamp.is_file() and stamp.read_text().strip() == digest:
-                continue
-            for f in list(folder.glob("*.nbi")) + list(folder.glob("*.nbc")):
-                f.unlink(missing_ok=True)
-            if folder.is_dir():
-                stamp.write_text(digest + "\n")
-        except OSError:   # a read-only install: numba then caches elsewhere or not at all
+            if other != here and now - other.stat().st_mtime > _KEEP_SECONDS:
+                shutil.rmtree(other, ignore_errors=True)
+        except OSError:
             continue

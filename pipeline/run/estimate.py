@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 import os
 import sys
-from pathlib import Path
 
 #: Seconds of one core per (second of cycle x newton of peak load x sqrt(balls) / step_safety).
 _AUTO_STEP = 3.5e-5
@@ -65,20 +64,16 @@ def local_workers(requested: int | None, n_cases: int) -> int:
 
 
 def kernels_need_compiling() -> bool:
-    """Whether the next run compiles the numba kernels: no cache beside rvcore's sources,
-    or one stamped for other sources (``rvcore._cache`` drops it then)."""
+    """Whether the next run compiles the numba kernels: no cached kernel in the cache
+    directory of rvcore's present sources (``rvcore._cache.cache_dir``)."""
     try:
-        import rvcore
-        from rvcore._cache import _STAMP, sources_hash
+        from rvcore._cache import cache_dir
     except ImportError:
         return False
-    cache = Path(rvcore.__file__).resolve().parent / "__pycache__"
-    stamp = cache / _STAMP
     try:
-        fresh = stamp.read_text().strip() == sources_hash()
+        return not any(cache_dir().rglob("*.nbi"))
     except OSError:
         return True
-    return not (fresh and any(cache.glob("*.nbi")))
 
 
 def say_if_compiling(stream=None) -> bool:

@@ -1,22 +1,27 @@
-"""rvcore drops its numba cache when any of its sources changed (rvcore._cache)."""
+"""rvcore caches its numba kernels in a directory of their sources' own (rvcore._cache)."""
 from __future__ import annotations
+
+import numba
 
 from rvcore import _cache
 
 
-def test_stale_cache_files_are_dropped_and_current_ones_kept(tmp_path, monkeypatch):
+def test_each_version_of_the_sources_has_its_own_cache_directory(tmp_path, monkeypatch):
+    """Same sources, same directory; any change of any module, another one. A process of
+    the old sources can then never write into the new sources' cache."""
     pkg = tmp_path / "rvcore"
-    (pkg / "__pycache__").mkdir(parents=True)
+    pkg.mkdir()
     (pkg / "contact.py").write_text("x = 1\n")
     monkeypatch.setattr(_cache, "_PACKAGE", pkg)
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    kernel = pkg / "__pycache__" / "integrator.integrate-1.py311.nbi"
-    kernel.write_text("cached")
-    _cache.drop_stale_numba_cache()          # no stamp yet: the cache's sources are unknown
-    assert not kernel.exists()
-    kernel.write_text("cached")
-    _cache.drop_stale_numba_cache()          # same sources: kept
-    assert kernel.exists()
+    first = _cache.cache_dir()
+    assert first == _cache.cache_dir() and first.parent == pkg / "__pycache__"
     (pkg / "contact.py").write_text("x = 2\n")
-    _cache.drop_stale_numba_cache()          # another module changed: dropped
-    assert not kernel.exists()
+    assert _cache.cache_dir() != first
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))
+    assert _cache.cache_dir().parent == tmp_path / "elsewhere"
+
+
+def test_numba_caches_in_the_directory_of_these_sources():
+    """rvcore sets numba's cache directory at import, before any kernel is defined."""
+    assert numba.config.CACHE_DIR == str(_cache.cache_dir())
