@@ -78,10 +78,11 @@ def _row(t: Table, top: Table) -> Row:
                radial_clearance=t.get("radial_clearance"), imperfections=_imperfections(top, t, count))
 
 
-def _imperfections(top: Table, row: Table, ball_count: int) -> Imperfections:
-    """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (model.md §12)."""
-    tables = [x for x in (row.table("imperfections", required=False), top.table("imperfections", required=False))
-              if x.data]
+def _imperfections(top: Table, row: Table, ball_count: int, first: Table | None = None) -> Imperfections:
+    """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (model.md §12);
+    ``first`` (a pair's ``[[pair.imperfections]]`` entry of this row) over both."""
+    tables = [x for x in (first, row.table("imperfections", required=False),
+                          top.table("imperfections", required=False)) if x is not None and x.data]
     if not tables:
         return Imperfections()
 
@@ -154,7 +155,16 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
                           t.table("outer_groove").tables("arcs")[0].raw("contact_angle"),
                           f"{kind} row cannot be mirrored into a pair: give an angular-contact row "
                           "(one arc per ring, at a contact angle other than 0)")
-    return mirrored_rows(row, arrangement, spacing), arrangement, preload, offset
+    pair_rows = mirrored_rows(row, arrangement, spacing)
+    if pair.has("imperfections"):   # the two rows' own imperfections, row at -row_spacing/2 first
+        entries = pair.tables("imperfections")
+        if len(entries) != 2:
+            raise ConfigError(file, "pair.imperfections", None,
+                              f"{len(entries)} entries: give two [[pair.imperfections]], one per row "
+                              "(the row at -row_spacing/2 first)")
+        pair_rows = tuple(dataclasses.replace(r, imperfections=_imperfections(top, t, r.ball_count, e))
+                          for r, e in zip(pair_rows, entries))
+    return pair_rows, arrangement, preload, offset
 
 
 def _pair_problems(bearing: Bearing):

@@ -252,6 +252,8 @@ _BEARING = [
               "default grease, an assumption", source="lubricant.method"),
     *_imperfections("imperfections", "every row"),
     *_imperfections("rows[].imperfections", "this row (overrides [imperfections])"),
+    *_imperfections("pair.imperfections[]", "that row of a pair (two entries, the row at -row_spacing/2 "
+                                            "first; overrides the others)"),
     _q("rows[].pitch_diameter", "length", "mm", "pitch diameter of the row", source="rows[].pitch_diameter"),
     _q("rows[].axial_position", "length", "mm", "axial position of the row", bounds=None, default=0.0,
        source="rows[].axial_position"),

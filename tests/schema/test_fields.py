@@ -74,7 +74,7 @@ def _sample(f):
     imperfection = {"tolerance_class": "5", "ball_grade": "G10", "inner_eccentricity": "10 um",
                     "outer_eccentricity": "5 um", "inner_eccentricity_angle": "30 deg",
                     "outer_eccentricity_angle": "-30 deg"}
-    if "imperfections." in f.path and leaf in imperfection:
+    if "imperfections" in f.path and leaf in imperfection:
         return imperfection[leaf]
     return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s"}.get(f.path)
 
@@ -89,6 +89,16 @@ def _with_bearing_field(raw, f):
         raw.pop("mounting", None)
         raw["assumptions"] = [a for a in raw.get("assumptions", []) if a != "mounting"]
     key = f.path.replace("[]", "[0]")
+    if f.path.startswith("pair.imperfections[]"):   # two entries, one per row of the pair
+        leaf = f.path.split("].", 1)[1]
+        if "_waviness[]" in leaf:
+            value = {leaf.split("[]")[0]: [{"order": 13, "amplitude": "0.5 um", "phase": "20 deg"}]}
+        elif leaf == "ball_diameter_deviation":
+            value = {leaf: ["0.1 um"] * raw["rows"][0]["balls"]["count"]}
+        else:
+            value = {leaf: _sample(f)}
+        raw["pair"]["imperfections"] = [dict(value), dict(value)]
+        return raw, f.path.replace("[]", "[0]")
     if "_waviness[]" in f.path:   # one harmonic, every key of it
         table = f.path.split("_waviness[]")[0] + "_waviness"
         node = raw

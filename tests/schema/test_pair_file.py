@@ -229,3 +229,21 @@ axial_load = "10 kN"
     assert by_preload[3.5e3].preload_offset > 0.0
     assert lookup(read_toml(PAIR), "pair.preload") == "3.5 kN"   # the file itself untouched
 
+
+
+def test_a_pairs_rows_take_their_own_imperfections(raw):
+    """``[[pair.imperfections]]``: one entry per row (the row at -row_spacing/2 first) over
+    the bearing's ``[imperfections]``; any other number of entries is one line."""
+    raw = copy.deepcopy(raw)
+    raw["imperfections"] = {"outer_eccentricity": "10 um"}
+    raw["pair"]["imperfections"] = [{"inner_eccentricity": "20 um"},
+                                    {"inner_eccentricity": "5 um", "inner_eccentricity_angle": "90 deg"}]
+    b = bearing_from_dict(raw, "pair.toml")
+    low, high = sorted(b.rows, key=lambda r: r.axial_position)
+    assert low.imperfections.inner_eccentricity == pytest.approx(20e-6)
+    assert high.imperfections.inner_eccentricity == pytest.approx(5e-6)
+    assert high.imperfections.inner_eccentricity_angle == pytest.approx(math.pi / 2)
+    assert low.imperfections.outer_eccentricity == high.imperfections.outer_eccentricity == pytest.approx(10e-6)
+    raw["pair"]["imperfections"] = raw["pair"]["imperfections"][:1]
+    with pytest.raises(ConfigError, match="give two"):
+        bearing_from_dict(raw, "pair.toml")
