@@ -61,7 +61,8 @@ def full_cycle_of(method: str) -> dict:
     A short run of the same case first loads every kernel the method calls, so that the
     timed run holds no compilation or cache loading.
     """
-    from rvcore.driver import SolverSettings, run_case, warm_up
+    from rvcore.driver import run_case, warm_up
+    from rvcore.settings import SolverSettings
 
     warm_up()
     bearing, profile, op = _study()
@@ -90,7 +91,7 @@ def full_cycle(methods=None) -> dict:
     default method's also unprefixed, ``method`` (the default) and, with both RK4 and
     IMEX, ``speedup_vs_rk4`` = RK4's full-cycle wall time over IMEX's [-].
     """
-    from rvcore.driver import SolverSettings
+    from rvcore.settings import SolverSettings
     from rvcore.integrator import METHODS
 
     default = SolverSettings().method
@@ -118,7 +119,9 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
     from scipy.integrate import solve_ivp
 
     from rvcore import integrator as ig
-    from rvcore.driver import initial_state, peak_contact_load
+    from rvcore.accumulate import build_plan, new_accumulators
+    from rvcore.timestep import time_step
+    from rvcore.initial_state import initial_state, peak_contact_load
     from rvcore.kernels import new_diagnostics, rhs
     from rvcore.model import R_BALL0, compile_bearing
 
@@ -128,21 +131,22 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
     table, meta = resolved.arrays()
     y0 = initial_state(model, resolved, t_start)
     q_peak = peak_contact_load(model, resolved)
-    dt_rk4 = ig.time_step(model, q_peak, "rk4")
-    dt_ours = ig.time_step(model, q_peak, method)
+    dt_rk4 = time_step(model, q_peak, "rk4")
+    dt_ours = time_step(model, q_peak, method)
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
     args = (model.params, model.rows, model.arcs, model.pockets, table, meta)
 
     def ours(dt, method=method):
         y = y0.copy()
         n = int(math.ceil(window / dt))
-        out = np.zeros((n + 2, ig.N_OUT))
-        sig_acc, acc = ig.new_accumulators(0)
+        plan = build_plan(model.rows.shape[0], 0)
+        out = np.zeros((n + 2, plan.series.shape[0]))
+        acc = new_accumulators(plan, 0)
         phases = np.zeros((0, 2))
         sensors = np.zeros((0, 6))
         t0 = time.perf_counter()
         status, *_ = ig.advance(method, y, t_start, window / n, n, n, model, table, meta, phases, sensors, out,
-                                sig_acc, acc, diag, bdiag, 1.0, 1e30, np.ones(model.rows.shape[0]))
+                                acc, plan, diag, bdiag, 1.0, 1e30, np.ones(model.rows.shape[0]))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         return y, wall
@@ -244,7 +248,8 @@ def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
     """Wall time of the Normal-class study case over the perfect one (module docstring)."""
     import dataclasses
 
-    from rvcore.driver import SolverSettings, run_case
+    from rvcore.driver import run_case
+    from rvcore.settings import SolverSettings
     from rvcore.imperfections import Imperfections
 
     bearing, profile, op = _study()

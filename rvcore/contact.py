@@ -4,8 +4,8 @@ inner ring's pose. SI throughout.
 
 Every function is ``@njit(cache=True, nogil=True)`` on scalars, inlined into its callers,
 and allocates nothing. The right-hand side (:func:`rvcore.kernels.rhs`), the potential
-energy (:func:`rvcore.kernels.potential_energy`), the statics
-(:mod:`rvcore.quasistatic`), the step size (:func:`rvcore.integrator.stable_time_step`)
+energy (:func:`rvcore.energy.potential_energy`), the statics
+(:mod:`rvcore.quasistatic`), the step size (:mod:`rvcore.timestep`)
 and the profiles' smooth-step interpolation (:mod:`rvcore.profile`) all call these, so a
 law changed here changes everywhere.
 
@@ -51,18 +51,13 @@ from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 # - 'nnan'/'ninf' were never used: a blow-up must show as NaN/Inf.
 # Every operation is then IEEE-754 rounded in source order on every x86-64/AArch64 CPU.
 # Still CPU-dependent: the system libm's sin/cos (glibc picks an FMA variant at run time),
-# used only for the ring tilt and the cage angle. Cost, measured on the 12-ball study
-# section over the 0.46 s reduced cycle (532 680 RK4 steps, run_case, median of 3, on a
-# shared 2-core machine): integrator wall time 2.72–2.79 s with the five flags against
-# 2.97 s without when the machine was quiet; CPU time in three interleaved A/B rounds
-# 2.49/2.85/2.98 s against 3.47/3.24/3.00 s: about 7–15 % slower, the price of
-# reproducibility. The regression metrics moved by at most 7e-8 relative.
+# used only for the ring tilt and the cage angle. What it costs: docs/performance.md.
 FAST = False
 
 #: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
 #: more than this normal load on the inner race *and* on the outer race [N]: it passes
 #: load from ring to ring. Why 1 N: a ball out of the load zone is still pressed on one
-#: race by its weight and its centrifugal force (0.49 N and 0.06 N for the study's 23 mm
+#: race by its weight and its centrifugal force (0.49 N and 0.25 N for the study's 23 mm
 #: ball at 660 °/s), and a statically unloaded contact is the solver's round-off
 #: (1e-16 N); a ball of the load zone carries hundreds to thousands of newtons. A steel
 #: ball heavier than 1 N (D > 31 mm) resting on the inner race in gravity would count.
@@ -201,7 +196,7 @@ def friction_slope_at_zero_slip(mu_s, v_s):
     """dμ/ds at s = 0 of :func:`friction_coefficient` [s m^-1] (= 1.5·μ_s/v_s).
 
     The law acts as a viscous damper ``c_f = Q·dμ/ds`` at small slip; the explicit step
-    is sized from it (:func:`rvcore.integrator.stable_time_step`). Taken from the STEP's
+    is sized from it (:func:`rvcore.timestep.rk4_time_step`). Taken from the STEP's
     own slope so that it follows the law.
     """
     return step_slope(0.0, -v_s, -mu_s, v_s, mu_s)

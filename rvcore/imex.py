@@ -370,31 +370,3 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m]
                       + (IB1 - B1) * g0[m] + (IB2 - B2) * g1[m] + (IB3 - B3) * g2[m] + (IB4 - B4) * g3[m])
     return torque
-
-
-def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
-                     dynamic_margin: float = 1.0) -> float:
-    """The fixed IMEX step [s] from the rates that stay explicit.
-
-    Notes
-    -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``k = 1.5·K^(2/3)·Q^(1/3)``
-    for the stiffest arc and the two race contacts of a ball::
-
-        ω_n = √(2k/m_b)                                  (contact oscillation)
-        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope)
-        dt  = safety · min(IMAG_LIMIT/ω_n, 2.785/λ_−)
-
-    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope.
-    """
-    from .integrator import RK4_REAL_LIMIT, row_rates
-    from .model import P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S
-
-    q = max(dynamic_margin * peak_contact_load, 1.0)
-    p = model.params
-    falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
-    dts = []
-    for omega, m, rot in row_rates(model, q):
-        lam = 2.0 * q * falling * max(1.0 / m, rot)
-        dts.append(min(IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
-    return safety * min(dts)

@@ -1,17 +1,16 @@
-"""Numba kernels: the equations of motion (rhs) and the potential energy. SI throughout.
+"""Numba kernels: the equations of motion (rhs). SI throughout.
 
 Every function here is ``@njit`` on flat arrays (layouts in :mod:`rvcore.model`); none
 allocates. The right-hand side :func:`rhs` is the whole model; it, the energy
-:func:`potential_energy` and the quasi-static solver take every contact law and
-penetration from :mod:`rvcore.contact` (re-exported here under the old names), so the
-equations live in one place each.
+(:mod:`rvcore.energy`) and the quasi-static solver take every contact law and
+penetration from :mod:`rvcore.contact`, so the equations live in one place each.
 
 Notes
 -----
 The cubic STEP, the normal force with its damper and the friction law are written out in
 :mod:`rvcore.contact`, their one home.
 
-Inner-ring kinematics (model.md §1). The ring's pose is ``R = Ry(θy)·Rx(θx)`` and it
+Inner-ring kinematics (docs/model.md §1). The ring's pose is ``R = Ry(θy)·Rx(θx)`` and it
 spins at the prescribed ω about its own (tilted) axis ``R·ẑ``, so its angular velocity
 in the inertial frame is (:func:`ring_angular_velocity`)::
 
@@ -43,48 +42,35 @@ import numpy as np
 
 from numba import njit
 
-from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING,
-                    P_FRICTION, P_GX, P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M, P_TILT_HELD, P_V_D, P_V_S,
-                    R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE,
-                    R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_POCKET0, R_POCKET_K,
-                    R_PITCH_R, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
-from .contact import (FAST, arc_penetration, ball_contact_force, friction_coefficient,  # noqa: F401
-                      friction_force, friction_slope_at_zero_slip, hertz_energy, hertz_load, land_penetration,
-                      normal_force, cage_pocket_penetration, race_arc_penetration, ring_angular_velocity,
-                      ring_rotation, ring_to_global, step, to_ring_frame)
+from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_penetration, damping_coefficient,
+                      friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration,
+                      ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame)
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
-from .contact import LOADED_BALL_LOAD, damping_coefficient
-from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED,  # noqa: F401 (re-exported)
-                      channel_integral, channel_rate, channel_value)
+from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_FRICTION, P_GX,
+                    P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
+                    P_TILT_HELD, P_V_D, P_V_S, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
+                    R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
+                    R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
+from .outputs import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
+from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_integral, channel_rate,
+                      channel_value)
 from .raceway import ball_offsets
 
-# diag slots written by rhs(): largest inner / outer race loads, loaded balls, largest p³
-# (any contact), deepest penetration and its ball
-D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL = 0, 1, 2, 3, 4, 5
-# the designer's outputs (issue 10), all from the forces of this same evaluation:
-# D_DRIVE_TORQUE  moment about the ring's spin axis the prescribed spin needs [N m]
-# D_FRICTION_POWER Σ|F_t·u| over every friction contact [W]
-# D_DAMPING_POWER  Σ (q − K·δ^1.5)·dδ/dt over every contact (damper dissipation) [W]
-# D_LOAD_POWER     power of the applied loads and of gravity on every body [W]
-# D_TILT_POWER     power the small-tilt ring equations leave out (see rhs Notes) [W]
-# D_MAX_QP, D_LAND_Q  largest ball–pocket and cage–land normal forces [N]
-# D_MAX_SLIDE2     largest squared sliding speed at a loaded ball–race contact [m² s^-2]
-# D_MAX_PV6        largest (p_max·s)⁶ at a ball–race contact [(Pa m s^-1)⁶]
-# D_RACE_P3        largest p_max³ over the ball–race contacts only (ISO 76) [Pa³]
-# D_SIN_MIN, D_SIN_MAX  extreme |n_z| (sine of the contact angle) of loaded race contacts
-#                  (2 and −1 when none is loaded)
-# D_DRIVE_POWER    T·ω, the drive's power [W]
-# D_HOLD_MX, D_HOLD_MY  the moment about x and y that holds a "held" ring's tilts at 0
-#                  (0 for a free ring) [N m]
-# rhs() writes them all; rhs_stage() (the integrator's intermediate RK4 stages, where
-# nobody reads them) leaves the slots from D_FRICTION_POWER on untouched
-(D_DRIVE_TORQUE, D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q,
- D_MAX_SLIDE2, D_MAX_PV6, D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_HOLD_MX, D_HOLD_MY) = range(6, 21)
-# from D_COS_ALPHA on, one slot per row: the mean over the row's loaded balls of cos α
-# (each ball's race contacts averaged), for that row's epicyclic cage speed at the balls'
-# actual contact angles (0 when none is loaded); diag has N_DIAG + rows - 1 slots
-D_COS_ALPHA = 21
-N_DIAG = 22
+# The slots of the diagnostics vector this kernel writes, by the names of the output
+# table (rvcore.outputs.SIGNALS, where each is described with its units). rhs() writes
+# them all; rhs_stage() (the intermediate stages, where nobody reads them) writes only
+# those marked "stage" there, the drive torque among them.
+D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = (SLOT[n] for n in (
+    "max_inner_contact_load", "max_outer_contact_load", "loaded_ball_count", "max_contact_pressure_cubed",
+    "max_penetration", "penetration_ball", "drive_torque"))
+(D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q, D_MAX_SLIDE2, D_MAX_PV6,
+ D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_HOLD_MX, D_HOLD_MY) = (SLOT[n] for n in (
+    "friction_power", "damping_power", "load_power", "tilt_power", "max_pocket_force", "cage_land_force",
+    "max_race_sliding_speed_squared", "max_race_pv_sixth", "max_race_pressure_cubed", "sin_contact_angle_min",
+    "sin_contact_angle_max", "drive_power", "tilt_reaction_moment_x", "tilt_reaction_moment_y"))
+#: Row r's mean cos α of its loaded balls (for its epicyclic cage speed) is at
+#: ``D_ROW0 + D_ROW_STRIDE·r + D_COS_ALPHA``.
+D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_contact_angle"]
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
 # outer race forces on the ball (outward positive), pocket load
 B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
@@ -103,9 +89,10 @@ def spin_of(rows, table, meta, t):
     return 1.0, 0.0
 
 
-def new_diagnostics(n_rows: int, n_balls: int):
-    """Empty ``(diag, bdiag)`` arrays that :func:`rhs` writes (one cos α slot per row)."""
-    return np.zeros(N_DIAG + n_rows - 1), np.zeros((n_balls, N_BDIAG))
+def new_diagnostics(n_rows: int, n_balls: int, n_sensors: int = 0):
+    """Empty ``(diag, bdiag)``: the signals of rvcore.outputs for ``n_rows`` rows and
+    ``n_sensors`` sensors, and the per-ball loads that :func:`rhs` writes."""
+    return np.zeros(signal_count(n_rows, n_sensors)), np.zeros((n_balls, N_BDIAG))
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -445,7 +432,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
         dy[c0 + 5] = fyc / mc + gy
         dy[c0 + 6] = fzc / mc + gz
         dy[c0 + 7] = tzc / rows[r, R_CAGE_I]
-        diag[D_COS_ALPHA + r] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
+        diag[D_ROW0 + D_ROW_STRIDE * r + D_COS_ALPHA] = cos_sum / cos_balls if cos_balls > 0.0 else 0.0
 
     # ---- inner ring: applied loads, contact reactions, small-tilt Euler equations
     m_ring, ip, it = params[P_RING_M], params[P_RING_IP], params[P_RING_IT]
@@ -495,58 +482,3 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     diag[D_SIN_MAX] = sin_max
     diag[D_HOLD_MX] = hold_x
     diag[D_HOLD_MY] = hold_y
-
-
-@njit(cache=True, nogil=True)
-def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
-    """Elastic energy of every contact minus the work potential of the applied loads [J].
-
-    ``Σ ⅖·K·δ^2.5`` over ball–race, ball–pocket and cage–land contacts, minus
-    ``F·r_ring + M·θ`` with the loads at ``t`` held constant, minus ``Σ m·g·r`` of every
-    body (gravity). With the kinetic energy
-    (:func:`rvcore.integrator.kinetic_energy`) it is conserved when friction and damping
-    are off, the loads are constant and the ring does not spin.
-    """
-    fr = channel_value(table, meta, CH_RADIAL, t)
-    fa = channel_value(table, meta, CH_AXIAL, t)
-    moment = channel_value(table, meta, CH_MOMENT, t)
-    psi = channel_value(table, meta, CH_DIRECTION, t)
-    lc, ls = math.cos(psi), math.sin(psi)
-    gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
-    xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
-    r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
-    cos_spin, sin_spin = spin_of(rows, table, meta, t)
-    e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
-    e -= params[P_RING_M] * (gx * xi + gy * yi + gz * zi)
-    for r in range(rows.shape[0]):
-        b0, c0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_CAGE0]), int(rows[r, R_POCKET0])
-        a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
-        zrow, h = rows[r, R_ZROW], rows[r, R_HALF_D]
-        xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
-        cphi, sphi = math.cos(phi), math.sin(phi)
-        e -= rows[r, R_CAGE_M] * (gx * xc + gy * yc + gz * zc)
-        for j in range(int(rows[r, R_Z])):
-            b = b0 + BALL_STATES * j
-            px, py, pz = y[b], y[b + 1], y[b + 2]
-            e -= rows[r, R_MB] * (gx * px + gy * py + gz * pz)
-            plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
-                                                 r20, r21, r22, zrow)
-            rho_b = math.sqrt(px * px + py * py)
-            dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
-            if rows[r, R_IMPERFECT] != 0.0:
-                dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
-                                                  sin_spin, px / rho_b, py / rho_b)
-            for a in range(a0, a0 + na):
-                _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
-                e += hertz_energy(arcs[a, A_K], d)
-            cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
-            d, _, _, _, _ = cage_pocket_penetration(rows[r, R_GUIDE], px - xc, py - yc, pz - zc - zrow,
-                                                    cphi * cs0 - sphi * sn0, sphi * cs0 + cphi * sn0,
-                                                    rows[r, R_PITCH_R], rows[r, R_POCKET_R], h,
-                                                    rows[r, R_CAGE_RI], rows[r, R_CAGE_RO])
-            e += hertz_energy(rows[r, R_POCKET_K], d)
-        if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
-            d, _, _ = land_penetration(xc, yc, rows[r, R_LAND_CLEAR])
-            e += hertz_energy(rows[r, R_LAND_K], d)
-    return e

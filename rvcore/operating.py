@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from .outputs import STEADY, outputs_of
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
 from .quasistatic import StaticResult, solve_statics
 
@@ -48,58 +49,15 @@ def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True)
 
 
-#: Scalars of a case at its steady operating point: name -> (units, long_name).
-STEADY_OUTPUTS = {
-    "radial_stiffness": ("N m-1", "radial stiffness at the steady operating point, direct term K_rr of the "
-                                  "quasi-static tangent stiffness along the radial load: every other "
-                                  "coordinate held"),
-    "axial_stiffness": ("N m-1", "axial stiffness at the steady operating point, direct term K_aa of the "
-                                 "quasi-static tangent stiffness along the axis: every other coordinate held"),
-    "tilting_stiffness": ("N m rad-1", "tilting stiffness at the steady operating point, direct term of the "
-                                       "quasi-static tangent stiffness about the axis normal to the radial load: "
-                                       "every other coordinate held"),
-    "radial_stiffness_compliant": ("N m-1", "radial stiffness at the steady operating point with every other "
-                                            "coordinate free, 1/C_rr of the compliance C = K^-1 (a held ring's "
-                                            "tilts stay held)"),
-    "axial_stiffness_compliant": ("N m-1", "axial stiffness at the steady operating point with every other "
-                                           "coordinate free, 1/C_aa of the compliance C = K^-1 (a held ring's "
-                                           "tilts stay held)"),
-    "tilting_stiffness_compliant": ("N m rad-1", "tilting stiffness at the steady operating point with every other "
-                                                 "coordinate free, 1/C of the compliance C = K^-1 (NaN for a held "
-                                                 "ring)"),
-    "static_safety_factor_steady": ("1", "ISO 76 static safety factor s0 = (4200 MPa / p_max)^3 from the peak "
-                                         "ball-race Hertz pressure of the statics at the steady operating point"),
-    "static_safety_factor_catalogue": ("1", "ISO 76 static safety factor s0 = C0r/P0r by the catalogue formula at "
-                                            "the steady loads: C0r = f0 i Z Dw^2 cos(alpha) (ISO 76 Table 1 f0), "
-                                            "P0r = max(X0 Fr + Y0 Fa, Fr) (NaN: not rated)"),
-    "friction_moment_palmgren": ("N m", "Palmgren's estimate of the bearing's friction moment at the steady "
-                                        "operating point, M = f1 F_beta d_m + M_v (Harris & Kotzalas; load and "
-                                        "viscous terms; NaN where it does not apply: pairs, four-point rows)"),
-    "friction_moment_palmgren_load": ("N m", "load term f1 F_beta d_m of Palmgren's friction moment at the "
-                                             "steady operating point"),
-    "friction_moment_palmgren_viscous": ("N m", "viscous term M_v of Palmgren's friction moment at the steady "
-                                                "speed, with the bearing's lubricant viscosity"),
-    "statically_stable": ("1", "1 where the quasi-static tangent stiffness at the steady operating point is positive "
-                               "definite over the ring's free coordinates (it returns from any small displacement), 0 "
-                               "where it is not: the ring rocks away, as a single deep-groove row free to tilt does"),
-    "basic_rating_life_L10": ("1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady operating point, in "
-                                   "revolutions of the inner ring (90 % reliability, no life modification factor; "
-                                   "NaN: not rated or nothing loaded)"),
-    "reference_rating_life_L10r": ("1", "ISO/TS 16281 basic reference rating life L10r from the ball loads of the "
-                                        "statics at the steady operating point, in revolutions of the inner ring "
-                                        "(90 % reliability, no life modification factor; NaN: not rated or nothing "
-                                        "loaded)"),
-}
-
-
 def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:
-    """:data:`STEADY_OUTPUTS` of one case, SI; NaN where the statics find no equilibrium."""
+    """The ``steady`` outputs of :mod:`rvcore.outputs` for one case, SI; NaN where the
+    statics find no equilibrium."""
     from .quasistatic import NoEquilibriumError
 
     try:
         st = steady_statics(bearing, profile, op, gravity=gravity)
     except NoEquilibriumError:
-        return {k: float("nan") for k in STEADY_OUTPUTS}
+        return {o.name: float("nan") for o in outputs_of(STEADY)}
     out = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), st.stiffness_scalars()))
     out.update(zip(("radial_stiffness_compliant", "axial_stiffness_compliant", "tilting_stiffness_compliant"),
                    st.free_stiffness_scalars()))

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from rvcore.outputs import PHASE, STEADY, outputs_of
 from rvcore.profile import PHASES
 
 from ..io.netcdf import CASE_STATUS, case_status_variable
@@ -43,17 +44,14 @@ _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial
 # written before issues 9 and 10 lack these variables and are reported without them.
 
 #: Stiffness at the steady operating point, one scalar per case (no ``phase``):
-#: name -> (units, long_name).
-STIFFNESS = {k: VARIABLES[k][1:] for k in ("radial_stiffness", "axial_stiffness", "tilting_stiffness")}
+#: name -> (units, long_name), from the output table (rvcore.outputs).
+STIFFNESS = {o.name: (o.units, o.long_name) for o in outputs_of(STEADY, group="stiffness")
+             if o.name.endswith("_stiffness")}
 #: The same with every other coordinate free (1/C_ii of the compliance), beside each.
 COMPLIANT_STIFFNESS = {f"{k}_compliant": VARIABLES[f"{k}_compliant"][1:] for k in STIFFNESS}
 
-#: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name).
-DESIGNER_METRICS = {k: VARIABLES[k][1:] for k in (
-    "inner_ring_drive_torque_peak", "inner_ring_drive_torque_mean", "friction_power_mean", "friction_energy",
-    "max_pocket_force_peak", "cage_land_force_peak", "max_race_sliding_speed_peak", "max_race_pv_peak",
-    "contact_angle_min", "contact_angle_max", "static_safety_factor_min", "static_safety_factor_min_time",
-    "tilt_reaction_moment_mean", "tilt_reaction_moment_peak", "fatigue_damage")}
+#: The designer's phase metrics, over ``phase``: name -> (units, long_name).
+DESIGNER_METRICS = {o.name: (o.units, o.long_name) for o in outputs_of(PHASE, group="designer")}
 
 #: The designer's scalars of a case (issue 10), no ``phase``: the rating lives (in
 #: revolutions of the inner ring, units "1"; the duty cycle's also in cycles of the

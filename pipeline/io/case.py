@@ -5,30 +5,13 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
 - dimension ``elapsed_time`` [s], the output samples;
 - dimension ``phase`` (int8 flags 0 startup, 1 steady, 2 deceleration);
 - scalar coordinates ``speed`` [degree s-1], ``radial_load`` [N], ``axial_load`` [N];
-- time series, over ``elapsed_time`` (names of pipeline.md): ``radial_displacement``,
-  ``axial_displacement``, ``inner_ring_x|y|z``, ``inner_ring_tilt_x|y``,
-  ``applied_radial_load``, ``applied_axial_load``, ``inner_ring_speed``, ``cage_speed``,
-  ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
-  ``max_contact_pressure``, ``applied_moment``, ``load_direction``, and the designer's
-  outputs (issue 10) ``inner_ring_drive_torque``, ``friction_power``,
-  ``max_pocket_force``, ``cage_land_force``, ``max_race_sliding_speed``, ``max_race_pv``,
-  ``min_contact_angle``, ``max_contact_angle``, ``static_safety_factor``;
-- phase metrics, over ``phase``, accumulated at every integrator step:
-  ``radial_displacement_range|mean|std|min_time|max_time|range_at_edge`` and the same for
-  ``axial_displacement``, ``cage_speed_mean``, ``inner_ring_speed_mean``,
-  ``epicyclic_cage_speed``, ``cage_slip``, ``cage_slip_nominal``,
-  ``peak_contact_pressure``, the windows ``phase_start``/``phase_end``, the designer's
-  ``inner_ring_drive_torque_peak|mean``, ``friction_power_mean``, ``friction_energy``,
-  ``max_pocket_force_peak``, ``cage_land_force_peak``, ``max_race_sliding_speed_peak``,
-  ``max_race_pv_peak``, ``contact_angle_min|max``, ``static_safety_factor_min|min_time``
-  and, with rvcore.life, ``fatigue_damage``;
-- duty-cycle scalars (with rvcore.life): ``rating_life_L10r``, ``rating_life_cycles``,
-  ``fatigue_damage_cycle``;
+- every output of the case, with the dimensions, units and long_name the output table
+  gives it (:mod:`rvcore.outputs`; listed in docs/outputs.md): time series over
+  ``elapsed_time``, phase metrics over ``phase``, scalars, the steady phase's spectra over
+  ``frequency`` or ``kinematic``; a bearing of several rows adds ``row`` to its cage
+  variables;
 - with virtual sensors, dimension ``sensor`` (int8 flags named by the sensors) with
-  coordinates ``sensor_position_x|y|z`` and ``sensor_direction_x|y|z``:
-  ``sensor_displacement`` over ``(elapsed_time, sensor)`` and
-  ``sensor_displacement_range|mean|std|min_time|max_time|range_at_edge`` over
-  ``(phase, sensor)``;
+  coordinates ``sensor_position_x|y|z`` and ``sensor_direction_x|y|z``;
 - scalar coordinate ``realization`` (the seed of the random start; −1 centred);
 - global attributes: ``Conventions``, ``title``, ``source``, ``history``,
   ``references``, ``configuration`` (resolved TOML), ``configuration_hash``,
@@ -44,8 +27,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rvcore.driver import DUTY_CYCLE_OUTPUTS
-from rvcore.operating import STEADY_OUTPUTS
+from rvcore.outputs import (DUTY_CYCLE as OUT_DUTY_CYCLE, OUTPUTS, PHASE as OUT_PHASE, SERIES as OUT_SERIES,
+                            SPECTRUM as OUT_SPECTRUM, STEADY as OUT_STEADY, outputs_of, units_and_long_names)
 from rvcore.profile import PHASES
 
 from .. import __version__
@@ -57,142 +40,27 @@ REFERENCES = (
     "service conditions (multibody study; speed 120-660 deg/s, radial load 20-40 kN)."
 )
 
-#: name -> (units, long_name) of every time series.
-SERIES = {
-    "radial_displacement": ("m", "inner-ring displacement along the radial-load direction (delta_r)"),
-    "axial_displacement": ("m", "inner-ring displacement along the axial-load direction (delta_a)"),
-    "inner_ring_x": ("m", "inner-ring centre x"),
-    "inner_ring_y": ("m", "inner-ring centre y"),
-    "inner_ring_z": ("m", "inner-ring centre z (axial)"),
-    "inner_ring_tilt_x": ("rad", "inner-ring tilt about x"),
-    "inner_ring_tilt_y": ("rad", "inner-ring tilt about y"),
-    "applied_radial_load": ("N", "radial load applied by the profile"),
-    "applied_axial_load": ("N", "axial load applied by the profile"),
-    "inner_ring_speed": ("rad s-1", "prescribed inner-ring angular speed"),
-    "cage_speed": ("rad s-1", "cage angular speed"),
-    "max_inner_contact_load": ("N", "largest ball to inner-race normal force"),
-    "max_outer_contact_load": ("N", "largest ball to outer-race normal force"),
-    "loaded_ball_count": ("1", "number of balls carrying more than 1 N on both the inner and the outer race "
-                               "(rvcore.contact.LOADED_BALL_LOAD)"),
-    "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
-    "applied_moment": ("N m", "tilting moment applied by the profile, about the axis normal to the radial load"),
-    "load_direction": ("rad", "direction of the radial load applied by the profile, from +x"),
-    "inner_ring_drive_torque": ("N m", "moment about the inner ring's spin axis that the prescribed spin needs: "
-                                       "polar inertia times the prescribed angular acceleration minus the "
-                                       "contact forces' moment on the ring about that axis"),
-    "friction_power": ("W", "power dissipated by friction at every ball-race, ball-pocket and cage-land "
-                            "contact, summed (sum of |F_t . v_slip|)"),
-    "max_pocket_force": ("N", "largest ball-pocket normal force (all rows)"),
-    "cage_land_force": ("N", "cage-land normal force (the largest over rows)"),
-    "max_race_sliding_speed": ("m s-1", "largest sliding speed at a loaded ball-race contact"),
-    "max_race_pv": ("Pa m s-1", "largest product of the Hertz peak pressure and the sliding speed at a "
-                                "ball-race contact"),
-    "min_contact_angle": ("rad", "smallest contact angle of the loaded ball-race contacts, from the bearing's "
-                                 "radial plane (NaN when none is loaded)"),
-    "max_contact_angle": ("rad", "largest contact angle of the loaded ball-race contacts, from the bearing's "
-                                 "radial plane (NaN when none is loaded)"),
-    "static_safety_factor": ("1", "ISO 76 static safety factor s0 = C0/P0 from the Hertz pressure: "
-                                  "(4200 MPa / largest ball-race Hertz pressure)^3 (radial ball bearings; "
-                                  "NaN when no ball-race contact is loaded)"),
-    "tilt_reaction_moment_x": ("N m", "moment about x that the support applies to hold the inner ring's tilt "
-                                      "at 0 (inner_ring.tilt = held; 0 when the tilt is free)"),
-    "tilt_reaction_moment_y": ("N m", "moment about y that the support applies to hold the inner ring's tilt "
-                                      "at 0 (inner_ring.tilt = held; 0 when the tilt is free)"),
-}
-
-def _extreme_metrics(name: str, what: str) -> dict:
-    """The six per-phase metrics of one displacement signal (units, long_name)."""
-    return {
-        f"{name}_range": ("m", f"variation range (max - min) of {what} over the phase"),
-        f"{name}_mean": ("m", f"time mean of {what} over the phase"),
-        f"{name}_std": ("m", f"standard deviation of {what} over the phase"),
-        f"{name}_min_time": ("s", f"elapsed time at which {what} is smallest in the phase"),
-        f"{name}_max_time": ("s", f"elapsed time at which {what} is largest in the phase"),
-        f"{name}_range_at_edge": ("1", f"1 where an extreme of {what} lies within one output interval of "
-                                       "the phase window's edge (the range may be cut off by the window)"),
-    }
-
-
+#: name -> (units, long_name) of every time series (the output table, rvcore.outputs).
+SERIES = units_and_long_names(OUT_SERIES, over="")
+SERIES.update(units_and_long_names(OUT_SERIES, over="row"))
 #: name -> (units, long_name) of every phase metric.
-PHASE_METRICS = {
-    **_extreme_metrics("radial_displacement", "delta_r at the ring centre"),
-    **_extreme_metrics("axial_displacement", "delta_a at the ring centre"),
-    "cage_speed_mean": ("rad s-1", "time mean of the cage speed over the phase"),
-    "inner_ring_speed_mean": ("rad s-1", "time mean of the inner-ring speed over the phase"),
-    "epicyclic_cage_speed": ("rad s-1", "time mean of the epicyclic cage speed 0.5*(1 - D*cos(alpha)/d_m)*omega "
-                                        "at the loaded balls' actual mean cos(alpha)"),
-    "cage_slip": ("1", "1 - mean cage speed / epicyclic cage speed at the balls' actual contact angles "
-                       "(0: rolling without slip)"),
-    "cage_slip_nominal": ("1", "1 - mean cage speed / epicyclic cage speed at the nominal contact angle"),
-    "peak_contact_pressure": ("Pa", "largest Hertz contact pressure over the phase"),
-    "inner_ring_drive_torque_peak": ("N m", "largest magnitude over the phase of the inner-ring drive torque band-limited to 1 kHz"),
-    "inner_ring_drive_torque_mean": ("N m", "time mean of the inner-ring drive torque over the phase"),
-    "friction_power_mean": ("W", "time mean of the friction power over the phase"),
-    "friction_energy": ("J", "energy dissipated by friction over the phase (integral of the friction power)"),
-    "max_pocket_force_peak": ("N", "largest ball-pocket normal force over the phase"),
-    "cage_land_force_peak": ("N", "largest cage-land normal force over the phase"),
-    "max_race_sliding_speed_peak": ("m s-1", "largest ball-race sliding speed over the phase"),
-    "max_race_pv_peak": ("Pa m s-1", "largest ball-race Hertz peak pressure times sliding speed over the phase"),
-    "contact_angle_min": ("rad", "smallest contact angle of a loaded ball-race contact over the phase"),
-    "contact_angle_max": ("rad", "largest contact angle of a loaded ball-race contact over the phase"),
-    "static_safety_factor_min": ("1", "smallest ISO 76 static safety factor s0 = (4200 MPa / peak ball-race "
-                                      "Hertz pressure)^3 over the phase"),
-    "static_safety_factor_min_time": ("s", "elapsed time at which the static safety factor is smallest in the phase"),
-    "tilt_reaction_moment_mean": ("N m", "time mean over the phase of the magnitude of the moment that holds "
-                                         "the inner ring's tilt at 0 (0 when the tilt is free)"),
-    "tilt_reaction_moment_peak": ("N m", "largest magnitude over the phase of the moment that holds the inner "
-                                         "ring's tilt at 0 (0 when the tilt is free)"),
-    "fatigue_damage": ("1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile "
-                            "(ISO/TS 16281 contact loads at every integrator step)"),
-    "phase_start": ("s", "start of the phase window"),
-    "phase_end": ("s", "end of the phase window"),
-}
-
+PHASE_METRICS = {**units_and_long_names(OUT_PHASE, over=""), **units_and_long_names(OUT_PHASE, over="row")}
 #: Sensor variables: name -> (units, long_name); series over (elapsed_time, sensor).
-SENSOR_SERIES = {
-    "sensor_displacement": ("m", "inner-ring displacement read by each virtual sensor along its direction"),
-}
+SENSOR_SERIES = units_and_long_names(OUT_SERIES, over="sensor")
 #: Sensor phase metrics over (phase, sensor).
-SENSOR_METRICS = _extreme_metrics("sensor_displacement", "the sensor reading")
-
+SENSOR_METRICS = units_and_long_names(OUT_PHASE, over="sensor")
 #: The steady phase's spectra (rvcore.spectra): name -> (dims, units, long_name).
-SPECTRA = {
-    "kinematic_frequency": (("kinematic",), "Hz", "the bearing's kinematic frequencies at the steady speed (rolling "
-                                                  "without slip at the nominal contact angle): shaft, cage, outer and "
-                                                  "inner ball pass, ball spin, and twice each"),
-    **{f"{n}_spectrum": (("frequency",), "m", f"single-sided amplitude spectrum of {w} over the steady phase "
-                                              "(mean removed, Hann window; a sinusoid of amplitude A reads A)")
-       for n, w in (("radial_displacement", "delta_r"), ("axial_displacement", "delta_a"))},
-    **{f"{n}_kinematic_amplitude": (("kinematic",), "m", f"largest spectral amplitude of {w} within one bin of each "
-                                                         "kinematic frequency, steady phase")
-       for n, w in (("radial_displacement", "delta_r"), ("axial_displacement", "delta_a"))},
-    "sensor_displacement_spectrum": (("frequency", "sensor"), "m", "single-sided amplitude spectrum of each sensor's "
-                                                                  "reading over the steady phase (mean removed, Hann "
-                                                                  "window; a sinusoid of amplitude A reads A)"),
-    "sensor_displacement_kinematic_amplitude": (("kinematic", "sensor"), "m", "largest spectral amplitude of each "
-                                                                             "sensor's reading within one bin of each "
-                                                                             "kinematic frequency, steady phase"),
-}
-
-#: Cage variables of a bearing with several rows of balls gain a trailing ``row``
-#: dimension (one value per row); a single row keeps the dims of :data:`VARIABLES`.
-PER_ROW = ("cage_speed", "cage_speed_mean", "epicyclic_cage_speed", "cage_slip", "cage_slip_nominal")
-
+SPECTRA = {o.name: (o.dims, o.units, o.long_name) for o in outputs_of(OUT_SPECTRUM)}
+#: Variables of a bearing with several rows of balls gain a trailing ``row`` dimension
+#: (one value per row); a single row keeps the dims of :data:`VARIABLES`.
+PER_ROW = tuple(o.name for o in OUTPUTS if o.over == "row")
 #: Scalars at the steady operating point (no dims in a case file), from the statics there.
-STEADY = dict(STEADY_OUTPUTS)
-#: Duty-cycle life scalars (no dims): ``CaseResult.life``, present when rvcore.life is.
-DUTY_CYCLE = dict(DUTY_CYCLE_OUTPUTS)
+STEADY = units_and_long_names(OUT_STEADY)
+#: Duty-cycle life scalars (no dims): ``CaseResult.life``.
+DUTY_CYCLE = units_and_long_names(OUT_DUTY_CYCLE)
 
-#: Every labelled variable: name -> (dims, units, long_name).
-VARIABLES = {
-    **{k: ((), *v) for k, v in STEADY.items()},
-    **{k: ((), *v) for k, v in DUTY_CYCLE.items()},
-    **{k: (("elapsed_time",), *v) for k, v in SERIES.items()},
-    **{k: (("elapsed_time", "sensor"), *v) for k, v in SENSOR_SERIES.items()},
-    **{k: (("phase",), *v) for k, v in PHASE_METRICS.items()},
-    **{k: (("phase", "sensor"), *v) for k, v in SENSOR_METRICS.items()},
-    **SPECTRA,
-}
+#: Every labelled variable: name -> (dims, units, long_name), in the table's order.
+VARIABLES = {o.name: (o.dims, o.units, o.long_name) for o in OUTPUTS}
 
 
 def git_commit() -> str:
@@ -333,3 +201,25 @@ def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
 def write_case(ds: xr.Dataset, path) -> Path:
     """Write a case dataset to ``path`` atomically (:func:`pipeline.io.files.write_atomic`)."""
     return write_atomic(ds, path, encoding=encoding_for(ds))
+
+
+def variables_markdown() -> str:
+    """docs/outputs.md's "Variables of a case" tables, from the output table: one table a
+    kind (series, phase metrics, steady scalars, duty cycle, spectra), one line a row with
+    its name, units, dimensions and long_name (tests/pipeline/test_output_table.py holds
+    the docs to it)."""
+    from rvcore.outputs import DUTY_CYCLE, PHASE, SERIES, SPECTRUM, STEADY
+
+    titles = ((SERIES, "Time series, sampled at the output rate"),
+              (PHASE, "Phase metrics, reduced at every integrator step"),
+              (STEADY, "Scalars at the steady operating point (the statics there)"),
+              (DUTY_CYCLE, "The duty cycle's life"),
+              (SPECTRUM, "The steady phase's spectra"))
+    parts = []
+    for kind, title in titles:
+        parts += [f"### {title}", "", "| name | units | dimensions | long_name |", "|---|---|---|---|"]
+        for o in outputs_of(kind):
+            dims = ", ".join(o.dims + (("row",) if o.over == "row" else ())) or "(case)"
+            parts.append(f"| `{o.name}` | `{o.units}` | {dims} | {o.long_name.replace('|', '/')} |")
+        parts.append("")
+    return "\n".join(parts)

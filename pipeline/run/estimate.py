@@ -65,9 +65,9 @@ def local_workers(requested: int | None, n_cases: int) -> int:
 
 def kernels_need_compiling() -> bool:
     """Whether the next run compiles the numba kernels: no cached kernel in the cache
-    directory of rvcore's present sources (``rvcore._cache.cache_dir``)."""
+    directory of rvcore's present sources (``rvcore.numba_cache.cache_dir``)."""
     try:
-        from rvcore._cache import cache_dir
+        from rvcore.numba_cache import cache_dir
     except ImportError:
         return False
     try:

@@ -31,7 +31,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from rvcore.driver import SolverSettings
+from rvcore.settings import SolverSettings
 from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
 from rvcore.tolerances import BALL_GRADES, TOLERANCE_CLASSES
 from rvcore.preload import ARRANGEMENTS

@@ -16,7 +16,7 @@ import tomllib
 import typing
 from dataclasses import dataclass
 
-from rvcore.driver import Sensor, SolverSettings
+from rvcore.settings import Sensor, SolverSettings
 from rvcore.geometry import Arc, Bearing, Row
 from rvcore.imperfections import Imperfections, Waviness
 from rvcore.profile import Profile

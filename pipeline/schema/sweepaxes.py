@@ -10,7 +10,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from rvcore.driver import SolverSettings
+from rvcore.settings import SolverSettings
 
 from ..errors import ConfigError
 from ..io import UDUNITS, cf_name
@@ -78,7 +78,7 @@ class Axis:
 
 def parse_sensors(raw, file) -> tuple:
     """``[[sensors]]``: name, position (three lengths) and direction (three numbers)."""
-    from rvcore.driver import Sensor
+    from rvcore.settings import Sensor
 
     if raw is None:
         return ()

@@ -90,7 +90,7 @@ from pathlib import Path
 
 import tomli_w
 
-from rvcore.driver import SolverSettings
+from rvcore.settings import SolverSettings
 from rvcore.geometry import Bearing, Lubricant
 from rvcore.imperfections import PERFECT
 from rvcore.profile import OperatingPoint, Profile

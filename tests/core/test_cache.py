@@ -1,9 +1,9 @@
-"""rvcore caches its numba kernels in a directory of their sources' own (rvcore._cache)."""
+"""rvcore caches its numba kernels in a directory of their sources' own (rvcore.numba_cache)."""
 from __future__ import annotations
 
 import numba
 
-from rvcore import _cache
+from rvcore import numba_cache
 
 
 def test_each_version_of_the_sources_has_its_own_cache_directory(tmp_path, monkeypatch):
@@ -14,14 +14,14 @@ def test_each_version_of_the_sources_has_its_own_cache_directory(tmp_path, monke
     (pkg / "contact.py").write_text("x = 1\n")
     monkeypatch.setattr(_cache, "_PACKAGE", pkg)
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
-    first = _cache.cache_dir()
-    assert first == _cache.cache_dir() and first.parent == pkg / "__pycache__"
+    first = numba_cache.cache_dir()
+    assert first == numba_cache.cache_dir() and first.parent == pkg / "__pycache__"
     (pkg / "contact.py").write_text("x = 2\n")
-    assert _cache.cache_dir() != first
+    assert numba_cache.cache_dir() != first
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "elsewhere"))
-    assert _cache.cache_dir().parent == tmp_path / "elsewhere"
+    assert numba_cache.cache_dir().parent == tmp_path / "elsewhere"
 
 
 def test_numba_caches_in_the_directory_of_these_sources():
     """rvcore sets numba's cache directory at import, before any kernel is defined."""
-    assert numba.config.CACHE_DIR == str(_cache.cache_dir())
+    assert numba.config.CACHE_DIR == str(numba_cache.cache_dir())

@@ -24,8 +24,11 @@ import numpy as np
 import pytest
 
 from pipeline.schema import load_bearing
-from rvcore.driver import SolverSettings, initial_state, run_case
-from rvcore.kernels import new_diagnostics, potential_energy, rhs
+from rvcore.driver import run_case
+from rvcore.initial_state import initial_state
+from rvcore.settings import SolverSettings
+from rvcore.energy import potential_energy
+from rvcore.kernels import new_diagnostics, rhs
 from rvcore.model import compile_bearing
 from rvcore.profile import (CH_DIRECTION, CH_MOMENT, CH_RADIAL, N_CHANNELS, Channel, OperatingPoint,
                             Profile, scaled_study_profile, study_profile)

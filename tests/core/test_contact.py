@@ -13,8 +13,10 @@ import numpy as np
 import pytest
 
 from rvcore import contact
-from rvcore import integrator as ig
-from rvcore.driver import SolverSettings, peak_contact_load, run_case
+from rvcore.timestep import rk4_time_step
+from rvcore.driver import run_case
+from rvcore.initial_state import peak_contact_load
+from rvcore.settings import SolverSettings
 from rvcore.model import compile_bearing
 from rvcore.profile import Channel, OperatingPoint, Profile, channel_rate
 from rvcore.quasistatic import solve_statics
@@ -128,7 +130,7 @@ def test_stable_time_step_follows_the_friction_law():
     def dt_for(mu_s, v_s):
         b = section_bearing(12)
         b = replace(b, contact=replace(b.contact, mu_static=mu_s, v_static=v_s))
-        return ig.stable_time_step(compile_bearing(b, damping=False), 3.5e3)
+        return rk4_time_step(compile_bearing(b, damping=False), 3.5e3)
 
     base = dt_for(0.1, 0.1)
     assert dt_for(0.2, 0.1) == pytest.approx(base / 2, rel=1e-12)
@@ -255,8 +257,9 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
     """Without friction and damping, at rest, the contact force on a ball in rhs is
     −∂V/∂P of potential_energy: both take the race and pocket penetrations from one
     place. Ball 0 is pushed into its pocket wall and ball 1 into its races."""
-    from rvcore.driver import initial_state
-    from rvcore.kernels import new_diagnostics, potential_energy, rhs
+    from rvcore.initial_state import initial_state
+    from rvcore.energy import potential_energy
+    from rvcore.kernels import new_diagnostics, rhs
     from rvcore.model import BALL_STATES, R_BALL0, R_MB
 
     bearing = section_bearing(8)
@@ -289,11 +292,3 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
             ym[b + k] -= e
             force = -(energy(yp) - energy(ym)) / (2 * e)
             assert m_b * dy[b + 3 + k] == pytest.approx(force, rel=1e-4, abs=1e-3)
-
-
-def test_old_kernel_names_are_the_contact_functions():
-    """Code that imported the laws from rvcore.kernels gets the one implementation."""
-    from rvcore import kernels
-    for name in ("step", "friction_coefficient", "friction_slope_at_zero_slip", "normal_force",
-                 "friction_force", "arc_penetration", "ring_rotation", "ring_angular_velocity", "FAST"):
-        assert getattr(kernels, name) is getattr(contact, name)

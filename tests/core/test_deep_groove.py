@@ -28,7 +28,8 @@ import numpy as np
 import pytest
 
 from pipeline.schema.bearingfile import load_bearing
-from rvcore.driver import SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import SolverSettings
 from rvcore.kernels import new_diagnostics, rhs
 from rvcore.model import (P_RING_IT, P_RING_M, R_BALL0, R_CAGE0, R_CAGE_M, R_MB, compile_bearing,
                           nominal_state)

@@ -26,7 +26,8 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import SolverSettings
 from rvcore.hertz import effective_modulus, race_contact
 from rvcore.profile import OperatingPoint
 

@@ -38,9 +38,13 @@ import numpy as np
 import pytest
 
 from rvcore import integrator as ig
-from rvcore.driver import SimulationError, SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.results import SimulationError
+from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
-from rvcore.kernels import new_diagnostics, potential_energy
+from rvcore.accumulate import build_plan, new_accumulators
+from rvcore.energy import kinetic_energy, potential_energy
+from rvcore.kernels import new_diagnostics
 from rvcore.model import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.quasistatic import solve_statics
@@ -210,12 +214,13 @@ def test_energy_conserved_without_friction_and_damping(method):
     cage = cage_state(model, y)
     cage[4], cage[7] = 0.08, 0.3
     per = int(round(t_end / dt)) // chunks
-    out = np.zeros((per + 2, ig.N_OUT))
-    sig_acc, acc = ig.new_accumulators(resolved.phases.shape[0])
+    plan = build_plan(model.rows.shape[0], 0)
+    out = np.zeros((per + 2, plan.series.shape[0]))
+    acc = new_accumulators(plan, resolved.phases.shape[0])
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
 
     def energy(t):
-        kin = ig.kinetic_energy(y, model.params, model.rows)
+        kin = kinetic_energy(y, model.params, model.rows)
         return kin, kin + potential_energy(t, y, model.params, model.rows, model.arcs, model.pockets, table, meta)
 
     kin, e0 = energy(0.0)
@@ -224,7 +229,7 @@ def test_energy_conserved_without_friction_and_damping(method):
     t = 0.0
     for _ in range(chunks):
         status, *_ = ig.advance(method, y, t, dt, per, per, model, table, meta, resolved.phases,
-                                np.zeros((0, 6)), out, sig_acc, acc, diag, bdiag, 1e-3, 1e9,
+                                np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9,
                                 np.ones(model.rows.shape[0]))
         assert status == ig.OK
         t += per * dt
@@ -247,7 +252,7 @@ def test_energy_dissipated_with_damping():
     model = compile_bearing(bearing, gravity=False)
     table, meta = constant_profile(0.0, 0.01).resolve(OperatingPoint(0.0, 10e3, 5e3)).arrays()
     y = res.final_state
-    e_end = ig.kinetic_energy(y, model.params, model.rows) + potential_energy(
+    e_end = kinetic_energy(y, model.params, model.rows) + potential_energy(
         0.01, y, model.params, model.rows, model.arcs, model.pockets, table, meta)
     assert e_end < -0.1  # E started at 0; after 10 ms it is -0.66 J
 

@@ -2,10 +2,10 @@
 
 The balance, derived from the model's equations of motion (rvcore.kernels.rhs)
 -------------------------------------------------------------------------------
-Let ``E_kin`` be the kinetic energy of the free motion (:func:`rvcore.integrator.kinetic_energy`:
+Let ``E_kin`` be the kinetic energy of the free motion (:func:`rvcore.energy.kinetic_energy`:
 ring translation and tilt rates, every ball and cage), ``½·I_p·ω²`` that of the ring's
 prescribed spin, and ``V_el = Σ ⅖·K·δ^2.5`` the elastic energy of every contact
-(:func:`rvcore.kernels.potential_energy` with no load and no gravity).
+(:func:`rvcore.energy.potential_energy` with no load and no gravity).
 
 1. Every contact applies equal and opposite forces at one point, so the power of a
    contact's forces on the two bodies is ``F·u`` with ``u`` the slip velocity of the
@@ -47,10 +47,11 @@ import math
 import numpy as np
 import pytest
 
-from rvcore import integrator as ig
-from rvcore.driver import SolverSettings, initial_state, run_case
+from rvcore.driver import run_case
+from rvcore.initial_state import initial_state
+from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
-from rvcore.kernels import potential_energy
+from rvcore.energy import kinetic_energy, potential_energy
 from rvcore.model import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
 from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile
 
@@ -75,7 +76,7 @@ def _balance(bearing, profile, op, settings):
     table0, meta0 = profile.resolve(OperatingPoint(op.speed, 0.0, 0.0)).arrays()
 
     def energy(y, t):
-        kin = ig.kinetic_energy(y, model.params, model.rows)
+        kin = kinetic_energy(y, model.params, model.rows)
         spin = 0.5 * model.params[P_RING_IP] * resolved.value(CH_SPEED, t) ** 2
         el = potential_energy(t, y, params, model.rows, model.arcs, model.pockets, table0, meta0)
         return kin + spin + el

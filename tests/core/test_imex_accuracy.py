@@ -75,7 +75,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore.driver import SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import SolverSettings
 from rvcore.profile import OperatingPoint
 
 REPO = Path(__file__).resolve().parents[2]

@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import Sensor, SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import Sensor, SolverSettings
 from rvcore.imperfections import Imperfections, Waviness, realize
 from rvcore.profile import CH_SPEED, OperatingPoint, channel_integral
 from rvcore.quasistatic import solve_statics

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore import life
+from rvcore import iso281, life
 from rvcore.quasistatic import solve_statics
 
 from .physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
@@ -106,11 +106,11 @@ def test_angular_contact_equivalent_load_uses_table3():
     """ISO 281 Table 3, α = 30°: single row X = 0.39, Y = 0.76 above e = 0.80; a
     back-to-back pair (double row) X = 1, Y = 0.78 below e and X = 0.63, Y = 1.24 above."""
     a, z, d = math.radians(30.0), 12, STUDY_D
-    assert life.equivalent_dynamic_load(10e3, 10e3, a, z, d) == pytest.approx(0.39 * 10e3 + 0.76 * 10e3)
-    assert life.equivalent_dynamic_load(10e3, 5e3, a, z, d) == pytest.approx(10e3)
-    assert life.equivalent_dynamic_load(10e3, 5e3, a, z, d, double_row=True, rows=2) == \
+    assert iso281.equivalent_dynamic_load(10e3, 10e3, a, z, d) == pytest.approx(0.39 * 10e3 + 0.76 * 10e3)
+    assert iso281.equivalent_dynamic_load(10e3, 5e3, a, z, d) == pytest.approx(10e3)
+    assert iso281.equivalent_dynamic_load(10e3, 5e3, a, z, d, double_row=True, rows=2) == \
         pytest.approx(10e3 + 0.78 * 5e3)
-    assert life.equivalent_dynamic_load(10e3, 10e3, a, z, d, double_row=True, rows=2) == \
+    assert iso281.equivalent_dynamic_load(10e3, 10e3, a, z, d, double_row=True, rows=2) == \
         pytest.approx(0.63 * 10e3 + 1.24 * 10e3)
 
 
@@ -189,7 +189,8 @@ def test_no_rotation_no_load_no_damage():
 
 
 def test_steady_outputs_carry_the_lives_in_revolutions():
-    from rvcore.operating import STEADY_OUTPUTS, steady_outputs, steady_statics
+    from rvcore.operating import steady_outputs, steady_statics
+    from rvcore.outputs import OUTPUT
     from rvcore.profile import OperatingPoint
 
     b = section_bearing(12)
@@ -201,7 +202,7 @@ def test_steady_outputs_carry_the_lives_in_revolutions():
     assert out["reference_rating_life_L10r"] == pytest.approx(ref["reference_rating_life_L10r_Mrev"] * 1e6)
     assert out["basic_rating_life_L10"] == pytest.approx(ref["basic_rating_life_L10_Mrev"] * 1e6)
     for k in ("basic_rating_life_L10", "reference_rating_life_L10r"):
-        units, long_name = STEADY_OUTPUTS[k]
+        units, long_name = OUTPUT[k].units, OUTPUT[k].long_name
         assert units == "1" and "revolutions" in long_name
 
 
@@ -224,7 +225,7 @@ def test_bad_input():
     with pytest.raises(ValueError, match="negative"):
         life.duty_cycle_life(b, {"inner": -np.ones((2, 1)), "outer": np.ones((2, 1)), "revolutions": np.ones(2)})
     with pytest.raises(life.LifeError, match="Table 2"):
-        life.fc_factor(0.5)
+        iso281.fc_factor(0.5)
     # Table 3 rows for 5 and 10 deg are not carried: L10 is not rated, L10r still is
     b10 = section_bearing(12, alpha=math.radians(10.0))
     st = solve_statics(b10, 10e3, 3e3, gravity=False, stiffness=False)
@@ -251,7 +252,7 @@ def test_statics_json_has_the_lives(capsys):
 def _has_life_sums() -> bool:
     import dataclasses as dc
 
-    from rvcore.driver import CaseResult
+    from rvcore.results import CaseResult
     return any(f.name == "life_sums" for f in dc.fields(CaseResult))
 
 
@@ -264,7 +265,8 @@ def test_dynamic_constant_point_life_equals_static_l10r():
     The integrator accumulates dN·Q_e^3 with the balls' dynamic loads at every step, while
     they roll through the load zone; the statics see one ball position.
     """
-    from rvcore.driver import SolverSettings, run_case
+    from rvcore.driver import run_case
+    from rvcore.settings import SolverSettings
     from rvcore.profile import OperatingPoint
 
     z, fr, fa, omega = 12, 12e3, 6e3, 2.0 * math.pi   # one revolution a second
@@ -302,10 +304,10 @@ def test_table3_15_degree_row_of_the_study_bearing(rel, e, y1, y2_low, y2_high):
     a, z, d = math.radians(15.0), 51, 0.023
     fa = rel * z * 23.0 ** 2 * math.cos(a)
     above, below = fa / (2 * e), fa / (0.5 * e)
-    for got, want in ((life.xy_factors(above, fa, a, z, d), (0.44, y1, e)),
-                      (life.xy_factors(below, fa, a, z, d), (1.0, 0.0, e)),
-                      (life.xy_factors(above, fa, a, z, d, double_row=True, rows=2), (0.72, y2_high, e)),
-                      (life.xy_factors(below, fa, a, z, d, double_row=True, rows=2), (1.0, y2_low, e))):
+    for got, want in ((iso281.xy_factors(above, fa, a, z, d), (0.44, y1, e)),
+                      (iso281.xy_factors(below, fa, a, z, d), (1.0, 0.0, e)),
+                      (iso281.xy_factors(above, fa, a, z, d, double_row=True, rows=2), (0.72, y2_high, e)),
+                      (iso281.xy_factors(below, fa, a, z, d, double_row=True, rows=2), (1.0, y2_low, e))):
         assert got == pytest.approx(want, abs=1e-9)
 
 
@@ -314,4 +316,4 @@ def test_table3_15_degree_interpolates_between_rows():
     ISO 281 allows)."""
     a, z = math.radians(15.0), 51
     fa = (1.07 + 1.43) / 2 * z * 23.0 ** 2 * math.cos(a)
-    assert life.xy_factors(fa, fa, a, z, 0.023) == pytest.approx((0.44, 1.21, 0.465), abs=1e-9)
+    assert iso281.xy_factors(fa, fa, a, z, 0.023) == pytest.approx((0.44, 1.21, 0.465), abs=1e-9)

@@ -14,7 +14,8 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
 from rvcore.life import static_life
 from rvcore.profile import OperatingPoint

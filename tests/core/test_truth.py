@@ -28,7 +28,9 @@ import numpy as np
 import pytest
 
 from rvcore import hertz
-from rvcore.driver import Sensor, SolverSettings, _rolling_velocities, initial_state, run_case
+from rvcore.driver import run_case
+from rvcore.initial_state import initial_state, set_rolling_velocities
+from rvcore.settings import Sensor, SolverSettings
 from rvcore.geometry import ball_mass, cage_mass_properties, inner_ring_mass_properties
 from rvcore.integrator import METHODS
 from rvcore.kernels import new_diagnostics, rhs
@@ -318,7 +320,7 @@ def test_tilted_spinning_ring_rolls_without_slip(tilt_rates):
     if tilt_rates:
         y[5:8] = (1e-3, -2e-3, 5e-4)
         y[8:10] = (0.05, -0.03)
-        _rolling_velocities(model, y, omega)
+        set_rolling_velocities(model, y, omega)
 
     surface = omega * row.pitch_diameter / 2
     balls = ball_states(model, y)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rvcore.driver import CaseResult
+from rvcore.results import CaseResult
 from rvcore.profile import PHASES, study_profile
 
 

@@ -18,7 +18,7 @@ import pytest
 import pipeline.bench as bench
 from pipeline.bench import CYCLE_FIGURES, scipy_comparison
 from pipeline.cli import main
-from rvcore.driver import SolverSettings
+from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
 
 _NO_IMEX = importlib.util.find_spec("rvcore.imex") is None

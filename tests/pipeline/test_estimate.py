@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 import pipeline.run
-import rvcore._cache
+import rvcore.numba_cache
 from pipeline.cli import main
 from pipeline.run.estimate import (CONFIRM_CASES, case_seconds, duration_text, kernels_need_compiling,
                                    say_if_compiling)
@@ -74,7 +74,7 @@ def test_compiling_is_announced_only_when_it_happens(smoke_run, monkeypatch, cap
     assert not kernels_need_compiling()
     assert say_if_compiling() is False and capsys.readouterr().err == ""
     # other sources than those the cache was built from: compiling
-    monkeypatch.setattr(rvcore._cache, "sources_hash", lambda: "0" * 64)
+    monkeypatch.setattr(rvcore.numba_cache, "sources_hash", lambda: "0" * 64)
     assert kernels_need_compiling()
     assert say_if_compiling() is True
     assert capsys.readouterr().err.startswith("compiling the numba kernels")

@@ -196,25 +196,27 @@ def _series(speed_deg: float, load: float, t: np.ndarray, rng) -> tuple:
 
 def _core_phase_metrics(t, dr, da) -> dict:
     """The core's own phase accumulators fed the series sample by sample, then read out."""
-    from rvcore import integrator as ig
-    from rvcore.driver import phase_metrics as read_out
+    from rvcore.accumulate import SL_DA, SL_DR, build_plan, new_accumulators, reduce_step
+    from rvcore.kernels import new_diagnostics
+    from rvcore.results import read_phase_metrics
 
-    sig, acc = ig.new_accumulators(len(WINDOWS))
+    plan = build_plan(1, 0)
+    acc = new_accumulators(plan, len(WINDOWS))
+    diag, _ = new_diagnostics(1, 1)
     for ti, r, a in zip(t, dr, da):
+        diag[SL_DR], diag[SL_DA] = r, a
         for k, (start, end) in enumerate(WINDOWS):
             if start <= ti < end:
-                ig._track(sig[k, ig.SIG_DR], r, ti)
-                ig._track(sig[k, ig.SIG_DA], a, ti)
-                acc[k, 0, ig.C_N] += 1.0
+                reduce_step(acc[k], plan.reductions, diag, ti, 0, 0.0)
     with np.errstate(all="ignore"):
-        return read_out(sig, acc, np.array(WINDOWS), 0.01)
+        return read_phase_metrics(acc, plan, np.array(WINDOWS), 0.01)
 
 
 def test_metrics_match_values_computed_here_from_the_time_series(tmp_path):
     """metrics.nc (through the core's accumulators, the case files, the combiner and
     phase_metrics) holds the range, mean, std and extreme times of δ_r and δ_a computed
     here with numpy over each phase window of series built in this test."""
-    from rvcore.driver import CaseResult
+    from rvcore.results import CaseResult
 
     rng = np.random.default_rng(11)
     t = np.round(np.arange(0.0, 4.6 + 1e-9, 0.01), 10)

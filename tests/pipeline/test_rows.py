@@ -13,7 +13,8 @@ import math
 import numpy as np
 
 from pipeline.io import case_dataset
-from rvcore.driver import SolverSettings, run_case
+from rvcore.driver import run_case
+from rvcore.settings import SolverSettings
 from rvcore.geometry import Arc
 from rvcore.profile import OperatingPoint
 from tests.core.physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing

@@ -19,7 +19,7 @@ from pipeline.errors import ConfigError
 from pipeline.run.cluster import estimated_cost
 from pipeline.schema import load_sweep, stored_configuration
 from pipeline.schema import fields as schema
-from rvcore.driver import SolverSettings
+from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
 from tests.schema.test_sweepfile import GRID, make_sweep
 

@@ -1,0 +1,127 @@
+"""The fixed step of each integrator, from the bearing's stiffest rates. SI throughout.
+
+Why a fixed step, and how large
+-------------------------------
+The bearing is stiff in two ways, and both set a hard explicit stability limit that an
+adaptive pair would only rediscover by rejecting steps:
+
+1. *Contact oscillation.* A ball between two Hertz contacts has the linearised stiffness
+   ``k = 1.5·K^(2/3)·Q^(1/3)`` per contact. Study bearing at Q = 3.5 kN (40 kN radial):
+   K ≈ 4.5e10 N/m^1.5 → k ≈ 2.9e8 N/m, two contacts on m_b = 0.050 kg give
+   ω_n = √(2k/m_b) ≈ 1.1e5 rad/s. RK4 is stable on the imaginary axis to
+   |λ·dt| ≤ 2√2, so dt ≤ 2.6e-5 s.
+2. *Friction at small slip.* The friction law rises from zero with slope
+   dμ/ds = 1.5·μ_s/v_s = 1.5 s/m, a viscous damper ``c_f = 1.5·μ_s·Q/v_s`` ≈ 5.3e3 N s/m
+   at 3.55 kN (the study's 30 kN + 10 kN). A ball between an inner and an outer contact
+   has two tangential modes: translation (rate 2·c_f/m_b) and rolling-direction rotation
+   (rate 2·c_f·r²/I_b = 5·c_f/m_b, the faster), so λ_f ≈ 5.4e5 1/s on the negative real
+   axis, where RK4 is stable to |λ·dt| ≤ 2.785: dt ≤ 5.2e-6 s.
+
+For RK4 the friction limit dominates by ~5×, so its step is derived from it at the peak
+quasi-static contact load of the cycle, and is the same at every step: deterministic,
+reproducible bit for bit, four right-hand-side evaluations per step and no error norm.
+The IMEX scheme (:mod:`rvcore.imex`) takes the friction and damping implicitly, so its
+step comes from what stays explicit. ``SolverSettings.step_safety`` scales either; the
+convergence check of docs/model.md §9.6 halves it tenfold. Beyond the limit the friction
+mode does not always diverge: the saturating friction law can bound it into a slip
+chatter that spoils the metrics silently, which is why the step is held below the limit
+rather than found by trial. A step that turns out far too large is caught by the
+blow-up detection of :func:`rvcore.integrator.integrate`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .contact import friction_slope_at_zero_slip
+from .imex import IMAG_LIMIT
+from .model import (A_K, P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S, R_ARC0, R_HALF_D, R_IB,
+                    R_MB, R_NARC)
+
+RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
+RK4_REAL_LIMIT = 2.785
+
+
+def time_step(model, peak_contact_load: float, method: str, *, safety: float = 0.8) -> float:
+    """The fixed step [s] of ``method`` ("rk4": :func:`rk4_time_step`, "imex":
+    :func:`imex_time_step`)."""
+    if method == "rk4":
+        return rk4_time_step(model, peak_contact_load, safety=safety)
+    if method == "imex":
+        return imex_time_step(model, peak_contact_load, safety=safety)
+    raise ValueError(f"unknown integrator {method!r}: use rk4 or imex")
+
+
+def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
+                  dynamic_margin: float = 1.0) -> float:
+    """The fixed RK4 step [s] from the stiffest contact and friction rates.
+
+    Parameters
+    ----------
+    model : rvcore.model.CompiledBearing
+    peak_contact_load : float
+        Largest quasi-static ball–race load over the cycle [N].
+    safety : float
+        Fraction of the stability limit [-].
+    dynamic_margin : float
+        Factor on the quasi-static load for dynamic overshoot [-].
+
+    Notes
+    -----
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
+    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = Q·dμ/ds`` at zero slip
+    (:func:`rvcore.contact.friction_slope_at_zero_slip`, the law's own slope) and the two
+    race contacts of a ball::
+
+        ω_n = √(2k/m_b)                        (contact oscillation)
+        λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
+        dt  = safety · min(2√2/ω_n, 2.785/λ)
+    """
+    q = max(dynamic_margin * peak_contact_load, 1.0)
+    p = model.params
+    c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
+    dts = []
+    for omega, m, rot in row_rates(model, q):
+        lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
+        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    return safety * min(dts)
+
+
+def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
+                   dynamic_margin: float = 1.0) -> float:
+    """The fixed IMEX step [s] from the rates that stay explicit.
+
+    Notes
+    -----
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``k = 1.5·K^(2/3)·Q^(1/3)``
+    for the stiffest arc and the two race contacts of a ball::
+
+        ω_n = √(2k/m_b)                                  (contact oscillation)
+        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope)
+        dt  = safety · min(IMAG_LIMIT/ω_n, 2.785/λ_−)
+
+    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope;
+    :data:`rvcore.imex.IMAG_LIMIT` and why it is what it is: :mod:`rvcore.imex`.
+    """
+    q = max(dynamic_margin * peak_contact_load, 1.0)
+    p = model.params
+    falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
+    dts = []
+    for omega, m, rot in row_rates(model, q):
+        lam = 2.0 * q * falling * max(1.0 / m, rot)
+        dts.append(min(IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    return safety * min(dts)
+
+
+def row_rates(model, q: float):
+    """Per row: the contact oscillation ``ω_n = √(2k/m_b)`` [rad s^-1] of a ball between
+    its two race contacts at the load ``q`` [N] (``k = 1.5·K^(2/3)·q^(1/3)``, K of the
+    stiffest arc), the ball mass ``m_b`` [kg] and ``r²/I_b`` [kg^-1]: the rates both
+    integrators' steps come from."""
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
+        yield math.sqrt(2.0 * 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0) / m), m, h * h / i_b
