@@ -33,7 +33,7 @@ from ..errors import ConfigError, UserError
 from ..schema import FIELDS, REQUIRED, bearing_from_dict, load_sweep, profile_from_dict, read_toml
 from ..schema.fields import field
 from ..schema.parameters import format_value
-from ._common import SHIPPED_HELP, input_file
+from .common import SHIPPED_HELP, input_file
 
 HELP = "validate bearing, profile and sweep files and print what they imply"
 

@@ -9,7 +9,7 @@ from ..errors import UserError
 from ..io.folders import writable_folder
 from ..run.estimate import (CONFIRM_CASES, CONFIRM_SECONDS, duration_text, local_workers,
                             sweep_seconds)
-from ._common import SHIPPED_HELP, input_file
+from .common import SHIPPED_HELP, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
 

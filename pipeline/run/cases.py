@@ -54,7 +54,7 @@ def _default_case_fn():
     return driver.run_case
 
 
-def _reason(exc: BaseException) -> str:
+def failure_reason(exc: BaseException) -> str:
     text = str(exc).strip().splitlines()
     line = f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
     return line if len(line) <= 500 else line[:497] + "..."
@@ -76,7 +76,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
     try:
         result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
     except Exception as exc:  # the case failed: record why and let the others go on
-        return CaseOutcome(spec.case_id, False, None, _reason(exc), traceback.format_exc(),
+        return CaseOutcome(spec.case_id, False, None, failure_reason(exc), traceback.format_exc(),
                            time.perf_counter() - t0)
     return CaseOutcome(spec.case_id, True, result, seconds=time.perf_counter() - t0)
 
@@ -113,7 +113,7 @@ def _with_info(result, info):
     return new
 
 
-def _source_name(case_fn) -> str:
+def source_name(case_fn) -> str:
     if case_fn is None:
         return "rvcore.driver.run_case"
     return f"{getattr(case_fn, '__module__', '?')}.{getattr(case_fn, '__qualname__', repr(case_fn))}"
@@ -123,4 +123,4 @@ def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
     """Build, run and label one case (in this process); raises if the case fails."""
     fn = case_fn if case_fn is not None else _default_case_fn()
     result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
-    return label_case(spec, result, source=_source_name(case_fn))
+    return label_case(spec, result, source=source_name(case_fn))

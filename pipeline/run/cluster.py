@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import UserError
 from ..schema import CaseSpec
-from .cases import CaseOutcome, _reason, compute_case
+from .cases import CaseOutcome, compute_case, failure_reason
 
 #: How often a local cluster retries a case whose worker died, before recording it.
 DEFAULT_ALLOWED_FAILURES = 1
@@ -154,7 +154,7 @@ def on_cluster(client, todo, case_fn, allowed_failures):
                                       "its worker process died while running it, also on the "
                                       f"retry (KilledWorker: {exc})".splitlines()[0][:500])
             except Exception as exc:  # a scheduler-side error: record it for this case
-                outcome = CaseOutcome(spec.case_id, False, None, _reason(exc),
+                outcome = CaseOutcome(spec.case_id, False, None, failure_reason(exc),
                                       "".join(traceback.format_exception(exc)))
             fut.release()
             yield spec, outcome

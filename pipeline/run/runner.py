@@ -49,7 +49,8 @@ from ..io import (REFERENCES, UDUNITS, CaseEntry, CaseState, GridAxis, combine_c
                   write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, load_sweep
 from . import cluster
-from .cases import CaseOutcome, _reason, _source_name, compute_case, label_case, run_one_case
+from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
+                    source_name)
 from .cluster import DEFAULT_ALLOWED_FAILURES
 
 __all__ = [
@@ -254,7 +255,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     write_status(out, states)
 
     warm = cluster.warm_up(case_fn) if todo else 0.0
-    source = _source_name(case_fn)
+    source = source_name(case_fn)
     scheduler_text = "serial"
     n_workers = 1
     wall = 0.0
@@ -294,7 +295,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                             write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
                             st.state, st.reason, st.traceback = "ok", "", ""
                         except Exception as exc:  # bad result arrays: this case fails
-                            st.state, st.reason = "failed", f"could not write the case file: {_reason(exc)}"
+                            st.state, st.reason = "failed", f"could not write the case file: {failure_reason(exc)}"
                             st.traceback = traceback.format_exc()
                     else:
                         st.state, st.reason, st.traceback = "failed", outcome.reason, outcome.traceback

@@ -14,7 +14,7 @@ import dataclasses
 import pytest
 
 from pipeline.cli import main
-from pipeline.commands._common import one_case_sweep
+from pipeline.commands.common import one_case_sweep
 from pipeline.errors import ConfigError
 from pipeline.run.cluster import estimated_cost
 from pipeline.schema import load_sweep, stored_configuration
