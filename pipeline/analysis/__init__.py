@@ -4,5 +4,5 @@ from .fits import (DISPLACEMENT_COORD, compose_units, fit_metrics, fit_statistic
                    write_fits)
 from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
                          weighted_linear_fit)
-from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states, load_sweep, nearest, phase_metrics,
+from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states, open_results, nearest, phase_metrics,
                       write_metrics)

@@ -65,7 +65,7 @@ DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
 SCALARS = {**STIFFNESS, **COMPLIANT_STIFFNESS, **DESIGNER_SCALARS}
 
 
-def load_sweep(directory) -> xr.Dataset:
+def open_results(directory) -> xr.Dataset:
     """The combined sweep of a results folder, loaded into memory.
 
     Reads ``sweep.nc``; when it is absent (a sweep killed before combining), combines the
@@ -107,7 +107,7 @@ def load_sweep(directory) -> xr.Dataset:
     combined.attrs = dict(cases[0].attrs)
     note = "; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""
     combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n") + "\n" + history_line(
-        f"pipeline.metrics.load_sweep: combined {len(files)} case files{note}")).lstrip("\n")
+        f"pipeline.metrics.open_results: combined {len(files)} case files{note}")).lstrip("\n")
     return combined
 
 

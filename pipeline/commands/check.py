@@ -7,7 +7,7 @@ the input schema (:data:`pipeline.schema.fields.FIELDS`): key, kind, unit, defau
 bounds and doc. Values are printed in the schema's display unit of their field.
 
 The kind of each file is told by its content: a top-level ``bearing`` or ``profile`` key
-(naming other files) means a sweep, checked with ``pipeline.schema.load_sweep``; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
+(naming other files) means a sweep, checked with ``pipeline.schema.read_sweep_file``; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
 and ``duration``/``[phases]`` a profile. For a bearing it prints what it derived: pitch diameter, balls, nominal
 contact angle, groove ratios, radial clearance, Hertz K of the inner and outer contact at
 the nominal angle, ball mass, the epicyclic cage ratio, the smallest pitch diameter for
@@ -30,7 +30,7 @@ from rvcore import geometry as geo
 from rvcore.profile import PHASES
 
 from ..errors import ConfigError, UserError
-from ..schema import FIELDS, REQUIRED, bearing_from_dict, load_sweep, profile_from_dict, read_toml
+from ..schema import FIELDS, REQUIRED, bearing_from_dict, profile_from_dict, read_sweep_file, read_toml
 from ..schema.fields import field
 from ..schema.parameters import format_value
 from .common import SHIPPED_HELP, input_file
@@ -216,7 +216,7 @@ def check_file(path) -> dict:
     file = str(path)
     # A sweep names its bearing and profile files; bearing and profile files never do.
     if any(isinstance(raw.get(k), (str, dict)) for k in _SWEEP_MARKERS):
-        summary = _sweep_summary(load_sweep(path), file)
+        summary = _sweep_summary(read_sweep_file(path), file)
     elif any(k in raw for k in _BEARING_MARKERS):
         summary = bearing_summary(bearing_from_dict(raw, file=file))
     elif any(k in raw for k in _PROFILE_MARKERS):

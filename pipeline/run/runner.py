@@ -9,7 +9,7 @@ Layout of a sweep's folder (pipeline.md, "What a sweep writes")::
 
 How a run goes
 --------------
-1. The sweep file is expanded and validated (:func:`pipeline.sweepfile.load_sweep`);
+1. The sweep file is expanded and validated (:func:`pipeline.sweepfile.read_sweep_file`);
    any problem stops here, before a case runs.
 2. Cases whose file exists are reused (their id hashes everything that determines the
    result, see :mod:`pipeline.sweepfile`); the others are computed.
@@ -47,7 +47,7 @@ from ..io.folders import sweep_lock, writable_folder
 from ..io import (REFERENCES, UDUNITS, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
                   git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
-from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, load_sweep
+from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
                     source_name)
@@ -55,7 +55,7 @@ from .cluster import DEFAULT_ALLOWED_FAILURES
 
 __all__ = [
     "CaseOutcome", "CaseState", "SweepResult", "run_sweep", "compute_case", "label_case",
-    "run_one_case", "combine", "read_status", "status_counts", "summary", "MODEL_VERSION",
+    "run_one_case", "write_combined_sweep", "read_status", "status_counts", "summary", "MODEL_VERSION",
 ]
 
 
@@ -197,7 +197,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
     """
     t_start = time.perf_counter()
     if not isinstance(sweep, Sweep):
-        sweep = load_sweep(sweep)
+        sweep = read_sweep_file(sweep)
     out = Path(out_dir) if out_dir is not None else Path("results") / sweep.name
     writable_folder(out / "cases", str(out))
     with sweep_lock(out, str(out)):
@@ -323,7 +323,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     write_status(out, states)
     combined = None
     if combine_at_end:
-        combined = combine(sweep, out, states=states, history=history)
+        combined = write_combined_sweep(sweep, out, states=states, history=history)
     result = SweepResult(sweep=sweep, out_dir=out, combined=combined, states=states,
                          workers=n_workers, scheduler=scheduler_text, wall_time=wall,
                          total_time=time.perf_counter() - t_start, warm_up_time=warm,
@@ -390,7 +390,7 @@ def _output_rate(sweep: Sweep) -> float:
     return max(rates) if rates else sweep.settings.output_rate
 
 
-def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) -> Path:
+def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) -> Path:
     """Combine the case files of a sweep folder into ``sweep.nc`` (atomically).
 
     Parameters
@@ -448,7 +448,7 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         with contextlib.suppress(Exception), xr.open_dataset(target, engine="netcdf4") as old:
             previous = [line for line in str(old.attrs.get("history", "")).splitlines() if line.strip()]
     lines = previous + list(history) + [history_line(
-        f"pipeline.sweep.combine: {loaded} of {len(sweep.cases)} case files into sweep.nc"
+        f"pipeline.run.runner.write_combined_sweep: {loaded} of {len(sweep.cases)} case files into sweep.nc"
         + ("; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""))]
 
     first = next((e.data for e in entries if e.data is not None), None)

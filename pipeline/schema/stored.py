@@ -1,6 +1,6 @@
 """The resolved configuration a sweep stores, read back into the core's dataclasses.
 
-:func:`pipeline.schema.load_sweep` writes the sweep's resolved configuration as the TOML
+:func:`pipeline.schema.read_sweep_file` writes the sweep's resolved configuration as the TOML
 global attribute ``configuration`` of ``sweep.nc`` (and of every case file): the plain
 form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.geometry.Bearing`,
 :class:`rvcore.profile.Profile`, :class:`rvcore.driver.SolverSettings` and

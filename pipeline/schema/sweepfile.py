@@ -65,7 +65,7 @@ Quantities are unit strings ("120 deg/s", "20 kN") read by
 
 Every problem (unknown key, bad unit, empty axis, missing bearing or profile file, a
 bearing value out of range in some case) is a :class:`pipeline.errors.ConfigError`
-raised by :func:`load_sweep`, before any case runs.
+raised by :func:`read_sweep_file`, before any case runs.
 
 Case ids
 --------
@@ -107,7 +107,7 @@ from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
            "Axis", "CaseSpec", "Sweep", "case_configuration", "plain", "canonical_json", "hash_id",
-           "load_sweep", "sweep_from_dict"]
+           "read_sweep_file", "sweep_from_dict"]
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
@@ -238,7 +238,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
 # --------------------------------------------------------------------------- loading
 
 
-def load_sweep(path) -> Sweep:
+def read_sweep_file(path) -> Sweep:
     """Read, validate and expand a sweep file.
 
     Parameters
@@ -280,7 +280,7 @@ def _refuse_other_kinds(raw: dict, file) -> None:
 
 
 def sweep_from_dict(raw: dict, file) -> Sweep:
-    """:func:`load_sweep` on already-read TOML (``file`` names it and anchors paths)."""
+    """:func:`read_sweep_file` on already-read TOML (``file`` names it and anchors paths)."""
     file = Path(file)
     _refuse_other_kinds(raw, file)
     for k, v in raw.items():
