@@ -50,7 +50,7 @@ from rvcore.profile import PHASES
 
 from .. import __version__
 from .files import history_line, write_atomic
-from .netcdf import combined_encoding
+from .netcdf import encoding_for
 
 REFERENCES = (
     "Dynamic characteristics of the main bearing of rotary vector reducers under typical "
@@ -323,11 +323,6 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         if isinstance(value, (int, float, str, np.integer, np.floating)):
             attrs[f"solver_{key}"] = value
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
-
-
-def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
-    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
-    return combined_encoding(ds, (), complevel=complevel)
 
 
 def write_case(ds: xr.Dataset, path) -> Path:

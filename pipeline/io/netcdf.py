@@ -83,6 +83,11 @@ def combined_encoding(ds: xr.Dataset, case_dims, *, complevel: int = 4) -> dict:
     return enc
 
 
+def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
+    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
+    return combined_encoding(ds, (), complevel=complevel)
+
+
 def case_status_variable(codes: np.ndarray, dims) -> xr.DataArray:
     """The int8 ``case_status`` flag variable over the grid (0 ok, 1 failed, 2 not_run)."""
     return xr.DataArray(
