@@ -39,13 +39,10 @@ import numpy as np
 import xarray as xr
 
 from ..io import history_line, strip_encoding, write_atomic
-from ..schema.reference import (AXIS_PINT_UNITS, ReferenceFit, default_reference_path,  # noqa: F401
+from ..schema.reference import (AXES, AXIS_PINT_UNITS, ReferenceFit, default_reference_path,  # noqa: F401
                                 load_reference_fits)
 from .regression import (LEVEL, LINE_STATS, PLANE_COEFFICIENTS, PLANE_STATS, line_band,  # noqa: F401
                          linear_fit, plane_fit, weighted_linear_fit)
-
-#: The sweep axes a line is fitted against, in this order.
-AXES = ("speed", "radial_load")
 
 #: Metric variables of ``metrics.nc`` that are fitted (those present are used).
 FIT_METRICS = (

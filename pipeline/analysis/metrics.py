@@ -24,15 +24,10 @@ from ..io.netcdf import CASE_STATUS, case_status_variable
 from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
                   write_atomic)
 from ..errors import UserError
-
-#: Flag meanings of ``case_status`` in flag-value order (one home: pipeline.io.netcdf).
-CASE_STATES = CASE_STATUS
+from ..schema import REALIZATION
 
 #: Phase-metric variables in ``metrics.nc`` (those the sweep holds).
 METRICS = tuple(PHASE_METRICS) + tuple(SENSOR_METRICS)
-
-#: The ensemble dimension (``realizations = N`` in the sweep file).
-REALIZATION = "realization"
 
 #: Metrics whose ensemble mean and standard error ``metrics.nc`` adds over realizations.
 ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_std")) and "displacement" in m)
@@ -128,7 +123,7 @@ def case_states(sweep: xr.Dataset) -> xr.DataArray:
                         f"({', '.join(_DISPLACEMENT_METRICS)})")
     if "case_status" in sweep:
         cs = sweep["case_status"]
-        meanings = str(cs.attrs.get("flag_meanings", " ".join(CASE_STATES))).split()
+        meanings = str(cs.attrs.get("flag_meanings", " ".join(CASE_STATUS))).split()
         values = np.asarray(cs.attrs.get("flag_values", np.arange(len(meanings)))).ravel().tolist()
         lookup = {int(v): m for v, m in zip(values, meanings)}
         names = np.vectorize(lambda v: lookup.get(int(v), f"flag_{int(v)}") if np.isfinite(v) else "not_run",
@@ -219,7 +214,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     states = case_states(sweep)
     states = states.transpose(*[d for d in order if d in states.dims])
-    codes = {s: i for i, s in enumerate(CASE_STATES)}
+    codes = {s: i for i, s in enumerate(CASE_STATUS)}
     status = np.vectorize(lambda s: codes.get(s, codes["not_run"]), otypes=[np.int8])(states.values)
     ds["case_status"] = case_status_variable(status.astype(np.int8), states.dims)
     ds.attrs = {k: v for k, v in sweep.attrs.items()}

@@ -6,7 +6,7 @@ from .config import (apply_override, bearing_from_dict, load_bearing, load_profi
                      parse_set, parse_sets, parse_value, profile_from_dict, read_toml, resolve_path)
 from .fields import FIELDS, REQUIRED, Field, check_set_key
 from .parameters import ParameterRow, parameter_table
-from .sweepfile import (MODEL_VERSION, OPERATING_POINT, CaseSpec, Sweep, read_sweep_file,
+from .sweepfile import (MODEL_VERSION, OPERATING_POINT, REALIZATION, CaseSpec, Sweep, read_sweep_file,
                         sweep_from_dict)
 from .units import SI_UNITS, format_quantity, parse_quantity, registry
 from .stored import StoredConfiguration, stored_configuration

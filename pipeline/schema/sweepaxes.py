@@ -15,7 +15,7 @@ from rvcore.driver import SolverSettings
 from ..errors import ConfigError
 from ..io import UDUNITS, cf_name
 from . import fields
-from .reader import check_value
+from .reader import check_value, short
 from .tomlfile import parse_key_path
 from .units import SI_UNITS, parse_quantity, registry
 
@@ -27,7 +27,6 @@ REALIZATION = "realization"
 _SENSOR_KEYS = ("name", "position", "direction")
 _RANGE_KEYS = ("start", "stop", "step")
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-_NAME = NAME
 
 
 @dataclass(frozen=True)
@@ -94,7 +93,7 @@ def parse_sensors(raw, file) -> tuple:
             if k not in t:
                 raise ConfigError(file, where, None, f"'{k}' is missing")
         name = t["name"]
-        if not isinstance(name, str) or not _NAME.match(name):
+        if not isinstance(name, str) or not NAME.match(name):
             raise ConfigError(file, f"{where}.name", name, "must be a name of letters, digits, '.', '_' and '-'")
         if name in names:
             raise ConfigError(file, f"{where}.name", name, "duplicate sensor name")
@@ -330,9 +329,6 @@ def parse_axis(key: str, spec, file) -> Axis:
         seen[c] = i
     return Axis(key, target, values, coords, kind)
 
-def short(v):
-    """A list value for an error message, left out when long."""
-    return v if not isinstance(v, list) or len(v) <= 8 else None
 
 def check_operating_point(values: dict, file, where: dict):
     for k in REQUIRED_OPERATING_POINT:

@@ -98,10 +98,11 @@ from rvcore.profile import OperatingPoint, Profile
 from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
+from .reader import short
 from .resolver import Resolver, resolve_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         check_operating_point, check_settings, coord_kind, fixed_value, flatten,
-                        parse_axis, parse_sensors, realization_axis, short, solver_value, sort_key,
+                        parse_axis, parse_sensors, realization_axis, solver_value, sort_key,
                         target_of)
 from .tomlfile import read_toml
 
@@ -290,7 +291,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
                 hint = f"; put it in [axes] (several values) or [fixed] (one value)"
             elif k in fields.solver_fields():
                 hint = f"; put it in [solver]"
-            raise ConfigError(file, k, short(v) if not isinstance(v, dict) else None,
+            raise ConfigError(file, k, short(v),
                               f"unknown key (allowed: {', '.join(TOP_KEYS)}){hint}")
     name = raw.get("name", file.stem)
     if not isinstance(name, str) or not NAME.match(name):
@@ -315,7 +316,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
     solver_values = {}
     for k, v in solver_raw.items():
         if k not in known:
-            raise ConfigError(file, f"solver.{k}", short(v) if not isinstance(v, dict) else None,
+            raise ConfigError(file, f"solver.{k}", short(v),
                               f"unknown solver setting (known: {', '.join(sorted(known))})")
         solver_values[k] = solver_value(k, v, file, f"solver.{k}")
 
