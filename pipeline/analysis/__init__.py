@@ -1,6 +1,6 @@
 """Phase metrics over a sweep, and the fits of their trends."""
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
-from .fits import (DISPLACEMENT_COORD, compose_units, fit_metrics, fit_statistic, udunits_to_pint,
+from .fits import (DISPLACEMENT_COORD, fit_metrics, fit_statistic,
                    write_fits)
 from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
                          weighted_linear_fit)

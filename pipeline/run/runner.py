@@ -44,10 +44,10 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
-from ..io import (REFERENCES, UDUNITS, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
+from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
                   git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
-from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file
+from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
                     source_name)
@@ -366,7 +366,7 @@ def _coordinate(name, key, values, axis) -> xr.DataArray:
         return xr.DataArray(data, dims=name, attrs={"units": "degree s-1", "long_name": _OP_LONG_NAMES[key]})
     if key in OPERATING_POINT:
         return xr.DataArray(np.asarray(values, dtype=np.float64), dims=name,
-                            attrs={"units": UDUNITS[OPERATING_POINT[key]], "long_name": _OP_LONG_NAMES[key]})
+                            attrs={"units": si_udunits(OPERATING_POINT[key]), "long_name": _OP_LONG_NAMES[key]})
     long_name = f"sweep axis {key}"
     if all(isinstance(v, bool) for v in values):
         return xr.DataArray(np.asarray(values, dtype=np.int8), dims=name,
@@ -436,7 +436,7 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
                 entry.data = ds.load()
             loaded += 1
         entries.append(entry)
-    fixed = {key: xr.DataArray(float(value), attrs={"units": UDUNITS[OPERATING_POINT[key]],
+    fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
                                                     "long_name": _OP_LONG_NAMES[key]})
              for key, value in sweep.fixed.items() if key in OPERATING_POINT and key not in LEADING}
     ds, resampled = combine_cases(axes, entries, output_rate=_output_rate(sweep), scalars=fixed)

@@ -8,5 +8,6 @@ from .fields import FIELDS, REQUIRED, Field, check_set_key
 from .parameters import ParameterRow, parameter_table
 from .sweepfile import (MODEL_VERSION, OPERATING_POINT, REALIZATION, CaseSpec, Sweep, read_sweep_file,
                         sweep_from_dict)
-from .units import SI_UNITS, format_quantity, parse_quantity, registry
+from .units import (SI_UNITS, compose_units, format_quantity, parse_quantity, registry, si_udunits,
+                    udunits)
 from .stored import StoredConfiguration, stored_configuration

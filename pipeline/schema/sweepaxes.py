@@ -13,11 +13,11 @@ from dataclasses import dataclass
 from rvcore.driver import SolverSettings
 
 from ..errors import ConfigError
-from ..io import UDUNITS, cf_name
+from ..io.netcdf import cf_name
 from . import fields
 from .reader import check_value, short
 from .tomlfile import parse_key_path
-from .units import SI_UNITS, parse_quantity, registry
+from .units import SI_UNITS, parse_quantity, registry, si_udunits
 
 #: Operating-point keys and their kinds (pipeline.schema.units.SI_UNITS), from the schema.
 OPERATING_POINT = fields.operating_point()
@@ -47,7 +47,7 @@ class Axis:
         The SI value of each entry (float), a bool, or a string for a categorical value;
         used as the coordinate of the combined file.
     kind : str or None
-        Kind of :data:`pipeline.units.SI_UNITS`, ``"bool"``, ``"category"``, or None
+        Kind of :data:`pipeline.schema.units.SI_UNITS`, ``"bool"``, ``"category"``, or None
         when unknown (a plain number on a bearing key not in the kind table).
     """
 
@@ -67,8 +67,8 @@ class Axis:
         """UDUNITS string of the coordinates ('1' when dimensionless or unknown)."""
         if self.key == "speed":
             return "degree s-1"
-        if self.kind in UDUNITS:
-            return UDUNITS[self.kind]
+        if self.kind in SI_UNITS:
+            return si_udunits(self.kind)
         return "1"
 
     def __len__(self) -> int:
