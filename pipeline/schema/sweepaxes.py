@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from rvcore.driver import SolverSettings
 
@@ -368,33 +369,58 @@ def sort_key(c):
     return (0, c, "") if isinstance(c, (int, float)) else (1, 0, str(c))
 
 
-def coord_kind(entry, key):
-    target, inner, value, coord, _ = entry
-    if target == "operating_point":
-        return OPERATING_POINT[inner]
-    if target == "solver":
-        return solver_kind(inner)
-    if isinstance(coord, bool):
+def coord_kind(setting: Setting):
+    """The kind of a setting's coordinate (as :attr:`Axis.kind`)."""
+    if setting.target == "operating_point":
+        return OPERATING_POINT[setting.inner]
+    if setting.target == "solver":
+        return solver_kind(setting.inner)
+    if isinstance(setting.coord, bool):
         return "bool"
-    if isinstance(coord, str):
+    if isinstance(setting.coord, str):
         return "category"
-    if isinstance(value, str):
-        return _kind_of_quantity(value)
-    return _key_kind(target, inner)
+    if isinstance(setting.value, str):
+        return _kind_of_quantity(setting.value)
+    return _key_kind(setting.target, setting.inner)
 
 
-def fixed_value(key: str, v, file, prefix: str) -> tuple:
-    """(target, inner key, value for the target, coordinate) of one value of ``[fixed]``
-    or of a ``[[cases]]`` entry (``prefix`` names the table for error messages)."""
+class Setting(NamedTuple):
+    """One value a case receives: where it goes, and where the sweep file wrote it.
+
+    Parameters
+    ----------
+    target : str
+        ``"operating_point"``, ``"solver"``, ``"bearing"`` or ``"profile"``.
+    inner : str
+        The key inside the target: a field name or a key path.
+    value : object
+        What the target receives: an SI float for operating-point and solver values; for
+        bearing and profile values the value handed to ``apply_override``.
+    coord : float, bool or str
+        Its coordinate in the combined file.
+    where : str
+        The key as written, for error messages (``"axes.speed[2]"``, ``"fixed.axial_load"``).
+    """
+
+    target: str
+    inner: str
+    value: object
+    coord: object
+    where: str
+
+
+def fixed_value(key: str, v, file, prefix: str) -> Setting:
+    """The :class:`Setting` of one value of ``[fixed]`` or of a ``[[cases]]`` entry
+    (``prefix`` names the table for error messages)."""
     where = f"{prefix}.{key}"
     target, inner = target_of(key, file, prefix)
     if target == "operating_point":
         x = quantity(v, OPERATING_POINT[inner], file, where)
-        return target, inner, x, x
+        return Setting(target, inner, x, x, where)
     if target == "solver":
         x = solver_value(inner, v, file, where)
-        return target, inner, x, x
+        return Setting(target, inner, x, x, where)
     if isinstance(v, list):
-        return target, inner, v, str(v)
+        return Setting(target, inner, v, str(v), where)
     coord, _ = _override_coord(v, target, inner, file, where)
-    return target, inner, v, coord
+    return Setting(target, inner, v, coord, where)
