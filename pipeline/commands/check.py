@@ -177,28 +177,18 @@ def _axis_range(axis):
     return f"{format_value(f, min(coords))} ... {format_value(f, max(coords))}"
 
 
-def _sweep_summary(sweep, file) -> dict:
-    """A summary of a ``pipeline.sweepfile.Sweep`` (read defensively: another module's type)."""
-    warnings = list(getattr(sweep, "warnings", ()) or ())
-    cases = getattr(sweep, "cases", None)
-    cases = cases() if callable(cases) else cases
-    bearings = [getattr(sweep, "bearing", None)] + [getattr(c, "bearing", None) for c in (cases or ())]
-    for b in bearings:
-        if isinstance(b, geo.Bearing):
-            warnings += [w for w in b.warnings if w not in warnings]
-    out = {"kind": "sweep", "name": getattr(sweep, "name", None)}
-    for attr in ("bearing_file", "profile_file"):
-        if getattr(sweep, attr, None) is not None:
-            out[attr] = str(getattr(sweep, attr))
-    if cases is not None:
-        out["case_count"] = len(cases)
-    axes = getattr(sweep, "axes", None)
-    if axes:
-        out["axes"] = {str(getattr(a, "key", a)): len(getattr(a, "values", ()) or ()) for a in axes}
-        out["axis_ranges"] = {a.key: r for a in axes if (r := _axis_range(a)) is not None}
-    bearing = getattr(sweep, "bearing", None)
-    if isinstance(bearing, geo.Bearing):
-        out["allow_ball_overlap"] = bearing.allow_ball_overlap
+def _sweep_summary(sweep) -> dict:
+    """A summary of a :class:`pipeline.schema.sweepfile.Sweep`: its files, cases, axes and
+    the geometry warnings of its bearings (each once)."""
+    warnings = []
+    for b in [sweep.bearing] + [c.bearing for c in sweep.cases]:
+        warnings += [w for w in b.warnings if w not in warnings]
+    out = {"kind": "sweep", "name": sweep.name, "bearing_file": str(sweep.bearing_file),
+           "profile_file": str(sweep.profile_file), "case_count": len(sweep.cases)}
+    if sweep.axes:
+        out["axes"] = {a.key: len(a.values) for a in sweep.axes}
+        out["axis_ranges"] = {a.key: r for a in sweep.axes if (r := _axis_range(a)) is not None}
+    out["allow_ball_overlap"] = sweep.bearing.allow_ball_overlap
     out["warnings"] = warnings
     return out
 
@@ -216,7 +206,7 @@ def check_file(path) -> dict:
     file = str(path)
     # A sweep names its bearing and profile files; bearing and profile files never do.
     if any(isinstance(raw.get(k), (str, dict)) for k in _SWEEP_MARKERS):
-        summary = _sweep_summary(read_sweep_file(path), file)
+        summary = _sweep_summary(read_sweep_file(path))
     elif any(k in raw for k in _BEARING_MARKERS):
         summary = bearing_summary(bearing_from_dict(raw, file=file))
     elif any(k in raw for k in _PROFILE_MARKERS):

@@ -278,7 +278,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     }
     if len(sensors):
         coords.update(sensor_coordinates(sensors))
-    spectra = getattr(result, "spectra", None) or {}
+    spectra = result.spectra
     if "frequency" in spectra:
         coords["frequency"] = ("frequency", np.asarray(spectra["frequency"], dtype=np.float64),
                                {"units": "Hz", "long_name": "frequency of the steady phase's spectra"})
@@ -286,9 +286,9 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     data = {}
     for name, (dims, units, long_name) in VARIABLES.items():
         if not dims:
-            source = {**(getattr(result, "steady", None) or {}), **(getattr(result, "life", None) or {})}
+            source = {**result.steady, **result.life}
         elif name in SPECTRA:
-            source = getattr(result, "spectra", None) or {}
+            source = spectra
         else:
             source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):

@@ -90,7 +90,7 @@ def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case"
     and attributes; only ``history`` carries when and how long.
     """
     op = spec.operating_point
-    info = dict(getattr(result, "info", {}) or {})
+    info = dict(result.info)
     timings = {k: info.pop(k) for k in TIMING_INFO if k in info}
     if timings:
         result = _with_info(result, info)

@@ -26,18 +26,13 @@ def warm_up(case_fn) -> float:
     """Compile the numba kernels here, before any worker starts (real core only)."""
     if case_fn is not None:
         return 0.0
-    try:
-        from rvcore import driver
-    except ImportError:
-        return 0.0
-    warm = getattr(driver, "warm_up", None)
-    if not callable(warm):
-        return 0.0
+    from rvcore.driver import warm_up as compile_kernels
+
     from .estimate import say_if_compiling
 
     say_if_compiling()   # a minute or more of silence otherwise
     t0 = time.perf_counter()
-    warm()
+    compile_kernels()
     return time.perf_counter() - t0
 
 

@@ -53,10 +53,7 @@ from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_o
                     source_name)
 from .cluster import DEFAULT_ALLOWED_FAILURES
 
-__all__ = [
-    "CaseOutcome", "CaseState", "SweepResult", "run_sweep", "compute_case", "label_case",
-    "run_one_case", "write_combined_sweep", "read_status", "status_counts", "summary", "MODEL_VERSION",
-]
+__all__ = ["SweepResult", "describe_point", "run_sweep", "summary", "write_combined_sweep"]
 
 
 # The combined file's first two dimensions, always present (length 1 when fixed).

@@ -20,7 +20,8 @@ import xarray as xr
 
 import rvcore.driver
 from pipeline.cli import main
-from pipeline.run import read_status, run_sweep, status_counts
+from pipeline.io import read_status, status_counts
+from pipeline.run import run_sweep
 from pipeline.schema import read_sweep_file
 from tests.pipeline.synthetic import synthetic_result
 from tests.schema.test_sweepfile import GRID, make_sweep
