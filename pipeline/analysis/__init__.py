@@ -1,4 +1,9 @@
-"""Phase metrics over a sweep, and the fits of their trends."""
+"""Phase metrics over a sweep, and the fits of their trends.
+
+- :mod:`~pipeline.analysis.metrics`: a results folder opened, and its phase metrics (``metrics.nc``);
+- :mod:`~pipeline.analysis.fits`: least-squares trends of the metrics over the axes (``fits.nc``);
+- :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands.
+"""
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
 from .fits import (DISPLACEMENT_COORD, fit_metrics, fit_statistic,
                    write_fits)

@@ -221,7 +221,7 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
     ds.attrs = dict(metrics.attrs)
     ds.attrs["title"] = str(metrics.attrs.get("title", "RV main-bearing phase metrics")).replace(
         "phase metrics", "least-squares fits of the phase metrics", 1)
-    ds.attrs["history"] = (str(metrics.attrs.get("history", "")).rstrip("\n") + "\n" + history_line("pipeline.fits.fit_metrics")).lstrip("\n")
+    ds.attrs["history"] = (str(metrics.attrs.get("history", "")).rstrip("\n") + "\n" + history_line("pipeline.analysis.fits.fit_metrics")).lstrip("\n")
     ds.attrs["comment"] = (
         "Per metric M (the six displacement metrics packed as M = displacement along the "
         "displacement_metric flag coordinate): M_vs_<axis>_<stat> are ordinary least-squares lines "

@@ -2,8 +2,8 @@
 
 The core accumulates, at every integrator step, the range, mean and standard deviation
 of δ_r and δ_a per phase, the mean cage and inner-ring speeds, the cage slip against the
-epicyclic speed and the peak Hertz pressure (``pipeline.case.PHASE_METRICS``), and,
-where the case files carry them (issue 10), the designer's outputs (drive torque, friction, cage forces, race
+epicyclic speed and the peak Hertz pressure (``pipeline.io.case.PHASE_METRICS``), and,
+where the case files carry them, the designer's outputs (drive torque, friction, cage forces, race
 sliding, static safety factor, fatigue damage; :data:`DESIGNER_METRICS`) with the
 per-case stiffness and rating lives (:data:`SCALARS`). This
 module gathers them from ``sweep.nc`` (or, when no ``sweep.nc`` was written, from the
@@ -34,8 +34,8 @@ ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_
 
 _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
 
-# Units and long names come from the case files' one table, pipeline.io.VARIABLES; sweeps
-# written before issues 9 and 10 lack these variables and are reported without them.
+# Units and long names come from the case files' one table, pipeline.io.VARIABLES; a sweep
+# whose case files lack these variables is reported without them.
 
 #: Stiffness at the steady operating point, one scalar per case (no ``phase``):
 #: name -> (units, long_name).
@@ -43,14 +43,14 @@ STIFFNESS = {k: VARIABLES[k][1:] for k in ("radial_stiffness", "axial_stiffness"
 #: The same with every other coordinate free (1/C_ii of the compliance), beside each.
 COMPLIANT_STIFFNESS = {f"{k}_compliant": VARIABLES[f"{k}_compliant"][1:] for k in STIFFNESS}
 
-#: The designer's phase metrics (issue 10), over ``phase``: name -> (units, long_name).
+#: The designer's phase metrics, over ``phase``: name -> (units, long_name).
 DESIGNER_METRICS = {k: VARIABLES[k][1:] for k in (
     "inner_ring_drive_torque_peak", "inner_ring_drive_torque_mean", "friction_power_mean", "friction_energy",
     "max_pocket_force_peak", "cage_land_force_peak", "max_race_sliding_speed_peak", "max_race_pv_peak",
     "contact_angle_min", "contact_angle_max", "static_safety_factor_min", "static_safety_factor_min_time",
     "tilt_reaction_moment_mean", "tilt_reaction_moment_peak", "fatigue_damage")}
 
-#: The designer's scalars of a case (issue 10), no ``phase``: the rating lives (in
+#: The designer's scalars of a case, no ``phase``: the rating lives (in
 #: revolutions of the inner ring, units "1"; the duty cycle's also in cycles of the
 #: profile) and the cycle's damage.
 DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
@@ -102,7 +102,7 @@ def open_results(directory) -> xr.Dataset:
     combined.attrs = dict(cases[0].attrs)
     note = "; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""
     combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n") + "\n" + history_line(
-        f"pipeline.metrics.open_results: combined {len(files)} case files{note}")).lstrip("\n")
+        f"pipeline.analysis.metrics.open_results: combined {len(files)} case files{note}")).lstrip("\n")
     return combined
 
 
@@ -154,7 +154,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         ``case_status`` (int8 flags ok/failed/not_run), and, where the sweep holds them,
         the designer's phase metrics (:data:`DESIGNER_METRICS`) and the per-case scalars
         (:data:`SCALARS`: stiffness and rating lives) over the sweep axes (no ``phase``). The ``phase`` coordinate is the int8 flag coordinate of
-        :func:`pipeline.case.phase_coordinate`.
+        :func:`pipeline.io.case.phase_coordinate`.
 
     Notes
     -----
@@ -223,7 +223,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                          f"{sweep.attrs.get('profile', '') or 'unnamed'} cycle, {sweep.sizes['speed']} speeds x "
                          f"{sweep.sizes['radial_load']} radial loads")
     ds.attrs["history"] = (str(sweep.attrs.get("history", "")).rstrip("\n")
-                           + "\n" + history_line("pipeline.metrics.phase_metrics")).lstrip("\n")
+                           + "\n" + history_line("pipeline.analysis.metrics.phase_metrics")).lstrip("\n")
     ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a (ring centre) and of "
                            "each virtual sensor per phase, with the times of the extremes and a flag where an "
                            "extreme lies within one output interval of the window's edge, from the core's phase "

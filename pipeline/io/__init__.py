@@ -1,4 +1,12 @@
-"""Variables, NetCDF files, atomic writing and the results folder's status."""
+"""Variables, NetCDF files, atomic writing and the results folder's status.
+
+- :mod:`~pipeline.io.case`: one case's arrays as a labelled dataset (the case file's variables);
+- :mod:`~pipeline.io.combine`: case datasets laid on a grid of sweep axes (``sweep.nc``'s variables);
+- :mod:`~pipeline.io.netcdf`: NetCDF conventions: CF names, encodings, the case-status flags;
+- :mod:`~pipeline.io.files`: atomic writing of every file, ``history`` lines;
+- :mod:`~pipeline.io.folders`: output folders checked before work, the one-sweep-per-folder lock;
+- :mod:`~pipeline.io.status`: ``status.json``, where each case of a sweep stands.
+"""
 from .case import (PHASE_METRICS, REFERENCES, SENSOR_METRICS, VARIABLES, case_dataset,
                    git_commit, phase_coordinate, write_case)
 from .files import (history_line, remove_stale_temporaries, utc_stamp, write_atomic,

@@ -10,7 +10,7 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
   ``applied_radial_load``, ``applied_axial_load``, ``inner_ring_speed``, ``cage_speed``,
   ``max_inner_contact_load``, ``max_outer_contact_load``, ``loaded_ball_count``,
   ``max_contact_pressure``, ``applied_moment``, ``load_direction``, and the designer's
-  outputs (issue 10) ``inner_ring_drive_torque``, ``friction_power``,
+  outputs ``inner_ring_drive_torque``, ``friction_power``,
   ``max_pocket_force``, ``cage_land_force``, ``max_race_sliding_speed``, ``max_race_pv``,
   ``min_contact_angle``, ``max_contact_angle``, ``static_safety_factor``;
 - phase metrics, over ``phase``, accumulated at every integrator step:

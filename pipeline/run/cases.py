@@ -65,7 +65,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
 
     Parameters
     ----------
-    spec : pipeline.sweepfile.CaseSpec
+    spec : pipeline.schema.sweepfile.CaseSpec
         The resolved case (SI).
     case_fn : callable, optional
         ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
@@ -83,7 +83,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
 
 def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case",
                sweep_name: str = "") -> xr.Dataset:
-    """The case file's dataset: :func:`pipeline.case.case_dataset` with the case's id.
+    """The case file's dataset: :func:`pipeline.io.case.case_dataset` with the case's id.
 
     Timings in ``result.info`` (:data:`TIMING_INFO`) go into the ``history`` line
     rather than into attributes, so that two runs of the same case give the same data

@@ -9,16 +9,16 @@ Layout of a sweep's folder (pipeline.md, "What a sweep writes")::
 
 How a run goes
 --------------
-1. The sweep file is expanded and validated (:func:`pipeline.sweepfile.read_sweep_file`);
+1. The sweep file is expanded and validated (:func:`pipeline.schema.read_sweep_file`);
    any problem stops here, before a case runs.
 2. Cases whose file exists are reused (their id hashes everything that determines the
-   result, see :mod:`pipeline.sweepfile`); the others are computed.
+   result, see :mod:`pipeline.schema.sweepfile`); the others are computed.
 3. The numba kernels are compiled in this process (``rvcore.driver.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
    process per core, one thread each), or on an existing cluster. Workers only
    compute: each returns its :class:`rvcore.driver.CaseResult` (or the reason it
-   failed), and this process labels it (:func:`pipeline.case.case_dataset`) and writes
+   failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
    it, so the files do not depend on where a case ran and workers need no access to
    the output folder.
 5. As each case finishes its file and ``status.json`` are written, and one progress

@@ -1,7 +1,7 @@
 """metrics.nc from a synthetic sweep, and the reference-fit file of the study.
 
 ``build_synthetic_sweep`` (also used by ``test_report``) labels
-``tests.synthetic.synthetic_result`` with ``pipeline.case.case_dataset`` and combines the
+``tests.pipeline.synthetic.synthetic_result`` with ``pipeline.io.case.case_dataset`` and combines the
 cases into a ``sweep.nc`` laid out as the sweep writes it.
 """
 from __future__ import annotations
@@ -23,7 +23,7 @@ from pipeline.analysis import open_results, phase_metrics, write_metrics
 from rvcore.profile import PHASES
 from tests.pipeline.synthetic import synthetic_result
 
-#: A resolved configuration as the sweep stores it (pipeline.sweepfile: SI numbers, the
+#: A resolved configuration as the sweep stores it (pipeline.schema.sweepfile: SI numbers, the
 #: dataclass field names of rvcore.geometry, the profile's phases as [name, start, end]).
 SYNTHETIC_CONFIG = """\
 model_version = 1

@@ -1,8 +1,8 @@
 """The bearing file's ``[lubricant]`` table: its default, its errors, and case ids.
 
-The lubricant enters only the friction-moment estimate; a file without the table keeps
-the case ids it had before the table existed (pinned in tests/pipeline/test_regression.py),
-and a lubricant other than the default gives new ones.
+The lubricant enters only the friction-moment estimate; the default lubricant is left out
+of the hashed configuration (the ids pinned in tests/pipeline/test_regression.py), and a
+lubricant other than the default gives new ids.
 """
 from __future__ import annotations
 

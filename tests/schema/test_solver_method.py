@@ -1,4 +1,4 @@
-"""``solver.method``: the integrator as an input field (issue 11).
+"""``solver.method``: the integrator as an input field.
 
 It is a choice of :data:`rvcore.integrator.METHODS`, written in ``[solver]``, ``[fixed]``,
 ``[[cases]]``, as a categorical sweep axis or with ``rvsweep simulate --method``; it reaches

@@ -1,6 +1,6 @@
 """``solver.step_safety`` is a fraction of the integrator's explicit stability limit: above
-1 it is refused with one line naming the value and the limit (issue 23: at 5 the reduced
-case's start-up range came out 0.84 µm against 1.90 µm, exit 0)."""
+1 it is refused with one line naming the value and the limit (accepted, a step safety of 5
+gave the reduced case a start-up range of 0.84 µm against 1.90 µm, and exit 0)."""
 from __future__ import annotations
 
 import pytest
