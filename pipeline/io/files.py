@@ -10,7 +10,7 @@ left behind.
 from __future__ import annotations
 
 import contextlib
-import datetime as _dt
+import datetime
 import os
 import re
 import tempfile
@@ -25,7 +25,7 @@ TEMP_SUFFIX = ".tmp"
 
 def utc_stamp() -> str:
     """The current UTC time as ``YYYY-MM-DDThh:mm:ssZ`` (the ``history`` line prefix)."""
-    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def history_line(text: str) -> str:
