@@ -68,7 +68,8 @@ class Axis:
         """UDUNITS string of the coordinates ('1' when dimensionless or unknown)."""
         if self.key == "speed":
             return "degree s-1"
-        if self.kind in SI_UNITS:
+        # a kinematic viscosity (and an acceleration) axis has been labelled "1" so far
+        if self.kind in SI_UNITS and self.kind not in ("acceleration", "kinematic_viscosity"):
             return si_udunits(self.kind)
         return "1"
 
