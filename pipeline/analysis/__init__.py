@@ -5,9 +5,8 @@
 - :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands.
 """
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
-from .fits import (DISPLACEMENT_COORD, fit_metrics, fit_statistic,
-                   write_fits)
+from .fits import DISPLACEMENT_COORD, fit_metrics, fit_statistic, write_fits
+from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states,
+                      nearest, open_results, phase_metrics, write_metrics)
 from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
                          weighted_linear_fit)
-from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states, open_results, nearest, phase_metrics,
-                      write_metrics)
