@@ -213,9 +213,9 @@ def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
     totals add the numba warm-up and the cluster's start and stop.
     """
     from .run import run_sweep
-    from .schema import load_sweep
+    from .schema import read_sweep_file
 
-    sweep = load_sweep(SMOKE_SWEEP)
+    sweep = read_sweep_file(SMOKE_SWEEP)
     tmp = Path(tempfile.mkdtemp(prefix="rvsweep-bench-"))
     ser, par, ser_tot, par_tot = [], [], [], []
     try:

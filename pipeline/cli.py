@@ -11,7 +11,7 @@ import argparse
 import importlib
 import sys
 
-from .commands._common import accept_negative_values
+from .commands.common import accept_negative_values
 from .errors import UserError
 
 COMMANDS = ("check", "statics", "simulate", "sweep", "report", "bench")

@@ -29,23 +29,17 @@ one statistic of one metric whatever the packing.
 
 The single fits are in :mod:`pipeline.analysis.regression`; the reference fit files
 (``sweeps/reference/*.toml``) that the report compares against are read by
-:mod:`pipeline.schema.reference` (re-exported here).
+:mod:`pipeline.schema.reference`.
 """
 from __future__ import annotations
-
-import re
 
 import numpy as np
 import xarray as xr
 
 from ..io import history_line, strip_encoding, write_atomic
-from ..schema.reference import (AXIS_PINT_UNITS, ReferenceFit, default_reference_path,  # noqa: F401
-                                load_reference_fits)
-from .regression import (LEVEL, LINE_STATS, PLANE_COEFFICIENTS, PLANE_STATS, line_band,  # noqa: F401
-                         linear_fit, plane_fit, weighted_linear_fit)
-
-#: The sweep axes a line is fitted against, in this order.
-AXES = ("speed", "radial_load")
+from ..schema.reference import AXES
+from ..schema.units import compose_units
+from .regression import LEVEL, LINE_STATS, PLANE_STATS, linear_fit, plane_fit, weighted_linear_fit
 
 #: Metric variables of ``metrics.nc`` that are fitted (those present are used).
 FIT_METRICS = (
@@ -60,47 +54,6 @@ DISPLACEMENT_GROUP = "displacement"
 DISPLACEMENT_COORD = "displacement_metric"
 
 _AXIS_LONG = {"speed": "steady inner-ring speed", "radial_load": "steady radial load"}
-
-
-# --------------------------------------------------------------------------- units
-
-
-def _unit_terms(units: str) -> dict:
-    """UDUNITS-style product string (``"degree s-1"``) to ``{token: exponent}``."""
-    terms: dict = {}
-    for tok in str(units).split():
-        if tok == "1":
-            continue
-        m = re.fullmatch(r"([A-Za-z_]+)(-?\d+)?", tok)
-        if not m:
-            raise ValueError(f"cannot compose units {units!r}")
-        terms[m.group(1)] = terms.get(m.group(1), 0) + int(m.group(2) or 1)
-    return terms
-
-
-def compose_units(numerator: str, *denominators: str, power: int = 1) -> str:
-    """``numerator**power / (denominators...)`` as a UDUNITS string.
-
-    >>> compose_units("m", "degree s-1")
-    'm s degree-1'
-    """
-    terms: dict = {}
-    for k, v in _unit_terms(numerator).items():
-        terms[k] = terms.get(k, 0) + power * v
-    for d in denominators:
-        for k, v in _unit_terms(d).items():
-            terms[k] = terms.get(k, 0) - v
-    pos = [f"{k}{'' if v == 1 else v}" for k, v in terms.items() if v > 0]
-    neg = [f"{k}{v}" for k, v in terms.items() if v < 0]
-    return " ".join(pos + neg) or "1"
-
-
-def udunits_to_pint(units: str) -> str:
-    """A UDUNITS product string as a pint expression (``"degree s-1"`` → ``"degree*s**-1"``)."""
-    terms = _unit_terms(units)
-    if not terms:
-        return "dimensionless"
-    return "*".join(f"{k}**{v}" if v != 1 else k for k, v in terms.items())
 
 
 # --------------------------------------------------------------------------- whole datasets
@@ -268,7 +221,7 @@ def fit_metrics(metrics: xr.Dataset, names=None, level: float = LEVEL) -> xr.Dat
     ds.attrs = dict(metrics.attrs)
     ds.attrs["title"] = str(metrics.attrs.get("title", "RV main-bearing phase metrics")).replace(
         "phase metrics", "least-squares fits of the phase metrics", 1)
-    ds.attrs["history"] = (str(metrics.attrs.get("history", "")).rstrip("\n") + "\n" + history_line("pipeline.fits.fit_metrics")).lstrip("\n")
+    ds.attrs["history"] = (str(metrics.attrs.get("history", "")).rstrip("\n") + "\n" + history_line("pipeline.analysis.fits.fit_metrics")).lstrip("\n")
     ds.attrs["comment"] = (
         "Per metric M (the six displacement metrics packed as M = displacement along the "
         "displacement_metric flag coordinate): M_vs_<axis>_<stat> are ordinary least-squares lines "

@@ -2,8 +2,8 @@
 
 The core accumulates, at every integrator step, the range, mean and standard deviation
 of δ_r and δ_a per phase, the mean cage and inner-ring speeds, the cage slip against the
-epicyclic speed and the peak Hertz pressure (``pipeline.case.PHASE_METRICS``), and,
-where the case files carry them (issue 10), the designer's outputs (drive torque, friction, cage forces, race
+epicyclic speed and the peak Hertz pressure (``pipeline.io.case.PHASE_METRICS``), and,
+where the case files carry them, the designer's outputs (drive torque, friction, cage forces, race
 sliding, static safety factor, fatigue damage; :data:`DESIGNER_METRICS`) with the
 per-case stiffness and rating lives (:data:`SCALARS`). This
 module gathers them from ``sweep.nc`` (or, when no ``sweep.nc`` was written, from the
@@ -25,23 +25,18 @@ from ..io.netcdf import CASE_STATUS, case_status_variable
 from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
                   write_atomic)
 from ..errors import UserError
-
-#: Flag meanings of ``case_status`` in flag-value order (one home: pipeline.io.netcdf).
-CASE_STATES = CASE_STATUS
+from ..schema import REALIZATION
 
 #: Phase-metric variables in ``metrics.nc`` (those the sweep holds).
 METRICS = tuple(PHASE_METRICS) + tuple(SENSOR_METRICS)
-
-#: The ensemble dimension (``realizations = N`` in the sweep file).
-REALIZATION = "realization"
 
 #: Metrics whose ensemble mean and standard error ``metrics.nc`` adds over realizations.
 ENSEMBLE_METRICS = tuple(m for m in METRICS if m.endswith(("_range", "_mean", "_std")) and "displacement" in m)
 
 _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial") for k in ("range", "mean", "std"))
 
-# Units and long names come from the case files' one table, pipeline.io.VARIABLES; sweeps
-# written before issues 9 and 10 lack these variables and are reported without them.
+# Units and long names come from the case files' one table, pipeline.io.VARIABLES; a sweep
+# whose case files lack these variables is reported without them.
 
 #: Stiffness at the steady operating point, one scalar per case (no ``phase``):
 #: name -> (units, long_name), from the output table (rvcore.outputs).
@@ -53,7 +48,7 @@ COMPLIANT_STIFFNESS = {f"{k}_compliant": VARIABLES[f"{k}_compliant"][1:] for k i
 #: The designer's phase metrics, over ``phase``: name -> (units, long_name).
 DESIGNER_METRICS = {o.name: (o.units, o.long_name) for o in outputs_of(PHASE, group="designer")}
 
-#: The designer's scalars of a case (issue 10), no ``phase``: the rating lives (in
+#: The designer's scalars of a case, no ``phase``: the rating lives (in
 #: revolutions of the inner ring, units "1"; the duty cycle's also in cycles of the
 #: profile) and the cycle's damage.
 DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
@@ -63,7 +58,7 @@ DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
 SCALARS = {**STIFFNESS, **COMPLIANT_STIFFNESS, **DESIGNER_SCALARS}
 
 
-def load_sweep(directory) -> xr.Dataset:
+def open_results(directory) -> xr.Dataset:
     """The combined sweep of a results folder, loaded into memory.
 
     Reads ``sweep.nc``; when it is absent (a sweep killed before combining), combines the
@@ -105,7 +100,7 @@ def load_sweep(directory) -> xr.Dataset:
     combined.attrs = dict(cases[0].attrs)
     note = "; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""
     combined.attrs["history"] = (str(combined.attrs.get("history", "")).rstrip("\n") + "\n" + history_line(
-        f"pipeline.metrics.load_sweep: combined {len(files)} case files{note}")).lstrip("\n")
+        f"pipeline.analysis.metrics.open_results: combined {len(files)} case files{note}")).lstrip("\n")
     return combined
 
 
@@ -126,7 +121,7 @@ def case_states(sweep: xr.Dataset) -> xr.DataArray:
                         f"({', '.join(_DISPLACEMENT_METRICS)})")
     if "case_status" in sweep:
         cs = sweep["case_status"]
-        meanings = str(cs.attrs.get("flag_meanings", " ".join(CASE_STATES))).split()
+        meanings = str(cs.attrs.get("flag_meanings", " ".join(CASE_STATUS))).split()
         values = np.asarray(cs.attrs.get("flag_values", np.arange(len(meanings)))).ravel().tolist()
         lookup = {int(v): m for v, m in zip(values, meanings)}
         names = np.vectorize(lambda v: lookup.get(int(v), f"flag_{int(v)}") if np.isfinite(v) else "not_run",
@@ -157,7 +152,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
         ``case_status`` (int8 flags ok/failed/not_run), and, where the sweep holds them,
         the designer's phase metrics (:data:`DESIGNER_METRICS`) and the per-case scalars
         (:data:`SCALARS`: stiffness and rating lives) over the sweep axes (no ``phase``). The ``phase`` coordinate is the int8 flag coordinate of
-        :func:`pipeline.case.phase_coordinate`.
+        :func:`pipeline.io.case.phase_coordinate`.
 
     Notes
     -----
@@ -217,7 +212,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     states = case_states(sweep)
     states = states.transpose(*[d for d in order if d in states.dims])
-    codes = {s: i for i, s in enumerate(CASE_STATES)}
+    codes = {s: i for i, s in enumerate(CASE_STATUS)}
     status = np.vectorize(lambda s: codes.get(s, codes["not_run"]), otypes=[np.int8])(states.values)
     ds["case_status"] = case_status_variable(status.astype(np.int8), states.dims)
     ds.attrs = {k: v for k, v in sweep.attrs.items()}
@@ -226,7 +221,7 @@ def phase_metrics(sweep: xr.Dataset) -> xr.Dataset:
                          f"{sweep.attrs.get('profile', '') or 'unnamed'} cycle, {sweep.sizes['speed']} speeds x "
                          f"{sweep.sizes['radial_load']} radial loads")
     ds.attrs["history"] = (str(sweep.attrs.get("history", "")).rstrip("\n")
-                           + "\n" + history_line("pipeline.metrics.phase_metrics")).lstrip("\n")
+                           + "\n" + history_line("pipeline.analysis.metrics.phase_metrics")).lstrip("\n")
     ds.attrs["comment"] = ("Range, mean and standard deviation of delta_r and delta_a (ring centre) and of "
                            "each virtual sensor per phase, with the times of the extremes and a flag where an "
                            "extreme lies within one output interval of the window's edge, from the core's phase "

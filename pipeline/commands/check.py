@@ -7,7 +7,7 @@ the input schema (:data:`pipeline.schema.fields.FIELDS`): key, kind, unit, defau
 bounds and doc. Values are printed in the schema's display unit of their field.
 
 The kind of each file is told by its content: a top-level ``bearing`` or ``profile`` key
-(naming other files) means a sweep, checked with ``pipeline.schema.load_sweep``; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
+(naming other files) means a sweep, checked with ``pipeline.schema.read_sweep_file``; otherwise a ``[[rows]]`` table (or ``[envelope]``) means a bearing,
 and ``duration``/``[phases]`` a profile. For a bearing it prints what it derived: pitch diameter, balls, nominal
 contact angle, groove ratios, radial clearance, Hertz K of the inner and outer contact at
 the nominal angle, ball mass, the epicyclic cage ratio, the smallest pitch diameter for
@@ -30,10 +30,10 @@ from rvcore import geometry as geo
 from rvcore.profile import PHASES
 
 from ..errors import ConfigError, UserError
-from ..schema import FIELDS, REQUIRED, bearing_from_dict, load_sweep, profile_from_dict, read_toml
+from ..schema import FIELDS, REQUIRED, bearing_from_dict, profile_from_dict, read_sweep_file, read_toml
 from ..schema.fields import field
 from ..schema.parameters import format_value
-from ._common import SHIPPED_HELP, input_file
+from .common import SHIPPED_HELP, input_file
 
 HELP = "validate bearing, profile and sweep files and print what they imply"
 
@@ -177,28 +177,18 @@ def _axis_range(axis):
     return f"{format_value(f, min(coords))} ... {format_value(f, max(coords))}"
 
 
-def _sweep_summary(sweep, file) -> dict:
-    """A summary of a ``pipeline.sweepfile.Sweep`` (read defensively: another module's type)."""
-    warnings = list(getattr(sweep, "warnings", ()) or ())
-    cases = getattr(sweep, "cases", None)
-    cases = cases() if callable(cases) else cases
-    bearings = [getattr(sweep, "bearing", None)] + [getattr(c, "bearing", None) for c in (cases or ())]
-    for b in bearings:
-        if isinstance(b, geo.Bearing):
-            warnings += [w for w in b.warnings if w not in warnings]
-    out = {"kind": "sweep", "name": getattr(sweep, "name", None)}
-    for attr in ("bearing_file", "profile_file"):
-        if getattr(sweep, attr, None) is not None:
-            out[attr] = str(getattr(sweep, attr))
-    if cases is not None:
-        out["case_count"] = len(cases)
-    axes = getattr(sweep, "axes", None)
-    if axes:
-        out["axes"] = {str(getattr(a, "key", a)): len(getattr(a, "values", ()) or ()) for a in axes}
-        out["axis_ranges"] = {a.key: r for a in axes if (r := _axis_range(a)) is not None}
-    bearing = getattr(sweep, "bearing", None)
-    if isinstance(bearing, geo.Bearing):
-        out["allow_ball_overlap"] = bearing.allow_ball_overlap
+def _sweep_summary(sweep) -> dict:
+    """A summary of a :class:`pipeline.schema.sweepfile.Sweep`: its files, cases, axes and
+    the geometry warnings of its bearings (each once)."""
+    warnings = []
+    for b in [sweep.bearing] + [c.bearing for c in sweep.cases]:
+        warnings += [w for w in b.warnings if w not in warnings]
+    out = {"kind": "sweep", "name": sweep.name, "bearing_file": str(sweep.bearing_file),
+           "profile_file": str(sweep.profile_file), "case_count": len(sweep.cases)}
+    if sweep.axes:
+        out["axes"] = {a.key: len(a.values) for a in sweep.axes}
+        out["axis_ranges"] = {a.key: r for a in sweep.axes if (r := _axis_range(a)) is not None}
+    out["allow_ball_overlap"] = sweep.bearing.allow_ball_overlap
     out["warnings"] = warnings
     return out
 
@@ -216,7 +206,7 @@ def check_file(path) -> dict:
     file = str(path)
     # A sweep names its bearing and profile files; bearing and profile files never do.
     if any(isinstance(raw.get(k), (str, dict)) for k in _SWEEP_MARKERS):
-        summary = _sweep_summary(load_sweep(path), file)
+        summary = _sweep_summary(read_sweep_file(path))
     elif any(k in raw for k in _BEARING_MARKERS):
         summary = bearing_summary(bearing_from_dict(raw, file=file))
     elif any(k in raw for k in _PROFILE_MARKERS):

@@ -6,7 +6,7 @@ import time
 
 from ..errors import UserError
 from ..io.folders import writable_file
-from ._common import add_load_arguments, add_method_argument, one_case_sweep
+from .common import add_load_arguments, add_method_argument, one_case_sweep
 
 HELP = "one dynamic case through the duty cycle to a CF NetCDF file"
 

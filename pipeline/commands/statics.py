@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..errors import UserError
-from ._common import add_load_arguments, one_case_sweep
+from .common import add_load_arguments, one_case_sweep
 
 HELP = "quasi-static equilibrium: displacements, contact angles and ball loads"
 

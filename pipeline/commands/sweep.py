@@ -9,7 +9,7 @@ from ..errors import UserError
 from ..io.folders import writable_folder
 from ..run.estimate import (CONFIRM_CASES, CONFIRM_SECONDS, duration_text, local_workers,
                             sweep_seconds)
-from ._common import SHIPPED_HELP, input_file
+from .common import SHIPPED_HELP, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
 
@@ -71,7 +71,7 @@ def _terminate_as_interrupt(signum, frame):
 
 def run(args) -> int:
     from ..run import run_sweep, summary
-    from ..schema import load_sweep
+    from ..schema import read_sweep_file
 
     if args.workers is not None:
         if args.workers < 1:
@@ -79,7 +79,7 @@ def run(args) -> int:
         if args.scheduler or args.scheduler_file or args.serial:
             raise UserError("--workers sizes the local cluster; it does not apply with "
                             "--scheduler, --scheduler-file or --serial")
-    sweep = load_sweep(sweep_path(args.sweep_file))   # every ConfigError before any case runs
+    sweep = read_sweep_file(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
     writable_folder(out / "cases", f"--out {args.out}")
     _announce(sweep, out, args)

@@ -33,7 +33,7 @@ from rvcore.profile import PHASES
 
 from .. import __version__
 from .files import history_line, write_atomic
-from .netcdf import combined_encoding
+from .netcdf import encoding_for
 
 REFERENCES = (
     "Dynamic characteristics of the main bearing of rotary vector reducers under typical "
@@ -146,7 +146,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     }
     if len(sensors):
         coords.update(sensor_coordinates(sensors))
-    spectra = getattr(result, "spectra", None) or {}
+    spectra = result.spectra
     if "frequency" in spectra:
         coords["frequency"] = ("frequency", np.asarray(spectra["frequency"], dtype=np.float64),
                                {"units": "Hz", "long_name": "frequency of the steady phase's spectra"})
@@ -154,9 +154,9 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
     data = {}
     for name, (dims, units, long_name) in VARIABLES.items():
         if not dims:
-            source = {**(getattr(result, "steady", None) or {}), **(getattr(result, "life", None) or {})}
+            source = {**result.steady, **result.life}
         elif name in SPECTRA:
-            source = getattr(result, "spectra", None) or {}
+            source = spectra
         else:
             source = result.series if dims[0] == "elapsed_time" else result.phase_metrics
         if name in source and ("sensor" not in dims or len(sensors)):
@@ -191,11 +191,6 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         if isinstance(value, (int, float, str, np.integer, np.floating)):
             attrs[f"solver_{key}"] = value
     return xr.Dataset(data_vars=data, coords=coords, attrs=attrs)
-
-
-def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
-    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
-    return combined_encoding(ds, (), complevel=complevel)
 
 
 def write_case(ds: xr.Dataset, path) -> Path:

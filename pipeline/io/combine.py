@@ -4,7 +4,7 @@
 ``(<case dims>, elapsed_time[, sensor])``, the phase metrics over ``(<case dims>,
 phase[, sensor])``, NaN where a grid point has no finished case, and the int8
 ``case_status`` flags (0 ok, 1 failed, 2 not_run). Both the sweep runner (with the grid
-of the sweep file, :func:`pipeline.run.runner.combine`) and the analysis of a sweep
+of the sweep file, :func:`pipeline.run.runner.write_combined_sweep`) and the analysis of a sweep
 folder without ``sweep.nc`` (with the grid read off the case files,
 :func:`grid_from_cases`) use it.
 """

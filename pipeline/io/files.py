@@ -10,7 +10,7 @@ left behind.
 from __future__ import annotations
 
 import contextlib
-import datetime as _dt
+import datetime
 import os
 import re
 import tempfile
@@ -18,12 +18,14 @@ from pathlib import Path
 
 import xarray as xr
 
+from .netcdf import encoding_for
+
 TEMP_SUFFIX = ".tmp"
 
 
 def utc_stamp() -> str:
     """The current UTC time as ``YYYY-MM-DDThh:mm:ssZ`` (the ``history`` line prefix)."""
-    return _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
 
 
 def history_line(text: str) -> str:
@@ -90,7 +92,7 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     path : str or Path
         The final file name; its folder must exist [-].
     encoding : dict, optional
-        Per-variable netCDF encoding (default :func:`pipeline.case.encoding_for`).
+        Per-variable netCDF encoding (default :func:`pipeline.io.netcdf.encoding_for`).
 
     Notes
     -----
@@ -99,8 +101,6 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     file is then renamed onto ``path`` with ``os.replace``, which is atomic on POSIX
     and Windows. On any error the temporary file is removed and ``path`` is untouched.
     """
-    from .case import encoding_for  # lazy: case imports this module
-
     path = Path(path)
     with _replacing(path) as tmp:
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",

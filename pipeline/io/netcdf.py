@@ -1,10 +1,10 @@
-"""Shared NetCDF conventions: encodings, UDUNITS names and the case-status flags.
+"""Shared NetCDF conventions: names, encodings and the case-status flags.
 
 Files are written by :mod:`pipeline.io.files` (atomic replacement).
 
 The conventions (pipeline.md, "NetCDF conventions"): CF-1.8, UDUNITS unit strings, no
 ``_FillValue`` on coordinates, zlib compression, one case per chunk, float64 data, the
-netCDF4 engine.
+netCDF4 engine. The UDUNITS spelling of every unit comes from :mod:`pipeline.schema.units`.
 """
 from __future__ import annotations
 
@@ -12,26 +12,6 @@ import re
 
 import numpy as np
 import xarray as xr
-
-#: UDUNITS spelling of the SI unit of each kind of :data:`pipeline.units.SI_UNITS`.
-UDUNITS = {
-    "length": "m",
-    "mass": "kg",
-    "time": "s",
-    "force": "N",
-    "moment": "N m",
-    "angle": "rad",
-    "angular_speed": "rad s-1",
-    "speed": "m s-1",
-    "density": "kg m-3",
-    "pressure": "Pa",
-    "stiffness_hertz": "N m-1.5",
-    "stiffness": "N m-1",
-    "damping": "N s m-1",
-    "inertia": "kg m2",
-    "frequency": "Hz",
-    "dimensionless": "1",
-}
 
 #: Flag values and meanings of the ``case_status`` variable of a combined sweep.
 CASE_STATUS = ("ok", "failed", "not_run")
@@ -81,6 +61,11 @@ def combined_encoding(ds: xr.Dataset, case_dims, *, complevel: int = 4) -> dict:
             e["chunksizes"] = tuple(1 if d in case_dims else n for d, n in zip(var.dims, var.shape))
         enc[name] = e
     return enc
+
+
+def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
+    """netCDF4 encoding: zlib on data, no ``_FillValue`` on coordinates, float64 data, one chunk."""
+    return combined_encoding(ds, (), complevel=complevel)
 
 
 def case_status_variable(codes: np.ndarray, dims) -> xr.DataArray:

@@ -53,9 +53,9 @@ class CaseState:
 def _units(point: dict) -> dict:
     """UDUNITS units of the operating-point values of ``point`` and of ``seconds``."""
     from ..schema.sweepaxes import OPERATING_POINT
-    from .netcdf import UDUNITS
+    from ..schema.units import si_udunits
 
-    out = {k: UDUNITS[OPERATING_POINT[k]] for k in point if k in OPERATING_POINT and OPERATING_POINT[k] in UDUNITS}
+    out = {k: si_udunits(OPERATING_POINT[k]) for k in point if k in OPERATING_POINT}
     out["seconds"] = "s"
     return out
 

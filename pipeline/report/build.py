@@ -38,7 +38,7 @@ from pathlib import Path
 
 from rvcore.profile import PHASES
 
-from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
+from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, open_results, phase_metrics,
                         write_fits, write_metrics)
 from ..io import read_status, write_text_atomic
 from .context import (SENSOR, Context, _ensemble_text, _first_realization_text, phase_windows,
@@ -170,7 +170,7 @@ def build_report(directory, reference=None) -> ReportFiles:
         When the folder holds no sweep, or the reference file is invalid.
     """
     directory = Path(directory)
-    sweep = load_sweep(directory)
+    sweep = open_results(directory)
     refs = load_reference_fits(reference)
     metrics = phase_metrics(sweep)
     fits = fit_metrics(metrics)

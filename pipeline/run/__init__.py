@@ -1,3 +1,9 @@
-"""Running a sweep: cases, scheduling on dask."""
-from ..io import read_status, status_counts  # noqa: F401  (status lives in pipeline.io)
-from .runner import run_one_case, run_sweep, summary
+"""Running a sweep: cases, scheduling on dask.
+
+- :mod:`~pipeline.run.runner`: a sweep's run into its folder, and ``sweep.nc`` (:func:`run_sweep`);
+- :mod:`~pipeline.run.cases`: one case computed (on any worker) and labelled (here);
+- :mod:`~pipeline.run.cluster`: where the cases run: serially, on a local or an existing dask cluster;
+- :mod:`~pipeline.run.estimate`: a sweep's cost said before it starts.
+"""
+from .cases import run_one_case
+from .runner import run_sweep, summary

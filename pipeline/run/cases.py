@@ -54,7 +54,7 @@ def _default_case_fn():
     return driver.run_case
 
 
-def _reason(exc: BaseException) -> str:
+def failure_reason(exc: BaseException) -> str:
     text = str(exc).strip().splitlines()
     line = f"{type(exc).__name__}: {text[0]}" if text else type(exc).__name__
     return line if len(line) <= 500 else line[:497] + "..."
@@ -65,7 +65,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
 
     Parameters
     ----------
-    spec : pipeline.sweepfile.CaseSpec
+    spec : pipeline.schema.sweepfile.CaseSpec
         The resolved case (SI).
     case_fn : callable, optional
         ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
@@ -76,21 +76,21 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
     try:
         result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
     except Exception as exc:  # the case failed: record why and let the others go on
-        return CaseOutcome(spec.case_id, False, None, _reason(exc), traceback.format_exc(),
+        return CaseOutcome(spec.case_id, False, None, failure_reason(exc), traceback.format_exc(),
                            time.perf_counter() - t0)
     return CaseOutcome(spec.case_id, True, result, seconds=time.perf_counter() - t0)
 
 
 def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case",
                sweep_name: str = "") -> xr.Dataset:
-    """The case file's dataset: :func:`pipeline.case.case_dataset` with the case's id.
+    """The case file's dataset: :func:`pipeline.io.case.case_dataset` with the case's id.
 
     Timings in ``result.info`` (:data:`TIMING_INFO`) go into the ``history`` line
     rather than into attributes, so that two runs of the same case give the same data
     and attributes; only ``history`` carries when and how long.
     """
     op = spec.operating_point
-    info = dict(getattr(result, "info", {}) or {})
+    info = dict(result.info)
     timings = {k: info.pop(k) for k in TIMING_INFO if k in info}
     if timings:
         result = _with_info(result, info)
@@ -113,7 +113,7 @@ def _with_info(result, info):
     return new
 
 
-def _source_name(case_fn) -> str:
+def source_name(case_fn) -> str:
     if case_fn is None:
         return "rvcore.driver.run_case"
     return f"{getattr(case_fn, '__module__', '?')}.{getattr(case_fn, '__qualname__', repr(case_fn))}"
@@ -123,4 +123,4 @@ def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
     """Build, run and label one case (in this process); raises if the case fails."""
     fn = case_fn if case_fn is not None else _default_case_fn()
     result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
-    return label_case(spec, result, source=_source_name(case_fn))
+    return label_case(spec, result, source=source_name(case_fn))

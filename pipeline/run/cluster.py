@@ -16,7 +16,7 @@ from pathlib import Path
 
 from ..errors import UserError
 from ..schema import CaseSpec
-from .cases import CaseOutcome, _reason, compute_case
+from .cases import CaseOutcome, compute_case, failure_reason
 
 #: How often a local cluster retries a case whose worker died, before recording it.
 DEFAULT_ALLOWED_FAILURES = 1
@@ -26,18 +26,13 @@ def warm_up(case_fn) -> float:
     """Compile the numba kernels here, before any worker starts (real core only)."""
     if case_fn is not None:
         return 0.0
-    try:
-        from rvcore import driver
-    except ImportError:
-        return 0.0
-    warm = getattr(driver, "warm_up", None)
-    if not callable(warm):
-        return 0.0
+    from rvcore.driver import warm_up as compile_kernels
+
     from .estimate import say_if_compiling
 
     say_if_compiling()   # a minute or more of silence otherwise
     t0 = time.perf_counter()
-    warm()
+    compile_kernels()
     return time.perf_counter() - t0
 
 
@@ -154,7 +149,7 @@ def on_cluster(client, todo, case_fn, allowed_failures):
                                       "its worker process died while running it, also on the "
                                       f"retry (KilledWorker: {exc})".splitlines()[0][:500])
             except Exception as exc:  # a scheduler-side error: record it for this case
-                outcome = CaseOutcome(spec.case_id, False, None, _reason(exc),
+                outcome = CaseOutcome(spec.case_id, False, None, failure_reason(exc),
                                       "".join(traceback.format_exception(exc)))
             fut.release()
             yield spec, outcome

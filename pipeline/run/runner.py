@@ -9,16 +9,16 @@ Layout of a sweep's folder (pipeline.md, "What a sweep writes")::
 
 How a run goes
 --------------
-1. The sweep file is expanded and validated (:func:`pipeline.sweepfile.load_sweep`);
+1. The sweep file is expanded and validated (:func:`pipeline.schema.read_sweep_file`);
    any problem stops here, before a case runs.
 2. Cases whose file exists are reused (their id hashes everything that determines the
-   result, see :mod:`pipeline.sweepfile`); the others are computed.
+   result, see :mod:`pipeline.schema.sweepfile`); the others are computed.
 3. The numba kernels are compiled in this process (``rvcore.driver.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
    process per core, one thread each), or on an existing cluster. Workers only
    compute: each returns its :class:`rvcore.driver.CaseResult` (or the reason it
-   failed), and this process labels it (:func:`pipeline.case.case_dataset`) and writes
+   failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
    it, so the files do not depend on where a case ran and workers need no access to
    the output folder.
 5. As each case finishes its file and ``status.json`` are written, and one progress
@@ -44,18 +44,16 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
-from ..io import (REFERENCES, UDUNITS, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
+from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
                   git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
-from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, load_sweep
+from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
 from . import cluster
-from .cases import CaseOutcome, _reason, _source_name, compute_case, label_case, run_one_case
+from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
+                    source_name)
 from .cluster import DEFAULT_ALLOWED_FAILURES
 
-__all__ = [
-    "CaseOutcome", "CaseState", "SweepResult", "run_sweep", "compute_case", "label_case",
-    "run_one_case", "combine", "read_status", "status_counts", "summary", "MODEL_VERSION",
-]
+__all__ = ["SweepResult", "describe_point", "run_sweep", "summary", "write_combined_sweep"]
 
 
 # The combined file's first two dimensions, always present (length 1 when fixed).
@@ -196,7 +194,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
     """
     t_start = time.perf_counter()
     if not isinstance(sweep, Sweep):
-        sweep = load_sweep(sweep)
+        sweep = read_sweep_file(sweep)
     out = Path(out_dir) if out_dir is not None else Path("results") / sweep.name
     writable_folder(out / "cases", str(out))
     with sweep_lock(out, str(out)):
@@ -254,7 +252,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     write_status(out, states)
 
     warm = cluster.warm_up(case_fn) if todo else 0.0
-    source = _source_name(case_fn)
+    source = source_name(case_fn)
     scheduler_text = "serial"
     n_workers = 1
     wall = 0.0
@@ -294,7 +292,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                             write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
                             st.state, st.reason, st.traceback = "ok", "", ""
                         except Exception as exc:  # bad result arrays: this case fails
-                            st.state, st.reason = "failed", f"could not write the case file: {_reason(exc)}"
+                            st.state, st.reason = "failed", f"could not write the case file: {failure_reason(exc)}"
                             st.traceback = traceback.format_exc()
                     else:
                         st.state, st.reason, st.traceback = "failed", outcome.reason, outcome.traceback
@@ -322,7 +320,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     write_status(out, states)
     combined = None
     if combine_at_end:
-        combined = combine(sweep, out, states=states, history=history)
+        combined = write_combined_sweep(sweep, out, states=states, history=history)
     result = SweepResult(sweep=sweep, out_dir=out, combined=combined, states=states,
                          workers=n_workers, scheduler=scheduler_text, wall_time=wall,
                          total_time=time.perf_counter() - t_start, warm_up_time=warm,
@@ -365,7 +363,7 @@ def _coordinate(name, key, values, axis) -> xr.DataArray:
         return xr.DataArray(data, dims=name, attrs={"units": "degree s-1", "long_name": _OP_LONG_NAMES[key]})
     if key in OPERATING_POINT:
         return xr.DataArray(np.asarray(values, dtype=np.float64), dims=name,
-                            attrs={"units": UDUNITS[OPERATING_POINT[key]], "long_name": _OP_LONG_NAMES[key]})
+                            attrs={"units": si_udunits(OPERATING_POINT[key]), "long_name": _OP_LONG_NAMES[key]})
     long_name = f"sweep axis {key}"
     if all(isinstance(v, bool) for v in values):
         return xr.DataArray(np.asarray(values, dtype=np.int8), dims=name,
@@ -389,7 +387,7 @@ def _output_rate(sweep: Sweep) -> float:
     return max(rates) if rates else sweep.settings.output_rate
 
 
-def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) -> Path:
+def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) -> Path:
     """Combine the case files of a sweep folder into ``sweep.nc`` (atomically).
 
     Parameters
@@ -435,7 +433,7 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
                 entry.data = ds.load()
             loaded += 1
         entries.append(entry)
-    fixed = {key: xr.DataArray(float(value), attrs={"units": UDUNITS[OPERATING_POINT[key]],
+    fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
                                                     "long_name": _OP_LONG_NAMES[key]})
              for key, value in sweep.fixed.items() if key in OPERATING_POINT and key not in LEADING}
     ds, resampled = combine_cases(axes, entries, output_rate=_output_rate(sweep), scalars=fixed)
@@ -447,7 +445,7 @@ def combine(sweep: Sweep, out_dir, *, states: dict | None = None, history=()) ->
         with contextlib.suppress(Exception), xr.open_dataset(target, engine="netcdf4") as old:
             previous = [line for line in str(old.attrs.get("history", "")).splitlines() if line.strip()]
     lines = previous + list(history) + [history_line(
-        f"pipeline.sweep.combine: {loaded} of {len(sweep.cases)} case files into sweep.nc"
+        f"pipeline.run.runner.write_combined_sweep: {loaded} of {len(sweep.cases)} case files into sweep.nc"
         + ("; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""))]
 
     first = next((e.data for e in entries if e.data is not None), None)

@@ -5,7 +5,7 @@ This module describes the formats and gathers the public names; the work is done
 key's kind, bounds, default, unit and doc), :mod:`.reader`, :mod:`.bearingfile` and
 :mod:`.profilefile`.
 
-Every quantity goes through :func:`pipeline.units.parse_quantity`, so a file may write
+Every quantity goes through :func:`pipeline.schema.units.parse_quantity`, so a file may write
 ``"23 mm"``, ``"15 deg"``, ``"250 N s/m"`` or a plain SI number. Every problem is a
 :class:`pipeline.errors.ConfigError` naming the file, the dotted key, the value as
 written and the reason: unknown keys (anywhere, nested too), missing required keys,

@@ -18,7 +18,8 @@ from rvcore.profile import PHASES
 from ..errors import ConfigError, UserError
 from .units import parse_quantity, registry
 
-#: The sweep axes a reference line can be fitted against.
+#: The sweep axes a line is fitted against, in this order (the fits of fits.nc and of the
+#: reference files alike).
 AXES = ("speed", "radial_load")
 
 #: Units a reference fit's slope must convert to, per axis (pint expressions).

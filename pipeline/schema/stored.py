@@ -1,6 +1,6 @@
 """The resolved configuration a sweep stores, read back into the core's dataclasses.
 
-:func:`pipeline.schema.load_sweep` writes the sweep's resolved configuration as the TOML
+:func:`pipeline.schema.read_sweep_file` writes the sweep's resolved configuration as the TOML
 global attribute ``configuration`` of ``sweep.nc`` (and of every case file): the plain
 form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.geometry.Bearing`,
 :class:`rvcore.profile.Profile`, :class:`rvcore.driver.SolverSettings` and
@@ -24,7 +24,7 @@ from rvcore.profile import Profile
 from ..errors import ConfigError
 from . import fields
 from .reader import check_value
-from .sweepfile import _SOLVER_SINCE_PINNED, MODEL_VERSION
+from .sweepfile import MODEL_VERSION, SOLVER_UNHASHED_DEFAULTS
 
 #: Where the configuration comes from, in error messages.
 WHERE = "configuration"
@@ -162,9 +162,9 @@ def stored_configuration(text: str) -> StoredConfiguration:
     name = doc.get("name")
     if not isinstance(name, str):
         raise ConfigError(WHERE, "name", name, "must be a string")
-    # A setting left out because it had the value every earlier case ran with
-    # (sweepfile._SOLVER_SINCE_PINNED: method "rk4") is that value, whatever the default.
-    solver = {**_SOLVER_SINCE_PINNED, **_table(doc, "solver")}
+    # A setting left out of the stored configuration has the value it is left out at
+    # (SOLVER_UNHASHED_DEFAULTS: method "rk4"), whatever SolverSettings' own default.
+    solver = {**SOLVER_UNHASHED_DEFAULTS, **_table(doc, "solver")}
     settings = rebuild(SolverSettings, solver, "solver")
     for k, f in fields.solver_fields().items():
         if f.kind == "choice":

@@ -9,15 +9,16 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from rvcore.settings import SolverSettings
 
 from ..errors import ConfigError
-from ..io import UDUNITS, cf_name
+from ..io.netcdf import cf_name
 from . import fields
-from .reader import check_value
+from .reader import check_value, short
 from .tomlfile import parse_key_path
-from .units import SI_UNITS, parse_quantity, registry
+from .units import SI_UNITS, parse_quantity, registry, si_udunits
 
 #: Operating-point keys and their kinds (pipeline.schema.units.SI_UNITS), from the schema.
 OPERATING_POINT = fields.operating_point()
@@ -27,7 +28,6 @@ REALIZATION = "realization"
 _SENSOR_KEYS = ("name", "position", "direction")
 _RANGE_KEYS = ("start", "stop", "step")
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
-_NAME = NAME
 
 
 @dataclass(frozen=True)
@@ -48,7 +48,7 @@ class Axis:
         The SI value of each entry (float), a bool, or a string for a categorical value;
         used as the coordinate of the combined file.
     kind : str or None
-        Kind of :data:`pipeline.units.SI_UNITS`, ``"bool"``, ``"category"``, or None
+        Kind of :data:`pipeline.schema.units.SI_UNITS`, ``"bool"``, ``"category"``, or None
         when unknown (a plain number on a bearing key not in the kind table).
     """
 
@@ -68,8 +68,9 @@ class Axis:
         """UDUNITS string of the coordinates ('1' when dimensionless or unknown)."""
         if self.key == "speed":
             return "degree s-1"
-        if self.kind in UDUNITS:
-            return UDUNITS[self.kind]
+        # a kinematic viscosity (and an acceleration) axis has been labelled "1" so far
+        if self.kind in SI_UNITS and self.kind not in ("acceleration", "kinematic_viscosity"):
+            return si_udunits(self.kind)
         return "1"
 
     def __len__(self) -> int:
@@ -94,7 +95,7 @@ def parse_sensors(raw, file) -> tuple:
             if k not in t:
                 raise ConfigError(file, where, None, f"'{k}' is missing")
         name = t["name"]
-        if not isinstance(name, str) or not _NAME.match(name):
+        if not isinstance(name, str) or not NAME.match(name):
             raise ConfigError(file, f"{where}.name", name, "must be a name of letters, digits, '.', '_' and '-'")
         if name in names:
             raise ConfigError(file, f"{where}.name", name, "duplicate sensor name")
@@ -330,9 +331,6 @@ def parse_axis(key: str, spec, file) -> Axis:
         seen[c] = i
     return Axis(key, target, values, coords, kind)
 
-def short(v):
-    """A list value for an error message, left out when long."""
-    return v if not isinstance(v, list) or len(v) <= 8 else None
 
 def check_operating_point(values: dict, file, where: dict):
     for k in REQUIRED_OPERATING_POINT:
@@ -372,33 +370,58 @@ def sort_key(c):
     return (0, c, "") if isinstance(c, (int, float)) else (1, 0, str(c))
 
 
-def coord_kind(entry, key):
-    target, inner, value, coord, _ = entry
-    if target == "operating_point":
-        return OPERATING_POINT[inner]
-    if target == "solver":
-        return solver_kind(inner)
-    if isinstance(coord, bool):
+def coord_kind(setting: Setting):
+    """The kind of a setting's coordinate (as :attr:`Axis.kind`)."""
+    if setting.target == "operating_point":
+        return OPERATING_POINT[setting.inner]
+    if setting.target == "solver":
+        return solver_kind(setting.inner)
+    if isinstance(setting.coord, bool):
         return "bool"
-    if isinstance(coord, str):
+    if isinstance(setting.coord, str):
         return "category"
-    if isinstance(value, str):
-        return _kind_of_quantity(value)
-    return _key_kind(target, inner)
+    if isinstance(setting.value, str):
+        return _kind_of_quantity(setting.value)
+    return _key_kind(setting.target, setting.inner)
 
 
-def fixed_value(key: str, v, file, prefix: str) -> tuple:
-    """(target, inner key, value for the target, coordinate) of one value of ``[fixed]``
-    or of a ``[[cases]]`` entry (``prefix`` names the table for error messages)."""
+class Setting(NamedTuple):
+    """One value a case receives: where it goes, and where the sweep file wrote it.
+
+    Parameters
+    ----------
+    target : str
+        ``"operating_point"``, ``"solver"``, ``"bearing"`` or ``"profile"``.
+    inner : str
+        The key inside the target: a field name or a key path.
+    value : object
+        What the target receives: an SI float for operating-point and solver values; for
+        bearing and profile values the value handed to ``apply_override``.
+    coord : float, bool or str
+        Its coordinate in the combined file.
+    where : str
+        The key as written, for error messages (``"axes.speed[2]"``, ``"fixed.axial_load"``).
+    """
+
+    target: str
+    inner: str
+    value: object
+    coord: object
+    where: str
+
+
+def fixed_value(key: str, v, file, prefix: str) -> Setting:
+    """The :class:`Setting` of one value of ``[fixed]`` or of a ``[[cases]]`` entry
+    (``prefix`` names the table for error messages)."""
     where = f"{prefix}.{key}"
     target, inner = target_of(key, file, prefix)
     if target == "operating_point":
         x = quantity(v, OPERATING_POINT[inner], file, where)
-        return target, inner, x, x
+        return Setting(target, inner, x, x, where)
     if target == "solver":
         x = solver_value(inner, v, file, where)
-        return target, inner, x, x
+        return Setting(target, inner, x, x, where)
     if isinstance(v, list):
-        return target, inner, v, str(v)
+        return Setting(target, inner, v, str(v), where)
     coord, _ = _override_coord(v, target, inner, file, where)
-    return target, inner, v, coord
+    return Setting(target, inner, v, coord, where)

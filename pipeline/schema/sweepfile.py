@@ -65,7 +65,7 @@ Quantities are unit strings ("120 deg/s", "20 kN") read by
 
 Every problem (unknown key, bad unit, empty axis, missing bearing or profile file, a
 bearing value out of range in some case) is a :class:`pipeline.errors.ConfigError`
-raised by :func:`load_sweep`, before any case runs.
+raised by :func:`read_sweep_file`, before any case runs.
 
 Case ids
 --------
@@ -73,12 +73,10 @@ A case's id is the first 16 hex digits of the SHA-256 of the canonical JSON (sor
 keys, no spaces, ``repr`` floats) of everything that determines its result: the
 resolved bearing, profile, solver settings and operating point, all in SI, and
 :data:`MODEL_VERSION`. The same values written in other units give the same id; a
-changed value gives new ids to exactly the cases it changes. ``solver.method`` is
-hashed only when it is not ``"rk4"``: RK4 was the only integrator when the
-``MODEL_VERSION`` 4 ids were made, so an RK4 case keeps its id (and a resumed sweep its
-results), while an IMEX case of the same point gets another. Likewise the bearing's ``lubricant``
-(added after the ``MODEL_VERSION`` 6 ids, used only by the friction-moment estimate) is
-hashed only when it is not the default (68 mm²/s, grease).
+changed value gives new ids to exactly the cases it changes. A few values are hashed
+only where they differ from their defaults (:data:`SOLVER_UNHASHED_DEFAULTS`,
+:data:`BEARING_UNHASHED_DEFAULTS`, a perfect row's imperfections): today's ids were made
+without them.
 """
 from __future__ import annotations
 
@@ -98,16 +96,18 @@ from rvcore.profile import OperatingPoint, Profile
 from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
+from .reader import short
 from .resolver import Resolver, resolve_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
-                        check_operating_point, check_settings, coord_kind, fixed_value, flatten,
-                        parse_axis, parse_sensors, realization_axis, short, solver_value, sort_key,
-                        target_of)
+                        Setting, check_operating_point, check_settings, coord_kind, fixed_value,
+                        flatten, parse_axis, parse_sensors, realization_axis, solver_value,
+                        sort_key, target_of)
 from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
-           "Axis", "CaseSpec", "Sweep", "case_configuration", "plain", "canonical_json", "hash_id",
-           "load_sweep", "sweep_from_dict"]
+           "SOLVER_UNHASHED_DEFAULTS", "BEARING_UNHASHED_DEFAULTS", "Axis", "CaseSpec", "Setting",
+           "Sweep", "case_configuration", "plain", "canonical_json", "hash_id", "read_sweep_file",
+           "sweep_from_dict"]
 
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
@@ -125,24 +125,26 @@ TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solve
 _BEARING_METADATA = ("description", "source", "extra")
 _PROFILE_METADATA = ("description",)
 
-#: Solver settings added after MODEL_VERSION 4 was pinned, with the value every earlier
-#: case ran with: hashed only when a case differs from it, so that the earlier ids hold.
-_SOLVER_SINCE_PINNED = {"method": "rk4"}
+#: Solver settings left out of the hashed and stored configuration where a case has
+#: exactly these values: the case ids of today's configurations (pinned in
+#: tests/pipeline/test_regression.py) were made without them, and hashing them would move
+#: every id. A stored configuration without them has these values
+#: (:func:`pipeline.schema.stored.stored_configuration`).
+SOLVER_UNHASHED_DEFAULTS = {"method": "rk4"}
 
-#: Bearing values added after MODEL_VERSION 6 was pinned, with the value every earlier
-#: case had: hashed and stored only when a bearing differs from it, so that the earlier
-#: case ids hold. The lubricant enters only the friction-moment estimate
-#: (rvcore.friction_moment), not the dynamics.
-_BEARING_SINCE_PINNED = {"lubricant": plain(Lubricant())}
+#: Bearing values left out of the hashed and stored configuration where a bearing has
+#: exactly these, for the same reason. The lubricant enters only the friction-moment
+#: estimate (rvcore.friction_moment), not the dynamics.
+BEARING_UNHASHED_DEFAULTS = {"lubricant": plain(Lubricant())}
 
 
 def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
     """The bearing's plain form as hashed and stored: ``drop`` left out, and the values of
-    :data:`_BEARING_SINCE_PINNED` left out where they are the pinned ones."""
+    :data:`BEARING_UNHASHED_DEFAULTS` left out where a bearing has them."""
     out = {k: v for k, v in plain(bearing).items()
-           if k not in drop and not (k in _BEARING_SINCE_PINNED and v == _BEARING_SINCE_PINNED[k])}
-    # a perfect row's imperfections (model.md §12) are left out: a perfect bearing keeps
-    # the case ids it had before imperfections existed
+           if k not in drop and not (k in BEARING_UNHASHED_DEFAULTS and v == BEARING_UNHASHED_DEFAULTS[k])}
+    # a perfect row's imperfections (model.md §12) are left out likewise: today's ids of
+    # perfect bearings were made without them
     for row, plain_row in zip(bearing.rows, out.get("rows", [])):
         if row.imperfections == PERFECT:
             plain_row.pop("imperfections", None)
@@ -152,7 +154,7 @@ def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
 def _solver_plain(settings: SolverSettings) -> dict:
     """The solver settings' plain form as hashed and stored (see the module docstring)."""
     return {k: v for k, v in plain(settings).items()
-            if not (k in _SOLVER_SINCE_PINNED and v == _SOLVER_SINCE_PINNED[k])}
+            if not (k in SOLVER_UNHASHED_DEFAULTS and v == SOLVER_UNHASHED_DEFAULTS[k])}
 
 
 @dataclass(frozen=True)
@@ -225,7 +227,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
     """Everything that determines a case's result, as plain SI data (hashed for the id).
 
     The solver settings carry the seed of the random start, so each realization of an
-    ensemble has its own id, and the integrator when it is not RK4 (``_solver_plain``).
+    ensemble has its own id, and the integrator when it is not RK4 (:data:`SOLVER_UNHASHED_DEFAULTS`).
     """
     b = _bearing_plain(bearing, _BEARING_METADATA)
     p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}
@@ -238,7 +240,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
 # --------------------------------------------------------------------------- loading
 
 
-def load_sweep(path) -> Sweep:
+def read_sweep_file(path) -> Sweep:
     """Read, validate and expand a sweep file.
 
     Parameters
@@ -280,163 +282,39 @@ def _refuse_other_kinds(raw: dict, file) -> None:
 
 
 def sweep_from_dict(raw: dict, file) -> Sweep:
-    """:func:`load_sweep` on already-read TOML (``file`` names it and anchors paths)."""
+    """:func:`read_sweep_file` on already-read TOML (``file`` names it and anchors paths)."""
     file = Path(file)
     _refuse_other_kinds(raw, file)
-    for k, v in raw.items():
-        if k not in TOP_KEYS:
-            hint = ""
-            if k in OPERATING_POINT:
-                hint = f"; put it in [axes] (several values) or [fixed] (one value)"
-            elif k in fields.solver_fields():
-                hint = f"; put it in [solver]"
-            raise ConfigError(file, k, short(v) if not isinstance(v, dict) else None,
-                              f"unknown key (allowed: {', '.join(TOP_KEYS)}){hint}")
-    name = raw.get("name", file.stem)
-    if not isinstance(name, str) or not NAME.match(name):
-        raise ConfigError(file, "name", name,
-                          "must be a folder name: letters, digits, '.', '_' and '-', "
-                          "starting with a letter or digit")
-    description = raw.get("description", "")
-    if not isinstance(description, str):
-        raise ConfigError(file, "description", None, "must be a string")
-
+    _check_top_keys(raw, file)
+    name, description = _name_and_description(raw, file)
     bearing_file = resolve_file(file, raw, "bearing")
     profile_file = resolve_file(file, raw, "profile")
-    bearing_raw = read_toml(bearing_file)
-    profile_raw = read_toml(profile_file)
-    resolver = Resolver(file, bearing_file, bearing_raw, profile_file, profile_raw)
-
-    # [solver]
-    solver_raw = raw.get("solver", {})
-    if not isinstance(solver_raw, dict):
-        raise ConfigError(file, "solver", None, "must be a table ([solver])")
-    known = fields.solver_fields()
-    solver_values = {}
-    for k, v in solver_raw.items():
-        if k not in known:
-            raise ConfigError(file, f"solver.{k}", short(v) if not isinstance(v, dict) else None,
-                              f"unknown solver setting (known: {', '.join(sorted(known))})")
-        solver_values[k] = solver_value(k, v, file, f"solver.{k}")
-
-    # [fixed]
-    fixed_raw = raw.get("fixed", {})
-    if not isinstance(fixed_raw, dict):
-        raise ConfigError(file, "fixed", None, "must be a table ([fixed])")
-    fixed = {}         # key -> (target, inner, value given to the target, coordinate)
-    for key, v in flatten(fixed_raw, "", file, "fixed", ranges=False).items():
-        fixed[key] = fixed_value(key, v, file, "fixed")
-
-    has_axes, has_cases = "axes" in raw, "cases" in raw
-    if has_axes and has_cases:
-        raise ConfigError(file, "cases", None, "give either [axes] (a grid) or [[cases]] (a list), not both")
-    if not has_axes and not has_cases:
+    resolver = Resolver(file, bearing_file, read_toml(bearing_file), profile_file, read_toml(profile_file))
+    solver_values = _solver_values(raw, file)
+    fixed = _fixed_settings(raw, file)
+    if ("axes" in raw) == ("cases" in raw):
+        if "axes" in raw:
+            raise ConfigError(file, "cases", None, "give either [axes] (a grid) or [[cases]] (a list), not both")
         raise ConfigError(file, "axes", None, "missing: give [axes] (a grid) or [[cases]] (a list of cases)")
-
-    if has_axes:
-        axes_raw = raw["axes"]
-        if not isinstance(axes_raw, dict):
-            raise ConfigError(file, "axes", None, "must be a table ([axes])")
-        flat = flatten(axes_raw, "", file, "axes", ranges=True)
-        if not flat:
-            raise ConfigError(file, "axes", None, "empty: give at least one axis")
-        axes = tuple(parse_axis(k, v, file) for k, v in flat.items())
-        ensemble = realization_axis(raw, file)
-        if ensemble is not None:
-            if any(a.key == REALIZATION for a in axes):
-                raise ConfigError(file, "realizations", raw.get("realizations"), "the realization axis is also in [axes]")
-            axes = axes + (ensemble,)
-        for a in axes:
-            if a.key in fixed:
-                raise ConfigError(file, f"fixed.{a.key}", None, "is also an axis in [axes]")
-        size = math.prod(len(a) for a in axes)
-        if size > MAX_CASES:   # said before the grid is built, which alone would take minutes
-            raise ConfigError(file, "axes", None,
-                              f"{' x '.join(str(len(a)) for a in axes)} = {size} cases: more than the "
-                              f"{MAX_CASES} a sweep holds; split it into several sweeps")
-        points = []
-        for combo in itertools.product(*(range(len(a)) for a in axes)):
-            points.append({a.key: (a.target, target_of(a.key, file, "axes")[1], a.values[i], a.coords[i],
-                                   f"axes.{a.key}[{i}]")
-                           for a, i in zip(axes, combo)})
-        explicit = False
-    else:
-        cases_raw = raw["cases"]
-        if realization_axis(raw, file) is not None:
-            raise ConfigError(file, "realizations", raw.get("realizations"),
-                              "ensembles need a grid: give [axes] rather than [[cases]]")
-        if not isinstance(cases_raw, list) or not all(isinstance(c, dict) for c in cases_raw):
-            raise ConfigError(file, "cases", None, "must be an array of tables ([[cases]] sections)")
-        if not cases_raw:
-            raise ConfigError(file, "cases", [], "empty: give at least one case")
-        points = []
-        for i, c in enumerate(cases_raw):
-            where = f"cases[{i}]"
-            flat = flatten(c, "", file, where, ranges=False)
-            if not flat:
-                raise ConfigError(file, where, None, "empty case")
-            pt = {}
-            for key, v in flat.items():
-                if key in fixed:
-                    raise ConfigError(file, f"{where}.{key}", v, "is also given in [fixed]")
-                target, inner, value, coord = fixed_value(key, v, file, where)
-                pt[key] = (target, inner, value, coord, f"{where}.{key}")
-            points.append(pt)
-        keys = list(dict.fromkeys(k for pt in points for k in pt))
-        for i, pt in enumerate(points):
-            for k in keys:
-                if k not in pt:
-                    raise ConfigError(file, f"cases[{i}]", None,
-                                      f"does not set '{k}', which other cases set; give it in "
-                                      "every case (or in [fixed] and in no case)")
-        axes = []
-        for k in keys:
-            target = points[0][k][0]
-            coords = sorted({pt[k][3] for pt in points}, key=sort_key)
-            kinds = {coord_kind(pt[k], k) for pt in points}
-            axes.append(Axis(k, target, tuple(coords), tuple(coords), kinds.pop()))
-        axes = tuple(axes)
-        explicit = True
+    explicit = "cases" in raw
+    axes, points = _listed_points(raw, file, fixed) if explicit else _grid_points(raw, file, fixed)
 
     sensors = parse_sensors(raw.get("sensors"), file)
     base_settings = SolverSettings(**solver_values)
     check_settings(base_settings, file, "solver")
-    base_bearing = resolver.bearing(tuple((inner, value, f"fixed.{k}")
-                                          for k, (t, inner, value, _) in fixed.items() if t == "bearing"))
-    base_profile = resolver.profile(tuple((inner, value, f"fixed.{k}")
-                                          for k, (t, inner, value, _) in fixed.items() if t == "profile"))
+    base_bearing = resolver.bearing(_overrides(fixed.values(), "bearing"))
+    base_profile = resolver.profile(_overrides(fixed.values(), "profile"))
 
-    cases = []
-    ids = {}
-    for n, pt in enumerate(points):
-        merged = {k: (t, inner, value, coord, f"fixed.{k}") for k, (t, inner, value, coord) in fixed.items()}
-        merged.update(pt)
-        op_values = {inner: value for (t, inner, value, _, _) in merged.values() if t == "operating_point"}
-        op_where = {inner: w for (t, inner, _, _, w) in merged.values() if t == "operating_point"}
-        op_where["_cases"] = explicit
-        check_operating_point(op_values, file, op_where)
-        op = OperatingPoint(**op_values)
-        solver_over = {inner: value for (t, inner, value, _, _) in merged.values() if t == "solver"}
-        settings = dataclasses.replace(base_settings, **solver_over)
-        settings = dataclasses.replace(settings, seed=int(settings.seed))
-        if solver_over:
-            check_settings(settings, file, {inner: w for (t, inner, _, _, w) in merged.values() if t == "solver"})
-        bearing = resolver.bearing(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
-                                         if t == "bearing"))
-        profile = resolver.profile(tuple((inner, value, w) for (t, inner, value, _, w) in merged.values()
-                                         if t == "profile"))
-        conf = case_configuration(bearing, profile, op, settings, sensors)
-        case_id = hash_id(conf)
-        if case_id in ids:
+    cases, ids = [], {}
+    for n, point in enumerate(points):
+        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file)
+        if case.case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
-                              f"case {n} is the same as case {ids[case_id]} (same resolved values)")
-        ids[case_id] = n
-        point = {k: merged[k][3] for k in REQUIRED_OPERATING_POINT}
-        point.update({k: v[3] for k, v in pt.items()})
-        cases.append(CaseSpec(case_id=case_id, point=point, bearing=bearing, profile=profile,
-                              operating_point=op, settings=settings,
-                              configuration=tomli_w.dumps(conf), sensors=sensors))
+                              f"case {n} is the same as case {ids[case.case_id]} (same resolved values)")
+        ids[case.case_id] = n
+        cases.append(case)
 
+    fixed_coords = {k: setting.coord for k, setting in fixed.items()}
     sweep_conf = {
         "model_version": MODEL_VERSION,
         "name": name,
@@ -445,7 +323,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "bearing_file": str(bearing_file),
         "profile_file": str(profile_file),
         "axes": {a.key: list(a.coords) for a in axes},
-        "fixed": {k: coord for k, (_, _, _, coord) in fixed.items()},
+        "fixed": fixed_coords,
         "solver": _solver_plain(base_settings),
         "case_ids": [c.case_id for c in cases],
         "bearing": _bearing_plain(base_bearing),
@@ -453,10 +331,156 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "sensors": plain(list(sensors)),
     }
     return Sweep(name=name, file=file, description=description, bearing_file=bearing_file,
-                 profile_file=profile_file, axes=axes,
-                 fixed={k: coord for k, (_, _, _, coord) in fixed.items()},
+                 profile_file=profile_file, axes=axes, fixed=fixed_coords,
                  settings=base_settings, bearing=base_bearing, profile=base_profile,
                  cases=tuple(cases), explicit=explicit,
                  configuration=tomli_w.dumps(plain(sweep_conf)),
                  configuration_hash=hash_id(sweep_conf), sensors=sensors,
                  realizations=int(raw.get("realizations", 1)))
+
+
+def _check_top_keys(raw: dict, file: Path) -> None:
+    """Refuse an unknown top-level key, saying where an operating-point or solver key goes."""
+    for k, v in raw.items():
+        if k not in TOP_KEYS:
+            hint = ""
+            if k in OPERATING_POINT:
+                hint = "; put it in [axes] (several values) or [fixed] (one value)"
+            elif k in fields.solver_fields():
+                hint = "; put it in [solver]"
+            raise ConfigError(file, k, short(v), f"unknown key (allowed: {', '.join(TOP_KEYS)}){hint}")
+
+
+def _name_and_description(raw: dict, file: Path) -> tuple:
+    """The sweep's name (a folder name; the file's stem by default) and description."""
+    name = raw.get("name", file.stem)
+    if not isinstance(name, str) or not NAME.match(name):
+        raise ConfigError(file, "name", name,
+                          "must be a folder name: letters, digits, '.', '_' and '-', "
+                          "starting with a letter or digit")
+    description = raw.get("description", "")
+    if not isinstance(description, str):
+        raise ConfigError(file, "description", None, "must be a string")
+    return name, description
+
+
+def _solver_values(raw: dict, file: Path) -> dict:
+    """``[solver]`` as SolverSettings keyword arguments (SI)."""
+    solver_raw = raw.get("solver", {})
+    if not isinstance(solver_raw, dict):
+        raise ConfigError(file, "solver", None, "must be a table ([solver])")
+    known = fields.solver_fields()
+    values = {}
+    for k, v in solver_raw.items():
+        if k not in known:
+            raise ConfigError(file, f"solver.{k}", short(v),
+                              f"unknown solver setting (known: {', '.join(sorted(known))})")
+        values[k] = solver_value(k, v, file, f"solver.{k}")
+    return values
+
+
+def _fixed_settings(raw: dict, file: Path) -> dict:
+    """``[fixed]``: key -> :class:`Setting`."""
+    fixed_raw = raw.get("fixed", {})
+    if not isinstance(fixed_raw, dict):
+        raise ConfigError(file, "fixed", None, "must be a table ([fixed])")
+    return {key: fixed_value(key, v, file, "fixed")
+            for key, v in flatten(fixed_raw, "", file, "fixed", ranges=False).items()}
+
+
+def _grid_points(raw: dict, file: Path, fixed: dict) -> tuple:
+    """``[axes]`` (and ``realizations``): the axes, and every grid point as
+    ``{key: Setting}``, the first axis varying slowest."""
+    axes_raw = raw["axes"]
+    if not isinstance(axes_raw, dict):
+        raise ConfigError(file, "axes", None, "must be a table ([axes])")
+    flat = flatten(axes_raw, "", file, "axes", ranges=True)
+    if not flat:
+        raise ConfigError(file, "axes", None, "empty: give at least one axis")
+    axes = tuple(parse_axis(k, v, file) for k, v in flat.items())
+    ensemble = realization_axis(raw, file)
+    if ensemble is not None:
+        if any(a.key == REALIZATION for a in axes):
+            raise ConfigError(file, "realizations", raw.get("realizations"), "the realization axis is also in [axes]")
+        axes = axes + (ensemble,)
+    for a in axes:
+        if a.key in fixed:
+            raise ConfigError(file, f"fixed.{a.key}", None, "is also an axis in [axes]")
+    size = math.prod(len(a) for a in axes)
+    if size > MAX_CASES:   # said before the grid is built, which alone would take minutes
+        raise ConfigError(file, "axes", None,
+                          f"{' x '.join(str(len(a)) for a in axes)} = {size} cases: more than the "
+                          f"{MAX_CASES} a sweep holds; split it into several sweeps")
+    inner = {a.key: target_of(a.key, file, "axes")[1] for a in axes}
+    points = [{a.key: Setting(a.target, inner[a.key], a.values[i], a.coords[i], f"axes.{a.key}[{i}]")
+               for a, i in zip(axes, combo)}
+              for combo in itertools.product(*(range(len(a)) for a in axes))]
+    return axes, points
+
+
+def _listed_points(raw: dict, file: Path, fixed: dict) -> tuple:
+    """``[[cases]]``: the axes (each key the cases set, with its distinct values) and each
+    case as ``{key: Setting}``, in the order of the list."""
+    cases_raw = raw["cases"]
+    if realization_axis(raw, file) is not None:
+        raise ConfigError(file, "realizations", raw.get("realizations"),
+                          "ensembles need a grid: give [axes] rather than [[cases]]")
+    if not isinstance(cases_raw, list) or not all(isinstance(c, dict) for c in cases_raw):
+        raise ConfigError(file, "cases", None, "must be an array of tables ([[cases]] sections)")
+    if not cases_raw:
+        raise ConfigError(file, "cases", [], "empty: give at least one case")
+    points = []
+    for i, c in enumerate(cases_raw):
+        where = f"cases[{i}]"
+        flat = flatten(c, "", file, where, ranges=False)
+        if not flat:
+            raise ConfigError(file, where, None, "empty case")
+        point = {}
+        for key, v in flat.items():
+            if key in fixed:
+                raise ConfigError(file, f"{where}.{key}", v, "is also given in [fixed]")
+            point[key] = fixed_value(key, v, file, where)
+        points.append(point)
+    keys = list(dict.fromkeys(k for point in points for k in point))
+    for i, point in enumerate(points):
+        for k in keys:
+            if k not in point:
+                raise ConfigError(file, f"cases[{i}]", None,
+                                  f"does not set '{k}', which other cases set; give it in "
+                                  "every case (or in [fixed] and in no case)")
+    axes = []
+    for k in keys:
+        coords = tuple(sorted({point[k].coord for point in points}, key=sort_key))
+        kinds = {coord_kind(point[k]) for point in points}
+        axes.append(Axis(k, points[0][k].target, coords, coords, kinds.pop()))
+    return tuple(axes), points
+
+
+def _overrides(settings, target: str) -> tuple:
+    """``(inner key, value, where)`` of the settings for ``target``, as the resolver takes them."""
+    return tuple((s.inner, s.value, s.where) for s in settings if s.target == target)
+
+
+def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: SolverSettings,
+                  resolver: Resolver, sensors: tuple, file: Path) -> CaseSpec:
+    """One case: ``[fixed]`` with the point's settings over it, resolved and hashed."""
+    merged = {**fixed, **point}
+    settings_of = list(merged.values())
+    op_values = {s.inner: s.value for s in settings_of if s.target == "operating_point"}
+    op_where = {s.inner: s.where for s in settings_of if s.target == "operating_point"}
+    op_where["_cases"] = explicit
+    check_operating_point(op_values, file, op_where)
+    op = OperatingPoint(**op_values)
+    solver_over = {s.inner: s.value for s in settings_of if s.target == "solver"}
+    settings = dataclasses.replace(base_settings, **solver_over)
+    settings = dataclasses.replace(settings, seed=int(settings.seed))
+    if solver_over:
+        check_settings(settings, file, {s.inner: s.where for s in settings_of if s.target == "solver"})
+    bearing = resolver.bearing(_overrides(settings_of, "bearing"))
+    profile = resolver.profile(_overrides(settings_of, "profile"))
+    conf = case_configuration(bearing, profile, op, settings, sensors)
+    coords = {k: merged[k].coord for k in REQUIRED_OPERATING_POINT}
+    coords.update({k: s.coord for k, s in point.items()})
+    return CaseSpec(case_id=hash_id(conf), point=coords, bearing=bearing, profile=profile,
+                    operating_point=op, settings=settings, configuration=tomli_w.dumps(conf),
+                    sensors=sensors)

@@ -1,7 +1,11 @@
-"""Quantities with units at the edges: parse "30 kN", "660 deg/s", "0.3 s" to SI floats.
+"""Units, in one place: user quantities in, UDUNITS spellings out.
 
 Everything inside ``rvcore`` is SI. Config files and the command line accept unit strings,
-parsed here with pint, or plain numbers which are taken as SI.
+parsed here with pint (:func:`parse_quantity`), or plain numbers which are taken as SI.
+The files the pipeline writes name units in UDUNITS spelling (CF ``units`` attributes):
+:func:`udunits` spells a pint unit that way, :func:`si_udunits` the SI unit of a kind of
+:data:`SI_UNITS`, and :func:`compose_units` combines UDUNITS strings (a fit's slope is the
+metric's unit over the axis's).
 """
 from __future__ import annotations
 
@@ -10,10 +14,12 @@ import math
 import re
 
 import pint
+import pint.util
 
 from ..errors import ConfigError
 
-# The SI unit each physical kind is converted to. The key is what callers ask for.
+#: The SI unit (pint spelling) each physical kind is converted to. The key is what callers
+#: ask for; the files write it as :func:`si_udunits` spells it.
 SI_UNITS = {
     "length": "m",
     "mass": "kg",
@@ -124,3 +130,69 @@ def format_quantity(value_si: float, unit: str, kind: str) -> str:
     ureg = registry()
     q = ureg.Quantity(value_si, SI_UNITS[kind]).to(unit)
     return f"{q.magnitude:.6g} {unit}"
+
+
+# --------------------------------------------------------------------------- UDUNITS
+
+#: UDUNITS names of the units whose pint symbol UDUNITS does not know (pint writes "deg").
+_UDUNITS_SYMBOLS = {"degree": "degree"}
+
+
+def _format_terms(terms: dict) -> str:
+    """``{symbol: exponent}`` as a UDUNITS product: positive powers first, in order, then
+    the negative ones (``{"N": 1, "m": -1.5}`` -> ``"N m-1.5"``); ``"1"`` when empty."""
+    def power(v):
+        return f"{v:g}" if v != 1 else ""
+    pos = [f"{k}{power(v)}" for k, v in terms.items() if v > 0]
+    neg = [f"{k}{power(v)}" for k, v in terms.items() if v < 0]
+    return " ".join(pos + neg) or "1"
+
+
+def udunits(unit) -> str:
+    """The UDUNITS spelling of a pint unit: ``"N*s/m"`` -> ``"N s m-1"``,
+    ``"degree/s"`` -> ``"degree s-1"``, ``"dimensionless"`` -> ``"1"``.
+
+    Parameters
+    ----------
+    unit : str or pint.Unit
+        A unit pint reads (the spellings of :data:`SI_UNITS`).
+    """
+    ureg = registry()
+    container = pint.util.to_units_container(ureg.Unit(unit), ureg)
+    return _format_terms({_UDUNITS_SYMBOLS.get(name, ureg.get_symbol(name)): exponent
+                          for name, exponent in container.items()})
+
+
+@functools.lru_cache(maxsize=None)
+def si_udunits(kind: str) -> str:
+    """The UDUNITS spelling of the SI unit of ``kind`` (a key of :data:`SI_UNITS`)."""
+    return udunits(SI_UNITS[kind])
+
+
+def _udunits_terms(units: str) -> dict:
+    """A UDUNITS product string (``"degree s-1"``) as ``{symbol: exponent}``."""
+    terms: dict = {}
+    for tok in str(units).split():
+        if tok == "1":
+            continue
+        m = re.fullmatch(r"([A-Za-z_]+)(-?\d+(?:\.\d+)?)?", tok)
+        if not m:
+            raise ValueError(f"cannot compose units {units!r}")
+        exponent = float(m.group(2)) if m.group(2) and "." in m.group(2) else int(m.group(2) or 1)
+        terms[m.group(1)] = terms.get(m.group(1), 0) + exponent
+    return terms
+
+
+def compose_units(numerator: str, *denominators: str, power: int = 1) -> str:
+    """``numerator**power / (denominators...)`` of UDUNITS strings, as a UDUNITS string.
+
+    >>> compose_units("m", "degree s-1")
+    'm s degree-1'
+    """
+    terms: dict = {}
+    for k, v in _udunits_terms(numerator).items():
+        terms[k] = terms.get(k, 0) + power * v
+    for d in denominators:
+        for k, v in _udunits_terms(d).items():
+            terms[k] = terms.get(k, 0) - v
+    return _format_terms(terms)

@@ -16,7 +16,7 @@ from compliance_checker.runner import CheckSuite, ComplianceChecker
 
 from pipeline.cli import main
 from pipeline.run import run_sweep
-from pipeline.schema import load_sweep
+from pipeline.schema import read_sweep_file
 from tests.pipeline.test_sweep import GRID, REPO, synthetic_case
 from tests.schema.test_sweepfile import make_sweep
 
@@ -118,7 +118,7 @@ def test_real_smoke_sweep_end_to_end_is_cf(suite, smoke_run, capsys):
     assert_cf_clean(suite, out / "sweep.nc")
     assert_cf_clean(suite, cases[0])
 
-    profile = load_sweep(smoke).profile
+    profile = read_sweep_file(smoke).profile
     start, end = {n: (s, e) for n, s, e in profile.phases}["steady"]
     with xr.open_dataset(out / "sweep.nc") as ds:
         assert (ds["case_status"].values == 0).all()

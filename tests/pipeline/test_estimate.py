@@ -12,7 +12,7 @@ import rvcore.numba_cache
 from pipeline.cli import main
 from pipeline.run.estimate import (CONFIRM_CASES, case_seconds, duration_text, kernels_need_compiling,
                                    say_if_compiling)
-from pipeline.schema import load_sweep
+from pipeline.schema import read_sweep_file
 from tests.schema.test_sweepfile import make_sweep
 
 REPO = Path(__file__).resolve().parents[2]
@@ -26,8 +26,8 @@ def _case(sweep, speed_deg, load_kn):
 def test_the_estimate_matches_the_measurements_it_claims():
     """Measured on this project's 2-core machine (pipeline/run/estimate.py): a smoke case
     2.1 s of a core, a study case about 43 s, a 40 kN study case twice a 20 kN one."""
-    smoke = load_sweep(REPO / "sweeps" / "smoke.toml")
-    study = load_sweep(REPO / "sweeps" / "study.toml")
+    smoke = read_sweep_file(REPO / "sweeps" / "smoke.toml")
+    study = read_sweep_file(REPO / "sweeps" / "study.toml")
     assert case_seconds(_case(smoke, 390, 30)) == pytest.approx(2.1, rel=0.2)
     assert case_seconds(_case(study, 420, 30)) == pytest.approx(43, rel=0.2)
     assert case_seconds(_case(study, 420, 40)) / case_seconds(_case(study, 420, 20)) == pytest.approx(2, rel=0.1)
@@ -58,7 +58,7 @@ def test_a_huge_sweep_needs_yes(tmp_path, capsys, monkeypatch):
     code = main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "2", "--no-progress"])
     out, err = capsys.readouterr()
     assert code == 2 and err.count("\n") == 1 and "--yes" in err, err
-    n = len(load_sweep(path).cases)
+    n = len(read_sweep_file(path).cases)
     assert f"s: {n} cases, {n} to compute, about" in out and "on 2 workers" in out
     with pytest.raises(Started):
         main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "2", "--no-progress", "--yes"])

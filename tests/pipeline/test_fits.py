@@ -9,9 +9,10 @@ import pytest
 import xarray as xr
 from scipy import stats
 
+from pipeline.analysis import (LINE_STATS, PLANE_STATS, fit_metrics, fit_statistic, line_band, linear_fit,
+                               plane_fit)
 from pipeline.io import phase_coordinate
-from pipeline.analysis import (LINE_STATS, PLANE_STATS, compose_units, fit_metrics, fit_statistic,
-                           line_band, linear_fit, plane_fit)
+from pipeline.schema.units import compose_units
 
 SPEEDS = np.array([120.0, 255.0, 390.0, 525.0, 660.0])  # degree s-1
 LOADS = np.array([20e3, 30e3, 40e3])  # N

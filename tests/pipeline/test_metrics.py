@@ -1,7 +1,7 @@
 """metrics.nc from a synthetic sweep, and the reference-fit file of the study.
 
 ``build_synthetic_sweep`` (also used by ``test_report``) labels
-``tests.synthetic.synthetic_result`` with ``pipeline.case.case_dataset`` and combines the
+``tests.pipeline.synthetic.synthetic_result`` with ``pipeline.io.case.case_dataset`` and combines the
 cases into a ``sweep.nc`` laid out as the sweep writes it.
 """
 from __future__ import annotations
@@ -19,11 +19,11 @@ from pipeline.io import case_dataset, write_case
 from pipeline.errors import ConfigError
 from pipeline.io import CaseState, write_status
 from pipeline.analysis import default_reference_path, load_reference_fits
-from pipeline.analysis import load_sweep, phase_metrics, write_metrics
+from pipeline.analysis import open_results, phase_metrics, write_metrics
 from rvcore.profile import PHASES
 from tests.pipeline.synthetic import synthetic_result
 
-#: A resolved configuration as the sweep stores it (pipeline.sweepfile: SI numbers, the
+#: A resolved configuration as the sweep stores it (pipeline.schema.sweepfile: SI numbers, the
 #: dataclass field names of rvcore.geometry, the profile's phases as [name, start, end]).
 SYNTHETIC_CONFIG = """\
 model_version = 1
@@ -153,7 +153,7 @@ def sweep_dir(tmp_path_factory):
 @pytest.fixture(scope="module")
 def metrics_file(sweep_dir):
     path = sweep_dir / "metrics.nc"
-    write_metrics(phase_metrics(load_sweep(sweep_dir)), path)
+    write_metrics(phase_metrics(open_results(sweep_dir)), path)
     return path
 
 
@@ -230,7 +230,7 @@ def test_metrics_match_values_computed_here_from_the_time_series(tmp_path):
                                 phase_metrics=_core_phase_metrics(t, dr, da), final_state=np.zeros(1))
             ds = case_dataset(result, speed=math.radians(s), radial_load=f, axial_load=10e3)
             write_case(ds, tmp_path / "cases" / f"case-{s:g}-{f:g}.nc")
-    write_metrics(phase_metrics(load_sweep(tmp_path)), tmp_path / "metrics.nc")
+    write_metrics(phase_metrics(open_results(tmp_path)), tmp_path / "metrics.nc")
     with xr.open_dataset(tmp_path / "metrics.nc") as m:
         assert m["radial_displacement_range"].dims == ("speed", "radial_load", "phase")
         assert (m["case_status"] == 0).all()
@@ -265,7 +265,7 @@ def test_missing_cases_are_nan_and_flagged(metrics_file):
 def test_metrics_from_case_files_when_no_sweep_nc(tmp_path):
     d = build_synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(20e3, 40e3),
                               missing=((660.0, 20e3),), with_sweep_nc=False)
-    m = phase_metrics(load_sweep(d))
+    m = phase_metrics(open_results(d))
     assert m["radial_displacement_range"].dims == ("speed", "radial_load", "phase")
     assert m.sizes["speed"] == 2 and m.sizes["radial_load"] == 2
     at = {"speed": 660.0, "method": "nearest"}

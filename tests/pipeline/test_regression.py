@@ -41,7 +41,7 @@ import numpy as np
 import pytest
 
 from pipeline.run import run_one_case
-from pipeline.schema import MODEL_VERSION, load_sweep
+from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
 PINNED_MODEL_VERSION = 7
@@ -113,7 +113,7 @@ def _rtol(name: str, gravity: bool) -> float:
 
 
 def _smoke_cases():
-    sweep = load_sweep(shipped_file("smoke.toml"))
+    sweep = read_sweep_file(shipped_file("smoke.toml"))
     return {(round(math.degrees(c.point["speed"])), round(c.point["radial_load"] / 1e3)): c
             for c in sweep.cases}
 

@@ -22,7 +22,7 @@ from pipeline.analysis import default_reference_path, load_reference_fits
 from pipeline.errors import ConfigError
 from pipeline.report import build_report, ensemble_statistics, sensors
 from pipeline.run import run_sweep
-from pipeline.schema import load_sweep, stored_configuration, sweep_from_dict
+from pipeline.schema import read_sweep_file, stored_configuration, sweep_from_dict
 from rvcore.profile import PHASES, study_profile
 from tests.pipeline.synthetic import synthetic_result
 from tests.pipeline.test_metrics import CAVEAT, FAILED_REASON, build_synthetic_sweep
@@ -445,7 +445,7 @@ def test_both_cage_slip_definitions(ensemble):
 
 @pytest.mark.parametrize("name", ["study.toml", "smoke.toml"])
 def test_stored_configuration_round_trips(name):
-    sweep = load_sweep(REPO / "sweeps" / name)
+    sweep = read_sweep_file(REPO / "sweeps" / name)
     conf = stored_configuration(sweep.configuration)
     assert conf.bearing == sweep.bearing and conf.profile == sweep.profile
     assert conf.settings == sweep.settings and conf.sensors == sweep.sensors
@@ -458,7 +458,7 @@ def test_stored_configuration_round_trips_sensors():
     sweep_file = Path(__file__).parent / "ens.toml"
     try:
         sweep_file.write_text(ENSEMBLE_SWEEP)
-        sweep = load_sweep(sweep_file)
+        sweep = read_sweep_file(sweep_file)
     finally:
         sweep_file.unlink(missing_ok=True)
     conf = stored_configuration(sweep.configuration)

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pipeline.analysis import STIFFNESS, load_sweep, phase_metrics, write_metrics
+from pipeline.analysis import STIFFNESS, open_results, phase_metrics, write_metrics
 from pipeline.io import encoding_for
 from pipeline.report import build_report
 from pipeline.run import run_sweep
@@ -85,7 +85,7 @@ def test_metrics_nc_with_stiffness_is_cf(stiff, tmp_path):
 
 def test_older_sweep_without_stiffness_is_reported_without(tmp_path):
     d = synthetic_sweep(tmp_path)
-    metrics = phase_metrics(load_sweep(d))
+    metrics = phase_metrics(open_results(d))
     assert not any(n in metrics for n in STIFFNESS)
     md = build_report(d).markdown.read_text()
     text = _section(md, "## Stiffness at the operating point")

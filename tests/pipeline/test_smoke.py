@@ -53,10 +53,10 @@ def test_smoke_report_compares_all_twelve_study_fits(smoke_run):
 
 def test_the_report_says_what_was_run_under_its_title(smoke_run):
     """Bearing, profile, grid, integrator and model version, from the sweep file itself."""
-    from pipeline.schema import MODEL_VERSION, load_sweep
+    from pipeline.schema import MODEL_VERSION, read_sweep_file
     from tests.conftest import REPO
 
-    sweep = load_sweep(REPO / "sweeps" / "smoke.toml")
+    sweep = read_sweep_file(REPO / "sweeps" / "smoke.toml")
     lines = (smoke_run.out / "report" / "report.md").read_text().splitlines()
     assert lines[0] == "# Sweep report: smoke"
     header = next(line for line in lines[1:] if line.strip())

@@ -20,8 +20,9 @@ import xarray as xr
 
 import rvcore.driver
 from pipeline.cli import main
-from pipeline.run import read_status, run_sweep, status_counts
-from pipeline.schema import load_sweep
+from pipeline.io import read_status, status_counts
+from pipeline.run import run_sweep
+from pipeline.schema import read_sweep_file
 from tests.pipeline.synthetic import synthetic_result
 from tests.schema.test_sweepfile import GRID, make_sweep
 
@@ -107,7 +108,7 @@ def serial_reference(tmp_path_factory):
 
 
 def test_serial_sweep_writes_case_files_status_and_the_combined_grid(grid_sweep, tmp_path):
-    sweep = load_sweep(grid_sweep)
+    sweep = read_sweep_file(grid_sweep)
     out = tmp_path / "out"
     result = run_sweep(sweep, out, serial=True, case_fn=synthetic_case, progress=False)
     assert result.ok and len(result.computed) == 4 and not result.reused
@@ -277,7 +278,7 @@ def test_a_failing_case_is_recorded_and_the_others_finish(grid_sweep, tmp_path, 
     code = main(["sweep", str(grid_sweep), "--out", str(tmp_path / "res"), "--serial", "--no-progress"])
     assert code != 0
     out = tmp_path / "res" / "s"
-    sweep = load_sweep(grid_sweep)
+    sweep = read_sweep_file(grid_sweep)
     bad = [c for c in sweep.cases if c.operating_point.speed > 10 and c.operating_point.radial_load > 30e3]
     assert len(bad) == 1
     bad_id = bad[0].case_id
@@ -470,13 +471,13 @@ def test_real_reduced_cases_do_not_depend_on_the_scheduler(tmp_path):
 def test_case_files_alone_combine_as_sweep_nc(grid_sweep, tmp_path):
     """One combiner: without sweep.nc, the analysis combines cases/*.nc to the same
     variables, coordinates and status as the sweep's own sweep.nc."""
-    from pipeline.analysis import load_sweep as load_results
+    from pipeline.analysis import open_results
 
     result = run_sweep(grid_sweep, tmp_path / "out", serial=True, case_fn=synthetic_case, progress=False)
     with xr.open_dataset(result.combined) as ds:
         combined = ds.load()
     result.combined.unlink()
-    alone = load_results(result.out_dir)
+    alone = open_results(result.out_dir)
     assert set(alone.data_vars) == set(combined.data_vars)
     for name in combined.data_vars:
         xr.testing.assert_equal(alone[name].reset_coords(drop=True), combined[name].reset_coords(drop=True))

@@ -80,11 +80,11 @@ def test_a_negative_speed_is_refused_in_one_line(capsys, tmp_path):
 
 def test_a_negative_speed_axis_is_refused(tmp_path):
     from tests.schema.test_sweepfile import GRID, make_sweep
-    from pipeline.schema import load_sweep
+    from pipeline.schema import read_sweep_file
 
     path = make_sweep(tmp_path, GRID.replace('"120 deg/s"', '"-120 deg/s"'))
     with pytest.raises(ConfigError) as err:
-        load_sweep(path)
+        read_sweep_file(path)
     assert "axes.speed[0]" in str(err.value) and "must not be negative" in str(err.value)
 
 

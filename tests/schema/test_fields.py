@@ -247,7 +247,7 @@ def test_unknown_set_keys_name_the_known_ones():
 
 
 def test_the_one_case_commands_take_set_through_the_one_parser():
-    from pipeline.commands._common import one_case_sweep
+    from pipeline.commands.common import one_case_sweep
 
     args = argparse.Namespace(
         bearing="bearings/rv-main-buildable.toml", speed="120 deg/s", radial_load="30 kN",

@@ -1,8 +1,8 @@
 """The bearing file's ``[lubricant]`` table: its default, its errors, and case ids.
 
-The lubricant enters only the friction-moment estimate; a file without the table keeps
-the case ids it had before the table existed (pinned in tests/pipeline/test_regression.py),
-and a lubricant other than the default gives new ones.
+The lubricant enters only the friction-moment estimate; the default lubricant is left out
+of the hashed configuration (the ids pinned in tests/pipeline/test_regression.py), and a
+lubricant other than the default gives new ids.
 """
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from pipeline.schema import bearing_from_dict, load_sweep, read_toml
+from pipeline.schema import bearing_from_dict, read_sweep_file, read_toml
 from pipeline.schema.fields import field
 from pipeline.schema.stored import stored_configuration
 
@@ -62,9 +62,9 @@ def test_unknown_method_is_one_line(buildable_raw):
 def test_the_default_lubricant_keeps_case_ids_and_another_changes_them(tmp_path):
     """Written out at its default the table gives the same ids as leaving it out; another
     viscosity gives other ids; the stored configuration reads the lubricant back."""
-    plain = load_sweep(make_sweep(tmp_path, GRID, "a.toml"))
-    same = load_sweep(make_sweep(tmp_path, GRID + '"lubricant.kinematic_viscosity" = "68 mm^2/s"\n', "b.toml"))
-    other = load_sweep(make_sweep(tmp_path, GRID + '"lubricant.kinematic_viscosity" = "100 mm^2/s"\n', "c.toml"))
+    plain = read_sweep_file(make_sweep(tmp_path, GRID, "a.toml"))
+    same = read_sweep_file(make_sweep(tmp_path, GRID + '"lubricant.kinematic_viscosity" = "68 mm^2/s"\n', "b.toml"))
+    other = read_sweep_file(make_sweep(tmp_path, GRID + '"lubricant.kinematic_viscosity" = "100 mm^2/s"\n', "c.toml"))
     ids = [c.case_id for c in plain.cases]
     assert [c.case_id for c in same.cases] == ids
     assert not set(c.case_id for c in other.cases) & set(ids)

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from pipeline.errors import ConfigError
-from pipeline.schema import apply_override, bearing_from_dict, load_sweep, read_toml
+from pipeline.schema import apply_override, bearing_from_dict, read_sweep_file, read_toml
 from pipeline.schema.tomlfile import lookup
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -220,7 +220,7 @@ speed = "120 deg/s"
 radial_load = "20 kN"
 axial_load = "10 kN"
 """)
-    s = load_sweep(sweep)
+    s = read_sweep_file(sweep)
     assert len(s.cases) == 2
     by_preload = {c.bearing.preload: c.bearing for c in s.cases}
     assert set(by_preload) == {0.0, 3.5e3}

@@ -1,4 +1,4 @@
-"""``solver.method``: the integrator as an input field (issue 11).
+"""``solver.method``: the integrator as an input field.
 
 It is a choice of :data:`rvcore.integrator.METHODS`, written in ``[solver]``, ``[fixed]``,
 ``[[cases]]``, as a categorical sweep axis or with ``rvsweep simulate --method``; it reaches
@@ -14,10 +14,10 @@ import dataclasses
 import pytest
 
 from pipeline.cli import main
-from pipeline.commands._common import one_case_sweep
+from pipeline.commands.common import one_case_sweep
 from pipeline.errors import ConfigError
 from pipeline.run.cluster import estimated_cost
-from pipeline.schema import load_sweep, stored_configuration
+from pipeline.schema import read_sweep_file, stored_configuration
 from pipeline.schema import fields as schema
 from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
@@ -42,7 +42,7 @@ def test_the_field_is_a_choice_of_the_integrators_with_the_settings_default():
 
 @pytest.mark.parametrize("method", METHODS)
 def test_solver_table_sets_the_method_of_every_case(tmp_path, method):
-    s = load_sweep(make_sweep(tmp_path, f'[solver]\nmethod = "{method}"\n' + GRID))
+    s = read_sweep_file(make_sweep(tmp_path, f'[solver]\nmethod = "{method}"\n' + GRID))
     assert s.settings.method == method
     assert {c.settings.method for c in s.cases} == {method}
     # the stored configuration gives it back
@@ -50,17 +50,17 @@ def test_solver_table_sets_the_method_of_every_case(tmp_path, method):
 
 
 def test_rk4_and_imex_cases_of_one_point_have_different_ids(tmp_path):
-    ids = {m: load_sweep(make_sweep(tmp_path, f'[solver]\nmethod = "{m}"\n' + ONE_POINT, name=f"{m}.toml"))
+    ids = {m: read_sweep_file(make_sweep(tmp_path, f'[solver]\nmethod = "{m}"\n' + ONE_POINT, name=f"{m}.toml"))
            .cases[0].case_id for m in METHODS}
     assert len(set(ids.values())) == len(METHODS)
     # rk4 written out is the same case as rk4 left to the default
-    default = load_sweep(make_sweep(tmp_path, ONE_POINT, name="default.toml")).cases[0].case_id
+    default = read_sweep_file(make_sweep(tmp_path, ONE_POINT, name="default.toml")).cases[0].case_id
     assert default == ids["rk4"]
 
 
 def test_method_as_a_categorical_axis(tmp_path):
     body = GRID.replace("[fixed]", '"solver.method" = ["rk4", "imex"]\n\n[fixed]')
-    s = load_sweep(make_sweep(tmp_path, body))
+    s = read_sweep_file(make_sweep(tmp_path, body))
     axis = s.axis("solver.method")
     assert axis.kind == "category" and axis.coords == ("rk4", "imex") and axis.units == "1"
     assert len(s.cases) == 2 * 2 * 2
@@ -71,11 +71,11 @@ def test_method_as_a_categorical_axis(tmp_path):
 
 
 def test_method_in_fixed_and_in_cases(tmp_path):
-    s = load_sweep(make_sweep(tmp_path, GRID + '"solver.method" = "imex"\n'))
+    s = read_sweep_file(make_sweep(tmp_path, GRID + '"solver.method" = "imex"\n'))
     assert {c.settings.method for c in s.cases} == {"imex"}
     body = ('[[cases]]\nspeed = "120 deg/s"\nradial_load = "20 kN"\naxial_load = "10 kN"\n"solver.method" = "rk4"\n'
             '[[cases]]\nspeed = "120 deg/s"\nradial_load = "20 kN"\naxial_load = "10 kN"\n"solver.method" = "imex"\n')
-    s = load_sweep(make_sweep(tmp_path, body, name="cases.toml"))
+    s = read_sweep_file(make_sweep(tmp_path, body, name="cases.toml"))
     assert [c.settings.method for c in s.cases] == ["rk4", "imex"]
     assert s.cases[0].case_id != s.cases[1].case_id
 
@@ -96,21 +96,21 @@ def _assert_names_the_choices(err: ConfigError, path, key, value):
 def test_an_unknown_method_is_one_config_error_listing_the_choices(tmp_path, where, body, key):
     path = make_sweep(tmp_path, body)
     with pytest.raises(ConfigError) as e:
-        load_sweep(path)
+        read_sweep_file(path)
     _assert_names_the_choices(e.value, path, key, "rk5")
 
 
 def test_a_method_that_is_not_a_string_is_rejected(tmp_path):
     path = make_sweep(tmp_path, "[solver]\nmethod = 4\n" + GRID)
     with pytest.raises(ConfigError) as e:
-        load_sweep(path)
+        read_sweep_file(path)
     _assert_names_the_choices(e.value, path, "solver.method", 4)
 
 
 def test_a_range_of_methods_is_rejected(tmp_path):
     body = GRID.replace("[fixed]", '"solver.method" = {start = "rk4", stop = "imex", step = 1}\n\n[fixed]')
     with pytest.raises(ConfigError, match="a range needs numbers"):
-        load_sweep(make_sweep(tmp_path, body))
+        read_sweep_file(make_sweep(tmp_path, body))
 
 
 def test_check_command_reports_a_bad_method_in_one_line(tmp_path, capsys):
@@ -128,7 +128,7 @@ def test_check_command_lists_the_methods_of_an_axis(tmp_path, capsys):
 
 
 def test_stored_configuration_rejects_an_unknown_method(tmp_path):
-    s = load_sweep(make_sweep(tmp_path, '[solver]\nmethod = "imex"\n' + GRID))
+    s = read_sweep_file(make_sweep(tmp_path, '[solver]\nmethod = "imex"\n' + GRID))
     text = s.configuration.replace('method = "imex"', 'method = "rk5"')
     assert 'method = "rk5"' in text
     with pytest.raises(ConfigError) as e:
@@ -137,7 +137,7 @@ def test_stored_configuration_rejects_an_unknown_method(tmp_path):
 
 
 def test_a_stored_rk4_configuration_without_the_key_is_rk4_whatever_the_default(tmp_path, monkeypatch):
-    s = load_sweep(make_sweep(tmp_path, GRID))
+    s = read_sweep_file(make_sweep(tmp_path, GRID))
     assert "method" not in s.configuration   # rk4: left out, so the pinned ids hold
     monkeypatch.setattr(SolverSettings, "__init__", _with_default_method(SolverSettings.__init__, "imex"))
     assert stored_configuration(s.configuration).settings.method == "rk4"
@@ -167,7 +167,7 @@ def test_simulate_method_option_sets_the_method(tmp_path):
 
 
 def test_cost_estimate_counts_the_longer_imex_step(tmp_path):
-    s = load_sweep(make_sweep(tmp_path, GRID))
+    s = read_sweep_file(make_sweep(tmp_path, GRID))
     c = s.cases[0]
     imex = dataclasses.replace(c, settings=dataclasses.replace(c.settings, method="imex"))
     assert estimated_cost(imex) < estimated_cost(c)

@@ -12,7 +12,7 @@ import pytest
 
 import pipeline.schema.sweepfile as sweepfile
 from pipeline.errors import ConfigError
-from pipeline.schema import load_sweep
+from pipeline.schema import read_sweep_file
 
 REPO = Path(__file__).resolve().parents[2]
 SWEEPS = REPO / "sweeps"
@@ -48,7 +48,7 @@ def ops(sweep):
 
 
 def test_study_sweep_is_the_studys_grid():
-    s = load_sweep(SWEEPS / "study.toml")
+    s = read_sweep_file(SWEEPS / "study.toml")
     assert s.name == "study"
     speeds_deg = np.arange(120, 661, 60)            # 120, 180, ..., 660 deg/s: 10 values
     loads_kn = np.arange(20, 41, 5)                 # 20, 25, ..., 40 kN: 5 values
@@ -72,7 +72,7 @@ def test_study_sweep_is_the_studys_grid():
 
 
 def test_smoke_sweep_is_a_3x3_grid_on_the_reduced_bearing():
-    s = load_sweep(SWEEPS / "smoke.toml")
+    s = read_sweep_file(SWEEPS / "smoke.toml")
     assert s.name == "smoke" and len(s.cases) == 9
     assert s.bearing.name == "reduced-test" and s.profile.name == "short"
     assert s.profile.duration < 1.0
@@ -94,7 +94,7 @@ radial_load = {start = "20 kN", stop = "42 kN", step = "5 kN"}
 [fixed]
 axial_load = "10 kN"
 """)
-    s = load_sweep(p)
+    s = read_sweep_file(p)
     speed, load = s.axes
     np.testing.assert_allclose(np.degrees(speed.coords), [120.0, 180.0, 240.0, 300.0], rtol=1e-14)
     assert list(load.coords) == [20e3, 25e3, 30e3, 35e3, 40e3]      # 42 kN is not on the grid
@@ -112,7 +112,7 @@ speed = {start = 1.0, stop = 1.3, step = 0.1}
 radial_load = "20 kN"
 axial_load = "10 kN"
 """)
-    np.testing.assert_allclose(load_sweep(p).axes[0].coords, [1.0, 1.1, 1.2, 1.3], rtol=1e-12)
+    np.testing.assert_allclose(read_sweep_file(p).axes[0].coords, [1.0, 1.1, 1.2, 1.3], rtol=1e-12)
 
 
 def test_general_axes_reach_the_bearing_and_the_solver(tmp_path):
@@ -126,7 +126,7 @@ speed = "120 deg/s"
 radial_load = "20 kN"
 axial_load = "10 kN"
 """)
-    s = load_sweep(p)
+    s = read_sweep_file(p)
     assert [a.key for a in s.axes] == ["friction.mu_static", "rows[0].cage.pocket_clearance",
                                        "solver.time_step"]
     assert [a.units for a in s.axes] == ["1", "m", "s"]
@@ -148,8 +148,8 @@ axial_load = "10 kN"
 
 
 def test_unquoted_dotted_keys_mean_the_same(tmp_path):
-    quoted = load_sweep(make_sweep(tmp_path, GRID + '"contact.damping" = "300 N s/m"\n', "a.toml"))
-    dotted = load_sweep(make_sweep(tmp_path, GRID + 'contact.damping = "300 N s/m"\n', "b.toml"))
+    quoted = read_sweep_file(make_sweep(tmp_path, GRID + '"contact.damping" = "300 N s/m"\n', "a.toml"))
+    dotted = read_sweep_file(make_sweep(tmp_path, GRID + 'contact.damping = "300 N s/m"\n', "b.toml"))
     assert [c.case_id for c in quoted.cases] == [c.case_id for c in dotted.cases]
     assert quoted.cases[0].bearing.contact.damping == 300.0
 
@@ -160,7 +160,7 @@ def test_a_value_the_bearing_file_leaves_at_its_default_can_be_swept(tmp_path):
     start = text.index("[friction]")
     end = text.index("[[rows]]")
     (tmp_path / "bearings" / "reduced-test.toml").write_text(text[:start] + text[end:])
-    s = load_sweep(p)
+    s = read_sweep_file(p)
     assert {c.bearing.contact.mu_static for c in s.cases} == {0.08, 0.12}
     assert {c.bearing.contact.mu_dynamic for c in s.cases} == {0.02}   # the loader's default
 
@@ -182,7 +182,7 @@ radial_load = "30 kN"
 speed = "120 deg/s"
 radial_load = "20 kN"
 """)
-    s = load_sweep(p)
+    s = read_sweep_file(p)
     assert s.explicit
     assert len(s.cases) == 3
     expected = [(math.radians(120), 30e3), (math.radians(660), 30e3), (math.radians(120), 20e3)]
@@ -198,7 +198,7 @@ def test_case_id_is_a_sha256_prefix_of_the_canonical_configuration(tmp_path):
     import hashlib
     import json
 
-    s = load_sweep(make_sweep(tmp_path, GRID))
+    s = read_sweep_file(make_sweep(tmp_path, GRID))
     c = s.cases[0]
     assert len(c.case_id) == 16 and int(c.case_id, 16) >= 0
     conf = tomllib.loads(c.configuration)
@@ -212,16 +212,16 @@ def test_case_id_is_a_sha256_prefix_of_the_canonical_configuration(tmp_path):
 
 
 def test_case_ids_ignore_how_values_are_written(tmp_path):
-    a = load_sweep(make_sweep(tmp_path, GRID, "a.toml"))
-    b = load_sweep(make_sweep(tmp_path, GRID.replace('"20 kN"', '"20000 N"').replace('"40 kN"', "40000")
+    a = read_sweep_file(make_sweep(tmp_path, GRID, "a.toml"))
+    b = read_sweep_file(make_sweep(tmp_path, GRID.replace('"20 kN"', '"20000 N"').replace('"40 kN"', "40000")
                               .replace('"10 kN"', '"0.01 MN"'), "b.toml"))
-    c = load_sweep(make_sweep(tmp_path, 'description = "other words"\n' + GRID, "c.toml"))
+    c = read_sweep_file(make_sweep(tmp_path, 'description = "other words"\n' + GRID, "c.toml"))
     assert [x.case_id for x in a.cases] == [x.case_id for x in b.cases] == [x.case_id for x in c.cases]
 
 
 def test_a_changed_value_changes_exactly_the_cases_it_changes(tmp_path):
-    a = load_sweep(make_sweep(tmp_path, GRID, "a.toml"))
-    b = load_sweep(make_sweep(tmp_path, GRID.replace('"40 kN"', '"30 kN"'), "b.toml"))
+    a = read_sweep_file(make_sweep(tmp_path, GRID, "a.toml"))
+    b = read_sweep_file(make_sweep(tmp_path, GRID.replace('"40 kN"', '"30 kN"'), "b.toml"))
     ida = {(c.point["speed"], c.point["radial_load"]): c.case_id for c in a.cases}
     idb = {(c.point["speed"], c.point["radial_load"]): c.case_id for c in b.cases}
     for (w, f), cid in idb.items():
@@ -229,17 +229,17 @@ def test_a_changed_value_changes_exactly_the_cases_it_changes(tmp_path):
             assert ida[(w, f)] == cid
         else:
             assert cid not in ida.values()
-    damped = load_sweep(make_sweep(tmp_path, GRID + '"contact.damping" = "300 N s/m"\n', "c.toml"))
+    damped = read_sweep_file(make_sweep(tmp_path, GRID + '"contact.damping" = "300 N s/m"\n', "c.toml"))
     assert not {c.case_id for c in damped.cases} & set(ida.values())
-    slower = load_sweep(make_sweep(tmp_path, GRID + '[solver]\noutput_rate = "500 Hz"\n', "d.toml"))
+    slower = read_sweep_file(make_sweep(tmp_path, GRID + '[solver]\noutput_rate = "500 Hz"\n', "d.toml"))
     assert not {c.case_id for c in slower.cases} & set(ida.values())
 
 
 def test_model_version_is_part_of_the_id(tmp_path, monkeypatch):
     p = make_sweep(tmp_path, GRID)
-    before = [c.case_id for c in load_sweep(p).cases]
+    before = [c.case_id for c in read_sweep_file(p).cases]
     monkeypatch.setattr(sweepfile, "MODEL_VERSION", sweepfile.MODEL_VERSION + 1)
-    after = [c.case_id for c in load_sweep(p).cases]
+    after = [c.case_id for c in read_sweep_file(p).cases]
     assert not set(before) & set(after)
 
 
@@ -274,7 +274,7 @@ def test_bad_sweep_file_is_one_config_error_naming_file_and_key(tmp_path, what):
     body, key = BAD[what]
     p = make_sweep(tmp_path, body)
     with pytest.raises(ConfigError) as err:
-        load_sweep(p)
+        read_sweep_file(p)
     msg = str(err.value)
     assert "\n" not in msg
     assert str(p) in msg, msg
@@ -286,7 +286,7 @@ def test_missing_bearing_or_profile_file(tmp_path, which):
     header = HEADER.replace("reduced-test.toml", "nope.toml").replace("short.toml", "nope.toml")
     p = make_sweep(tmp_path, GRID, header=header if which == "bearing" else HEADER.replace("short.toml", "nope.toml"))
     with pytest.raises(ConfigError) as err:
-        load_sweep(p)
+        read_sweep_file(p)
     assert err.value.key == which
     assert "no such" in str(err.value) and "nope.toml" in str(err.value)
 
@@ -302,5 +302,5 @@ radial_load = "30 kN"
 speed = "660 deg/s"
 """)
     with pytest.raises(ConfigError) as err:
-        load_sweep(p)
+        read_sweep_file(p)
     assert err.value.key == "cases[1]" and "radial_load" in str(err.value)
