@@ -41,15 +41,15 @@ from rvcore.profile import PHASES
 from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, load_sweep, phase_metrics,
                         write_fits, write_metrics)
 from ..io import read_status, write_text_atomic
-from .context import (SENSOR, Context, _ensemble_text, _first_realization_text, phase_windows,
+from .context import (SENSOR, Context, ensemble_text, first_realization_text, phase_windows,
                       read_configuration, realizations, sensors)
 from .figures import figure_metric, figure_sensor_metric, figure_sensor_time_histories, figure_time_histories
 from .parameters import section_parameters
-from .render import (_CENTRE, _METRIC_TITLE, _PHASE_TITLE, Bullets, Heading, Image, Para, Warning_, _dps, _g,
-                     _kn, render_html, render_markdown)
-from .sections import _window_coverage, section_cage_slip, section_cases, section_sensors, section_window_edges
-from .sections_fits import _comparison, section_comparison, section_physics, section_plane
-from .select import _axis_specs, _base_states, _extreme_cases
+from .render import (CENTRE_LABEL, METRIC_TITLE, PHASE_TITLE, Bullets, Heading, Image, Para, Warning_, fmt_speed, fmt_number,
+                     fmt_kn, render_html, render_markdown)
+from .sections import window_coverage, section_cage_slip, section_cases, section_sensors, section_window_edges
+from .sections_fits import study_comparison, section_comparison, section_physics, section_plane
+from .select import axis_specs, base_states, extreme_points
 from .loads import section_load_distribution, solve_extremes
 from .stiffness import section_stiffness
 from .definitions import section_definitions
@@ -80,7 +80,7 @@ def _metric_caption(ctx: Context, what: str, notes, hollow: int, is_range: bool,
     if not has_data:
         return (f"{what}, " + "; ".join(notes) + ": no finished case holds data in this phase's window, "
                 "so there is nothing to plot.")
-    ens = _ensemble_text(ctx)
+    ens = ensemble_text(ctx)
     if ens:
         text = (f"{what}. Ensemble mean of {ens} per case with ±1 standard-error bars, the individual "
                 f"realizations as faint small points just left of their mean; {_fit_text(ctx)}, ")
@@ -119,7 +119,7 @@ def _windows_text(windows, source: str) -> str:
         return ("The data hold no phase windows (`phase_start`/`phase_end`), so none are shaded "
                 "and the steady-phase estimates below that need them are left out.")
     return (f"Phase windows from {source}: "
-            + ", ".join(f"{_PHASE_TITLE.get(k, k)} {_g(a, 4)}–{_g(b, 4)} s" for k, (a, b) in windows.items()) + ".")
+            + ", ".join(f"{PHASE_TITLE.get(k, k)} {fmt_number(a, 4)}–{fmt_number(b, 4)} s" for k, (a, b) in windows.items()) + ".")
 
 
 def header_line(ctx) -> str:
@@ -202,21 +202,21 @@ def build_report(directory, reference=None) -> ReportFiles:
     figures += designer_figures
     blocks += section_sensors(ctx)
     sens = sensors(ctx.metrics)
-    ens = _ensemble_text(ctx)
+    ens = ensemble_text(ctx)
     if sens:
         ctx.sensor_fits = fit_metrics(ctx.metrics, names=[n for n in _SENSOR_FITTED if n in ctx.metrics])
 
     blocks.append(Heading(2, "Time histories"))
-    cases = _extreme_cases(ctx, realization=0 if realizations(ctx.sweep) is not None else None)
+    cases = extreme_points(ctx, realization=0 if realizations(ctx.sweep) is not None else None)
     if cases:
-        first = _first_realization_text(ctx)
-        which = "; ".join(f"{_dps(s)}, {_kn(l)}" for s, l in cases)
+        first = first_realization_text(ctx)
+        which = "; ".join(f"{fmt_speed(s)}, {fmt_kn(l)}" for s, l in cases)
         p = figdir / "time_histories.png"
         figure_time_histories(ctx, windows, p, cases)
         figures.append(p)
         blocks.append(Para(f"δ_r and δ_a at the ring centre of the extreme cases ({which})"
                            + (f", {first} (the other realizations are in `sweep.nc`)" if first else "")
-                           + ". " + _windows_text(windows, windows_src) + _window_coverage(ctx, windows)))
+                           + ". " + _windows_text(windows, windows_src) + window_coverage(ctx, windows)))
         blocks.append(Image(f"figures/{p.name}", "time histories of the extreme cases"))
         if sens and "sensor_displacement" in ctx.sweep:
             p = figdir / "sensor_time_histories.png"
@@ -242,9 +242,9 @@ def build_report(directory, reference=None) -> ReportFiles:
         p = figdir / f"metric_{phase}_{disp}_{metric}.png"
         notes, hollow = figure_metric(ctx, grefs, p)
         figures.append(p)
-        blocks.append(Heading(3, f"{_PHASE_TITLE[phase]} {disp} displacement {_METRIC_TITLE[metric]}, "
+        blocks.append(Heading(3, f"{PHASE_TITLE[phase]} {disp} displacement {METRIC_TITLE[metric]}, "
                                  f"at the ring centre"))
-        blocks.append(Para(_metric_caption(ctx, f"{_CENTRE[disp]}", notes, hollow, metric == "range",
+        blocks.append(Para(_metric_caption(ctx, f"{CENTRE_LABEL[disp]}", notes, hollow, metric == "range",
                                            _has_data(ctx, grefs[0].variable, phase))))
         blocks.append(Image(f"figures/{p.name}", f"{phase} {disp} {metric}"))
     if sens:
@@ -256,9 +256,9 @@ def build_report(directory, reference=None) -> ReportFiles:
             if f"{SENSOR}_displacement_{metric}" not in ctx.metrics:
                 continue
             p = figdir / f"sensor_{phase}_{metric}.png"
-            notes, hollow = figure_sensor_metric(ctx, phase, metric, _axis_specs(ctx, phase), p)
+            notes, hollow = figure_sensor_metric(ctx, phase, metric, axis_specs(ctx, phase), p)
             figures.append(p)
-            blocks.append(Heading(3, f"{_PHASE_TITLE[phase]} sensor reading {_METRIC_TITLE[metric]}"))
+            blocks.append(Heading(3, f"{PHASE_TITLE[phase]} sensor reading {METRIC_TITLE[metric]}"))
             blocks.append(Para(_metric_caption(
                 ctx, "The virtual sensors' readings, a row per sensor (" + "; ".join(sn.label() for sn in sens)
                 + ")", notes, hollow, metric == "range", _has_data(ctx, f"{SENSOR}_displacement_{metric}", phase))
@@ -266,7 +266,7 @@ def build_report(directory, reference=None) -> ReportFiles:
                    if _has_data(ctx, f"{SENSOR}_displacement_{metric}", phase) else "")))
             blocks.append(Image(f"figures/{p.name}", f"{phase} sensor {metric}"))
 
-    slip_blocks, slip_figures = section_cage_slip(ctx, figdir, _extreme_cases(ctx))
+    slip_blocks, slip_figures = section_cage_slip(ctx, figdir, extreme_points(ctx))
     blocks += slip_blocks
     figures += slip_figures
     solved, why = solve_extremes(ctx)
@@ -274,7 +274,7 @@ def build_report(directory, reference=None) -> ReportFiles:
         blocks += section[0]
         figures += section[1]
     blocks += section_window_edges(ctx, windows)
-    comparison = _comparison(ctx)
+    comparison = study_comparison(ctx)
     blocks += section_comparison(ctx, comparison)
     blocks += section_classes(ctx)
     spectrum_blocks, spectrum_figures = section_spectrum(ctx, figdir)
@@ -306,6 +306,6 @@ def build_report(directory, reference=None) -> ReportFiles:
 
     md = write_text_atomic(outdir / "report.md", render_markdown(blocks))
     ht = write_text_atomic(outdir / "report.html", render_html(blocks, f"Sweep report: {directory.name}"))
-    missing = int((_base_states(ctx) != "ok").sum())
+    missing = int((base_states(ctx) != "ok").sum())
     return ReportFiles(markdown=md, html=ht, figures=figures, metrics=directory / "metrics.nc",
                        fits=directory / "fits.nc", missing=missing, summary=summary_path)

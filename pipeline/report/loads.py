@@ -35,8 +35,8 @@ from rvcore.profile import OperatingPoint, Profile
 from ..errors import ConfigError
 from ..schema.stored import rebuild
 from .context import Context
-from .figures import _new_figure, _save
-from .render import Heading, Image, Para, Table, _dps, _g, _kn
+from .figures import new_figure, save_figure
+from .render import Heading, Image, Para, Table, fmt_speed, fmt_number, fmt_kn
 
 #: The operating-point keys a sweep axis or fixed value may set.
 _OP_KEYS = tuple(f.name for f in dataclasses.fields(OperatingPoint))
@@ -70,11 +70,11 @@ class OperatingCase:
     def label(self) -> str:
         """'390 °/s, 30 kN radial, 10 kN axial[, 2 kN m][, preload 2 kN]' at the steady point."""
         q = self.loads()
-        text = f"{_dps(math.degrees(self.op.speed))}, {_kn(q['radial_load'])} radial, {_kn(q['axial_load'])} axial"
+        text = f"{fmt_speed(math.degrees(self.op.speed))}, {fmt_kn(q['radial_load'])} radial, {fmt_kn(q['axial_load'])} axial"
         if q["moment"]:
-            text += f", {_g(q['moment'] / 1e3, 4)} kN m"
+            text += f", {fmt_number(q['moment'] / 1e3, 4)} kN m"
         if q["preload"]:
-            text += f", preload {_kn(q['preload'])}"
+            text += f", preload {fmt_kn(q['preload'])}"
         return text
 
 
@@ -122,9 +122,9 @@ def _grid_cases(ctx: Context) -> tuple:
     if other:
         return [], ("the case files, which hold each case's resolved configuration, are missing, and the "
                     f"sweep axes {', '.join(other)} change the bearing or the profile")
-    from .select import _base_states
+    from .select import base_states
 
-    ok = _base_states(ctx) == "ok"
+    ok = base_states(ctx) == "ok"
     if "realization" in ok.dims:
         ok = ok.any("realization")
     base = {k: float(v) for k, v in conf.fixed.items() if k in _OP_KEYS and isinstance(v, (int, float))}
@@ -228,8 +228,8 @@ def _inner_columns(st) -> list:
 
 def _row_label(bearing: Bearing, r: int) -> str:
     row = bearing.rows[r]
-    return (f"row {r} (z = {_g(row.axial_position * 1e3 + 0.0, 4)} mm, "
-            f"α = {_g(math.degrees(row.nominal_contact_angle), 4)}°)")
+    return (f"row {r} (z = {fmt_number(row.axial_position * 1e3 + 0.0, 4)} mm, "
+            f"α = {fmt_number(math.degrees(row.nominal_contact_angle), 4)}°)")
 
 
 def _azimuth_from_load(st) -> np.ndarray:
@@ -243,7 +243,7 @@ def figure_load_distribution(solved: list, path: Path) -> None:
     n = len(solved)
     ncols = min(n, 2)
     nrows = int(math.ceil(n / ncols))
-    fig, axes = _new_figure(nrows, ncols, (5.2 * ncols, 3.4 * nrows))
+    fig, axes = new_figure(nrows, ncols, (5.2 * ncols, 3.4 * nrows))
     for i, s in enumerate(solved):
         ax = axes[i // ncols, i % ncols]
         ax.set_title(s.case.label(), fontsize=8)
@@ -272,7 +272,7 @@ def figure_load_distribution(solved: list, path: Path) -> None:
     for j in range(n, nrows * ncols):
         axes[j // ncols, j % ncols].set_visible(False)
     fig.suptitle("Ball loads at the inner ring at the steady operating point (quasi-static)", fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def section_load_distribution(ctx: Context, figdir: Path, solved: list, why: str = ""):
@@ -304,8 +304,8 @@ def section_load_distribution(ctx: Context, figdir: Path, solved: list, why: str
         for r in range(len(s.case.bearing.rows)):
             balls = np.flatnonzero(np.asarray(st.row_of_ball) == r)
             q = st.ball_loads[np.ix_(balls, cols)] if cols else np.zeros((balls.size, 1))
-            rows.append([s.case.label(), _row_label(s.case.bearing, r), _g(st.row_radial_loads[r] / 1e3, 4),
-                         _g(st.row_axial_loads[r] / 1e3, 4), _g(q.max() / 1e3, 4),
+            rows.append([s.case.label(), _row_label(s.case.bearing, r), fmt_number(st.row_radial_loads[r] / 1e3, 4),
+                         fmt_number(st.row_axial_loads[r] / 1e3, 4), fmt_number(q.max() / 1e3, 4),
                          f"{int((q.max(axis=1) > 0).sum())} of {balls.size}"])
     blocks.append(Para("Each row's share of the load at those points (its force on the inner ring):"))
     blocks.append(Table(["case (steady loads)", "row", "radial load [kN]", "axial load [kN]",

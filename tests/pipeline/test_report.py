@@ -139,7 +139,7 @@ def test_comparison_values_in_study_units(built):
 def test_parameters_with_assumptions_marked(built):
     _, _, md, _ = built
     assert "bearing: **study-table2**" in md and "profile: **study**" in md
-    rows = {r[0]: r[1:] for r in _table(_section(md, "## Appendix: bearing, profile and parameters"))[1:]}
+    rows = {r[0]: r[1:] for r in table_rows(section_of(md, "## Appendix: bearing, profile and parameters"))[1:]}
     # keys are the bearing file's own key paths, values in the schema's display units
     assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
     # a listed table (rows[0].outer_groove.arcs) marks every value in it
@@ -217,7 +217,7 @@ def test_report_names_an_unreadable_configuration(tmp_path):
     d = synthetic_sweep(tmp_path, config='model_version = 1\nname = "old"\n', speeds_deg=(120.0, 660.0),
                         loads=(30e3, 40e3), missing=())
     md = build_report(d).markdown.read_text()
-    text = _section(md, "## Appendix: bearing, profile and parameters")
+    text = section_of(md, "## Appendix: bearing, profile and parameters")
     assert "model_version = 1: written by another model version" in text
     assert "| key | value |" not in text
     assert "The centrifugal force on a ball could not be estimated" in md
@@ -231,7 +231,7 @@ def test_cli_on_a_partial_sweep_of_case_files(tmp_path, capsys):
     assert "report.md" in out and "1 case(s) failed or missing" in out
     md = (d / "report" / "report.md").read_text()
     assert "4 cases, 3 finished ok, 1 failed or missing" in md
-    row = next(ln for ln in _section(md, "## Cases").splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
+    row = next(ln for ln in section_of(md, "## Cases").splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
     assert "| failed |" in row and FAILED_REASON in row
 
 
@@ -340,12 +340,12 @@ def ensemble(tmp_path_factory):
     return folder / "out", files, files.markdown.read_text(), files.html.read_text()
 
 
-def _section(md: str, heading: str) -> str:
+def section_of(md: str, heading: str) -> str:
     """The text under ``heading`` up to the next heading of any level."""
     return re.split(r"\n#{1,6} ", md.split(f"\n{heading}\n", 1)[1], maxsplit=1)[0]
 
 
-def _table(text: str) -> list:
+def table_rows(text: str) -> list:
     """Rows of the first Markdown table in ``text`` as lists of cells (header first)."""
     lines = [ln for ln in text.splitlines() if ln.startswith("|") and not ln.startswith("|---")]
     return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines]
@@ -353,8 +353,8 @@ def _table(text: str) -> list:
 
 def test_ensemble_sensor_table_and_figures(ensemble):
     d, files, md, html = ensemble
-    text = _section(md, "## Displacement sensors")
-    assert _table(text) == [["sensor", "position [mm]", "direction"],
+    text = section_of(md, "## Displacement sensors")
+    assert table_rows(text) == [["sensor", "position [mm]", "direction"],
                             ["`radial_bore`", "(160, 0, 0)", "(1, 0, 0)"],
                             ["`axial_face`", "(175.75, 0, 15)", "(0, 0, 1)"]]
     assert "laser" in text and "tilt" in text
@@ -383,9 +383,9 @@ def test_ensemble_captions_give_n_and_error_bars(ensemble):
     for c in captions:
         assert "Ensemble mean of N = 2 realizations (seeds 0, 1) per case with ±1 standard-error bars" in c
         assert "individual realizations as faint small points" in c and "weighted least-squares" in c
-    assert "the first realization (seed 0) of N = 2" in _section(md, "## Time histories")
+    assert "the first realization (seed 0) of N = 2" in section_of(md, "## Time histories")
     assert "× N = 2 realizations (seeds 0, 1): 9 grid points, 18 runs, 17 finished ok, 1 failed or missing" in md
-    row = next(r for r in _table(_section(md, "## Cases")) if r[0] == "390 °/s")
+    row = next(r for r in table_rows(section_of(md, "## Cases")) if r[0] == "390 °/s")
     assert row[1:5] == ["20 kN", "seed 1", "failed", ENSEMBLE_FAILED]
     assert files.missing == 1
 
@@ -404,9 +404,9 @@ def test_ensemble_statistics_match_metrics_nc(ensemble):
 
 def test_window_edge_section_lists_flagged_ranges(ensemble):
     _, _, md, html = ensemble
-    text = _section(md, "## Ranges cut off by the phase window")
+    text = section_of(md, "## Ranges cut off by the phase window")
     assert "cut off by the window and is a lower bound" in text
-    rows = _table(text)
+    rows = table_rows(text)
     assert rows[0][:3] == ["phase", "metric", "extreme at the window's edge"]
     flagged = {(r[0], r[1]): r for r in rows[1:]}
     assert set(flagged) == {("start-up", "range of δ_r at the ring centre"),
@@ -418,25 +418,25 @@ def test_window_edge_section_lists_flagged_ranges(ensemble):
     assert r[2] == "17 of 17 runs (100 % of realizations), at 9 of 9 grid points"
     assert "No other range has an extreme at the edge of its window." in text
     # the figure holds one flagged realization: seed 0 at 660 °/s in the panel at 30 kN
-    caption = _section(md, "### start-up radial displacement variation range, at the ring centre")
+    caption = section_of(md, "### start-up radial displacement variation range, at the ring centre")
     assert "Hollow markers (1 realization and the mean it belongs to)" in caption
-    assert "No range drawn here has an extreme" in _section(md, "### start-up sensor reading variation range")
+    assert "No range drawn here has an extreme" in section_of(md, "### start-up sensor reading variation range")
     assert "<h2>Ranges cut off by the phase window</h2>" in html
 
 
 def test_both_cage_slip_definitions(ensemble):
     _, _, md, _ = ensemble
-    text = _section(md, "## Cage slip")
+    text = section_of(md, "## Cage slip")
     assert "`cage_slip` = 1 − ω̄_c/ω_epi" in text and "actual contact angles" in text
     assert re.search(r"`cage_slip_nominal` against the epicyclic speed at the nominal contact angle α = [\d.]+°", text)
-    rows = _table(text)
+    rows = table_rows(text)
     assert rows[0][3:5] == ["`cage_slip` (actual contact angles) [%]",
                             "`cage_slip_nominal` (nominal contact angle) [%]"]
     # 120 °/s, 20 kN, steady: slip 0.005 + 0.001·seed, nominal 0.002 more; mean ± standard error in %
     row = next(r for r in rows if r[:3] == ["120 °/s", "20 kN", "steady"])
     assert row[3:5] == ["0.55 ± 0.05", "0.75 ± 0.05"]
     assert "cage_slip_steady.png" in text
-    files = _section(md, "## Files")
+    files = section_of(md, "## Files")
     assert "`cage_slip`" in files and "`cage_slip_nominal`" in files
 
 
@@ -520,7 +520,7 @@ def test_report_of_a_real_run(tmp_path):
     for p in files.figures:
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"](figures/{p.name})" in md and f'src="figures/{p.name}"' in html
-    table = _table(_section(md, "## Appendix: bearing, profile and parameters"))
+    table = table_rows(section_of(md, "## Appendix: bearing, profile and parameters"))
     values = {r[0]: r[1:] for r in table[1:]}
     assert values["`rows[0].balls.count`"][0] == "12"
     assert values["`rows[0].balls.diameter`"][0] == "23 mm"

@@ -22,7 +22,7 @@ from pipeline.analysis import STIFFNESS, load_sweep, phase_metrics, write_metric
 from pipeline.io import encoding_for
 from pipeline.report import build_report
 from pipeline.run import run_sweep
-from tests.pipeline.test_report import _section, _table, synthetic_sweep
+from tests.pipeline.test_report import section_of, table_rows, synthetic_sweep
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -35,7 +35,7 @@ def _made_up_stiffness(speed_deg, load):
     return 1e9 * (1.0 + load / 1e5), 4e8 * (1.0 + load / 2e5), 3e6 * (1.0 + load / 4e5)
 
 
-def _add_stiffness(directory: Path) -> dict:
+def add_stiffness(directory: Path) -> dict:
     """Add the three stiffness scalars to ``sweep.nc`` as the case files will carry them
     (NaN where the case failed); return the values written."""
     path = directory / "sweep.nc"
@@ -57,7 +57,7 @@ def _add_stiffness(directory: Path) -> dict:
 @pytest.fixture(scope="module")
 def stiff(tmp_path_factory):
     d = synthetic_sweep(tmp_path_factory.mktemp("stiff"))  # 3x3, 390 °/s at 20 kN failed
-    written = _add_stiffness(d)
+    written = add_stiffness(d)
     files = build_report(d)
     return d, written, files, files.markdown.read_text(), files.html.read_text()
 
@@ -88,14 +88,14 @@ def test_older_sweep_without_stiffness_is_reported_without(tmp_path):
     metrics = phase_metrics(load_sweep(d))
     assert not any(n in metrics for n in STIFFNESS)
     md = build_report(d).markdown.read_text()
-    text = _section(md, "## Stiffness at the operating point")
+    text = section_of(md, "## Stiffness at the operating point")
     assert "holds no stiffness" in text
     assert "## Load distribution" in md   # rebuilt from the stored configuration regardless
 
 
 def test_stiffness_section_and_figure(stiff):
     d, _, files, md, html = stiff
-    text = _section(md, "## Stiffness at the operating point")
+    text = section_of(md, "## Stiffness at the operating point")
     assert "quasi-static" in text and "N/µm" in text and "N m/mrad" in text
     assert "](figures/stiffness.png)" in md and 'src="figures/stiffness.png"' in html
     png = d / "report" / "figures" / "stiffness.png"
@@ -112,12 +112,12 @@ def test_stiffness_section_and_figure(stiff):
 
 
 def _rows_table(md: str) -> list:
-    return _table(_section(md, "## Load distribution").split("Each row's share")[1])
+    return table_rows(section_of(md, "## Load distribution").split("Each row's share")[1])
 
 
 def test_load_distribution_single_row(stiff):
     d, _, files, md, html = stiff
-    text = _section(md, "## Load distribution")
+    text = section_of(md, "## Load distribution")
     assert "](figures/load_distribution.png)" in md
     assert (d / "report" / "figures" / "load_distribution.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     rows = _rows_table(md)[1:]
@@ -184,7 +184,7 @@ def test_two_rows_report_renders_with_per_row_cage_slip(pair):
         assert m["row"].attrs["units"] == "1" and m["row"].attrs["long_name"]
     # the row is no sweep axis
     assert "Extra sweep dimensions" not in md
-    slip = _table(_section(md, "## Cage slip"))
+    slip = table_rows(section_of(md, "## Cage slip"))
     assert slip[0][3] == "row"
     assert {r[3] for r in slip[1:]} == {"0", "1"}
     for p in files.figures:
@@ -193,7 +193,7 @@ def test_two_rows_report_renders_with_per_row_cage_slip(pair):
 
 def test_two_rows_load_distribution_balances_the_applied_loads(pair):
     out, files, md = pair
-    text = _section(md, "## Load distribution")
+    text = section_of(md, "## Load distribution")
     assert "rebuilt from its case file" in text
     rows = _rows_table(md)[1:]
     cases = {}
