@@ -51,6 +51,7 @@ from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, loa
 from . import cluster
 from .cases import CaseOutcome, _reason, _source_name, compute_case, label_case, run_one_case
 from .cluster import DEFAULT_ALLOWED_FAILURES
+from .corners import store_corner_statics_or_warn
 
 __all__ = [
     "CaseOutcome", "CaseState", "SweepResult", "run_sweep", "compute_case", "label_case",
@@ -323,6 +324,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     combined = None
     if combine_at_end:
         combined = combine(sweep, out, states=states, history=history)
+        store_corner_statics_or_warn(sweep, out, states)   # the report reads the load distribution there
     result = SweepResult(sweep=sweep, out_dir=out, combined=combined, states=states,
                          workers=n_workers, scheduler=scheduler_text, wall_time=wall,
                          total_time=time.perf_counter() - t_start, warm_up_time=warm,
