@@ -46,6 +46,31 @@ class Context:
     config_error: str = ""
     #: Line fits of the sensor metrics (made for the figures; not written to fits.nc).
     sensor_fits: xr.Dataset = field(default_factory=xr.Dataset)
+    #: The report's folder (default ``<directory>/report``).
+    outdir: Path | None = None
+    #: The figures the sections have written, in order.
+    figures: list = field(default_factory=list)
+    #: The phase windows ``{name: (start, end)}`` [s] and where they come from (:func:`phase_windows`).
+    windows: dict = field(default_factory=dict)
+    windows_source: str = ""
+    #: The study comparison, one dict per reference fit (:func:`.sections_fits.study_comparison`).
+    comparison: list = field(default_factory=list)
+    #: The stored statics at the extreme operating points (:func:`.loads.read_statics`).
+    statics: object = None
+    #: The summary values (:func:`.summary.summary_values`) and the CSV written of them.
+    summary: object = None
+    summary_path: Path | None = None
+
+    @property
+    def report_dir(self) -> Path:
+        """Where ``report.md``, ``report.html`` and ``summary.csv`` go."""
+        return self.outdir if self.outdir is not None else self.directory / "report"
+
+    def figure_path(self, name: str) -> Path:
+        """The path of figure ``name`` in ``figures/``, recorded in :attr:`figures`."""
+        path = self.report_dir / "figures" / name
+        self.figures.append(path)
+        return path
 
 
 def read_configuration(sweep: xr.Dataset):

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -108,14 +107,14 @@ def _explained(ctx: Context, values, per_class, label) -> str:
             "it leaves the steady means, which average whole revolutions, where the perfect bearing has them.")
 
 
-def section_spectrum(ctx: Context, figdir: Path):
+def section_spectrum(ctx: Context) -> list:
     """The steady spectrum of the radial sensor (or δ_r) at the sweep's highest speed and
     radial load, a line per tolerance class, the kinematic frequencies marked."""
     sweep = ctx.sweep
     name = f"{SENSOR}_displacement_spectrum" if f"{SENSOR}_displacement_spectrum" in sweep else \
         "radial_displacement_spectrum"
     if name not in sweep or "frequency" not in sweep.dims or sweep.sizes["frequency"] < 4:
-        return [], []
+        return []
     point = {"speed": sweep["speed"].values.max(), "radial_load": sweep["radial_load"].values.max()}
     da = sweep[name].sel(point)
     kin = sweep["kinematic_frequency"].sel(point)
@@ -148,7 +147,7 @@ def section_spectrum(ctx: Context, figdir: Path):
     ax.legend(fontsize=9)
     what = "the radial sensor's reading" if name.startswith(SENSOR) else "δ_r at the ring centre"
     fig.suptitle(f"Steady spectrum of {what} at {fmt_speed(point['speed'])}, {fmt_kn(point['radial_load'])}", fontsize=11)
-    path = figdir / "steady_spectrum.png"
+    path = ctx.figure_path("steady_spectrum.png")
     save_figure(fig, path)
     blocks = [Heading(2, "Steady spectrum"),
               Para(f"Amplitude spectrum of {what} over the steady phase (mean removed, Hann window, a sinusoid of "
@@ -161,7 +160,7 @@ def section_spectrum(ctx: Context, figdir: Path):
                    "own lines. The amplitudes at every kinematic frequency and its second harmonic are in "
                    "`sweep.nc` (`*_kinematic_amplitude`)."),
               Image(f"figures/{path.name}", "steady spectrum with the kinematic frequencies")]
-    return blocks, [path]
+    return blocks
 
 
 def extra_axes_note(ctx: Context) -> list:

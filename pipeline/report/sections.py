@@ -3,8 +3,6 @@ sensors, the ranges cut off by a phase window, and the cage slip."""
 from __future__ import annotations
 
 import math
-from pathlib import Path
-
 import numpy as np
 
 from rvcore.profile import PHASES
@@ -14,7 +12,7 @@ from .context import (SENSOR, Context, on_base_grid, ensemble_text, extra_dims, 
                       realizations, sensors, status_lookup)
 from .figures import CAGE_SLIPS, figure_cage_slip
 from .render import CENTRE_LABEL, PHASE_TITLE, Heading, Image, Para, Table, fmt_speed, fmt_number, fmt_kn
-from .select import axis_specs, base_states, metric_stat, fmt_mean_se
+from .select import axis_specs, base_states, extreme_points, fmt_mean_se, metric_stat
 
 #: Largest number of grid points listed by name in the window-edge table.
 _MAX_LISTED = 8
@@ -137,12 +135,13 @@ def _range_signals(ctx: Context) -> list:
     return out
 
 
-def section_window_edges(ctx: Context, windows):
+def section_window_edges(ctx: Context) -> list:
     """Per phase and range: the grid points (or realizations) whose extreme lies at the window's edge.
 
     Reads the ``*_range_at_edge`` flags (1 where the largest or smallest value lies within
     one output interval of the start or end of the phase window).
     """
+    windows = ctx.windows
     signals = _range_signals(ctx)
     if not signals:
         return []
@@ -207,15 +206,15 @@ def section_window_edges(ctx: Context, windows):
     return blocks
 
 
-def section_cage_slip(ctx: Context, figdir: Path, cases):
+def section_cage_slip(ctx: Context) -> list:
     """Cage slip against the epicyclic speed at the actual and at the nominal contact angle.
 
-    A figure of the steady cage slip against speed and load and a table at ``cases``
-    [(speed °/s, load N)] per phase. Returns the blocks and the figures written.
+    A figure of the steady cage slip against speed and load and a table at the extreme
+    finished grid points (:func:`.select.extreme_points`) per phase.
     """
     present = [(n, w) for n, w in CAGE_SLIPS if n in ctx.metrics]
     if not present:
-        return [], []
+        return []
     blocks = [Heading(2, "Cage slip")]
     alpha = bearing_numbers(ctx)["alpha"]
     defs = {"cage_slip": "`cage_slip` = 1 − ω̄_c/ω_epi against the epicyclic cage speed "
@@ -229,11 +228,9 @@ def section_cage_slip(ctx: Context, figdir: Path, cases):
         missing = [n for n, _ in CAGE_SLIPS if n not in ctx.metrics]
         text += f" The sweep holds no {', '.join(f'`{n}`' for n in missing)} (written by an older version)."
     blocks.append(Para(text))
-    figures = []
     specs = axis_specs(ctx, "steady")
-    p = figdir / "cage_slip_steady.png"
+    p = ctx.figure_path("cage_slip_steady.png")
     notes = figure_cage_slip(ctx, "steady", specs, p)
-    figures.append(p)
     ens = ensemble_text(ctx)
     blocks.append(Para("Steady-phase cage slip in %, "
                        + ("each row's own cage against its own epicyclic speed, a colour per row and definition, "
@@ -245,7 +242,7 @@ def section_cage_slip(ctx: Context, figdir: Path, cases):
     blocks.append(Image(f"figures/{p.name}", "steady cage slip against speed and load"))
     rows = []
     bearing_rows = rows_of(ctx.metrics, present[0][0])
-    for (sp, ld) in cases:
+    for (sp, ld) in extreme_points(ctx):
         for phase in PHASES:
             for r in bearing_rows:
                 vals = [metric_stat(ctx, n, sp, ld, phase, row=r) for n, _ in present]
@@ -260,6 +257,6 @@ def section_cage_slip(ctx: Context, figdir: Path, cases):
         blocks.append(Table(["speed", "radial load", "phase"] + (["row"] if bearing_rows != [None] else [])
                             + [f"`{n}` ({w}) [%]" for n, w in present] + ["ω_epi, actual angles [°/s]"],
                             rows))
-    return blocks, figures
+    return blocks
 
 

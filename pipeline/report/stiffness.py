@@ -19,6 +19,7 @@ from rvcore.geometry import ball_mass, epicyclic_cage_ratio
 from ..analysis import REALIZATION, STIFFNESS
 from .context import SENSOR, Context
 from .figures import new_figure, save_figure
+from .loads import stored_statics
 from .render import Heading, Image, Para, fmt_number
 
 #: Suffix of the compliant stiffness (1/C_ii, every other coordinate free) beside each direct one.
@@ -158,11 +159,11 @@ def centrifugal_ball_load(ctx: Context):
     return max(forces), w_deg
 
 
-def section_stiffness(ctx: Context, figdir: Path, solved=()):
+def section_stiffness(ctx: Context) -> list:
     """The "Stiffness at the operating point" section: figure and the speed argument.
 
-    ``solved`` are the statics at the extreme cases (:func:`.loads.solve_extremes`), whose
-    largest contact load the centrifugal load is compared with.
+    The centrifugal load is compared with the largest contact load of the stored statics
+    at the extreme cases (:func:`.loads.stored_statics`).
     """
     blocks = [Heading(2, "Stiffness at the operating point")]
     present = [n for n in STIFFNESS if n in ctx.metrics]
@@ -170,7 +171,7 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
         blocks.append(Para("The sweep holds no stiffness at the operating point (`radial_stiffness`, "
                            "`axial_stiffness`, `tilting_stiffness`): it was written by a version that did not "
                            "compute them."))
-        return blocks, []
+        return blocks
     text = ("The radial stiffness k_r (along the radial load), the axial stiffness k_a and the tilting "
             "stiffness k_θ (about the axis normal to the radial load) are the direct terms of the quasi-static "
             "tangent stiffness of the inner ring at the steady loads (those the profile applies in the middle "
@@ -184,7 +185,7 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
             "depend on the speed except through the loads.")
     fc, w = centrifugal_ball_load(ctx)
     if math.isfinite(fc):
-        qmax = max((float(s.result.max_contact_load) for s in solved if s.result is not None), default=math.nan)
+        qmax = max((c.max_contact_load for c in stored_statics(ctx).corners if c.solved), default=math.nan)
         text += (f" That is sound here: at the sweep's highest speed, {fmt_number(w, 4)} °/s, a ball's centrifugal load "
                  f"m_b·(d_m/2)·ω_c², with ω_c the epicyclic cage speed from the stored geometry, is at most "
                  f"{fmt_number(fc, 3)} N")
@@ -199,10 +200,10 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
         vals = "; ".join(f"{STIFFNESS_DISPLAY[n][2]} = {fmt_number(float(np.nanmean(ctx.metrics[n].values)) * STIFFNESS_DISPLAY[n][0], 4)} "
                          f"{STIFFNESS_DISPLAY[n][1]}" for n in present)
         blocks.append(Para(f"The sweep has no axis with more than one value to plot against: {vals}."))
-        return blocks, []
-    p = figdir / "stiffness.png"
+        return blocks
+    p = ctx.figure_path("stiffness.png")
     notes = figure_stiffness(ctx, axes, p)
     blocks.append(Para("Stiffness at the steady operating point, a row per stiffness and a column per sweep axis: "
                        + "; ".join(notes) + ". Missing or failed cases are left out."))
     blocks.append(Image(f"figures/{p.name}", "stiffness at the steady operating point against the sweep axes"))
-    return blocks, [p]
+    return blocks

@@ -263,11 +263,15 @@ def summary_csv(s: Summary) -> str:
     return buf.getvalue()
 
 
-def section_summary(ctx: Context, outdir: Path):
+def section_summary(ctx: Context) -> list:
     """The blocks of the section 'Summary per operating point'; writes ``summary.csv`` in
-    ``outdir``. Returns ``(blocks, summary, csv path)``."""
-    s = summary_values(ctx)
-    csv_path = write_text_atomic(outdir / "summary.csv", summary_csv(s))
+    the report's folder (:attr:`Context.summary_path`), of :attr:`Context.summary`
+    (computed here when unset)."""
+    if ctx.summary is None:
+        ctx.summary = summary_values(ctx)
+    s = ctx.summary
+    ctx.report_dir.mkdir(parents=True, exist_ok=True)
+    csv_path = ctx.summary_path = write_text_atomic(ctx.report_dir / "summary.csv", summary_csv(s))
     points = _shown_points(s.speeds.size, s.loads.size)
     total = s.speeds.size * s.loads.size
     ens = ensemble_text(ctx)
@@ -301,7 +305,7 @@ def section_summary(ctx: Context, outdir: Path):
     blocks.append(Table(summary_header(), summary_rows(s, points)))
     blocks.append(Para(f"{ABSENT} in a row where a column has data elsewhere: no finished case at that point "
                        "(see Cases), or the value is undefined there (no loaded contact: no safety factor)."))
-    return blocks, s, csv_path
+    return blocks
 
 
 def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
@@ -330,23 +334,22 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
     save_figure(fig, path)
 
 
-def section_designer_figures(ctx: Context, s: Summary, figdir: Path):
+def section_designer_figures(ctx: Context) -> list:
     """The designer outputs of :data:`COLUMNS` with a figure, against speed and radial load,
-    where the sweep holds them. Returns the blocks and the figures written."""
+    where the sweep holds them (of :attr:`Context.summary`)."""
+    s = ctx.summary if ctx.summary is not None else summary_values(ctx)
     cols = [c for c in COLUMNS if c.figure and s.values[c.key] is not None
             and bool(np.isfinite(s.values[c.key]).any())]
     if not cols:
-        return [], []
+        return []
     ens = bool(ensemble_text(ctx))
     blocks = [Heading(2, "Designer outputs against speed and load"),
               Para("The quantities of the summary table that a design turns on, at every grid point: against "
                    "the steady speed with a line per radial load, and against the radial load with a line per "
                    "speed" + ("; ensemble means over the finished realizations" if ens else "") + ".")]
-    figures = []
     for col in cols:
-        p = figdir / f"designer_{col.key}.png"
+        p = ctx.figure_path(f"designer_{col.key}.png")
         figure_designer(s, col, p, ens)
-        figures.append(p)
         blocks.append(Heading(3, col.header))
         blocks.append(Image(f"figures/{p.name}", col.figure))
-    return blocks, figures
+    return blocks

@@ -21,7 +21,9 @@ from pipeline.cli import main
 from pipeline.analysis import default_reference_path, load_reference_fits
 from pipeline.errors import ConfigError
 from pipeline.report import build_report, ensemble_statistics, sensors
+from pipeline.io import CaseState
 from pipeline.run import run_sweep
+from pipeline.run.corners import store_corner_statics
 from pipeline.schema import load_sweep, stored_configuration, sweep_from_dict
 from rvcore.profile import PHASES, study_profile
 from tests.pipeline.synthetic import synthetic_result
@@ -31,19 +33,32 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 
-def _study_grid_configuration() -> str:
-    """The stored configuration of the study's sweep on the synthetic 3 x 3 grid, without its
-    ensemble and sensors (51 balls of 23 mm on a 351.5 mm pitch circle, ball density
-    7800 kg/m^3, the assumptions marked), as sweep.nc stores it."""
+def study_grid_sweep(speeds_deg=(120.0, 390.0, 660.0), loads=(20e3, 30e3, 40e3)):
+    """The study's sweep on a synthetic grid (default 3 x 3), without its ensemble and sensors (51
+    balls of 23 mm on a 351.5 mm pitch circle, ball density 7800 kg/m^3, the assumptions marked)."""
     study = REPO / "sweeps" / "study.toml"
     raw = {k: v for k, v in tomllib.loads(study.read_text()).items()
            if k not in ("realizations", "seed", "sensors")}
-    raw["axes"] = {"speed": ["120 deg/s", "390 deg/s", "660 deg/s"], "radial_load": ["20 kN", "30 kN", "40 kN"]}
-    return sweep_from_dict(raw, study).configuration
+    raw["axes"] = {"speed": [f"{s:g} deg/s" for s in speeds_deg], "radial_load": [f"{f / 1e3:g} kN" for f in loads]}
+    return sweep_from_dict(raw, study)
 
 
-#: A real stored configuration (see :func:`_study_grid_configuration`).
-STUDY_CONFIG = _study_grid_configuration()
+def store_statics(directory, speeds_deg=(120.0, 390.0, 660.0), loads=(20e3, 30e3, 40e3),
+                  missing=((390.0, 20e3),)):
+    """``statics.nc`` as the runner writes it when a sweep finishes (:mod:`pipeline.run.corners`),
+    for a synthetic sweep of the study's bearing: the study's sweep on the same grid, the
+    ``missing`` points not finished."""
+    sweep = study_grid_sweep(speeds_deg, loads)
+    states = {}
+    for i, spec in enumerate(sweep.cases):
+        s, f = math.degrees(spec.point["speed"]), spec.point["radial_load"]
+        failed = any(math.isclose(s, ms) and math.isclose(f, mf) for ms, mf in missing)
+        states[spec.case_id] = CaseState(spec.case_id, i, spec.point, state="failed" if failed else "ok")
+    return store_corner_statics(sweep, directory, states)
+
+
+#: A real stored configuration (of :func:`study_grid_sweep`), as sweep.nc stores it.
+STUDY_CONFIG = study_grid_sweep().configuration
 
 
 def _with_windows(speed, radial_load, axial_load=10e3, **kw):
@@ -57,12 +72,17 @@ def _with_windows(speed, radial_load, axial_load=10e3, **kw):
 
 def synthetic_sweep(directory, windows: bool = True, **kw):
     """``build_synthetic_sweep`` with a real stored configuration and, with ``windows``, the
-    phase windows in the data."""
+    phase windows in the data; with ``statics`` (default: with the study's configuration) the
+    statics at the extreme cases stored as a run stores them (:func:`store_statics`)."""
+    statics = kw.pop("statics", "config" not in kw)
     kw.setdefault("config", STUDY_CONFIG)
     with pytest.MonkeyPatch.context() as mp:
         if windows:
             mp.setattr(synthetic_sweeps, "synthetic_result", _with_windows)
-        return build_synthetic_sweep(directory, **kw)
+        d = build_synthetic_sweep(directory, **kw)
+    if statics:
+        store_statics(d, **{k: kw[k] for k in ("speeds_deg", "loads", "missing") if k in kw})
+    return d
 
 #: The report's sections in their order (issue 10): the designer's summary first, then the cases and the
 #: figures, the study comparison, the files and the configuration as an appendix.

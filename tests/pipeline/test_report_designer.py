@@ -218,14 +218,15 @@ def _metrics_grid(speeds, loads, seeds=None) -> xr.Dataset:
 
 def _context(metrics: xr.Dataset, tmp_path: Path) -> Context:
     return Context(directory=tmp_path, sweep=xr.Dataset(), metrics=metrics, fits=xr.Dataset(), status={},
-                   references=[], reference_path=tmp_path)
+                   references=[], reference_path=tmp_path, outdir=tmp_path)
 
 
 def test_study_grid_shows_corners_and_middle(tmp_path):
     """The study's 5 x 10 grid: the report shows the four corners and the middle point, the CSV all 50."""
     speeds = np.linspace(120.0, 660.0, 5)
     loads = np.linspace(20e3, 40e3, 10)
-    blocks, summary, path = section_summary(_context(_metrics_grid(speeds, loads), tmp_path), tmp_path)
+    ctx = _context(_metrics_grid(speeds, loads), tmp_path)
+    blocks, path = section_summary(ctx), ctx.summary_path
     table = next(b for b in blocks if hasattr(b, "rows"))
     shown = [(r[0], r[1]) for r in table.rows]
     expected = [(i, j) for i, j in ((0, 0), (0, 9), (2, 5), (4, 0), (4, 9))]
@@ -239,7 +240,7 @@ def test_ensemble_summary_is_the_mean_over_realizations(tmp_path):
     seeds = [0, 1, 2]
     m = _metrics_grid([120.0, 660.0], [20e3, 40e3], seeds)
     m["rating_life_L10r"][0, 0, 2] = np.nan          # a realization that did not finish: left out of its mean
-    blocks, _, _ = section_summary(_context(m, tmp_path), tmp_path)
+    blocks = section_summary(_context(m, tmp_path))
     table = next(b for b in blocks if hasattr(b, "rows"))
     k = table.header.index("L10r of the duty cycle [Mrev]")
     lives = [made_up("rating_life_L10r", s, f) for s in (120.0, 660.0) for f in (20e3, 40e3)]
@@ -281,7 +282,8 @@ def test_unloaded_life_is_infinite_and_undefined_safety_is_absent(tmp_path):
     m = _metrics_grid([120.0, 660.0], [20e3, 40e3])
     m["rating_life_L10r"][0, 0] = np.inf
     m["static_safety_factor_min"][0, 0, :] = np.nan
-    blocks, _, path = section_summary(_context(m, tmp_path), tmp_path)
+    ctx = _context(m, tmp_path)
+    blocks, path = section_summary(ctx), ctx.summary_path
     table = next(b for b in blocks if hasattr(b, "rows"))
     row = table.rows[0]
     assert row[table.header.index("L10r of the duty cycle [Mrev]")] == "∞"

@@ -1,12 +1,14 @@
-"""Stiffness at the operating point in ``metrics.nc`` and the report; the load distribution
-at the extreme operating points, for one row and for a pair of rows; a bearing of two
-rows through the whole report (per-row cage slip).
+"""Stiffness at the operating point in ``metrics.nc`` and the report; the statics at the
+extreme operating points stored in ``statics.nc`` when a sweep runs, and the load
+distribution the report draws from them, for one row and for a pair of rows, and the
+report of a folder without them; a bearing of two rows through the whole report (per-row
+cage slip).
 
 The stiffness values of the synthetic sweep are made up here (a known function of the
 load): the tests check that they are carried and plotted, not their physics, which
 ``tests/core/test_pair_statics.py`` tests. The physics checked here is computed in the
-test: the centrifugal load of a ball from the geometry, and the equilibrium of the rows'
-forces with the applied loads.
+test: the centrifugal load of a ball from the geometry, and the equilibrium of the stored
+contact forces and rows' forces with the applied loads.
 """
 from __future__ import annotations
 
@@ -18,11 +20,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from pipeline.analysis import STIFFNESS, load_sweep, phase_metrics, write_metrics
+from pipeline.analysis import STIFFNESS, load_sweep, phase_metrics
 from pipeline.io import encoding_for
 from pipeline.report import build_report
 from pipeline.run import run_sweep
-from tests.pipeline.test_report import section_of, table_rows, synthetic_sweep
+from tests.pipeline.test_report import section_of, synthetic_sweep, table_rows
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -90,7 +92,7 @@ def test_older_sweep_without_stiffness_is_reported_without(tmp_path):
     md = build_report(d).markdown.read_text()
     text = section_of(md, "## Stiffness at the operating point")
     assert "holds no stiffness" in text
-    assert "## Load distribution" in md   # rebuilt from the stored configuration regardless
+    assert "## Load distribution" in md   # from the stored statics, whatever the version of the cases
 
 
 def test_stiffness_section_and_figure(stiff):
@@ -125,11 +127,12 @@ def test_load_distribution_single_row(stiff):
     assert len(rows) == 2
     assert all(r[1].startswith("row 0") for r in rows)
     for r, load in zip(rows, (20.0, 40.0)):
-        assert f"{load:g} kN radial" in r[0]
+        # the slowest finished case at each end of the load axis
+        assert r[0].startswith(f"120 °/s, {load:g} kN radial")
         # the row carries the applied loads (the ring's weight, some 0.2 kN, aside)
         assert float(r[2]) == pytest.approx(load, rel=0.02)
         assert float(r[3]) == pytest.approx(10.0, rel=0.02)
-    assert "rebuilt from the sweep's configuration" in text
+    assert "stored in `statics.nc`" in text
 
 
 # --------------------------------------------------------------------------- a pair of rows
@@ -194,7 +197,7 @@ def test_two_rows_report_renders_with_per_row_cage_slip(pair):
 def test_two_rows_load_distribution_balances_the_applied_loads(pair):
     out, files, md = pair
     text = section_of(md, "## Load distribution")
-    assert "rebuilt from its case file" in text
+    assert "stored in `statics.nc`" in text
     rows = _rows_table(md)[1:]
     cases = {}
     for r in rows:
@@ -209,3 +212,61 @@ def test_two_rows_load_distribution_balances_the_applied_loads(pair):
         # along -y, normal to the load, and adds in quadrature, ~0.1 %)
         assert float(rs[0][3]) - float(rs[1][3]) == pytest.approx(2.0, abs=0.01)
         assert float(rs[0][2]) + float(rs[1][2]) == pytest.approx(fr, rel=0.01)
+
+
+def test_statics_nc_holds_the_corners_with_units(pair):
+    """The runner stores the statics at the corners of the load axis in ``statics.nc``, each
+    variable with its units and long name, and the stored contacts balance the applied loads."""
+    out, files, md = pair
+    with xr.open_dataset(out / "statics.nc", engine="netcdf4") as ds:
+        ds = ds.load()
+    for name, var in {**ds.data_vars, "corner": ds["corner"]}.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    assert ds.attrs["Conventions"] == "CF-1.8"
+    # the corners of the one varying load (10 and 20 kN radial), each the slowest of its load
+    assert sorted(ds["radial_load"].values) == pytest.approx([10e3, 20e3])
+    assert np.degrees(ds["speed"].values) == pytest.approx([120.0, 120.0])
+    assert all((out / "cases" / f"{cid}.nc").is_file() for cid in ds["case_id"].values)
+    assert (ds["solved"].values == 1).all()
+    for c in range(ds.sizes["corner"]):
+        corner = ds.isel(corner=c)
+        inner = corner["arc_ring"].values == 0
+        q = corner["ball_load"].values[:, inner]
+        alpha = np.nan_to_num(corner["contact_angle"].values[:, inner])   # NaN where unloaded (q = 0)
+        phi = corner["ball_azimuth"].values - float(corner["load_angle"])
+        # the inner ring in equilibrium: its contacts' normal forces Q (cos α cos φ, sin α), summed,
+        # carry the applied radial and axial loads (the ring's weight, 47 N here, acts normal to
+        # the radial load and adds in quadrature)
+        radial = float((q * np.cos(alpha) * np.cos(phi)[:, None]).sum())
+        axial = float((q * np.sin(alpha)).sum())
+        assert radial == pytest.approx(float(corner["radial_load"]), rel=1e-3)
+        assert axial == pytest.approx(float(corner["axial_load"]), rel=1e-3)
+        # and each row's stored force is its balls' share: the rows' axial loads differ by the applied load
+        rows = corner["row_axial_load"].values
+        assert rows[0] - rows[1] == pytest.approx(float(corner["axial_load"]), rel=1e-3)
+
+
+def test_report_of_a_folder_without_stored_statics(tmp_path):
+    """A results folder written before the statics were stored gives a report: the load
+    distribution says they are not stored and how to get them, and nothing is solved."""
+    d = synthetic_sweep(tmp_path, statics=False)
+    add_stiffness(d)
+    assert not (d / "statics.nc").exists()
+    files = build_report(d)
+    md = files.markdown.read_text()
+    text = section_of(md, "## Load distribution")
+    assert "not stored" in text and "`statics.nc`" in text and "rvsweep sweep" in text
+    assert not any(p.name == "load_distribution.png" for p in files.figures)
+    stiffness = section_of(md, "## Stiffness at the operating point")
+    assert "at most" in stiffness and "contact loads of up to" not in stiffness
+    assert "`statics.nc`:" not in section_of(md, "## Files")
+
+
+def test_statics_nc_is_cf(stiff):
+    from compliance_checker.runner import CheckSuite
+
+    from tests.pipeline.test_cf import cf_problems
+
+    suite = CheckSuite()
+    suite.load_all_available_checkers()
+    assert cf_problems(suite, stiff[0] / "statics.nc") == []
