@@ -270,3 +270,32 @@ def test_statics_nc_is_cf(stiff):
     suite = CheckSuite()
     suite.load_all_available_checkers()
     assert cf_problems(suite, stiff[0] / "statics.nc") == []
+
+
+def test_statics_nc_pads_corners_of_other_sizes_and_the_report_trims_them(tmp_path):
+    """Corners whose bearings differ in balls or rows (a sweep axis may change them) share one
+    file, padded; a corner without equilibrium keeps its operating point and its reason; the
+    report reads each back at its own size."""
+    from pipeline.io.statics import CornerStatics, statics_dataset, write_statics
+    from pipeline.report.loads import read_statics
+
+    def corner(cid, n_balls, n_rows):
+        return CornerStatics(cid, {
+            "speed": 1.0, "radial_load": 1e4, "axial_load": 0.0, "moment": 0.0, "load_angle": 0.0, "preload": 0.0,
+            "solved": 1, "max_contact_load": 2e3, "ball_azimuth": np.linspace(0.0, 6.0, n_balls),
+            "ball_row": np.arange(n_balls) % n_rows, "ball_load": np.ones((n_balls, 2)),
+            "contact_angle": np.zeros((n_balls, 2)), "arc_ring": np.array([0, 1]),
+            "row_radial_load": np.full(n_rows, 1e4 / n_rows), "row_axial_load": np.zeros(n_rows),
+            "row_axial_position": np.zeros(n_rows), "row_contact_angle": np.zeros(n_rows)})
+
+    failed = CornerStatics("c", {"speed": 2.0, "radial_load": 2e4, "axial_load": 0.0, "moment": 0.0,
+                                 "load_angle": 0.0, "preload": 0.0, "solved": 0}, "NoEquilibriumError: diverged")
+    write_statics(statics_dataset([corner("a", 12, 1), corner("b", 16, 2), failed], gravity=True, tilt="free"),
+                  tmp_path)
+    with xr.open_dataset(tmp_path / "statics.nc") as ds:
+        assert ds.sizes["ball"] == 16 and ds.sizes["row"] == 2
+        assert (ds["ball_row"].values[0, 12:] == -1).all() and np.isnan(ds["ball_load"].values[0, 12:]).all()
+    a, b, c = read_statics(tmp_path).corners
+    assert a.azimuth.size == 12 and a.row_axial_position.size == 1 and a.ball_load.shape == (12, 2)
+    assert b.azimuth.size == 16 and b.row_axial_position.size == 2
+    assert not c.solved and c.error == "NoEquilibriumError: diverged" and c.radial_load == 2e4
