@@ -13,15 +13,18 @@ figures (the designer outputs, time histories, the study's metrics, cage slip,
 stiffness, load distribution); the study comparison; the files; and the configuration
 as an appendix in engineering units (:mod:`.parameters`).
 
-The report is a list of simple blocks (:mod:`.render`) built by the sections
-(:mod:`.summary`, :mod:`.parameters`, :mod:`.sections`, :mod:`.sections_fits`,
-:mod:`.stiffness`, :mod:`.loads`) and figures
-(:mod:`.figures`) from a :class:`.context.Context`. It holds no timestamps and the PNGs
+The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists the
+sections in their order, each a function ``section(ctx) -> list of blocks`` of a
+:class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
+:mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
+:mod:`.imperfect`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
+(:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
-Every number in the prose is computed from the data, the sweep's stored configuration
+Every number in the prose is read or computed from the data (``sweep.nc``, ``metrics.nc``,
+``fits.nc``, ``statics.nc``), the sweep's stored configuration
 (:func:`pipeline.schema.stored_configuration`) or the reference-fit file; nothing is typed
-in, and nothing is guessed: the phase windows come only from the data's
+in, no physics is solved again, and nothing is guessed: the phase windows come only from the data's
 ``phase_start``/``phase_end``.
 
 Each figure and table says which displacement it shows: δ_r / δ_a at the ring centre, or
@@ -36,66 +39,26 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from rvcore.profile import PHASES
-
-from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics, load_reference_fits, open_results, phase_metrics,
-                        write_fits, write_metrics)
+from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics,
+                        load_reference_fits, open_results, phase_metrics, write_fits, write_metrics)
 from ..io import read_status, write_text_atomic
-from .context import (SENSOR, Context, _ensemble_text, _first_realization_text, phase_windows,
-                      read_configuration, realizations, sensors)
-from .figures import figure_metric, figure_sensor_metric, figure_sensor_time_histories, figure_time_histories
-from .parameters import section_parameters
-from .render import (_CENTRE, _METRIC_TITLE, _PHASE_TITLE, Bullets, Heading, Image, Para, Warning_, _dps, _g,
-                     _kn, render_html, render_markdown)
-from .sections import _window_coverage, section_cage_slip, section_cases, section_sensors, section_window_edges
-from .sections_fits import _comparison, section_comparison, section_physics, section_plane
-from .select import _axis_specs, _base_states, _extreme_cases
-from .loads import section_load_distribution, solve_extremes
-from .stiffness import section_stiffness
+from ..io.statics import STATICS_FILE
+from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
 from .definitions import section_definitions
 from .imperfect import extra_axes_note, section_classes, section_spectrum
-from .summary import section_designer_figures, section_summary
-
+from .loads import section_load_distribution, stored_statics
+from .parameters import section_parameters
+from .physics import section_physics
+from .render import Bullets, Heading, Para, Warning_, render_html, render_markdown
+from .sections import section_cage_slip, section_cases, section_sensors, section_window_edges
+from .sections_fits import section_comparison, section_plane, study_comparison
+from .sections_metrics import section_metrics, section_time_histories
+from .select import base_states
+from .stiffness import section_stiffness
+from .summary import section_designer_figures, section_summary, summary_values
 
 #: Sensor metrics fitted for the sensor figures.
 _SENSOR_FITTED = tuple(f"{SENSOR}_displacement_{k}" for k in ("range", "mean", "std"))
-
-
-def _fit_text(ctx: Context) -> str:
-    """What our fitted lines are: OLS of the cases or WLS of the ensemble means."""
-    seeds = realizations(ctx.metrics)
-    if seeds is not None and seeds.size >= 2:
-        return ("the weighted least-squares line of the means (weights 1/standard error²; ordinary least "
-                "squares where any point lacks a standard error) and its 95 % confidence band")
-    return "OLS line and its 95 % confidence band"
-
-
-def _has_data(ctx: Context, name: str, phase: str) -> bool:
-    """Whether metric ``name`` has any finite value in ``phase``."""
-    return name in ctx.metrics and bool(ctx.metrics[name].sel(phase=PHASES.index(phase)).notnull().any())
-
-
-def _metric_caption(ctx: Context, what: str, notes, hollow: int, is_range: bool, has_data: bool = True) -> str:
-    """The caption of a metric figure: what is plotted, the fit, the axes, the hollow markers."""
-    if not has_data:
-        return (f"{what}, " + "; ".join(notes) + ": no finished case holds data in this phase's window, "
-                "so there is nothing to plot.")
-    ens = _ensemble_text(ctx)
-    if ens:
-        text = (f"{what}. Ensemble mean of {ens} per case with ±1 standard-error bars, the individual "
-                f"realizations as faint small points just left of their mean; {_fit_text(ctx)}, ")
-    else:
-        text = f"{what}. Cases (points), {_fit_text(ctx)}, "
-    text += "; ".join(notes) + "."
-    if is_range:
-        if hollow:
-            text += (f" Hollow markers ({hollow} {'realization' if ens else 'case'}{'s' if hollow != 1 else ''}"
-                     f"{(' and the mean it belongs to' if hollow == 1 else ' and the means they belong to') if ens else ''}"
-                     "): the range has an extreme at the "
-                     "window's edge, so it is cut off by the window and is a lower bound.")
-        else:
-            text += " No range drawn here has an extreme at the window's edge."
-    return text
 
 
 @dataclass
@@ -109,17 +72,6 @@ class ReportFiles:
     fits: Path
     missing: int
     summary: Path | None = None
-
-
-
-
-def _windows_text(windows, source: str) -> str:
-    """'Phase windows from …: start-up a–b s, …' or a sentence saying the data hold none."""
-    if not windows:
-        return ("The data hold no phase windows (`phase_start`/`phase_end`), so none are shaded "
-                "and the steady-phase estimates below that need them are left out.")
-    return (f"Phase windows from {source}: "
-            + ", ".join(f"{_PHASE_TITLE.get(k, k)} {_g(a, 4)}–{_g(b, 4)} s" for k, (a, b) in windows.items()) + ".")
 
 
 def header_line(ctx) -> str:
@@ -150,6 +102,79 @@ def header_line(ctx) -> str:
     return "**Run:** " + "; ".join(parts) + "."
 
 
+def section_title(ctx: Context) -> list:
+    """The title, the run line and, for a bearing not buildable as specified, its caveats."""
+    blocks = [Heading(1, f"Sweep report: {ctx.directory.name}"), Para(header_line(ctx))]
+    caveats = [c.strip() for c in str(ctx.sweep.attrs.get("caveats", "")).split(" | ") if c.strip()]
+    if caveats:
+        blocks.append(Warning_("**Geometry caveat.** This bearing is not buildable as specified; "
+                               "its results are reported with that caveat:\n" + "\n".join(caveats)))
+    return blocks
+
+
+def section_files(ctx: Context) -> list:
+    """What each file the sweep and the report wrote holds."""
+    ens = ensemble_text(ctx)
+    sens = sensors(ctx.metrics)
+    designer = [n for n in (*DESIGNER_METRICS, *DESIGNER_SCALARS) if n in ctx.metrics]
+    dims = "speed, radial_load" + (", realization" if ens else "") + ", phase" + (", sensor" if sens else "")
+    return [Heading(2, "Files"), Bullets([
+        "`metrics.nc`: range, mean and std of δ_r and δ_a at the ring centre"
+        + (" and of each sensor's reading" if sens else "")
+        + ", the times of their extremes and the window-edge flags (`*_range_at_edge`), the cage slip at the "
+        "actual (`cage_slip`) and nominal (`cage_slip_nominal`) contact angles, the epicyclic cage speed, the peak "
+        f"contact pressure and the phase windows (`phase_start`, `phase_end`) over ({dims})"
+        + ("; the ensemble means and standard errors (`*_ensemble_mean`, `*_ensemble_stderr`) and the fraction of "
+           "realizations flagged at the window's edge (`*_range_at_edge_fraction`)" if ens else ""),
+        *(["`metrics.nc` also: the designer outputs per phase and case ("
+            + ", ".join(f"`{n}`" for n in designer) + ")"] if designer else []),
+        *(["`metrics.nc` also: the radial, axial and tilting stiffness at the steady operating point "
+            "(`radial_stiffness`, `axial_stiffness`, `tilting_stiffness`) over the sweep axes"]
+          if any(n in ctx.metrics for n in STIFFNESS) else []),
+        "`fits.nc`: line fits along each axis and the interaction plane, per metric and phase"
+        + (" (of the ensemble means, weighted by their standard errors)" if ens else "")
+        + (", at the ring centre" if sens else ""),
+        *([f"`{STATICS_FILE}`: the quasi-static load distribution at the extreme operating points (every "
+           "ball's load and contact angle per raceway arc, each row's load), solved when the sweep ran"]
+          if stored_statics(ctx).corners else []),
+        f"`report/{ctx.summary_path.name}`: the summary table at every grid point"])]
+
+
+#: The report's sections in their order: each ``section(ctx) -> list of blocks``. The
+#: designer's summary comes first, then the cases and the figures, the study comparison,
+#: the files and the configuration as an appendix.
+SECTIONS = (
+    section_title, extra_axes_note, section_summary, section_definitions, section_cases,
+    section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
+    section_stiffness, section_load_distribution, section_window_edges, section_comparison, section_classes,
+    section_spectrum, section_plane, section_physics, section_files, section_parameters,
+)
+
+
+def load_context(directory: Path, reference=None) -> Context:
+    """The results folder read for the report: the sweep, its metrics and fits (written as
+    ``metrics.nc`` and ``fits.nc``), the status, the references, the stored configuration
+    and statics, and what the sections share (phase windows, the study comparison, the
+    summary values)."""
+    sweep = open_results(directory)
+    metrics = phase_metrics(sweep)
+    fits = fit_metrics(metrics)
+    write_metrics(metrics, directory / "metrics.nc")
+    write_fits(fits, directory / "fits.nc")
+    configuration, err = read_configuration(sweep)
+    ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
+                  status=read_status(directory), references=load_reference_fits(reference),
+                  reference_path=Path(reference) if reference else default_reference_path(),
+                  configuration=configuration, config_error=err)
+    if sensors(metrics):
+        ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
+    ctx.windows, ctx.windows_source = phase_windows(ctx)
+    ctx.comparison = study_comparison(ctx)
+    ctx.summary = summary_values(ctx)
+    stored_statics(ctx)
+    return ctx
+
+
 def build_report(directory, reference=None) -> ReportFiles:
     """Metrics, fits and the report of a finished or partial sweep.
 
@@ -170,142 +195,12 @@ def build_report(directory, reference=None) -> ReportFiles:
         When the folder holds no sweep, or the reference file is invalid.
     """
     directory = Path(directory)
-    sweep = open_results(directory)
-    refs = load_reference_fits(reference)
-    metrics = phase_metrics(sweep)
-    fits = fit_metrics(metrics)
-    write_metrics(metrics, directory / "metrics.nc")
-    write_fits(fits, directory / "fits.nc")
-    configuration, err = read_configuration(sweep)
-    ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
-                  status=read_status(directory), references=refs,
-                  reference_path=Path(reference) if reference else default_reference_path(),
-                  configuration=configuration, config_error=err)
-    outdir = directory / "report"
-    figdir = outdir / "figures"
-    figdir.mkdir(parents=True, exist_ok=True)
-    windows, windows_src = phase_windows(ctx)
-
-    blocks = [Heading(1, f"Sweep report: {directory.name}"), Para(header_line(ctx))]
-    caveats = [c.strip() for c in str(sweep.attrs.get("caveats", "")).split(" | ") if c.strip()]
-    if caveats:
-        blocks.append(Warning_("**Geometry caveat.** This bearing is not buildable as specified; "
-                               "its results are reported with that caveat:\n" + "\n".join(caveats)))
-    summary_blocks, summary, summary_path = section_summary(ctx, outdir)
-    blocks += extra_axes_note(ctx)
-    blocks += summary_blocks
-    blocks += section_definitions(ctx)
-    blocks += section_cases(ctx)
-    figures = []
-    designer_blocks, designer_figures = section_designer_figures(ctx, summary, figdir)
-    blocks += designer_blocks
-    figures += designer_figures
-    blocks += section_sensors(ctx)
-    sens = sensors(ctx.metrics)
-    ens = _ensemble_text(ctx)
-    if sens:
-        ctx.sensor_fits = fit_metrics(ctx.metrics, names=[n for n in _SENSOR_FITTED if n in ctx.metrics])
-
-    blocks.append(Heading(2, "Time histories"))
-    cases = _extreme_cases(ctx, realization=0 if realizations(ctx.sweep) is not None else None)
-    if cases:
-        first = _first_realization_text(ctx)
-        which = "; ".join(f"{_dps(s)}, {_kn(l)}" for s, l in cases)
-        p = figdir / "time_histories.png"
-        figure_time_histories(ctx, windows, p, cases)
-        figures.append(p)
-        blocks.append(Para(f"δ_r and δ_a at the ring centre of the extreme cases ({which})"
-                           + (f", {first} (the other realizations are in `sweep.nc`)" if first else "")
-                           + ". " + _windows_text(windows, windows_src) + _window_coverage(ctx, windows)))
-        blocks.append(Image(f"figures/{p.name}", "time histories of the extreme cases"))
-        if sens and "sensor_displacement" in ctx.sweep:
-            p = figdir / "sensor_time_histories.png"
-            figure_sensor_time_histories(ctx, windows, p, cases)
-            figures.append(p)
-            blocks.append(Para("Readings of the virtual sensors for the same cases"
-                               + (f", {first}" if first else "") + ", one panel per sensor: "
-                               + "; ".join(sn.label() for sn in sens) + ". Phase windows shaded as above."))
-            blocks.append(Image(f"figures/{p.name}", "sensor readings of the extreme cases"))
-    else:
-        blocks.append(Para("No case finished; there are no time histories to show."))
-
-    blocks.append(Heading(2, "Metrics against speed and load"))
-    if ens:
-        blocks.append(Para(f"With {ens}, every metric is shown as the ensemble mean over the realizations "
-                           "with ±1 standard-error bars, and each realization as a faint small point."))
-    groups = {}
-    for ref in refs:
-        groups.setdefault((ref.phase, ref.displacement, ref.metric), [])
-        if ref.axis not in [g.axis for g in groups[(ref.phase, ref.displacement, ref.metric)]]:
-            groups[(ref.phase, ref.displacement, ref.metric)].append(ref)
-    for (phase, disp, metric), grefs in groups.items():
-        p = figdir / f"metric_{phase}_{disp}_{metric}.png"
-        notes, hollow = figure_metric(ctx, grefs, p)
-        figures.append(p)
-        blocks.append(Heading(3, f"{_PHASE_TITLE[phase]} {disp} displacement {_METRIC_TITLE[metric]}, "
-                                 f"at the ring centre"))
-        blocks.append(Para(_metric_caption(ctx, f"{_CENTRE[disp]}", notes, hollow, metric == "range",
-                                           _has_data(ctx, grefs[0].variable, phase))))
-        blocks.append(Image(f"figures/{p.name}", f"{phase} {disp} {metric}"))
-    if sens:
-        pairs = []
-        for ref in refs:
-            if (ref.phase, ref.metric) not in pairs:
-                pairs.append((ref.phase, ref.metric))
-        for phase, metric in pairs:
-            if f"{SENSOR}_displacement_{metric}" not in ctx.metrics:
-                continue
-            p = figdir / f"sensor_{phase}_{metric}.png"
-            notes, hollow = figure_sensor_metric(ctx, phase, metric, _axis_specs(ctx, phase), p)
-            figures.append(p)
-            blocks.append(Heading(3, f"{_PHASE_TITLE[phase]} sensor reading {_METRIC_TITLE[metric]}"))
-            blocks.append(Para(_metric_caption(
-                ctx, "The virtual sensors' readings, a row per sensor (" + "; ".join(sn.label() for sn in sens)
-                + ")", notes, hollow, metric == "range", _has_data(ctx, f"{SENSOR}_displacement_{metric}", phase))
-                + (" The sensors' lines are fitted for this report and not stored in `fits.nc`."
-                   if _has_data(ctx, f"{SENSOR}_displacement_{metric}", phase) else "")))
-            blocks.append(Image(f"figures/{p.name}", f"{phase} sensor {metric}"))
-
-    slip_blocks, slip_figures = section_cage_slip(ctx, figdir, _extreme_cases(ctx))
-    blocks += slip_blocks
-    figures += slip_figures
-    solved, why = solve_extremes(ctx)
-    for section in (section_stiffness(ctx, figdir, solved), section_load_distribution(ctx, figdir, solved, why)):
-        blocks += section[0]
-        figures += section[1]
-    blocks += section_window_edges(ctx, windows)
-    comparison = _comparison(ctx)
-    blocks += section_comparison(ctx, comparison)
-    blocks += section_classes(ctx)
-    spectrum_blocks, spectrum_figures = section_spectrum(ctx, figdir)
-    blocks += spectrum_blocks
-    figures += spectrum_figures
-    blocks += section_plane(ctx)
-    blocks += section_physics(ctx, comparison, windows)
-    blocks.append(Heading(2, "Files"))
-    designer = [n for n in (*DESIGNER_METRICS, *DESIGNER_SCALARS) if n in ctx.metrics]
-    dims = "speed, radial_load" + (", realization" if ens else "") + ", phase" + (", sensor" if sens else "")
-    blocks.append(Bullets([
-        "`metrics.nc`: range, mean and std of δ_r and δ_a at the ring centre"
-        + (" and of each sensor's reading" if sens else "")
-        + ", the times of their extremes and the window-edge flags (`*_range_at_edge`), the cage slip at the "
-        "actual (`cage_slip`) and nominal (`cage_slip_nominal`) contact angles, the epicyclic cage speed, the peak "
-        f"contact pressure and the phase windows (`phase_start`, `phase_end`) over ({dims})"
-        + ("; the ensemble means and standard errors (`*_ensemble_mean`, `*_ensemble_stderr`) and the fraction of "
-           "realizations flagged at the window's edge (`*_range_at_edge_fraction`)" if ens else ""),
-        *(["`metrics.nc` also: the designer outputs per phase and case ("
-            + ", ".join(f"`{n}`" for n in designer) + ")"] if designer else []),
-        *(["`metrics.nc` also: the radial, axial and tilting stiffness at the steady operating point "
-            "(`radial_stiffness`, `axial_stiffness`, `tilting_stiffness`) over the sweep axes"]
-          if any(n in ctx.metrics for n in STIFFNESS) else []),
-        "`fits.nc`: line fits along each axis and the interaction plane, per metric and phase"
-        + (" (of the ensemble means, weighted by their standard errors)" if ens else "")
-        + (", at the ring centre" if sens else ""),
-        f"`report/{summary_path.name}`: the summary table at every grid point"]))
-    blocks += section_parameters(ctx)
-
-    md = write_text_atomic(outdir / "report.md", render_markdown(blocks))
-    ht = write_text_atomic(outdir / "report.html", render_html(blocks, f"Sweep report: {directory.name}"))
-    missing = int((_base_states(ctx) != "ok").sum())
-    return ReportFiles(markdown=md, html=ht, figures=figures, metrics=directory / "metrics.nc",
-                       fits=directory / "fits.nc", missing=missing, summary=summary_path)
+    ctx = load_context(directory, reference)
+    (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
+    blocks = [block for section in SECTIONS for block in section(ctx)]
+    title = f"Sweep report: {directory.name}"
+    md = write_text_atomic(ctx.report_dir / "report.md", render_markdown(blocks))
+    ht = write_text_atomic(ctx.report_dir / "report.html", render_html(blocks, title))
+    missing = int((base_states(ctx) != "ok").sum())
+    return ReportFiles(markdown=md, html=ht, figures=ctx.figures, metrics=directory / "metrics.nc",
+                       fits=directory / "fits.nc", missing=missing, summary=ctx.summary_path)

@@ -17,7 +17,7 @@ from rvcore.profile import PHASES
 from ..analysis import DISPLACEMENT_COORD, REALIZATION
 from ..errors import ConfigError
 from ..schema import StoredConfiguration, stored_configuration
-from .render import _g
+from .render import fmt_number
 
 #: The virtual-sensor dimension of sweep.nc and metrics.nc.
 SENSOR = "sensor"
@@ -46,6 +46,31 @@ class Context:
     config_error: str = ""
     #: Line fits of the sensor metrics (made for the figures; not written to fits.nc).
     sensor_fits: xr.Dataset = field(default_factory=xr.Dataset)
+    #: The report's folder (default ``<directory>/report``).
+    outdir: Path | None = None
+    #: The figures the sections have written, in order.
+    figures: list = field(default_factory=list)
+    #: The phase windows ``{name: (start, end)}`` [s] and where they come from (:func:`phase_windows`).
+    windows: dict = field(default_factory=dict)
+    windows_source: str = ""
+    #: The study comparison, one dict per reference fit (:func:`.sections_fits.study_comparison`).
+    comparison: list = field(default_factory=list)
+    #: The stored statics at the extreme operating points (:func:`.loads.read_statics`).
+    statics: object = None
+    #: The summary values (:func:`.summary.summary_values`) and the CSV written of them.
+    summary: object = None
+    summary_path: Path | None = None
+
+    @property
+    def report_dir(self) -> Path:
+        """Where ``report.md``, ``report.html`` and ``summary.csv`` go."""
+        return self.outdir if self.outdir is not None else self.directory / "report"
+
+    def figure_path(self, name: str) -> Path:
+        """The path of figure ``name`` in ``figures/``, recorded in :attr:`figures`."""
+        path = self.report_dir / "figures" / name
+        self.figures.append(path)
+        return path
 
 
 def read_configuration(sweep: xr.Dataset):
@@ -83,7 +108,7 @@ def phase_windows(ctx: Context):
     return {}, ""
 
 
-def _extra_dims(ds) -> list:
+def extra_dims(ds) -> list:
     """Extra sweep dimensions of ``ds``: all but the grid axes, phase, time, the packed
     displacement metrics, the ensemble (``realization``), the sensors, the rows of a
     bearing of several rows (``row``) and the spectra's ``frequency`` and ``kinematic``."""
@@ -91,7 +116,7 @@ def _extra_dims(ds) -> list:
                                             REALIZATION, SENSOR, ROW, "frequency", "kinematic")]
 
 
-def _base(ds, first_realization: bool = True):
+def on_base_grid(ds, first_realization: bool = True):
     """``ds`` at the first value of every extra sweep dimension.
 
     Parameters
@@ -101,7 +126,7 @@ def _base(ds, first_realization: bool = True):
         Also take the first realization (for time series); False keeps the ``realization``
         dimension (for ensemble statistics). The ``sensor`` dimension is always kept.
     """
-    sel = {d: 0 for d in _extra_dims(ds)}
+    sel = {d: 0 for d in extra_dims(ds)}
     if first_realization and REALIZATION in ds.dims:
         sel[REALIZATION] = 0
     return ds.isel(sel) if sel else ds
@@ -119,21 +144,21 @@ def realizations(ds):
     return np.arange(ds.sizes[REALIZATION], dtype=np.float64)
 
 
-def _ensemble_text(ctx: Context) -> str:
+def ensemble_text(ctx: Context) -> str:
     """'N = 2 realizations (seeds 0, 1)'; '' without an ensemble."""
     seeds = realizations(ctx.metrics)
     if seeds is None:
         return ""
-    shown = ", ".join(_g(v, 6) for v in seeds[:8]) + (", …" if seeds.size > 8 else "")
+    shown = ", ".join(fmt_number(v, 6) for v in seeds[:8]) + (", …" if seeds.size > 8 else "")
     return f"N = {seeds.size} realization{'s' if seeds.size != 1 else ''} (seed{'s' if seeds.size != 1 else ''} {shown})"
 
 
-def _first_realization_text(ctx: Context) -> str:
+def first_realization_text(ctx: Context) -> str:
     """'the first realization (seed 0) of N = 2'; '' without an ensemble."""
     seeds = realizations(ctx.sweep)
     if seeds is None:
         return ""
-    return f"the first realization (seed {_g(seeds[0], 6)}) of N = {seeds.size}"
+    return f"the first realization (seed {fmt_number(seeds[0], 6)}) of N = {seeds.size}"
 
 
 def ensemble_statistics(da: xr.DataArray):
@@ -157,7 +182,7 @@ def ensemble_statistics(da: xr.DataArray):
     return mean, np.sqrt(var / n.where(n >= 2))
 
 
-def _ensemble_of(m: xr.Dataset, name: str, sel: dict):
+def ensemble_of(m: xr.Dataset, name: str, sel: dict):
     """Ensemble mean and standard error of metric ``name`` at ``sel``.
 
     ``metrics.nc``'s ``<name>_ensemble_mean``/``_ensemble_stderr`` where it has them,
@@ -169,7 +194,7 @@ def _ensemble_of(m: xr.Dataset, name: str, sel: dict):
     return ensemble_statistics(m[name].sel(sel))
 
 
-def _edge_flag(m: xr.Dataset, name: str, sel: dict):
+def edge_flag(m: xr.Dataset, name: str, sel: dict):
     """``<x>_range_at_edge`` at ``sel`` for a range metric ``<x>_range``, else None."""
     if not name.endswith("_range"):
         return None
@@ -200,8 +225,8 @@ class SensorInfo:
 
     def where(self) -> str:
         """'at (x, y, z) mm along (dx, dy, dz)'."""
-        pos = ", ".join(_g(v * 1e3 + 0.0, 5) for v in self.position)
-        d = ", ".join(_g(v + 0.0, 3) for v in self.direction)
+        pos = ", ".join(fmt_number(v * 1e3 + 0.0, 5) for v in self.position)
+        d = ", ".join(fmt_number(v + 0.0, 3) for v in self.direction)
         return f"at ({pos}) mm along ({d})"
 
     def label(self, code: bool = True) -> str:

@@ -13,7 +13,7 @@ import numpy as np
 from rvcore.contact import LOADED_BALL_LOAD
 
 from .context import Context
-from .render import Bullets, Heading, Para, Table, Warning_, _g
+from .render import Bullets, Heading, Para, Table, Warning_, fmt_number
 
 #: Steady-phase index of the study's phases (start-up, steady, deceleration).
 _STEADY = 1
@@ -35,7 +35,7 @@ def _text(span, unit: str = "") -> str:
     if span is None:
         return "not in this sweep"
     lo, hi = span
-    body = _g(lo, 3) if math.isclose(lo, hi, rel_tol=1e-3) else f"{_g(lo, 3)} to {_g(hi, 3)}"
+    body = fmt_number(lo, 3) if math.isclose(lo, hi, rel_tol=1e-3) else f"{fmt_number(lo, 3)} to {fmt_number(hi, 3)}"
     return f"{body} {unit}".strip()
 
 
@@ -120,7 +120,7 @@ def section_definitions(ctx: Context) -> list:
         "the two are different quantities: read the drive torque as this model's contact friction, not as the "
         "bearing's friction moment"]))
     blocks.append(Para(
-        f"**Loaded balls** (`loaded_ball_count`): balls carrying more than {_g(LOADED_BALL_LOAD, 3)} N on both "
+        f"**Loaded balls** (`loaded_ball_count`): balls carrying more than {fmt_number(LOADED_BALL_LOAD, 3)} N on both "
         "the inner and the outer race, i.e. passing load from ring to ring; a ball resting on one race under "
         "its weight or centrifugal force does not count."))
     return blocks

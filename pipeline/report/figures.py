@@ -13,15 +13,18 @@ from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, line_band
 from ..io import write_bytes_atomic
-from .context import (ROW, SENSOR, Context, _base, _edge_flag, _ensemble_of, _first_realization_text, realizations,
+from .context import (ROW, SENSOR, Context, on_base_grid, edge_flag, ensemble_of, first_realization_text, realizations,
                       rows_of, sensors)
-from .render import _AXIS_TITLE, _CENTRE, _METRIC_TITLE, _PHASE_TITLE, _dps, _g, _kn
-from .select import _fit_at, _fixed_choice
+from .render import AXIS_TITLE, CENTRE_LABEL, METRIC_TITLE, PHASE_TITLE, fmt_speed, fmt_number, fmt_kn
+from .select import fit_at, fixed_choice
 
 #: Keyword arguments of every ``savefig``: no software, no timestamps in the PNG.
 PNG_KWARGS = {"dpi": 100, "format": "png", "metadata": {"Software": None}}
 
-def _new_figure(nrows: int, ncols: int, size):
+
+def new_figure(nrows: int, ncols: int, size):
+    """A constrained-layout figure of ``size`` [in] and its ``nrows`` × ``ncols`` axes (always 2-D)."""
+    # matplotlib is imported here, not at the top, so that importing the report stays cheap
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=size, layout="constrained")
@@ -29,7 +32,7 @@ def _new_figure(nrows: int, ncols: int, size):
     return fig, axes
 
 
-def _save(fig, path: Path):
+def save_figure(fig, path: Path):
     """``fig`` as a PNG at ``path``, written atomically."""
     buf = io.BytesIO()
     fig.savefig(buf, **PNG_KWARGS)
@@ -40,7 +43,7 @@ def _shade(ax, windows):
     colours = {"startup": "#4c72b0", "steady": "#55a868", "deceleration": "#c44e52"}
     for name, (a, b) in windows.items():
         ax.axvspan(a, b, color=colours.get(name, "#999999"), alpha=0.12, lw=0,
-                   label=f"{_PHASE_TITLE.get(name, name)} window")
+                   label=f"{PHASE_TITLE.get(name, name)} window")
 
 
 def _legend_outside(fig, ax) -> None:
@@ -61,8 +64,8 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
 
     The first realization of an ensemble; the phase ``windows`` [s] shaded.
     """
-    sw = _base(ctx.sweep)
-    fig, axes = _new_figure(2, 1, (10.0, 6.0))
+    sw = on_base_grid(ctx.sweep)
+    fig, axes = new_figure(2, 1, (10.0, 6.0))
     t = sw["elapsed_time"].values
     for k, (name, label) in enumerate((("radial_displacement", "δ_r at the ring centre [µm]"),
                                        ("axial_displacement", "δ_a at the ring centre [µm]"))):
@@ -71,15 +74,15 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
         if name in sw:
             for k_case, (s, l) in enumerate(cases):
                 y = sw[name].sel(speed=s, radial_load=l).values * 1e6
-                ax.plot(t, y, label=f"{_dps(s)}, {_kn(l)}", **trace_style(k_case, len(cases)))
+                ax.plot(t, y, label=f"{fmt_speed(s)}, {fmt_kn(l)}", **trace_style(k_case, len(cases)))
         ax.set_ylabel(label)
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
     _legend_outside(fig, axes[0, 0])
-    first = _first_realization_text(ctx)
+    first = first_realization_text(ctx)
     axes[0, 0].set_title("Inner-ring displacements at the ring centre of the extreme cases, phase windows shaded"
                          + (f"\n{first}" if first else ""), fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> None:
@@ -87,25 +90,25 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
 
     The first realization of an ensemble; the phase ``windows`` [s] shaded.
     """
-    sw = _base(ctx.sweep)
+    sw = on_base_grid(ctx.sweep)
     sens = sensors(ctx.sweep)
-    fig, axes = _new_figure(len(sens), 1, (10.0, 1.0 + 2.5 * len(sens)))
+    fig, axes = new_figure(len(sens), 1, (10.0, 1.0 + 2.5 * len(sens)))
     t = sw["elapsed_time"].values
     for k, sn in enumerate(sens):
         ax = axes[k, 0]
         _shade(ax, windows)
         for k_case, (s, l) in enumerate(cases):
             y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
-            ax.plot(t, y, label=f"{_dps(s)}, {_kn(l)}", **trace_style(k_case, len(cases)))
+            ax.plot(t, y, label=f"{fmt_speed(s)}, {fmt_kn(l)}", **trace_style(k_case, len(cases)))
         ax.set_title(sn.label(code=False), fontsize=8)
         ax.set_ylabel(f"{sn.name} [µm]")
         ax.grid(True, lw=0.3)
     axes[-1, 0].set_xlabel("elapsed time [s]")
     _legend_outside(fig, axes[0, 0])
-    first = _first_realization_text(ctx)
+    first = first_realization_text(ctx)
     fig.suptitle("Virtual sensor readings of the extreme cases, phase windows shaded"
                  + (f"\n{first}" if first else ""), fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
 def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed: float, phase: str, *,
@@ -122,7 +125,7 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
     ``axis`` values in °/s or kN, shifted by ``dodge`` times the axis span (to set two
     series side by side). ``row`` picks the row of a per-row metric (default the first).
     """
-    m = _base(ctx.metrics, first_realization=False)
+    m = on_base_grid(ctx.metrics, first_realization=False)
     if name not in m:
         return 0
     sel = {fixed_axis: fixed, "phase": PHASES.index(phase)}
@@ -135,7 +138,7 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
         ax.text(0.5, 0.5, "no data in this phase's window", transform=ax.transAxes, ha="center",
                 va="center", fontsize=8, color="0.4")
         return 0
-    flag = _edge_flag(m, name, sel)
+    flag = edge_flag(m, name, sel)
     x = m[axis].values.astype(float)
     xs = x / 1e3 if axis == "radial_load" else x
     span = float(np.ptp(xs)) if xs.size > 1 and np.ptp(xs) > 0 else max(abs(float(xs[0])), 1.0)
@@ -155,7 +158,7 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
         for k in range(vals.shape[1]):
             points(xr_[~fl[:, k]], vals[~fl[:, k], k], False, ms=2.5, alpha=0.35)
             points(xr_[fl[:, k]], vals[fl[:, k], k], True, ms=2.5, alpha=0.5)
-        mean, se = _ensemble_of(m, name, sel)
+        mean, se = ensemble_of(m, name, sel)
         mean = mean.transpose(axis).values * scale
         se = se.transpose(axis).values * scale
         any_fl = fl.any(axis=1)
@@ -177,7 +180,7 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
 def _fit_line(ax, ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: float, phase: str,
               sensor=None) -> None:
     """Our fitted line of ``variable`` and its 95 % band on ``ax`` [µm against °/s or kN]."""
-    fit = _fit_at(ctx, variable, axis, fixed_axis, fixed, phase, sensor)
+    fit = fit_at(ctx, variable, axis, fixed_axis, fixed, phase, sensor)
     if fit and math.isfinite(fit["slope"]):
         x = ctx.metrics[axis].values.astype(float)
         grid = np.linspace(np.nanmin(x), np.nanmax(x), 50)
@@ -185,7 +188,7 @@ def _fit_line(ax, ctx: Context, variable: str, axis: str, fixed_axis: str, fixed
         gs = grid / 1e3 if axis == "radial_load" else grid
         seeds = realizations(ctx.metrics)
         kind = "WLS" if seeds is not None and seeds.size >= 2 else "OLS"
-        ax.plot(gs, yl * 1e6, "-", color="C0", lw=1.2, label=f"{kind} fit (R² = {_g(fit['rsquared'])})")
+        ax.plot(gs, yl * 1e6, "-", color="C0", lw=1.2, label=f"{kind} fit (R² = {fmt_number(fit['rsquared'])})")
         ax.fill_between(gs, lo * 1e6, hi * 1e6, color="C0", alpha=0.2, lw=0, label="95 % band")
 
 
@@ -217,21 +220,21 @@ def figure_metric(ctx: Context, refs, path: Path):
         Markers drawn hollow (range with an extreme at the window's edge).
     """
     r0 = refs[0]
-    fig, axes = _new_figure(1, len(refs), (4.6 * len(refs), 3.6))
+    fig, axes = new_figure(1, len(refs), (4.6 * len(refs), 3.6))
     notes, hollow = [], 0
     sym = "δ_r" if r0.displacement == "radial" else "δ_a"
     for k, ref in enumerate(refs):
         ax = axes[0, k]
-        fixed, note = _fixed_choice(ctx, ref.fixed_axis, ref.fixed_coordinate)
-        notes.append(f"against {_AXIS_TITLE[ref.axis]} {note}")
+        fixed, note = fixed_choice(ctx, ref.fixed_axis, ref.fixed_coordinate)
+        notes.append(f"against {AXIS_TITLE[ref.axis]} {note}")
         n = _metric_panel(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase,
                           label=_ensemble_label(ctx))
         hollow += n
         _fit_line(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase)
-        _finish_panel(ax, ref.axis, f"{_PHASE_TITLE[r0.phase]} {r0.metric} of {sym} [µm]", note, n)
-    fig.suptitle(f"{_PHASE_TITLE[r0.phase]}: {r0.displacement} displacement {_METRIC_TITLE[r0.metric]}, "
-                 f"{_CENTRE[r0.displacement]}", fontsize=10)
-    _save(fig, path)
+        _finish_panel(ax, ref.axis, f"{PHASE_TITLE[r0.phase]} {r0.metric} of {sym} [µm]", note, n)
+    fig.suptitle(f"{PHASE_TITLE[r0.phase]}: {r0.displacement} displacement {METRIC_TITLE[r0.metric]}, "
+                 f"{CENTRE_LABEL[r0.displacement]}", fontsize=10)
+    save_figure(fig, path)
     return notes, hollow
 
 
@@ -246,20 +249,20 @@ def figure_sensor_metric(ctx: Context, phase: str, metric: str, specs, path: Pat
     """
     name = f"{SENSOR}_displacement_{metric}"
     sens = sensors(ctx.metrics)
-    fig, axes = _new_figure(len(sens), len(specs), (4.6 * len(specs), 0.6 + 3.0 * len(sens)))
+    fig, axes = new_figure(len(sens), len(specs), (4.6 * len(specs), 0.6 + 3.0 * len(sens)))
     notes, hollow = [], 0
     for j, (axis, fixed_axis, fixed, note) in enumerate(specs):
-        notes.append(f"against {_AXIS_TITLE[axis]} {note}")
+        notes.append(f"against {AXIS_TITLE[axis]} {note}")
         for i, sn in enumerate(sens):
             ax = axes[i, j]
             n = _metric_panel(ax, ctx, name, axis, fixed_axis, fixed, phase, sensor=sn.value,
                               label=_ensemble_label(ctx))
             hollow += n
             _fit_line(ax, ctx, name, axis, fixed_axis, fixed, phase, sensor=sn.value)
-            _finish_panel(ax, axis, f"{_PHASE_TITLE[phase]} {metric} of {sn.name} [µm]",
+            _finish_panel(ax, axis, f"{PHASE_TITLE[phase]} {metric} of {sn.name} [µm]",
                           f"{sn.label(code=False)}\n{note}", n)
-    fig.suptitle(f"{_PHASE_TITLE[phase]}: sensor reading {_METRIC_TITLE[metric]}", fontsize=10)
-    _save(fig, path)
+    fig.suptitle(f"{PHASE_TITLE[phase]}: sensor reading {METRIC_TITLE[metric]}", fontsize=10)
+    save_figure(fig, path)
     return notes, hollow
 
 
@@ -271,11 +274,11 @@ def figure_cage_slip(ctx: Context, phase: str, specs, path: Path) -> list:
     """Cage slip of ``phase`` [%] against each ``(axis, fixed_axis, fixed)`` of ``specs``, both
     definitions of :data:`CAGE_SLIPS` present, a series per row of a bearing of several
     rows; returns the notes."""
-    fig, axes = _new_figure(1, len(specs), (4.6 * len(specs), 3.6))
+    fig, axes = new_figure(1, len(specs), (4.6 * len(specs), 3.6))
     notes = []
     for j, (axis, fixed_axis, fixed, note) in enumerate(specs):
         ax = axes[0, j]
-        notes.append(f"against {_AXIS_TITLE[axis]} {note}")
+        notes.append(f"against {AXIS_TITLE[axis]} {note}")
         for k, (name, what) in enumerate(CAGE_SLIPS):
             if name not in ctx.metrics:
                 continue
@@ -288,8 +291,8 @@ def figure_cage_slip(ctx: Context, phase: str, specs, path: Path) -> list:
                               realization_label=None,
                               dodge=0.012 * (2 * n - (2 * len(rows) - 1)) / len(rows))
         ax.axhline(0.0, color="0.5", lw=0.6)
-        _finish_panel(ax, axis, f"{_PHASE_TITLE[phase]} cage slip [%]", note, 0)
-    fig.suptitle(f"{_PHASE_TITLE[phase]}: cage slip 1 − ω̄_c/ω_epi", fontsize=10)
-    _save(fig, path)
+        _finish_panel(ax, axis, f"{PHASE_TITLE[phase]} cage slip [%]", note, 0)
+    fig.suptitle(f"{PHASE_TITLE[phase]}: cage slip 1 − ω̄_c/ω_epi", fontsize=10)
+    save_figure(fig, path)
     return notes
 

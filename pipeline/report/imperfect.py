@@ -7,16 +7,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from pathlib import Path
 
 import numpy as np
 
 from rvcore.spectra import KINEMATIC_NAMES
 
-from .context import SENSOR, Context, _extra_dims
-from .figures import _new_figure, _save
-from .render import Heading, Image, Para, Table, _dps, _e, _g, _kn
-from .sections_fits import _comparison
+from .context import SENSOR, Context, extra_dims
+from .figures import new_figure, save_figure
+from .render import Heading, Image, Para, Table, fmt_speed, fmt_sci, fmt_number, fmt_kn
+from .sections_fits import study_comparison
 
 #: The sweep dimension of ``imperfections.tolerance_class`` (dots become underscores).
 CLASS_AXIS = "imperfections_tolerance_class"
@@ -59,7 +58,7 @@ def section_classes(ctx: Context) -> list:
     if CLASS_AXIS not in ctx.fits.dims or not ctx.references:
         return []
     values = _ordered(ctx, ctx.fits[CLASS_AXIS].values)
-    per_class = {v: _comparison(_at(ctx, CLASS_AXIS, v)) for v in values}
+    per_class = {v: study_comparison(_at(ctx, CLASS_AXIS, v)) for v in values}
     label = {v: _class_label(_class_name(ctx, v)) for v in values}
     blocks = [Heading(2, "Tolerance classes beside the study"),
               Para("The same fits as above for each bearing of the sweep (`imperfections.tolerance_class`): a "
@@ -71,11 +70,11 @@ def section_classes(ctx: Context) -> list:
     header = ["study fit", "study slope"] + [label[v] for v in values]
     rows = []
     for k, ref in enumerate(ctx.references):
-        cells = [ref.label, f"{_e(ref.slope)} {ref.slope_units}"]
+        cells = [ref.label, f"{fmt_sci(ref.slope)} {ref.slope_units}"]
         for v in values:
             c = per_class[v][k]
             mark = "" if c["agrees"] is None else (" ✓" if c["agrees"] else " ✗")
-            cells.append(f"{_e(c['slope'])}{mark}")
+            cells.append(f"{fmt_sci(c['slope'])}{mark}")
         rows.append(cells)
     blocks.append(Table(header, rows))
     counts = []
@@ -98,8 +97,8 @@ def _explained(ctx: Context, values, per_class, label) -> str:
         if not (math.isfinite(w["slope"]) and math.isfinite(p["slope"]) and ref.slope):
             continue
         ratio = w["slope"] / ref.slope
-        text = (f"{ref.label} ({_g(ratio, 2)}× the study's slope with {label[worst]}, "
-                f"{_g(p['slope'] / ref.slope, 2)}× with {label[base]})")
+        text = (f"{ref.label} ({fmt_number(ratio, 2)}× the study's slope with {label[worst]}, "
+                f"{fmt_number(p['slope'] / ref.slope, 2)}× with {label[base]})")
         (yes if w["agrees"] and 1 / 3 <= ratio <= 3 else no).append(text)
     return ("Within a factor of 3 of the study's slope, with its sign, for the "
             f"{label[worst]} specimen: " + ("; ".join(yes) if yes else "none") + ". Not explained by the "
@@ -108,19 +107,19 @@ def _explained(ctx: Context, values, per_class, label) -> str:
             "it leaves the steady means, which average whole revolutions, where the perfect bearing has them.")
 
 
-def section_spectrum(ctx: Context, figdir: Path):
+def section_spectrum(ctx: Context) -> list:
     """The steady spectrum of the radial sensor (or δ_r) at the sweep's highest speed and
     radial load, a line per tolerance class, the kinematic frequencies marked."""
     sweep = ctx.sweep
     name = f"{SENSOR}_displacement_spectrum" if f"{SENSOR}_displacement_spectrum" in sweep else \
         "radial_displacement_spectrum"
     if name not in sweep or "frequency" not in sweep.dims or sweep.sizes["frequency"] < 4:
-        return [], []
+        return []
     point = {"speed": sweep["speed"].values.max(), "radial_load": sweep["radial_load"].values.max()}
     da = sweep[name].sel(point)
     kin = sweep["kinematic_frequency"].sel(point)
     classes = _ordered(ctx, sweep[CLASS_AXIS].values) if CLASS_AXIS in sweep.dims else [None]
-    fig, axes = _new_figure(1, 1, (9.0, 4.2))
+    fig, axes = new_figure(1, 1, (9.0, 4.2))
     ax = axes[0, 0]
     f = sweep["frequency"].values
     for m, v in enumerate(classes):
@@ -147,9 +146,9 @@ def section_spectrum(ctx: Context, figdir: Path):
     ax.grid(True, lw=0.3, which="both")
     ax.legend(fontsize=9)
     what = "the radial sensor's reading" if name.startswith(SENSOR) else "δ_r at the ring centre"
-    fig.suptitle(f"Steady spectrum of {what} at {_dps(point['speed'])}, {_kn(point['radial_load'])}", fontsize=11)
-    path = figdir / "steady_spectrum.png"
-    _save(fig, path)
+    fig.suptitle(f"Steady spectrum of {what} at {fmt_speed(point['speed'])}, {fmt_kn(point['radial_load'])}", fontsize=11)
+    path = ctx.figure_path("steady_spectrum.png")
+    save_figure(fig, path)
     blocks = [Heading(2, "Steady spectrum"),
               Para(f"Amplitude spectrum of {what} over the steady phase (mean removed, Hann window, a sinusoid of "
                    "amplitude A reads A) at the sweep's highest speed and radial load"
@@ -161,12 +160,12 @@ def section_spectrum(ctx: Context, figdir: Path):
                    "own lines. The amplitudes at every kinematic frequency and its second harmonic are in "
                    "`sweep.nc` (`*_kinematic_amplitude`)."),
               Image(f"figures/{path.name}", "steady spectrum with the kinematic frequencies")]
-    return blocks, [path]
+    return blocks
 
 
 def extra_axes_note(ctx: Context) -> list:
     """A line saying which value of each extra sweep axis the report's sections show."""
-    extra = [d for d in _extra_dims(ctx.metrics) if d in ctx.metrics.coords]
+    extra = [d for d in extra_dims(ctx.metrics) if d in ctx.metrics.coords]
     if not extra:
         return []
     parts = [f"`{d}` = {_class_name(ctx, ctx.metrics[d].values[0]) if d == CLASS_AXIS else ctx.metrics[d].values[0]}"

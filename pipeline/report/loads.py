@@ -1,266 +1,175 @@
 """The load distribution of the bearing at the extreme operating points of the sweep.
 
-The cases with the smallest and the largest loads (the corners of the load-like
-quantities that vary over the sweep: radial load, axial load, tilting moment, the pair's
-preload) are rebuilt from their stored configuration, and the quasi-static equilibrium at
-their steady operating point (:func:`rvcore.operating.steady_statics`: rigid rings,
-Hertz at every contact, balls in equilibrium, the ring's weight) gives the load of every
-ball per row and azimuth, each row's radial and axial load and the tangent stiffness.
-
-Where a case comes from:
-
-- a case file (``cases/*.nc``) whose ``configuration`` is the resolved case
-  (:func:`pipeline.schema.case_configuration`: bearing, profile, operating point) is
-  rebuilt from it;
-- otherwise, with a readable sweep configuration (:func:`pipeline.schema.stored_configuration`)
-  and no sweep axis that changes the bearing or the profile, the case is the sweep's
-  bearing and profile at the grid point's operating point (``speed``, ``radial_load``,
-  ``axial_load``, ``moment``, ``load_angle`` from the grid, else the sweep's fixed values).
+The statics at the steady operating point of the cases at the corners of the sweep's
+loads (the smallest and the largest radial load, axial load, tilting moment, preload) are
+solved when the sweep runs (:mod:`pipeline.run.corners`) and stored in ``statics.nc``
+(:mod:`pipeline.io.statics`): the load of every ball per row and azimuth, each row's
+radial and axial load. This module reads them and plots them; it computes no physics.
+A results folder without ``statics.nc`` (written before the statics were stored, or with
+no finished case) gets a section that says so and how to get them.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import xarray as xr
 
-from rvcore.geometry import Bearing
-from rvcore.operating import steady_loads, steady_statics
-from rvcore.preload import apply_preload
-from rvcore.profile import OperatingPoint, Profile
-
-from ..errors import ConfigError
-from ..schema.stored import rebuild
+from ..io.statics import STATICS_FILE
 from .context import Context
-from .figures import _new_figure, _save
-from .render import Heading, Image, Para, Table, _dps, _g, _kn
-
-#: The operating-point keys a sweep axis or fixed value may set.
-_OP_KEYS = tuple(f.name for f in dataclasses.fields(OperatingPoint))
-
-#: Load-like quantities whose corners are the extreme operating points: (key, label, unit).
-LOAD_QUANTITIES = (("radial_load", "radial load", "N"), ("axial_load", "axial load", "N"),
-                   ("moment", "tilting moment", "N m"), ("preload", "preload", "N"))
-
-#: Largest number of extreme cases shown.
-MAX_CASES = 4
-
-
-@dataclass(frozen=True)
-class OperatingCase:
-    """One case rebuilt for the statics (SI).
-
-    ``source`` says where it was rebuilt from (a case file's name or the sweep's
-    configuration); ``seed`` is the realization (cases that differ only in it are one).
-    """
-
-    bearing: Bearing
-    profile: Profile
-    op: OperatingPoint
-    source: str
-
-    def loads(self) -> dict:
-        """Steady radial and axial load [N], moment [N m] and the pair's preload [N]."""
-        fr, fa, m, _ = steady_loads(self.profile, self.op)
-        return {"radial_load": fr, "axial_load": fa, "moment": m, "preload": self.bearing.preload}
-
-    def label(self) -> str:
-        """'390 °/s, 30 kN radial, 10 kN axial[, 2 kN m][, preload 2 kN]' at the steady point."""
-        q = self.loads()
-        text = f"{_dps(math.degrees(self.op.speed))}, {_kn(q['radial_load'])} radial, {_kn(q['axial_load'])} axial"
-        if q["moment"]:
-            text += f", {_g(q['moment'] / 1e3, 4)} kN m"
-        if q["preload"]:
-            text += f", preload {_kn(q['preload'])}"
-        return text
-
-
-def _from_case_text(text: str, source: str):
-    """An :class:`OperatingCase` from a resolved case's configuration, or None when ``text``
-    is not one (a sweep's configuration has no ``operating_point``)."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError:
-        return None
-    if not isinstance(doc.get("operating_point"), dict):
-        return None
-    try:
-        return OperatingCase(rebuild(Bearing, doc.get("bearing"), "bearing"),
-                             rebuild(Profile, doc.get("profile"), "profile"),
-                             rebuild(OperatingPoint, doc["operating_point"], "operating_point"), source)
-    except ConfigError:
-        return None
-
-
-def _case_file_cases(directory: Path) -> list:
-    """Cases rebuilt from ``cases/*.nc`` that store their resolved configuration."""
-    import netCDF4
-
-    out = []
-    for f in sorted((directory / "cases").glob("*.nc")):
-        try:
-            with netCDF4.Dataset(f) as nc:
-                text = str(nc.getncattr("configuration")) if "configuration" in nc.ncattrs() else ""
-        except OSError:
-            continue
-        case = _from_case_text(text, f"cases/{f.name}")
-        if case is not None:
-            out.append(case)
-    return out
-
-
-def _grid_cases(ctx: Context) -> tuple:
-    """Cases at the finished grid points from the sweep's configuration, and why none when
-    they cannot be rebuilt that way."""
-    conf = ctx.configuration
-    if conf is None:
-        return [], f"the sweep's configuration could not be read ({ctx.config_error})"
-    other = [k for k in conf.axes if k not in _OP_KEYS and k != "realization"]
-    if other:
-        return [], ("the case files, which hold each case's resolved configuration, are missing, and the "
-                    f"sweep axes {', '.join(other)} change the bearing or the profile")
-    from .select import _base_states
-
-    ok = _base_states(ctx) == "ok"
-    if "realization" in ok.dims:
-        ok = ok.any("realization")
-    base = {k: float(v) for k, v in conf.fixed.items() if k in _OP_KEYS and isinstance(v, (int, float))}
-    out = []
-    dims = [d for d in ok.dims]
-    for idx in np.ndindex(*ok.shape):
-        if not bool(ok.values[idx]):
-            continue
-        values = dict(base)
-        for d, i in zip(dims, idx):
-            if d in _OP_KEYS:
-                v = float(ok[d].values[i])
-                values[d] = math.radians(v) if d == "speed" else v
-        for d in _OP_KEYS:
-            if d in ctx.sweep.coords and ctx.sweep[d].ndim == 0 and d not in values:
-                values[d] = float(ctx.sweep[d].values)
-        values.setdefault("axial_load", 0.0)
-        try:
-            op = OperatingPoint(**{k: values[k] for k in _OP_KEYS if k in values})
-        except TypeError:
-            continue
-        out.append(OperatingCase(conf.bearing, conf.profile, op, "the sweep's configuration"))
-    return out, ""
-
-
-def operating_cases(ctx: Context) -> tuple:
-    """Every rebuildable case of the sweep (:class:`OperatingCase`) and, when there is none, why."""
-    cases = _case_file_cases(ctx.directory)
-    why = ""
-    if not cases:
-        cases, why = _grid_cases(ctx)
-    # slowest first, so that of the cases at one load the corner takes the slowest
-    return sorted(cases, key=lambda c: (c.op.speed, c.source)), why
-
-
-def extreme_cases(cases: list) -> list:
-    """The cases nearest to the corners of the load-like quantities that vary among ``cases``.
-
-    With one or two such quantities, every corner (min/max of each, at most 4); with more,
-    the all-smallest and the all-largest corner. Distance is measured in each quantity's
-    span; ties go to the first case (:func:`operating_cases` puts the slowest first). Cases that differ only in
-    speed or realization are one operating point for the statics: at most one of them is
-    taken per corner. Without any varying load, the first case alone.
-    """
-    if not cases:
-        return []
-    q = np.array([[c.loads()[k] for k, _, _ in LOAD_QUANTITIES] for c in cases], dtype=np.float64)
-    varying = [j for j in range(q.shape[1]) if np.ptp(q[:, j]) > 1e-9 * max(np.abs(q[:, j]).max(), 1.0)]
-    if not varying:
-        return [cases[0]]
-    lo, hi = q[:, varying].min(axis=0), q[:, varying].max(axis=0)
-    span = hi - lo
-    if len(varying) <= 2:
-        corners = [np.array(c) for c in np.array(np.meshgrid(*[(a, b) for a, b in zip(lo, hi)],
-                                                             indexing="ij")).reshape(len(varying), -1).T]
-    else:
-        corners = [lo, hi]
-    out, seen = [], []
-    for corner in corners:
-        d = (((q[:, varying] - corner) / span) ** 2).sum(axis=1)
-        k = int(np.argmin(d))
-        key = tuple(q[k])
-        if key not in seen:
-            seen.append(key)
-            out.append(cases[k])
-    return out[:MAX_CASES]
-
-
-def _prepared(bearing: Bearing) -> Bearing:
-    """The bearing as the core runs it: a pair's preload force turned into its offset."""
-    if bearing.preload > 0.0 and bearing.preload_offset == 0.0:
-        return apply_preload(bearing)
-    return bearing
+from .figures import new_figure, save_figure
+from .render import Heading, Image, Para, Table, fmt_kn, fmt_number, fmt_speed
+from .select import finished_points
 
 
 @dataclass
-class Solved:
-    """The statics at one extreme case: ``result`` (:class:`rvcore.quasistatic.StaticResult`)
-    or ``error`` (why there is none)."""
+class Corner:
+    """The stored statics of one extreme case (SI), without the file's padding.
 
-    case: OperatingCase
-    result: object = None
+    Per ball: ``azimuth`` [rad] from +x, ``row_of_ball``, ``ball_load`` [N] per arc column
+    of its row, whose ring ``arc_ring`` gives (0 inner, 1 outer); per row: its force on the
+    inner ring, radial and axial [N], its axial position [m] and nominal contact angle
+    [rad]. ``error`` says why a case has no equilibrium (``solved`` False).
+    """
+
+    case_id: str
+    speed: float
+    radial_load: float
+    axial_load: float
+    moment: float
+    load_angle: float
+    preload: float
+    solved: bool
     error: str = ""
+    max_contact_load: float = math.nan
+    azimuth: np.ndarray = None
+    row_of_ball: np.ndarray = None
+    ball_load: np.ndarray = None
+    arc_ring: np.ndarray = None
+    row_radial_load: np.ndarray = None
+    row_axial_load: np.ndarray = None
+    row_axial_position: np.ndarray = None
+    row_contact_angle: np.ndarray = None
+
+    def label(self) -> str:
+        """'390 °/s, 30 kN radial, 10 kN axial[, 2 kN m][, preload 2 kN]' at the steady point."""
+        text = (f"{fmt_speed(math.degrees(self.speed))}, {fmt_kn(self.radial_load)} radial, "
+                f"{fmt_kn(self.axial_load)} axial")
+        if self.moment:
+            text += f", {fmt_number(self.moment / 1e3, 4)} kN m"
+        if self.preload:
+            text += f", preload {fmt_kn(self.preload)}"
+        return text
+
+    def inner_columns(self) -> list:
+        """The arc columns of the inner ring."""
+        return [k for k in range(self.arc_ring.size) if int(self.arc_ring[k]) == 0]
+
+    def row_label(self, r: int) -> str:
+        """'row r (z = … mm, α = …°)'."""
+        return (f"row {r} (z = {fmt_number(self.row_axial_position[r] * 1e3 + 0.0, 4)} mm, "
+                f"α = {fmt_number(math.degrees(self.row_contact_angle[r]), 4)}°)")
+
+    def azimuth_from_load(self) -> np.ndarray:
+        """Each ball's azimuth from the radial load's direction, in (−180, 180] deg."""
+        a = np.degrees(self.azimuth - self.load_angle)
+        return -((-a + 180.0) % 360.0 - 180.0)
 
 
-def solve_extremes(ctx: Context) -> tuple:
-    """The statics at the extreme operating points: ``([Solved], why none)``."""
-    cases, why = operating_cases(ctx)
-    solved = []
-    for c in extreme_cases(cases):
-        try:
-            solved.append(Solved(c, steady_statics(_prepared(c.bearing), c.profile, c.op)))
-        except (ValueError, ArithmeticError) as exc:   # NoEquilibriumError is a ValueError
-            solved.append(Solved(c, error=f"{type(exc).__name__}: {exc}"))
-    return solved, why
+@dataclass
+class StoredStatics:
+    """``statics.nc`` as read: its corners, whether the ring's weight was included, and,
+    when there is no file or it cannot be read, ``missing`` saying why (no corners)."""
+
+    corners: list
+    weight_included: bool = True
+    missing: str = ""
 
 
-def _inner_columns(st) -> list:
-    return [k for k in range(st.ball_loads.shape[1]) if int(st.arc_rings[k]) == 0]
+def _corner(ds: xr.Dataset, i: int, errors: dict) -> Corner:
+    """Corner ``i`` of ``statics.nc``, trimmed of the padding of smaller bearings."""
+    c = ds.isel(corner=i)
+    value = {k: float(c[k].values) for k in ("speed", "radial_load", "axial_load", "moment", "load_angle",
+                                              "preload", "max_contact_load")}
+    case_id = str(c["case_id"].values)
+    solved = int(c["solved"].values) == 1
+    if not solved:
+        return Corner(case_id, **{k: v for k, v in value.items() if k != "max_contact_load"}, solved=False,
+                      error=errors.get(case_id, "no equilibrium"))
+    rows = np.asarray(c["ball_row"].values)
+    balls = rows >= 0
+    arcs = np.asarray(c["arc_ring"].values) >= 0
+    n_rows = int(np.isfinite(c["row_axial_position"].values).sum())
+    return Corner(case_id, **value, solved=True, azimuth=np.asarray(c["ball_azimuth"].values)[balls],
+                  row_of_ball=rows[balls].astype(int),
+                  ball_load=np.asarray(c["ball_load"].values)[np.ix_(balls, arcs)],
+                  arc_ring=np.asarray(c["arc_ring"].values)[arcs],
+                  **{k: np.asarray(c[k].values)[:n_rows] for k in ("row_radial_load", "row_axial_load",
+                                                                   "row_axial_position", "row_contact_angle")})
 
 
-def _row_label(bearing: Bearing, r: int) -> str:
-    row = bearing.rows[r]
-    return (f"row {r} (z = {_g(row.axial_position * 1e3 + 0.0, 4)} mm, "
-            f"α = {_g(math.degrees(row.nominal_contact_angle), 4)}°)")
+def read_statics(directory: Path) -> StoredStatics:
+    """The statics at the extreme operating points stored in ``<directory>/statics.nc``."""
+    path = Path(directory) / STATICS_FILE
+    if not path.is_file():
+        return StoredStatics([], missing="absent")
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            ds = ds.load()
+    except (OSError, ValueError, RuntimeError) as exc:
+        return StoredStatics([], missing=f"`{STATICS_FILE}` could not be read ({type(exc).__name__}: {exc})")
+    errors = dict(e.split(": ", 1) for e in str(ds.attrs.get("statics_errors", "")).split(" | ") if ": " in e)
+    try:
+        corners = [_corner(ds, i, errors) for i in range(ds.sizes.get("corner", 0))]
+    except KeyError as exc:   # a file of another layout
+        return StoredStatics([], missing=f"`{STATICS_FILE}` lacks the variable {exc}")
+    return StoredStatics(corners, weight_included=ds.attrs.get("ring_weight", "included") == "included")
 
 
-def _azimuth_from_load(st) -> np.ndarray:
-    """Each ball's azimuth from the radial load's direction, in (−180, 180] deg."""
-    a = np.degrees(np.asarray(st.azimuths) - st.load_angle)
-    return -((-a + 180.0) % 360.0 - 180.0)
+def stored_statics(ctx: Context) -> StoredStatics:
+    """:attr:`Context.statics`, read from the results folder the first time it is needed."""
+    if ctx.statics is None:
+        ctx.statics = read_statics(ctx.directory)
+    return ctx.statics
 
 
-def figure_load_distribution(solved: list, path: Path) -> None:
+def missing_statics_text(ctx: Context, stored: StoredStatics) -> str:
+    """Why there is no load distribution to show, and how to get one."""
+    if not finished_points(ctx):
+        return "No case finished, so there are no statics at the extreme operating points to show."
+    if stored.missing == "absent":
+        name = str(ctx.sweep.attrs.get("sweep", "")) or ctx.directory.name
+        return (f"The statics at the extreme operating points are not stored in this results folder "
+                f"(`{STATICS_FILE}`): it was written before a sweep stored them. Running the sweep again into "
+                f"it (`rvsweep sweep <sweep file> --out <folder>`, which writes `<folder>/{name}/`) reuses "
+                "every finished case and stores them; then make the report again.")
+    return f"The statics at the extreme operating points cannot be shown: {stored.missing}."
+
+
+def figure_load_distribution(corners: list, path: Path) -> None:
     """Inner contact load [kN] against azimuth [deg], a line per row (and inner arc), a panel per case."""
-    n = len(solved)
+    n = len(corners)
     ncols = min(n, 2)
     nrows = int(math.ceil(n / ncols))
-    fig, axes = _new_figure(nrows, ncols, (5.2 * ncols, 3.4 * nrows))
-    for i, s in enumerate(solved):
+    fig, axes = new_figure(nrows, ncols, (5.2 * ncols, 3.4 * nrows))
+    for i, c in enumerate(corners):
         ax = axes[i // ncols, i % ncols]
-        ax.set_title(s.case.label(), fontsize=8)
-        if s.result is None:
+        ax.set_title(c.label(), fontsize=8)
+        if not c.solved:
             ax.text(0.5, 0.5, "no equilibrium", transform=ax.transAxes, ha="center", va="center",
                     fontsize=8, color="0.4")
             continue
-        st = s.result
-        az = _azimuth_from_load(st)
-        cols = _inner_columns(st)
-        for r in range(len(s.case.bearing.rows)):
-            balls = np.flatnonzero(np.asarray(st.row_of_ball) == r)
+        az = c.azimuth_from_load()
+        cols = c.inner_columns()
+        for r in range(c.row_axial_position.size):
+            balls = np.flatnonzero(c.row_of_ball == r)
             order = balls[np.argsort(az[balls])]
-            row_cols = [k for k in cols if np.any(st.ball_loads[balls, k] > 0.0)] or cols[:1]
+            row_cols = [k for k in cols if np.any(c.ball_load[balls, k] > 0.0)] or cols[:1]
             for m, k in enumerate(row_cols):
-                label = _row_label(s.case.bearing, r) + (f", inner arc {cols.index(k)}" if len(row_cols) > 1 else "")
-                ax.plot(az[order], st.ball_loads[order, k] / 1e3, marker="o", ms=3, lw=1.0,
+                label = c.row_label(r) + (f", inner arc {cols.index(k)}" if len(row_cols) > 1 else "")
+                ax.plot(az[order], c.ball_load[order, k] / 1e3, marker="o", ms=3, lw=1.0,
                         ls="-" if m == 0 else "--", color=f"C{r}", label=label)
         ax.axvline(0.0, color="0.5", lw=0.6)
         ax.set_xlim(-180.0, 180.0)
@@ -272,42 +181,49 @@ def figure_load_distribution(solved: list, path: Path) -> None:
     for j in range(n, nrows * ncols):
         axes[j // ncols, j % ncols].set_visible(False)
     fig.suptitle("Ball loads at the inner ring at the steady operating point (quasi-static)", fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
-def section_load_distribution(ctx: Context, figdir: Path, solved: list, why: str = ""):
-    """The "Load distribution" section: figure and per-row table at the extreme cases."""
+def _row_shares(corners: list) -> list:
+    """The table's rows: each row's force on the inner ring, largest inner load, loaded balls."""
+    rows = []
+    for c in corners:
+        if not c.solved:
+            rows.append([c.label(), "-", "no equilibrium: " + c.error, "", "", ""])
+            continue
+        cols = c.inner_columns()
+        for r in range(c.row_axial_position.size):
+            balls = np.flatnonzero(c.row_of_ball == r)
+            q = c.ball_load[np.ix_(balls, cols)] if cols else np.zeros((balls.size, 1))
+            rows.append([c.label(), c.row_label(r), fmt_number(c.row_radial_load[r] / 1e3, 4),
+                         fmt_number(c.row_axial_load[r] / 1e3, 4), fmt_number(q.max() / 1e3, 4),
+                         f"{int((q.max(axis=1) > 0).sum())} of {balls.size}"])
+    return rows
+
+
+def section_load_distribution(ctx: Context) -> list:
+    """The "Load distribution" section: figure and per-row table at the extreme cases, from
+    ``statics.nc`` (:func:`stored_statics`)."""
     blocks = [Heading(2, "Load distribution")]
-    if not solved:
-        blocks.append(Para("No case could be rebuilt for the statics" + (f": {why}." if why else ".")))
-        return blocks, []
-    p = figdir / "load_distribution.png"
-    figure_load_distribution(solved, p)
-    n_rows = {len(s.case.bearing.rows) for s in solved}
+    stored = stored_statics(ctx)
+    corners = stored.corners
+    if not corners:
+        blocks.append(Para(missing_statics_text(ctx, stored)))
+        return blocks
+    p = ctx.figure_path("load_distribution.png")
+    figure_load_distribution(corners, p)
+    several_rows = any(c.solved and c.row_axial_position.size > 1 for c in corners)
     blocks.append(Para(
         "The load of every ball at the inner ring at the steady operating point (the loads the profile "
         "applies in the middle of its steady phase) of the extreme cases of the sweep (the smallest and "
         "largest loads), one panel per case and one line per row"
-        + (" (its axial position z and contact angle α)" if max(n_rows) > 1 else "")
+        + (" (its axial position z and contact angle α)" if several_rows else "")
         + ". Quasi-static equilibrium of the inner ring with Hertz's law at every contact, the balls in "
-        "equilibrium and the ring's weight; azimuth measured from the radial load's direction. Each case "
-        "is rebuilt from " + ", ".join(sorted({s.case.source if not s.case.source.startswith('cases/')
-                                               else 'its case file' for s in solved})) + "."))
+        "equilibrium" + (" and the ring's weight" if stored.weight_included else " (the ring's weight left out)")
+        + "; azimuth measured from the radial load's direction. Solved when the sweep ran, with each "
+        f"case's own bearing, profile and operating point, and stored in `{STATICS_FILE}`."))
     blocks.append(Image(f"figures/{p.name}", "ball loads against azimuth at the extreme operating points"))
-    rows = []
-    for s in solved:
-        if s.result is None:
-            rows.append([s.case.label(), "-", "no equilibrium: " + s.error, "", "", ""])
-            continue
-        st = s.result
-        cols = _inner_columns(st)
-        for r in range(len(s.case.bearing.rows)):
-            balls = np.flatnonzero(np.asarray(st.row_of_ball) == r)
-            q = st.ball_loads[np.ix_(balls, cols)] if cols else np.zeros((balls.size, 1))
-            rows.append([s.case.label(), _row_label(s.case.bearing, r), _g(st.row_radial_loads[r] / 1e3, 4),
-                         _g(st.row_axial_loads[r] / 1e3, 4), _g(q.max() / 1e3, 4),
-                         f"{int((q.max(axis=1) > 0).sum())} of {balls.size}"])
     blocks.append(Para("Each row's share of the load at those points (its force on the inner ring):"))
     blocks.append(Table(["case (steady loads)", "row", "radial load [kN]", "axial load [kN]",
-                         "largest inner contact load [kN]", "loaded balls"], rows))
-    return blocks, [p]
+                         "largest inner contact load [kN]", "loaded balls"], _row_shares(corners)))
+    return blocks

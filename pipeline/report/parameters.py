@@ -14,8 +14,8 @@ import numpy as np
 from ..schema import parameter_table
 from ..schema.fields import field
 from ..schema.parameters import format_value
-from .context import Context, _ensemble_text, realizations, sensors
-from .render import Bullets, Heading, Para, Table, _g, _kn
+from .context import Context, ensemble_text, realizations, sensors
+from .render import Bullets, Heading, Para, Table, fmt_number, fmt_kn
 
 def _gravity_text(conf) -> str:
     """'gravity: on, g = (0, −9.807, 0) m/s² in the bearing frame (along −y …)'."""
@@ -29,7 +29,7 @@ def _gravity_text(conf) -> str:
         if abs(g[k]) >= (1 - 1e-9) * norm:
             axis = "vertical" if k == 2 else "horizontal"
             along = f" (along {'−' if g[k] < 0 else '+'}{'xyz'[k]}: the bearing axis {axis})"
-    shown = ", ".join(_g(v + 0.0, 4) for v in g)
+    shown = ", ".join(fmt_number(v + 0.0, 4) for v in g)
     return f"gravity: on, g = ({shown}) m/s² in the bearing frame{along}"
 
 
@@ -46,11 +46,11 @@ def section_parameters(ctx: Context) -> list:
              f"profile: **{attrs.get('profile', '') or 'not named'}**"]
     if "axial_load" in ctx.metrics.coords:
         vals = np.atleast_1d(ctx.metrics["axial_load"].values)
-        items.append("axial load: " + ", ".join(_kn(float(v)) for v in vals))
+        items.append("axial load: " + ", ".join(fmt_kn(float(v)) for v in vals))
     if conf is not None:
         items.append(_gravity_text(conf))
     if realizations(ctx.metrics) is not None:
-        items.append(f"ensemble: {_ensemble_text(ctx)} per grid point")
+        items.append(f"ensemble: {ensemble_text(ctx)} per grid point")
     sens = sensors(ctx.metrics)
     if sens:
         items.append(f"virtual displacement sensors: {len(sens)} (see below)")

@@ -7,10 +7,11 @@ import math
 import re
 from dataclasses import dataclass
 
-_PHASE_TITLE = {"startup": "start-up", "steady": "steady", "deceleration": "deceleration"}
-_METRIC_TITLE = {"range": "variation range", "mean": "mean", "std": "standard deviation"}
-_AXIS_TITLE = {"speed": "speed", "radial_load": "radial load"}
-_CENTRE = {"radial": "δ_r at the ring centre", "axial": "δ_a at the ring centre"}
+#: How each phase, metric, axis and ring-centre displacement is named in the text.
+PHASE_TITLE = {"startup": "start-up", "steady": "steady", "deceleration": "deceleration"}
+METRIC_TITLE = {"range": "variation range", "mean": "mean", "std": "standard deviation"}
+AXIS_TITLE = {"speed": "speed", "radial_load": "radial load"}
+CENTRE_LABEL = {"radial": "δ_r at the ring centre", "axial": "δ_a at the ring centre"}
 
 # --------------------------------------------------------------------------- blocks
 
@@ -119,7 +120,7 @@ def render_html(blocks, title: str) -> str:
 # --------------------------------------------------------------------------- formatting
 
 
-def _g(x, digits: int = 3) -> str:
+def fmt_number(x, digits: int = 3) -> str:
     """A number with ``digits`` significant digits; 'n/a' for NaN/None."""
     if x is None:
         return "n/a"
@@ -129,22 +130,24 @@ def _g(x, digits: int = 3) -> str:
     return f"{x:.{digits}g}"
 
 
-def _e(x, digits: int = 3) -> str:
+def fmt_sci(x, digits: int = 3) -> str:
     """Scientific notation with ``digits`` significant digits."""
     if x is None or not math.isfinite(float(x)):
         return "n/a"
     return f"{float(x):.{digits - 1}e}"
 
 
-def _kn(newton: float) -> str:
-    return f"{_g(newton / 1e3, 4)} kN"
+def fmt_kn(newton: float) -> str:
+    """A force [N] as '30 kN' (4 significant digits)."""
+    return f"{fmt_number(newton / 1e3, 4)} kN"
 
 
-def _unit(text: str) -> str:
+def fmt_unit(text: str) -> str:
     """A unit string of a reference file as a reader writes it: ``mm/(deg/s)`` -> ``mm/(°/s)``."""
     return text.replace("deg/s", "°/s")
 
 
-def _dps(deg_s: float) -> str:
-    return f"{_g(deg_s, 4)} °/s"
+def fmt_speed(deg_s: float) -> str:
+    """A speed [°/s] as '390 °/s' (4 significant digits)."""
+    return f"{fmt_number(deg_s, 4)} °/s"
 

@@ -9,12 +9,12 @@ import numpy as np
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, case_states, fit_statistic, nearest
-from .context import ROW, SENSOR, Context, _base, _ensemble_of
-from .render import _dps, _g, _kn
+from .context import ROW, SENSOR, Context, on_base_grid, ensemble_of
+from .render import fmt_speed, fmt_number, fmt_kn
 
 
 
-def _ok_cases(ctx: Context, realization=None):
+def finished_points(ctx: Context, realization=None):
     """Grid points ``[(speed, load)]`` that finished.
 
     Parameters
@@ -23,7 +23,7 @@ def _ok_cases(ctx: Context, realization=None):
         With an ensemble: the points whose realization of this index finished; default
         those where any realization finished.
     """
-    ok = _base_states(ctx) == "ok"
+    ok = base_states(ctx) == "ok"
     if REALIZATION in ok.dims:
         ok = ok.isel({REALIZATION: realization}) if realization is not None else ok.any(REALIZATION)
     pts = []
@@ -34,7 +34,7 @@ def _ok_cases(ctx: Context, realization=None):
     return pts
 
 
-def _base_states(ctx: Context):
+def base_states(ctx: Context):
     """Case states over ``(speed, radial_load[, realization])`` at the first value of any other axis."""
     st = case_states(ctx.sweep)
     extra = [d for d in st.dims if d not in ("speed", "radial_load", REALIZATION)]
@@ -42,9 +42,9 @@ def _base_states(ctx: Context):
     return st.transpose("speed", "radial_load", *[d for d in st.dims if d == REALIZATION])
 
 
-def _extreme_cases(ctx: Context, realization=None):
-    """The finished grid points nearest to the four corners of the grid (see :func:`_ok_cases`)."""
-    pts = _ok_cases(ctx, realization)
+def extreme_points(ctx: Context, realization=None):
+    """The finished grid points nearest to the four corners of the grid (see :func:`finished_points`)."""
+    pts = finished_points(ctx, realization)
     if not pts:
         return []
     s = np.array([p[0] for p in pts])
@@ -61,14 +61,14 @@ def _extreme_cases(ctx: Context, realization=None):
     return out
 
 
-def _metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None, row=None):
+def metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None, row=None):
     """A phase metric at one grid point and its standard error [its units].
 
     With realizations, the ensemble mean and its standard error; otherwise the value and
     NaN. ``sensor`` is the sensor flag of a sensor metric (default the first), ``row``
     the row of a per-row metric (default the first). NaN, NaN when the metric is absent.
     """
-    m = _base(ctx.metrics, first_realization=False)
+    m = on_base_grid(ctx.metrics, first_realization=False)
     if name not in m:
         return math.nan, math.nan
     sel = {"speed": speed, "radial_load": load, "phase": PHASES.index(phase)}
@@ -77,18 +77,18 @@ def _metric_stat(ctx: Context, name: str, speed: float, load: float, phase: str,
     if ROW in m[name].dims:
         sel[ROW] = row if row is not None else m[ROW].values[0]
     if REALIZATION in m[name].dims:
-        mean, se = _ensemble_of(m, name, sel)
+        mean, se = ensemble_of(m, name, sel)
         return float(mean.item()), float(se.item())
     return float(m[name].sel(sel).item()), math.nan
 
 
-def _metric_value(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None) -> float:
+def metric_value(ctx: Context, name: str, speed: float, load: float, phase: str, sensor=None) -> float:
     """A phase metric at one grid point [its units]: the ensemble mean when there are
     realizations; at sensor flag ``sensor`` (default the first) for a sensor metric."""
-    return _metric_stat(ctx, name, speed, load, phase, sensor)[0]
+    return metric_stat(ctx, name, speed, load, phase, sensor)[0]
 
 
-def _axis_specs(ctx: Context, phase: str | None = None) -> list:
+def axis_specs(ctx: Context, phase: str | None = None) -> list:
     """``[(axis, fixed_axis, fixed, note)]``: the axes the study's fits of ``phase`` (any phase
     when it has none) are drawn against, at the grid value nearest to the study's fixed one."""
     refs = [r for r in ctx.references if r.phase == phase] or list(ctx.references)
@@ -97,27 +97,27 @@ def _axis_specs(ctx: Context, phase: str | None = None) -> list:
         if r.axis in seen:
             continue
         seen.add(r.axis)
-        fixed, note = _fixed_choice(ctx, r.fixed_axis, r.fixed_coordinate)
+        fixed, note = fixed_choice(ctx, r.fixed_axis, r.fixed_coordinate)
         out.append((r.axis, r.fixed_axis, fixed, note))
     if not out:
         for axis, other in (("speed", "radial_load"), ("radial_load", "speed")):
             fixed = float(ctx.metrics[other].values[0])
-            out.append((axis, other, fixed, f"at {_dps(fixed) if other == 'speed' else _kn(fixed)}"))
+            out.append((axis, other, fixed, f"at {fmt_speed(fixed) if other == 'speed' else fmt_kn(fixed)}"))
     return out
 
 
-def _pm(mean: float, se: float, scale: float = 1.0, digits: int = 3) -> str:
+def fmt_mean_se(mean: float, se: float, scale: float = 1.0, digits: int = 3) -> str:
     """'mean ± se' (or the mean alone when se is NaN) after multiplying by ``scale``."""
     if math.isfinite(se):
-        return f"{_g(mean * scale, digits)} ± {_g(se * scale, 2)}"
-    return _g(mean * scale, digits)
+        return f"{fmt_number(mean * scale, digits)} ± {fmt_number(se * scale, 2)}"
+    return fmt_number(mean * scale, digits)
 
 
-def _fit_at(ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: float, phase: str,
-            sensor=None) -> dict:
+def fit_at(ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: float, phase: str,
+           sensor=None) -> dict:
     """Statistics of our line fit of ``variable`` along ``axis`` at ``fixed`` (SI / coordinate
     units); a sensor metric's from :attr:`Context.sensor_fits` at sensor flag ``sensor``."""
-    f = _base(ctx.sensor_fits if variable.startswith(f"{SENSOR}_") else ctx.fits)
+    f = on_base_grid(ctx.sensor_fits if variable.startswith(f"{SENSOR}_") else ctx.fits)
     out = {}
     for stat in ("slope", "intercept", "slope_stderr", "intercept_stderr", "slope_intercept_covariance",
                  "slope_ci95_lower", "slope_ci95_upper", "rsquared", "n"):
@@ -132,11 +132,11 @@ def _fit_at(ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: floa
     return out
 
 
-def _fixed_choice(ctx: Context, fixed_axis: str, wanted: float):
+def fixed_choice(ctx: Context, fixed_axis: str, wanted: float):
     """Nearest available value of ``fixed_axis`` to ``wanted`` [coordinate units] and a note."""
     values = ctx.metrics[fixed_axis].values
     got = nearest(values, wanted)
-    fmt = _dps if fixed_axis == "speed" else _kn
+    fmt = fmt_speed if fixed_axis == "speed" else fmt_kn
     if math.isclose(got, wanted, rel_tol=1e-6, abs_tol=1e-9):
         return got, f"at {fmt(got)}"
     return got, f"at {fmt(got)} (nearest available to the study's {fmt(wanted)})"

@@ -18,14 +18,15 @@ from rvcore.geometry import ball_mass, epicyclic_cage_ratio
 
 from ..analysis import REALIZATION, STIFFNESS
 from .context import SENSOR, Context
-from .figures import _new_figure, _save
-from .render import Heading, Image, Para, _g
+from .figures import new_figure, save_figure
+from .loads import stored_statics
+from .render import Heading, Image, Para, fmt_number
 
 #: Suffix of the compliant stiffness (1/C_ii, every other coordinate free) beside each direct one.
 COMPLIANT = "_compliant"
 
 #: Engineering scale and unit of each stiffness: (factor from SI, unit, symbol).
-_DISPLAY = {"radial_stiffness": (1e-6, "N/µm", "k_r"), "axial_stiffness": (1e-6, "N/µm", "k_a"),
+STIFFNESS_DISPLAY = {"radial_stiffness": (1e-6, "N/µm", "k_r"), "axial_stiffness": (1e-6, "N/µm", "k_a"),
             "tilting_stiffness": (1e-3, "N m/mrad", "k_θ")}
 
 #: Axes preferred for the lines of a panel (the first that varies and is not the x axis).
@@ -60,7 +61,7 @@ def _value_text(ctx: Context, axis: str, index: int) -> str:
     """The ``index``-th value of ``axis`` in its display unit ('30 kN', '120 °/s')."""
     factor, label = _axis_display(ctx, axis)
     unit = label.split(" [")[1].rstrip("]") if " [" in label else ""
-    return f"{_g(float(ctx.metrics[axis].values[index]) * factor, 4)} {unit}".strip()
+    return f"{fmt_number(float(ctx.metrics[axis].values[index]) * factor, 4)} {unit}".strip()
 
 
 def stiffness_axes(ctx: Context) -> list:
@@ -87,7 +88,7 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
     Returns the notes on where each column's other axes are held.
     """
     present = [n for n in STIFFNESS if n in ctx.metrics]
-    fig, grid = _new_figure(len(present), len(axes), (4.4 * len(axes), 0.6 + 2.8 * len(present)))
+    fig, grid = new_figure(len(present), len(axes), (4.4 * len(axes), 0.6 + 2.8 * len(present)))
     notes = []
     for j, axis in enumerate(axes):
         other = _lines_axis(axes, axis)
@@ -108,7 +109,7 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
         x = np.asarray(ctx.metrics[axis].values, dtype=np.float64) * fx
         for i, name in enumerate(present):
             ax = grid[i, j]
-            scale, unit, sym = _DISPLAY[name]
+            scale, unit, sym = STIFFNESS_DISPLAY[name]
             da = ctx.metrics[name].isel({d: k for d, k in held.items() if d in ctx.metrics[name].dims})
             for m, p in enumerate(picks):
                 line = da.isel({other: p}) if other is not None else da
@@ -136,7 +137,7 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
                 ax.legend(fontsize=8, title=olabel, title_fontsize=8)
     fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness): solid, direct "
                  "(the other coordinates held); dashed, compliant (the others free)", fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
     return notes
 
 
@@ -158,11 +159,11 @@ def centrifugal_ball_load(ctx: Context):
     return max(forces), w_deg
 
 
-def section_stiffness(ctx: Context, figdir: Path, solved=()):
+def section_stiffness(ctx: Context) -> list:
     """The "Stiffness at the operating point" section: figure and the speed argument.
 
-    ``solved`` are the statics at the extreme cases (:func:`.loads.solve_extremes`), whose
-    largest contact load the centrifugal load is compared with.
+    The centrifugal load is compared with the largest contact load of the stored statics
+    at the extreme cases (:func:`.loads.stored_statics`).
     """
     blocks = [Heading(2, "Stiffness at the operating point")]
     present = [n for n in STIFFNESS if n in ctx.metrics]
@@ -170,7 +171,7 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
         blocks.append(Para("The sweep holds no stiffness at the operating point (`radial_stiffness`, "
                            "`axial_stiffness`, `tilting_stiffness`): it was written by a version that did not "
                            "compute them."))
-        return blocks, []
+        return blocks
     text = ("The radial stiffness k_r (along the radial load), the axial stiffness k_a and the tilting "
             "stiffness k_θ (about the axis normal to the radial load) are the direct terms of the quasi-static "
             "tangent stiffness of the inner ring at the steady loads (those the profile applies in the middle "
@@ -184,11 +185,11 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
             "depend on the speed except through the loads.")
     fc, w = centrifugal_ball_load(ctx)
     if math.isfinite(fc):
-        qmax = max((float(s.result.max_contact_load) for s in solved if s.result is not None), default=math.nan)
-        text += (f" That is sound here: at the sweep's highest speed, {_g(w, 4)} °/s, a ball's centrifugal load "
+        qmax = max((c.max_contact_load for c in stored_statics(ctx).corners if c.solved), default=math.nan)
+        text += (f" That is sound here: at the sweep's highest speed, {fmt_number(w, 4)} °/s, a ball's centrifugal load "
                  f"m_b·(d_m/2)·ω_c², with ω_c the epicyclic cage speed from the stored geometry, is at most "
-                 f"{_g(fc, 3)} N")
-        text += (f", against contact loads of up to {_g(qmax / 1e3, 3)} kN at the extreme operating points "
+                 f"{fmt_number(fc, 3)} N")
+        text += (f", against contact loads of up to {fmt_number(qmax / 1e3, 3)} kN at the extreme operating points "
                  f"(see the load distribution)." if math.isfinite(qmax) else ".")
     missing = [n for n in STIFFNESS if n not in ctx.metrics]
     if missing:
@@ -196,13 +197,13 @@ def section_stiffness(ctx: Context, figdir: Path, solved=()):
     blocks.append(Para(text))
     axes = stiffness_axes(ctx)
     if not axes:
-        vals = "; ".join(f"{_DISPLAY[n][2]} = {_g(float(np.nanmean(ctx.metrics[n].values)) * _DISPLAY[n][0], 4)} "
-                         f"{_DISPLAY[n][1]}" for n in present)
+        vals = "; ".join(f"{STIFFNESS_DISPLAY[n][2]} = {fmt_number(float(np.nanmean(ctx.metrics[n].values)) * STIFFNESS_DISPLAY[n][0], 4)} "
+                         f"{STIFFNESS_DISPLAY[n][1]}" for n in present)
         blocks.append(Para(f"The sweep has no axis with more than one value to plot against: {vals}."))
-        return blocks, []
-    p = figdir / "stiffness.png"
+        return blocks
+    p = ctx.figure_path("stiffness.png")
     notes = figure_stiffness(ctx, axes, p)
     blocks.append(Para("Stiffness at the steady operating point, a row per stiffness and a column per sweep axis: "
                        + "; ".join(notes) + ". Missing or failed cases are left out."))
     blocks.append(Image(f"figures/{p.name}", "stiffness at the steady operating point against the sweep axes"))
-    return blocks, [p]
+    return blocks

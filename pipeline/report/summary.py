@@ -28,10 +28,10 @@ from rvcore.profile import PHASES
 from ..analysis import REALIZATION
 from ..io import write_text_atomic
 from ..schema.parameters import readable_number
-from .context import ROW, Context, _base, _ensemble_text, _extra_dims, realizations
-from .figures import _new_figure, _save
-from .stiffness import _DISPLAY as STIFFNESS_DISPLAY
-from .render import _PHASE_TITLE, Heading, Image, Para, Table, _dps, _g, _kn
+from .context import ROW, Context, on_base_grid, ensemble_text, extra_dims, realizations
+from .figures import new_figure, save_figure
+from .stiffness import STIFFNESS_DISPLAY
+from .render import PHASE_TITLE, Heading, Image, Para, Table, fmt_speed, fmt_number, fmt_kn
 
 #: Most grid points listed in the report's table; a larger grid shows its corners and its
 #: middle point there, and every point in ``summary.csv``.
@@ -106,7 +106,7 @@ def _reduce(a: np.ndarray, axis: int, how: str) -> np.ndarray:
 def _grid(ctx: Context, name: str) -> np.ndarray | None:
     """``name`` of ``metrics.nc`` as an array ``(speed, radial_load, [phase], [row], [realization])``
     at the first value of any other sweep dimension; None when the sweep lacks it."""
-    m = _base(ctx.metrics, first_realization=False)
+    m = on_base_grid(ctx.metrics, first_realization=False)
     if name not in m:
         return None
     da = m[name]
@@ -174,15 +174,15 @@ class Summary:
         if self.safety_phase is None or self.safety_phase[i, j] < 0:
             return ABSENT
         k = int(self.safety_phase[i, j])
-        text = _PHASE_TITLE[PHASES[k]]
+        text = PHASE_TITLE[PHASES[k]]
         if self.safety_time is not None and math.isfinite(self.safety_time[i, j]):
-            text += f", {_g(self.safety_time[i, j], 3)} s"
+            text += f", {fmt_number(self.safety_time[i, j], 3)} s"
         return text
 
 
 def summary_values(ctx: Context) -> Summary:
     """Every column of :data:`COLUMNS` over the grid (see :class:`Summary`)."""
-    m = _base(ctx.metrics, first_realization=False)
+    m = on_base_grid(ctx.metrics, first_realization=False)
     values, phase, time = {}, None, None
     for col in COLUMNS:
         values[col.key], where = _column_values(ctx, col)
@@ -213,7 +213,7 @@ def _cell(v: float, digits: int = 3) -> str:
         return "∞"   # an unloaded bearing's life
     if v is None or not math.isfinite(v):
         return ABSENT
-    text = _g(v, digits)
+    text = fmt_number(v, digits)
     if "e+" in text and abs(v) < 1e6:   # 1.2e+03: plain 1200, rounded to the digits
         text = f"{float(text):.0f}"
     return readable_number(text)
@@ -223,7 +223,7 @@ def summary_rows(s: Summary, points) -> list:
     """The table's rows (strings) at grid indices ``points``."""
     rows = []
     for i, j in points:
-        row = [_dps(s.speeds[i]), _kn(s.loads[j])]
+        row = [fmt_speed(s.speeds[i]), fmt_kn(s.loads[j])]
         for col in COLUMNS:
             v = s.values[col.key]
             row.append(_cell(None if v is None else float(v[i, j])))
@@ -263,14 +263,18 @@ def summary_csv(s: Summary) -> str:
     return buf.getvalue()
 
 
-def section_summary(ctx: Context, outdir: Path):
+def section_summary(ctx: Context) -> list:
     """The blocks of the section 'Summary per operating point'; writes ``summary.csv`` in
-    ``outdir``. Returns ``(blocks, summary, csv path)``."""
-    s = summary_values(ctx)
-    csv_path = write_text_atomic(outdir / "summary.csv", summary_csv(s))
+    the report's folder (:attr:`Context.summary_path`), of :attr:`Context.summary`
+    (computed here when unset)."""
+    if ctx.summary is None:
+        ctx.summary = summary_values(ctx)
+    s = ctx.summary
+    ctx.report_dir.mkdir(parents=True, exist_ok=True)
+    csv_path = ctx.summary_path = write_text_atomic(ctx.report_dir / "summary.csv", summary_csv(s))
     points = _shown_points(s.speeds.size, s.loads.size)
     total = s.speeds.size * s.loads.size
-    ens = _ensemble_text(ctx)
+    ens = ensemble_text(ctx)
     blocks = [Heading(2, "Summary per operating point")]
     text = ("What a bearing designer reads, one row per operating point (steady speed and radial load of the "
             "profile)" + (f"; each value the ensemble mean over the finished realizations of {ens}" if ens else "")
@@ -282,7 +286,7 @@ def section_summary(ctx: Context, outdir: Path):
             "the applied load (ISO 281) at the loads in the middle of the steady phase; peak forces, sliding "
             "speed and pv: the largest over the cycle; δ_r, δ_a at the ring centre; stiffness: the direct "
             "terms of the quasi-static tangent stiffness at the steady point.")
-    extra = _extra_dims(ctx.metrics)
+    extra = extra_dims(ctx.metrics)
     if extra:
         text += (" Other sweep dimensions are held at their first value ("
                  + ", ".join(f"{d} index 0" for d in extra) + "), as in the figures.")
@@ -301,7 +305,7 @@ def section_summary(ctx: Context, outdir: Path):
     blocks.append(Table(summary_header(), summary_rows(s, points)))
     blocks.append(Para(f"{ABSENT} in a row where a column has data elsewhere: no finished case at that point "
                        "(see Cases), or the value is undefined there (no loaded contact: no safety factor)."))
-    return blocks, s, csv_path
+    return blocks
 
 
 def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
@@ -309,7 +313,7 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
     import matplotlib
 
     v = s.values[col.key]
-    fig, axes = _new_figure(1, 2, (10.0, 3.8))
+    fig, axes = new_figure(1, 2, (10.0, 3.8))
     # a sequential map for many lines, its pale end cut off (yellow on white is unreadable);
     # distinct colours for up to ten
     cmap = matplotlib.colormaps["viridis"]
@@ -319,7 +323,7 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
         for k, o in enumerate(others):
             y = v[:, k] if axis == "speed" else v[k, :]
             colour = f"C{k}" if len(others) <= 10 else cmap(0.85 * k / max(len(others) - 1, 1))
-            ax.plot(x, y, "-o", ms=3.5, lw=1.0, color=colour, label=_kn(o) if axis == "speed" else _dps(o))
+            ax.plot(x, y, "-o", ms=3.5, lw=1.0, color=colour, label=fmt_kn(o) if axis == "speed" else fmt_speed(o))
         if col.key == "safety":   # ISO 76's reference: s₀ = 1 is the peak pressure of 4200 MPa
             ax.axhline(1.0, color="C3", lw=0.8, ls="--", label="s₀ = 1 (4200 MPa)")
         ax.set_xlabel("steady speed [°/s]" if axis == "speed" else "radial load [kN]")
@@ -327,26 +331,25 @@ def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
         ax.grid(True, lw=0.3)
         ax.legend(fontsize=8, title="radial load" if axis == "speed" else "speed", title_fontsize=8)
     fig.suptitle(col.figure + (" (ensemble means)" if ens else ""), fontsize=10)
-    _save(fig, path)
+    save_figure(fig, path)
 
 
-def section_designer_figures(ctx: Context, s: Summary, figdir: Path):
+def section_designer_figures(ctx: Context) -> list:
     """The designer outputs of :data:`COLUMNS` with a figure, against speed and radial load,
-    where the sweep holds them. Returns the blocks and the figures written."""
+    where the sweep holds them (of :attr:`Context.summary`)."""
+    s = ctx.summary if ctx.summary is not None else summary_values(ctx)
     cols = [c for c in COLUMNS if c.figure and s.values[c.key] is not None
             and bool(np.isfinite(s.values[c.key]).any())]
     if not cols:
-        return [], []
-    ens = bool(_ensemble_text(ctx))
+        return []
+    ens = bool(ensemble_text(ctx))
     blocks = [Heading(2, "Designer outputs against speed and load"),
               Para("The quantities of the summary table that a design turns on, at every grid point: against "
                    "the steady speed with a line per radial load, and against the radial load with a line per "
                    "speed" + ("; ensemble means over the finished realizations" if ens else "") + ".")]
-    figures = []
     for col in cols:
-        p = figdir / f"designer_{col.key}.png"
+        p = ctx.figure_path(f"designer_{col.key}.png")
         figure_designer(s, col, p, ens)
-        figures.append(p)
         blocks.append(Heading(3, col.header))
         blocks.append(Image(f"figures/{p.name}", col.figure))
-    return blocks, figures
+    return blocks

@@ -52,6 +52,7 @@ from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
                     source_name)
 from .cluster import DEFAULT_ALLOWED_FAILURES
+from .corners import store_corner_statics_or_warn
 
 __all__ = ["SweepResult", "describe_point", "run_sweep", "summary", "write_combined_sweep"]
 
@@ -321,6 +322,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     combined = None
     if combine_at_end:
         combined = write_combined_sweep(sweep, out, states=states, history=history)
+        store_corner_statics_or_warn(sweep, out, states)   # the report reads the load distribution there
     result = SweepResult(sweep=sweep, out_dir=out, combined=combined, states=states,
                          workers=n_workers, scheduler=scheduler_text, wall_time=wall,
                          total_time=time.perf_counter() - t_start, warm_up_time=warm,

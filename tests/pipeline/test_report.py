@@ -21,7 +21,9 @@ from pipeline.cli import main
 from pipeline.analysis import default_reference_path, load_reference_fits
 from pipeline.errors import ConfigError
 from pipeline.report import build_report, ensemble_statistics, sensors
+from pipeline.io import CaseState
 from pipeline.run import run_sweep
+from pipeline.run.corners import store_corner_statics
 from pipeline.schema import read_sweep_file, stored_configuration, sweep_from_dict
 from rvcore.profile import PHASES, study_profile
 from tests.pipeline.synthetic import synthetic_result
@@ -31,19 +33,32 @@ REPO = Path(__file__).resolve().parents[2]
 
 
 
-def _study_grid_configuration() -> str:
-    """The stored configuration of the study's sweep on the synthetic 3 x 3 grid, without its
-    ensemble and sensors (51 balls of 23 mm on a 351.5 mm pitch circle, ball density
-    7800 kg/m^3, the assumptions marked), as sweep.nc stores it."""
+def study_grid_sweep(speeds_deg=(120.0, 390.0, 660.0), loads=(20e3, 30e3, 40e3)):
+    """The study's sweep on a synthetic grid (default 3 x 3), without its ensemble and sensors (51
+    balls of 23 mm on a 351.5 mm pitch circle, ball density 7800 kg/m^3, the assumptions marked)."""
     study = REPO / "sweeps" / "study.toml"
     raw = {k: v for k, v in tomllib.loads(study.read_text()).items()
            if k not in ("realizations", "seed", "sensors")}
-    raw["axes"] = {"speed": ["120 deg/s", "390 deg/s", "660 deg/s"], "radial_load": ["20 kN", "30 kN", "40 kN"]}
-    return sweep_from_dict(raw, study).configuration
+    raw["axes"] = {"speed": [f"{s:g} deg/s" for s in speeds_deg], "radial_load": [f"{f / 1e3:g} kN" for f in loads]}
+    return sweep_from_dict(raw, study)
 
 
-#: A real stored configuration (see :func:`_study_grid_configuration`).
-STUDY_CONFIG = _study_grid_configuration()
+def store_statics(directory, speeds_deg=(120.0, 390.0, 660.0), loads=(20e3, 30e3, 40e3),
+                  missing=((390.0, 20e3),)):
+    """``statics.nc`` as the runner writes it when a sweep finishes (:mod:`pipeline.run.corners`),
+    for a synthetic sweep of the study's bearing: the study's sweep on the same grid, the
+    ``missing`` points not finished."""
+    sweep = study_grid_sweep(speeds_deg, loads)
+    states = {}
+    for i, spec in enumerate(sweep.cases):
+        s, f = math.degrees(spec.point["speed"]), spec.point["radial_load"]
+        failed = any(math.isclose(s, ms) and math.isclose(f, mf) for ms, mf in missing)
+        states[spec.case_id] = CaseState(spec.case_id, i, spec.point, state="failed" if failed else "ok")
+    return store_corner_statics(sweep, directory, states)
+
+
+#: A real stored configuration (of :func:`study_grid_sweep`), as sweep.nc stores it.
+STUDY_CONFIG = study_grid_sweep().configuration
 
 
 def _with_windows(speed, radial_load, axial_load=10e3, **kw):
@@ -57,12 +72,17 @@ def _with_windows(speed, radial_load, axial_load=10e3, **kw):
 
 def synthetic_sweep(directory, windows: bool = True, **kw):
     """``build_synthetic_sweep`` with a real stored configuration and, with ``windows``, the
-    phase windows in the data."""
+    phase windows in the data; with ``statics`` (default: with the study's configuration) the
+    statics at the extreme cases stored as a run stores them (:func:`store_statics`)."""
+    statics = kw.pop("statics", "config" not in kw)
     kw.setdefault("config", STUDY_CONFIG)
     with pytest.MonkeyPatch.context() as mp:
         if windows:
             mp.setattr(synthetic_sweeps, "synthetic_result", _with_windows)
-        return build_synthetic_sweep(directory, **kw)
+        d = build_synthetic_sweep(directory, **kw)
+    if statics:
+        store_statics(d, **{k: kw[k] for k in ("speeds_deg", "loads", "missing") if k in kw})
+    return d
 
 #: The report's sections in their order (issue 10): the designer's summary first, then the cases and the
 #: figures, the study comparison, the files and the configuration as an appendix.
@@ -139,7 +159,7 @@ def test_comparison_values_in_study_units(built):
 def test_parameters_with_assumptions_marked(built):
     _, _, md, _ = built
     assert "bearing: **study-table2**" in md and "profile: **study**" in md
-    rows = {r[0]: r[1:] for r in _table(_section(md, "## Appendix: bearing, profile and parameters"))[1:]}
+    rows = {r[0]: r[1:] for r in table_rows(section_of(md, "## Appendix: bearing, profile and parameters"))[1:]}
     # keys are the bearing file's own key paths, values in the schema's display units
     assert rows["`rows[0].radial_clearance`"][2] == "**assumed**"
     # a listed table (rows[0].outer_groove.arcs) marks every value in it
@@ -217,7 +237,7 @@ def test_report_names_an_unreadable_configuration(tmp_path):
     d = synthetic_sweep(tmp_path, config='model_version = 1\nname = "old"\n', speeds_deg=(120.0, 660.0),
                         loads=(30e3, 40e3), missing=())
     md = build_report(d).markdown.read_text()
-    text = _section(md, "## Appendix: bearing, profile and parameters")
+    text = section_of(md, "## Appendix: bearing, profile and parameters")
     assert "model_version = 1: written by another model version" in text
     assert "| key | value |" not in text
     assert "The centrifugal force on a ball could not be estimated" in md
@@ -231,7 +251,7 @@ def test_cli_on_a_partial_sweep_of_case_files(tmp_path, capsys):
     assert "report.md" in out and "1 case(s) failed or missing" in out
     md = (d / "report" / "report.md").read_text()
     assert "4 cases, 3 finished ok, 1 failed or missing" in md
-    row = next(ln for ln in _section(md, "## Cases").splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
+    row = next(ln for ln in section_of(md, "## Cases").splitlines() if ln.startswith("| 660 °/s | 40 kN |"))
     assert "| failed |" in row and FAILED_REASON in row
 
 
@@ -340,12 +360,12 @@ def ensemble(tmp_path_factory):
     return folder / "out", files, files.markdown.read_text(), files.html.read_text()
 
 
-def _section(md: str, heading: str) -> str:
+def section_of(md: str, heading: str) -> str:
     """The text under ``heading`` up to the next heading of any level."""
     return re.split(r"\n#{1,6} ", md.split(f"\n{heading}\n", 1)[1], maxsplit=1)[0]
 
 
-def _table(text: str) -> list:
+def table_rows(text: str) -> list:
     """Rows of the first Markdown table in ``text`` as lists of cells (header first)."""
     lines = [ln for ln in text.splitlines() if ln.startswith("|") and not ln.startswith("|---")]
     return [[c.strip() for c in ln.strip("|").split("|")] for ln in lines]
@@ -353,8 +373,8 @@ def _table(text: str) -> list:
 
 def test_ensemble_sensor_table_and_figures(ensemble):
     d, files, md, html = ensemble
-    text = _section(md, "## Displacement sensors")
-    assert _table(text) == [["sensor", "position [mm]", "direction"],
+    text = section_of(md, "## Displacement sensors")
+    assert table_rows(text) == [["sensor", "position [mm]", "direction"],
                             ["`radial_bore`", "(160, 0, 0)", "(1, 0, 0)"],
                             ["`axial_face`", "(175.75, 0, 15)", "(0, 0, 1)"]]
     assert "laser" in text and "tilt" in text
@@ -383,9 +403,9 @@ def test_ensemble_captions_give_n_and_error_bars(ensemble):
     for c in captions:
         assert "Ensemble mean of N = 2 realizations (seeds 0, 1) per case with ±1 standard-error bars" in c
         assert "individual realizations as faint small points" in c and "weighted least-squares" in c
-    assert "the first realization (seed 0) of N = 2" in _section(md, "## Time histories")
+    assert "the first realization (seed 0) of N = 2" in section_of(md, "## Time histories")
     assert "× N = 2 realizations (seeds 0, 1): 9 grid points, 18 runs, 17 finished ok, 1 failed or missing" in md
-    row = next(r for r in _table(_section(md, "## Cases")) if r[0] == "390 °/s")
+    row = next(r for r in table_rows(section_of(md, "## Cases")) if r[0] == "390 °/s")
     assert row[1:5] == ["20 kN", "seed 1", "failed", ENSEMBLE_FAILED]
     assert files.missing == 1
 
@@ -404,9 +424,9 @@ def test_ensemble_statistics_match_metrics_nc(ensemble):
 
 def test_window_edge_section_lists_flagged_ranges(ensemble):
     _, _, md, html = ensemble
-    text = _section(md, "## Ranges cut off by the phase window")
+    text = section_of(md, "## Ranges cut off by the phase window")
     assert "cut off by the window and is a lower bound" in text
-    rows = _table(text)
+    rows = table_rows(text)
     assert rows[0][:3] == ["phase", "metric", "extreme at the window's edge"]
     flagged = {(r[0], r[1]): r for r in rows[1:]}
     assert set(flagged) == {("start-up", "range of δ_r at the ring centre"),
@@ -418,25 +438,25 @@ def test_window_edge_section_lists_flagged_ranges(ensemble):
     assert r[2] == "17 of 17 runs (100 % of realizations), at 9 of 9 grid points"
     assert "No other range has an extreme at the edge of its window." in text
     # the figure holds one flagged realization: seed 0 at 660 °/s in the panel at 30 kN
-    caption = _section(md, "### start-up radial displacement variation range, at the ring centre")
+    caption = section_of(md, "### start-up radial displacement variation range, at the ring centre")
     assert "Hollow markers (1 realization and the mean it belongs to)" in caption
-    assert "No range drawn here has an extreme" in _section(md, "### start-up sensor reading variation range")
+    assert "No range drawn here has an extreme" in section_of(md, "### start-up sensor reading variation range")
     assert "<h2>Ranges cut off by the phase window</h2>" in html
 
 
 def test_both_cage_slip_definitions(ensemble):
     _, _, md, _ = ensemble
-    text = _section(md, "## Cage slip")
+    text = section_of(md, "## Cage slip")
     assert "`cage_slip` = 1 − ω̄_c/ω_epi" in text and "actual contact angles" in text
     assert re.search(r"`cage_slip_nominal` against the epicyclic speed at the nominal contact angle α = [\d.]+°", text)
-    rows = _table(text)
+    rows = table_rows(text)
     assert rows[0][3:5] == ["`cage_slip` (actual contact angles) [%]",
                             "`cage_slip_nominal` (nominal contact angle) [%]"]
     # 120 °/s, 20 kN, steady: slip 0.005 + 0.001·seed, nominal 0.002 more; mean ± standard error in %
     row = next(r for r in rows if r[:3] == ["120 °/s", "20 kN", "steady"])
     assert row[3:5] == ["0.55 ± 0.05", "0.75 ± 0.05"]
     assert "cage_slip_steady.png" in text
-    files = _section(md, "## Files")
+    files = section_of(md, "## Files")
     assert "`cage_slip`" in files and "`cage_slip_nominal`" in files
 
 
@@ -520,7 +540,7 @@ def test_report_of_a_real_run(tmp_path):
     for p in files.figures:
         assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
         assert f"](figures/{p.name})" in md and f'src="figures/{p.name}"' in html
-    table = _table(_section(md, "## Appendix: bearing, profile and parameters"))
+    table = table_rows(section_of(md, "## Appendix: bearing, profile and parameters"))
     values = {r[0]: r[1:] for r in table[1:]}
     assert values["`rows[0].balls.count`"][0] == "12"
     assert values["`rows[0].balls.diameter`"][0] == "23 mm"

@@ -25,8 +25,8 @@ from pipeline.report.context import Context
 from pipeline.report.summary import ABSENT, COLUMNS, section_summary
 from pipeline.schema import sweep_from_dict
 from rvcore.profile import PHASES
-from tests.pipeline.test_report import _section, _table, synthetic_sweep
-from tests.pipeline.test_report_stiffness import _add_stiffness
+from tests.pipeline.test_report import section_of, table_rows, synthetic_sweep
+from tests.pipeline.test_report_stiffness import add_stiffness
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -78,7 +78,7 @@ def add_designer_outputs(directory: Path, skip=()) -> xr.Dataset:
 @pytest.fixture(scope="module")
 def designer(tmp_path_factory):
     d = synthetic_sweep(tmp_path_factory.mktemp("designer"))   # 3x3, 390 °/s at 20 kN failed
-    _add_stiffness(d)
+    add_stiffness(d)
     sweep = add_designer_outputs(d)
     files = build_report(d)
     return d, sweep, files, files.markdown.read_text(), files.html.read_text()
@@ -100,7 +100,7 @@ def test_first_section_is_the_summary_table(designer):
     _, _, _, md, html = designer
     assert [ln for ln in md.splitlines() if ln.startswith("## ")][0] == "## Summary per operating point"
     assert html.index("<h2>Summary per operating point</h2>") < html.index("<h2>Cases</h2>")
-    text = _section(md, "## Summary per operating point")
+    text = section_of(md, "## Summary per operating point")
     assert "This sweep lacks" not in text            # every output present
     assert "Every grid point is shown" in text
 
@@ -109,7 +109,7 @@ def test_summary_rows_match_the_dataset(designer):
     """One row per grid point, in grid order; each cell is the dataset's variable at that
     point, reduced and converted to the header's unit here."""
     _, sweep, _, md, _ = designer
-    rows = _table(_section(md, "## Summary per operating point"))
+    rows = table_rows(section_of(md, "## Summary per operating point"))
     header, rows = rows[0], rows[1:]
     col = {h: k for k, h in enumerate(header)}
     assert header[:2] == ["speed [°/s]", "radial load [kN]"]
@@ -146,7 +146,7 @@ def test_summary_csv_holds_every_point(designer):
     d, sweep, files, md, _ = designer
     with open(d / "report" / "summary.csv", newline="") as fh:
         rows = list(csv.reader(fh))
-    table = _table(_section(md, "## Summary per operating point"))
+    table = table_rows(section_of(md, "## Summary per operating point"))
     assert rows[0] == table[0]
     assert len(rows) - 1 == sweep.sizes["speed"] * sweep.sizes["radial_load"]
     for r, t in zip(rows[1:], table[1:]):
@@ -190,9 +190,9 @@ def test_an_older_sweep_says_what_it_lacks(tmp_path):
     d = synthetic_sweep(tmp_path, speeds_deg=(120.0, 660.0), loads=(30e3, 40e3), missing=())
     add_designer_outputs(d, skip=("rating_life_L10r", "rating_life_cycles"))
     md = build_report(d).markdown.read_text()
-    text = _section(md, "## Summary per operating point")
+    text = section_of(md, "## Summary per operating point")
     assert "This sweep lacks `rating_life_L10r`, `rating_life_cycles`" in text
-    rows = _table(text)
+    rows = table_rows(text)
     for k in (rows[0].index("L10r of the duty cycle [Mrev]"), rows[0].index("L10r of the duty cycle [cycles]")):
         assert {r[k] for r in rows[1:]} == {ABSENT}
     assert {r[rows[0].index("L10r at the steady point (statics) [Mrev]")] for r in rows[1:]}.isdisjoint({ABSENT})
@@ -218,14 +218,15 @@ def _metrics_grid(speeds, loads, seeds=None) -> xr.Dataset:
 
 def _context(metrics: xr.Dataset, tmp_path: Path) -> Context:
     return Context(directory=tmp_path, sweep=xr.Dataset(), metrics=metrics, fits=xr.Dataset(), status={},
-                   references=[], reference_path=tmp_path)
+                   references=[], reference_path=tmp_path, outdir=tmp_path)
 
 
 def test_study_grid_shows_corners_and_middle(tmp_path):
     """The study's 5 x 10 grid: the report shows the four corners and the middle point, the CSV all 50."""
     speeds = np.linspace(120.0, 660.0, 5)
     loads = np.linspace(20e3, 40e3, 10)
-    blocks, summary, path = section_summary(_context(_metrics_grid(speeds, loads), tmp_path), tmp_path)
+    ctx = _context(_metrics_grid(speeds, loads), tmp_path)
+    blocks, path = section_summary(ctx), ctx.summary_path
     table = next(b for b in blocks if hasattr(b, "rows"))
     shown = [(r[0], r[1]) for r in table.rows]
     expected = [(i, j) for i, j in ((0, 0), (0, 9), (2, 5), (4, 0), (4, 9))]
@@ -239,7 +240,7 @@ def test_ensemble_summary_is_the_mean_over_realizations(tmp_path):
     seeds = [0, 1, 2]
     m = _metrics_grid([120.0, 660.0], [20e3, 40e3], seeds)
     m["rating_life_L10r"][0, 0, 2] = np.nan          # a realization that did not finish: left out of its mean
-    blocks, _, _ = section_summary(_context(m, tmp_path), tmp_path)
+    blocks = section_summary(_context(m, tmp_path))
     table = next(b for b in blocks if hasattr(b, "rows"))
     k = table.header.index("L10r of the duty cycle [Mrev]")
     lives = [made_up("rating_life_L10r", s, f) for s in (120.0, 660.0) for f in (20e3, 40e3)]
@@ -264,7 +265,7 @@ def test_appendix_in_engineering_units(tmp_path):
     d = synthetic_sweep(tmp_path, speeds_deg=(120.0,), loads=(20e3, 30e3, 40e3), missing=(), config=config)
     md = build_report(d).markdown.read_text()
     assert [ln for ln in md.splitlines() if ln.startswith("## ")][-1] == "## Appendix: bearing, profile and parameters"
-    rows = {r[0]: r[1:] for r in _table(_section(md, "## Appendix: bearing, profile and parameters"))[1:]}
+    rows = {r[0]: r[1:] for r in table_rows(section_of(md, "## Appendix: bearing, profile and parameters"))[1:]}
     assert rows["`speed`"][0] == "120 °/s" and rows["`speed`"][1].startswith("sweep fixed")
     assert rows["`radial_load`"][0] == "[20, 30, 40] kN"
     assert rows["`contact.damping`"][0].endswith(" N s/m")
@@ -281,7 +282,8 @@ def test_unloaded_life_is_infinite_and_undefined_safety_is_absent(tmp_path):
     m = _metrics_grid([120.0, 660.0], [20e3, 40e3])
     m["rating_life_L10r"][0, 0] = np.inf
     m["static_safety_factor_min"][0, 0, :] = np.nan
-    blocks, _, path = section_summary(_context(m, tmp_path), tmp_path)
+    ctx = _context(m, tmp_path)
+    blocks, path = section_summary(ctx), ctx.summary_path
     table = next(b for b in blocks if hasattr(b, "rows"))
     row = table.rows[0]
     assert row[table.header.index("L10r of the duty cycle [Mrev]")] == "∞"

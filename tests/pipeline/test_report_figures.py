@@ -31,7 +31,7 @@ def test_designer_figure_lines_contrast_with_white_and_legends_are_legible(tmp_p
 
     def save(fig, path):
         captured["fig"] = fig
-    monkeypatch.setattr(summary, "_save", save)
+    monkeypatch.setattr(summary, "save_figure", save)
     col = next(c for c in COLUMNS if c.key == "safety")
     s = Summary(speeds=np.array([120.0, 390.0, 660.0]), loads=np.array([20e3, 30e3, 40e3]),
                 values={col.key: np.arange(9.0).reshape(3, 3) + 2.0}, safety_phase=None, safety_time=None)
