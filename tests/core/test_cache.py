@@ -12,7 +12,7 @@ def test_each_version_of_the_sources_has_its_own_cache_directory(tmp_path, monke
     pkg = tmp_path / "rvcore"
     pkg.mkdir()
     (pkg / "contact.py").write_text("x = 1\n")
-    monkeypatch.setattr(_cache, "_PACKAGE", pkg)
+    monkeypatch.setattr(numba_cache, "_PACKAGE", pkg)
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     first = numba_cache.cache_dir()
     assert first == numba_cache.cache_dir() and first.parent == pkg / "__pycache__"
