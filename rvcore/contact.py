@@ -11,7 +11,7 @@ law changed here changes everywhere.
 
 Notes
 -----
-Cubic step (model.md §3)::
+Cubic step (docs/model.md §3)::
 
     STEP(x, x0, h0, x1, h1) = h0                          x ≤ x0
                             = h0 + (h1−h0)·Δ²·(3 − 2Δ)    Δ = (x−x0)/(x1−x0)
@@ -21,7 +21,7 @@ Normal force (Hertz with the IMPACT damper)::
 
     Q = K·δ^1.5 + STEP(δ, 0, 0, d_max, c_max)·dδ/dt,   then Q ← max(Q, 0)
 
-Friction (model.md §4), slip speed ``s = |v_t|``::
+Friction (docs/model.md §4), slip speed ``s = |v_t|``::
 
     μ(s) = STEP(s, −v_s, −μ_s, v_s, μ_s)      s < v_s
          = STEP(s, v_s, μ_s, v_d, μ_d)        v_s ≤ s ≤ v_d
@@ -97,7 +97,7 @@ def unit_step_slope(d):
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def step(x, x0, h0, x1, h1):
-    """The cubic ``STEP(x, x0, h0, x1, h1)`` of model.md §3 [units of h].
+    """The cubic ``STEP(x, x0, h0, x1, h1)`` of docs/model.md §3 [units of h].
 
     Parameters
     ----------
@@ -173,7 +173,7 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
-    """μ(s) of model.md §4 [-].
+    """μ(s) of docs/model.md §4 [-].
 
     Parameters
     ----------

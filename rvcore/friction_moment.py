@@ -10,7 +10,7 @@ lubricant, which rises with speed and viscosity as ``(ν·n)^(2/3)``.
 
 This is not the moment the project's dynamics compute. The model's drive torque is the
 torque of its contact friction law alone (Coulomb–Stribeck sliding in the ball–race,
-ball–pocket and cage–land contacts, model.md §4): it has no lubricant drag, no EHL
+ball–pocket and cage–land contacts, docs/model.md §4): it has no lubricant drag, no EHL
 rolling resistance, no differential slip across the contact ellipse and no seals. This
 estimate is an empirical fit over bearings in service, and it leaves out seals too.
 

@@ -1,7 +1,7 @@
 """Bearing geometry and materials, SI in and SI out.
 
 A bearing is one or more rows sharing one inner ring and one fixed outer ring. Each row
-has its own balls, cage, pitch diameter, axial position and groove arcs (model.md §2).
+has its own balls, cage, pitch diameter, axial position and groove arcs (docs/model.md §2).
 
 Groove arcs
 -----------
@@ -139,7 +139,7 @@ class Row:
         Axial shift of the row's inner raceway from its nominal place [m]: a pair's share
         of the preload offset (:mod:`rvcore.preload`), 0 for a free row.
     imperfections : rvcore.imperfections.Imperfections or RealizedImperfections
-        Raceway eccentricity and waviness, ball size variation (model.md §12); perfect
+        Raceway eccentricity and waviness, ball size variation (docs/model.md §12); perfect
         by default.
     """
 
@@ -178,7 +178,7 @@ class InnerRing:
     attached_inertia : float
         Their transverse moment of inertia about the bearing centre [kg m^2].
     tilt : str
-        How the ring is held about its two tilt axes (model.md §11): ``"free"`` (zero
+        How the ring is held about its two tilt axes (docs/model.md §11): ``"free"`` (zero
         moment: a single row under a radial load tilts and loads fewer balls harder) or
         ``"held"`` (kept square, as a shaft on a second support holds it; the statics,
         the stiffness and the dynamics fix both tilts at 0 and report the reaction
@@ -197,7 +197,7 @@ class InnerRing:
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """Normal-contact damping (IMPACT type) and the friction law of model.md §3–4.
+    """Normal-contact damping (IMPACT type) and the friction law of docs/model.md §3–4.
 
     Parameters
     ----------

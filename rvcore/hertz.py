@@ -1,4 +1,4 @@
-"""Hertz point-contact constants from the complete elliptic integrals (model.md §3, §9.1).
+"""Hertz point-contact constants from the complete elliptic integrals (docs/model.md §3, §9.1).
 
 Set-up code, run once per contact type: plain numpy/scipy, no numba. Everything is SI.
 

@@ -54,7 +54,7 @@ stability function, whose amplitude per step on the imaginary axis is
 loss is numerical damping of the contact vibrations near the step's frequency scale,
 with a phase error that grows alike. What it costs, measured:
 
-- the 12-ball section's centrifugal balance (model.md §9.7, test_dynamics.py, 3 %),
+- the 12-ball section's centrifugal balance (docs/model.md §9.7, test_dynamics.py, 3 %),
   worst of its two cases: 2.8 % at 1.7, 4.9 % at 2.0, 5.9 % at 2.12, 8.4 % at 2.4. This
   is what binds (re-measured 2026-11-25, MODEL_VERSION 6);
 - the energy a contact ring-down carries goes out through the scheme and not the

@@ -1,4 +1,4 @@
-"""A real bearing's imperfections (model.md §12): raceway eccentricity and waviness, ball
+"""A real bearing's imperfections (docs/model.md §12): raceway eccentricity and waviness, ball
 size variation, and the ISO tolerance classes that set them. SI throughout.
 
 A row's :class:`Imperfections` is what the bearing file gives: explicit values, or a

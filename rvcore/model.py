@@ -79,7 +79,7 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
                     gravity: bool = True) -> CompiledBearing:
     """Pack ``bearing`` for the kernels; Hertz constants are solved here, once.
 
-    ``gravity`` False zeroes the bearing's gravity vector (model.md §9 conservation checks).
+    ``gravity`` False zeroes the bearing's gravity vector (docs/model.md §9 conservation checks).
     The loads, the tilting moment and the load's direction are not compiled in: they are
     the profile's channels (:meth:`rvcore.profile.Profile.resolve`).
     """

@@ -1,4 +1,4 @@
-"""Service cycles as data: breakpoint tables for F_r, F_a, ω, M and ψ (model.md §6).
+"""Service cycles as data: breakpoint tables for F_r, F_a, ω, M and ψ (docs/model.md §6).
 
 A profile has five channels, numbered by the ``CH_*`` constants below (their one home):
 
@@ -249,7 +249,7 @@ def channel_value(table, meta, c, t):
     v0, v1 = table[c, 1, k], table[c, 1, k + 1]
     s = (t - t0) / (t1 - t0)
     if meta[c, 1] == SMOOTHSTEP:
-        s = unit_step(s)   # the cubic STEP of model.md §3, from its one home
+        s = unit_step(s)   # the cubic STEP of docs/model.md §3, from its one home
     return v0 + (v1 - v0) * s
 
 
@@ -297,7 +297,7 @@ def channel_integral(table, meta, c, t):
 
 
 def study_profile() -> Profile:
-    """The study's cycle with t0…t4 = 0.3, 0.8, 3.8, 4.3, 4.6 s (model.md §6)."""
+    """The study's cycle with t0…t4 = 0.3, 0.8, 3.8, 4.3, 4.6 s (docs/model.md §6)."""
     t0, t1, t2, t3, t4 = 0.3, 0.8, 3.8, 4.3, 4.6
     load = Channel((0.0, t0, t3, t4), (0.0, 1.0, 1.0, 0.0))
     speed = Channel((t0, t1, t2, t3), (0.0, 1.0, 1.0, 0.0))

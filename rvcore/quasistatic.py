@@ -244,13 +244,13 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     stiffness : bool
         Also form the 5×5 tangent stiffness at the equilibrium (:mod:`rvcore.stiffness`).
     tilt : {"free", "held"}, optional
-        How the ring's tilts are held (model.md §11); by default the bearing's
+        How the ring's tilts are held (docs/model.md §11); by default the bearing's
         ``inner_ring.tilt`` (a ``CompiledBearing``'s ``P_TILT_HELD``). ``"held"`` fixes
         both tilts at 0, solves the three translations and reports the moment the
         support takes (``reaction_moment``); the moment balance is then the support's.
     ring_angle : float
         Angle the inner ring has turned through from its position at t = 0 [rad]: where
-        an imperfect inner raceway's eccentricity and waviness stand (model.md §12); no
+        an imperfect inner raceway's eccentricity and waviness stand (docs/model.md §12); no
         effect on a perfect bearing.
     ball_angle : float
         Angle the balls (the cage) have turned through from their pockets' places at

@@ -1,6 +1,6 @@
 """Where an imperfect raceway is: the radial shift of a groove at a contact's angle.
 
-The one place an imperfection enters the contact geometry (model.md §12,
+The one place an imperfection enters the contact geometry (docs/model.md §12,
 :mod:`rvcore.imperfections`): the right-hand side, the potential energy and the statics
 all take the shift from :func:`raceway_offset` and hand it to
 :func:`rvcore.contact.race_arc_penetration`.

@@ -1,5 +1,5 @@
 """The quasi-static runout path: the inner ring's pose over one revolution of an
-imperfect bearing (model.md §12), the reference its dynamics are compared with. SI.
+imperfect bearing (docs/model.md §12), the reference its dynamics are compared with. SI.
 """
 from __future__ import annotations
 

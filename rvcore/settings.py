@@ -32,7 +32,7 @@ class SolverSettings:
         Contact damping on.
     gravity : bool
         Gravity on every body, along the bearing's mounting (False only for the
-        conservation checks of model.md §9).
+        conservation checks of docs/model.md §9).
     seed : int
         −1: every ball starts at its pocket centre. Otherwise the seed of the random
         start: each ball starts at a uniformly drawn position within its pocket's

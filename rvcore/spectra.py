@@ -2,7 +2,7 @@
 
 A rig engineer compares a displacement's spectrum with the frequencies the bearing's
 kinematics sets: the shaft's, the cage's, the ball-pass frequencies of both races, the
-ball spin and their harmonics. Imperfections put vibration at these (model.md §12); a
+ball spin and their harmonics. Imperfections put vibration at these (docs/model.md §12); a
 perfect bearing under radial load shows only the outer ball pass, its varying compliance.
 """
 from __future__ import annotations

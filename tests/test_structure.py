@@ -88,6 +88,8 @@ def test_design_references_point_into_docs():
     sections = set(re.findall(r"^#+ §?(\d+(?:\.\d+)?)", (REPO / "docs" / "model.md").read_text(), flags=re.M))
     bad = []
     for path in SOURCES:
+        if path == Path(__file__).resolve():
+            continue
         text = path.read_text()
         for m in re.finditer(r"(\S*)model\.md(?: §(\d+(?:\.\d+)?))?", text):
             if not m.group(1).endswith("docs/") or (m.group(2) and m.group(2) not in sections):

@@ -182,7 +182,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         "profile": profile_name,
         "caveats": caveat_text,
         "assumptions": ", ".join(assumptions),
-        # how the inner ring's tilts were held (model.md §11): every result depends on it
+        # how the inner ring's tilts were held (docs/model.md §11): every result depends on it
         "inner_ring_tilt": str(result.info.get("inner_ring_tilt", "free")),
     }
     for key, value in result.info.items():

@@ -2,7 +2,7 @@
 
 Files are written by :mod:`pipeline.io.files` (atomic replacement).
 
-The conventions (pipeline.md, "NetCDF conventions"): CF-1.8, UDUNITS unit strings, no
+The conventions (docs/outputs.md, "NetCDF conventions"): CF-1.8, UDUNITS unit strings, no
 ``_FillValue`` on coordinates, zlib compression, one case per chunk, float64 data, the
 netCDF4 engine. The UDUNITS spelling of every unit comes from :mod:`pipeline.schema.units`.
 """

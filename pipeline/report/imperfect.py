@@ -1,7 +1,7 @@
 """Imperfect bearings in the report: the tolerance classes of a sweep side by side against
 the study's fits, and the steady spectrum with the bearing's kinematic frequencies.
 
-Both read ``sweep.nc``, ``metrics.nc`` and ``fits.nc`` only (model.md §12).
+Both read ``sweep.nc``, ``metrics.nc`` and ``fits.nc`` only (docs/model.md §12).
 """
 from __future__ import annotations
 
@@ -63,7 +63,7 @@ def section_classes(ctx: Context) -> list:
     blocks = [Heading(2, "Tolerance classes beside the study"),
               Para("The same fits as above for each bearing of the sweep (`imperfections.tolerance_class`): a "
                    "perfect one and ISO 492 specimens whose raceways are eccentric by half the class's runout, "
-                   "with waviness-free raceways and balls within the class's grade (model.md §12). Every other "
+                   "with waviness-free raceways and balls within the class's grade (docs/model.md §12). Every other "
                    "section of this report shows the first value of the sweep's axis, "
                    f"{_class_label(_class_name(ctx, ctx.fits[CLASS_AXIS].values[0]))}. Slopes in the study's units; ✓ where the sign agrees with the "
                    "study's.")]

@@ -1,6 +1,6 @@
 """Run a sweep: cases on dask (or serially), written atomically and resumably, combined.
 
-Layout of a sweep's folder (pipeline.md, "What a sweep writes")::
+Layout of a sweep's folder (docs/outputs.md, "What a sweep writes")::
 
     <out>/cases/<case id>.nc   one file per finished case (atomic: temp name, os.replace)
     <out>/status.json          case id -> its values (SI), ok / failed + reason / not_run
@@ -468,7 +468,7 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
         "assumptions": ", ".join(sweep.bearing.assumptions),
         "sweep": sweep.name,
         "sweep_axes": " ".join(case_dims),
-        # how the inner ring's tilts were held (model.md §11): every result depends on it
+        # how the inner ring's tilts were held (docs/model.md §11): every result depends on it
         "inner_ring_tilt": " and ".join(sorted({c.bearing.inner_ring.tilt for c in sweep.cases}))
                            or sweep.bearing.inner_ring.tilt,
     }

@@ -79,7 +79,7 @@ def _row(t: Table, top: Table) -> Row:
 
 
 def _imperfections(top: Table, row: Table, ball_count: int, first: Table | None = None) -> Imperfections:
-    """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (model.md §12);
+    """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (docs/model.md §12);
     ``first`` (a pair's ``[[pair.imperfections]]`` entry of this row) over both."""
     tables = [x for x in (first, row.table("imperfections", required=False),
                           top.table("imperfections", required=False)) if x is not None and x.data]
@@ -243,7 +243,7 @@ def extra_geometry_problems(bearing: Bearing):
 
 
 def is_overlap_problem(key: str, reason: str) -> bool:
-    """Whether a ``geometry_problems`` entry is the ball overlap of model.md §10."""
+    """Whether a ``geometry_problems`` entry is the ball overlap of docs/model.md §10."""
     return key.endswith(".balls.count") and "need a pitch diameter" in reason
 
 
@@ -374,7 +374,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             shown = value
         if is_overlap_problem(key, reason):
             reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
-                       "as a warning (model.md §10)")
+                       "as a warning (docs/model.md §10)")
         raise ConfigError(file, key, shown, reason)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
     return _preload(bearing, top) if arrangement else bearing

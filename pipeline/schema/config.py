@@ -61,7 +61,7 @@ top-level ``assumptions`` list for the program. Each listed path must exist in t
 (a path to a table marks everything in it). They end up in ``Bearing.assumptions``.
 
 Ball overlap: ``geometry_problems`` reports balls that do not fit on their pitch circle
-with the numbers (model.md §10). With ``allow_ball_overlap = true`` that message goes
+with the numbers (docs/model.md §10). With ``allow_ball_overlap = true`` that message goes
 into ``Bearing.warnings`` (which every output must repeat) instead of being an error.
 
 Profile file

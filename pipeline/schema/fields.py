@@ -155,7 +155,7 @@ def _material(prefix: str, source: str, whose: str) -> list:
 
 
 def _imperfections(prefix: str, where: str) -> list:
-    """The ``[imperfections]`` keys (model.md §12) under ``prefix``: the bearing's, or one
+    """The ``[imperfections]`` keys (docs/model.md §12) under ``prefix``: the bearing's, or one
     row's override (``rows[].imperfections``)."""
     out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
                  choices=("none",) + TOLERANCE_CLASSES,
@@ -201,7 +201,7 @@ _BEARING = [
     Field("description", "string", "bearing", default="", doc="free text"),
     Field("source", "string", "bearing", default="", doc="where the numbers come from"),
     Field("allow_ball_overlap", "boolean", "bearing", default=False, source="allow_ball_overlap",
-          doc="true turns balls that do not fit on their pitch circle into a warning (model.md §10)"),
+          doc="true turns balls that do not fit on their pitch circle into a warning (docs/model.md §10)"),
     Field("assumptions", "list", "bearing", default=(), doc="key paths whose values are assumed"),
     Field("mounting", "choice", "bearing", default="horizontal", choices=tuple(MOUNTINGS),
           doc="axis orientation, which sets gravity (or give gravity as a vector)"),

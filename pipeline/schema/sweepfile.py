@@ -143,7 +143,7 @@ def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
     :data:`BEARING_UNHASHED_DEFAULTS` left out where a bearing has them."""
     out = {k: v for k, v in plain(bearing).items()
            if k not in drop and not (k in BEARING_UNHASHED_DEFAULTS and v == BEARING_UNHASHED_DEFAULTS[k])}
-    # a perfect row's imperfections (model.md §12) are left out likewise: today's ids of
+    # a perfect row's imperfections (docs/model.md §12) are left out likewise: today's ids of
     # perfect bearings were made without them
     for row, plain_row in zip(bearing.rows, out.get("rows", [])):
         if row.imperfections == PERFECT:

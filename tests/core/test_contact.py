@@ -1,6 +1,6 @@
 """The contact laws of rvcore.contact, the profile tables, step sizing and run continuation.
 
-Every expected value is derived here from model.md, never copied from the code's output:
+Every expected value is derived here from docs/model.md, never copied from the code's output:
 the cubic STEP is written out below (``spec_step``), the friction law of §4 is built from
 it (``spec_mu``), and rates are checked against finite differences.
 """
@@ -22,11 +22,11 @@ from rvcore.profile import Channel, OperatingPoint, Profile, channel_rate
 from rvcore.quasistatic import solve_statics
 from tests.core.physics_cases import constant_profile, section_bearing
 
-MU_S, V_S, MU_D, V_D = 0.1, 0.1, 0.02, 1.0   # the study's friction law (model.md §4)
+MU_S, V_S, MU_D, V_D = 0.1, 0.1, 0.02, 1.0   # the study's friction law (docs/model.md §4)
 
 
 def spec_step(x, x0, h0, x1, h1):
-    """model.md §3, written independently of the code."""
+    """docs/model.md §3, written independently of the code."""
     if x <= x0:
         return h0
     if x >= x1:
@@ -36,7 +36,7 @@ def spec_step(x, x0, h0, x1, h1):
 
 
 def spec_mu(s, mu_s=MU_S, v_s=V_S, mu_d=MU_D, v_d=V_D):
-    """model.md §4."""
+    """docs/model.md §4."""
     if s < v_s:
         return spec_step(s, -v_s, -mu_s, v_s, mu_s)
     if s <= v_d:
@@ -115,7 +115,7 @@ def test_friction_force_is_tangential_and_opposes_slip():
 
 
 def test_friction_slope_at_zero_slip_is_the_laws_own():
-    """model.md §4: the law rises from zero with slope 1.5·μ_s/v_s; a one-sided finite
+    """docs/model.md §4: the law rises from zero with slope 1.5·μ_s/v_s; a one-sided finite
     difference of the spec law agrees, and so does the function the step size uses."""
     for mu_s, v_s in [(0.1, 0.1), (0.25, 0.02), (0.05, 0.5)]:
         e = 1e-7 * v_s
@@ -160,7 +160,7 @@ def test_land_penetration():
 
 
 def test_ring_pose_and_angular_velocity():
-    """R = Ry(θy)·Rx(θx); Ω = θ̇y·ŷ + θ̇x·Ry(θy)·x̂ + ω·R·ẑ (model.md §1: the spin about the
+    """R = Ry(θy)·Rx(θx); Ω = θ̇y·ŷ + θ̇x·Ry(θy)·x̂ + ω·R·ẑ (docs/model.md §1: the spin about the
     ring's own tilted axis plus the tilt rates)."""
     tx, ty = 0.2, -0.35
     r = np.array(contact.ring_rotation(tx, ty)).reshape(3, 3)

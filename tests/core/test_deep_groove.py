@@ -1,4 +1,4 @@
-"""The second bearing family of model.md §9 (issue 28): a 6010-sized deep-groove bearing,
+"""The second bearing family of docs/model.md §9 (issue 28): a 6010-sized deep-groove bearing,
 zero clearance, 0° contact angle, loose grooves (f = 0.625) and a ball-guided steel cage,
 in gravity (sweeps/bearings/deep-groove-6010.toml; docs/validation.md, "A second bearing family").
 
@@ -37,7 +37,7 @@ from rvcore.profile import OperatingPoint
 from rvcore.quasistatic import solve_statics
 
 from .physics_cases import constant_profile
-from .test_energy_balance import _balance
+from .test_energy_balance import energy_balance_of
 
 BEARING = load_bearing(Path(__file__).resolve().parents[2] / "sweeps" / "bearings" / "deep-groove-6010.toml")
 ROW = BEARING.rows[0]
@@ -157,7 +157,7 @@ def test_energy_balance_with_friction_in_gravity():
     damping (rvcore.kernels.rhs Notes), within 1 % of what was supplied. (Before issue 28
     the rolling start gave these balls radial speeds up to 1.3 m/s, 0.016 J that the
     damper took in the first 0.2 ms, and the balance missed by 2.4 % of it.)"""
-    supplied, balance, e, _ = _balance(BEARING, constant_profile(0.0, 0.02), OP, SolverSettings(output_rate=1e3))
+    supplied, balance, e, _ = energy_balance_of(BEARING, constant_profile(0.0, 0.02), OP, SolverSettings(output_rate=1e3))
     assert e["drive"] > 0.0 and e["friction"] > 0.0 and e["damping"] > 0.0
     assert balance == pytest.approx(supplied, rel=0.01, abs=0.0)
 

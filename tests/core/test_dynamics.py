@@ -1,6 +1,6 @@
-"""The contact-dynamics core (rvcore.kernels/integrator/driver) on reduced bearings (model.md §9).
+"""The contact-dynamics core (rvcore.kernels/integrator/driver) on reduced bearings (docs/model.md §9).
 
-Most checks here run weightless (``gravity=False``, model.md §1): their references
+Most checks here run weightless (``gravity=False``, docs/model.md §1): their references
 (statics without the balls' and cage's weights, conserved energy, symmetric responses,
 the centrifugal load difference) hold for a bearing without body forces. The kinematics
 check runs in gravity. The convergence checks on this 12-ball bearing at 20× the
@@ -78,7 +78,7 @@ def test_damped_response_settles_to_quasistatic(z, f_r, f_a, load_angle, method)
     """ω = 0, loads ramped over 10 ms from the unloaded nominal state, then held.
 
     With the study's contact damping (250 N s/m) the slowest ring mode decays with a time
-    constant of ~16 ms, so after 100 ms the response is within ~0.1 %; model.md §9.2
+    constant of ~16 ms, so after 100 ms the response is within ~0.1 %; docs/model.md §9.2
     asks for 1 %, of every integrator (issue 11) at its default step.
     """
     bearing = section_bearing(z)
@@ -198,7 +198,7 @@ def test_energy_conserved_without_friction_and_damping(method):
     Every integrator runs at this same step (issue 11). With friction and damping off the
     IMEX scheme's implicit part (friction at small slip, contact damping) is empty, and
     what is left must be a consistent explicit scheme that conserves the energy to the
-    same 1e-6. (Not at the methods' default steps: model.md's 1e-6 needs a resolved
+    same 1e-6. (Not at the methods' default steps: docs/model.md's 1e-6 needs a resolved
     contact, and RK4 itself misses it by 4× already at 0.5 µs.)
     """
     bearing = section_bearing(12)
@@ -358,7 +358,7 @@ def _convergence(scale, z):
 def test_convergence_tenfold_smaller_step():
     """Study loads (30 kN + 10 kN) and top speed on 12 balls, the cycle at 1/20 (0.23 s).
 
-    model.md §9.6: every phase metric moves by less than 1 % (cage slip, a difference
+    docs/model.md §9.6: every phase metric moves by less than 1 % (cage slip, a difference
     near zero, by less than 0.001 absolute, i.e. 0.1 % of the cage speed). Measured:
     ≤ 0.01 %.
     """
@@ -375,7 +375,7 @@ def test_convergence_tenfold_smaller_step_longer_cycle():
     which is set by the ring's ringing after the cage first hits its land (t ≈ 0.233 s).
     With 20 kHz output (the step is quantised to divide the output interval, 1.7 %
     smaller) the same metric reads 7.562e-7 m at the default step against 7.460e-7 at a
-    tenth of it (1.4 %, over the 1 % of model.md §9.6); step_safety 0.4 gives 0.4 %.
+    tenth of it (1.4 %, over the 1 % of docs/model.md §9.6); step_safety 0.4 gives 0.4 %.
     See the report.
     """
     for name, change in _convergence(0.2, 12).items():
@@ -405,7 +405,7 @@ def test_centrifugal_radial_balance(alpha_deg, f_a, step_safety, tol, method):
 
     In steady orbit the race forces on a ball supply its centripetal force:
     ``−(F_i,r + F_o,r) = m_b·ρ·ω_orb²`` with the measured orbit radius ρ and speed ω_orb
-    (no pocket load here). model.md §9.7 asks for 3 % at the default step; with a quarter
+    (no pocket load here). docs/model.md §9.7 asks for 3 % at the default step; with a quarter
     of it the instantaneous balance holds to 1e-3. (At the default step a sustained
     step-locked ball oscillation leaves 1.3 % (5°) / 0.5 % (15°): see the report.)
     Every integrator (issue 11), at the same fractions of its own stability limit.
@@ -434,7 +434,7 @@ def test_centrifugal_load_difference(step_safety, method):
     both, ``Q_o cos α_o − Q_i cos α_i = F_c`` and ``Q_o sin α_o = Q_i sin α_i`` give
     exactly ``Q_o − Q_i = F_c·cos ᾱ / cos(Δα/2)``, ᾱ the mean and Δα the difference of
     the two angles. Nominal 5° under 2 kN operates at ᾱ ≈ 11°: the raw comparison is
-    expected ≈ 1.8 % low (1 − cos ᾱ), inside model.md's 3 %. The angles are measured
+    expected ≈ 1.8 % low (1 − cos ᾱ), inside docs/model.md's 3 %. The angles are measured
     from the ball diagnostics (``cos α = |F_r|/Q``) and the exact relation is checked
     too, to 0.3 % with the finer step. Every integrator (issue 11).
     """

@@ -58,7 +58,7 @@ from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile
 from .physics_cases import constant_profile, section_bearing
 
 
-def _balance(bearing, profile, op, settings):
+def energy_balance_of(bearing, profile, op, settings):
     """Both sides of the balance over the run [J] and the run's result."""
     model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
                             gravity=settings.gravity)
@@ -97,7 +97,7 @@ def test_energy_balance_at_constant_speed_and_load(method):
     into friction and damping; the balance closes within 1 % of the drive's work."""
     bearing = section_bearing(8)
     op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
-    supplied, balance, e, res = _balance(bearing, constant_profile(0.0, 0.02), op,
+    supplied, balance, e, res = energy_balance_of(bearing, constant_profile(0.0, 0.02), op,
                                          SolverSettings(output_rate=1e3, method=method))
     assert res.info["method"] == method
     assert e["drive"] > 0.0 and e["friction"] > 0.0 and e["damping"] > 0.0
@@ -122,7 +122,7 @@ def test_imex_energy_balance_closes_as_its_step_shrinks():
     op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
     gaps = {}
     for safety in (0.8, 0.4, 0.2):
-        supplied, balance, e, res = _balance(bearing, constant_profile(0.0, 0.02), op, SolverSettings(
+        supplied, balance, e, res = energy_balance_of(bearing, constant_profile(0.0, 0.02), op, SolverSettings(
             output_rate=1e3, method="imex", step_safety=safety))
         assert res.info["method"] == "imex"
         gaps[safety] = (abs(balance - supplied), supplied)
@@ -142,7 +142,7 @@ def test_energy_balance_over_a_study_cycle(method):
     bearing = section_bearing(8)
     op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
     profile = scaled_study_profile(0.02)
-    supplied, balance, e, res = _balance(bearing, profile, op, SolverSettings(output_rate=1e3, method=method))
+    supplied, balance, e, res = energy_balance_of(bearing, profile, op, SolverSettings(output_rate=1e3, method=method))
     assert res.info["method"] == method
     dissipated = e["friction"] + e["damping"]
     assert dissipated > 0.0
@@ -160,7 +160,7 @@ def test_energy_balance_fails_without_the_damping_term(method):
     of the supply at 25 kN s/m)."""
     bearing = section_bearing(8, damping=25000.0)
     op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
-    supplied, balance, e, _ = _balance(bearing, constant_profile(0.0, 0.01), op,
+    supplied, balance, e, _ = energy_balance_of(bearing, constant_profile(0.0, 0.01), op,
                                        SolverSettings(output_rate=1e3, method=method))
     assert e["damping"] > 0.015 * supplied
     assert abs(balance - e["damping"] - supplied) > 0.015 * supplied

@@ -1,4 +1,4 @@
-"""Hertz point contact (rvcore.hertz) against independent computations (model.md §9.1).
+"""Hertz point contact (rvcore.hertz) against independent computations (docs/model.md §9.1).
 
 The reference solution here does not use the elliptic integrals or the module's solver.
 It is the classical Hertz compliance-integral form (Johnson, *Contact Mechanics*, §3.7).
@@ -27,10 +27,10 @@ from rvcore import hertz
 from rvcore.geometry import INNER, OUTER
 
 STEEL_E, STEEL_NU = 208e9, 0.3
-SPEC_TOL = 1e-3  # model.md §9.1: K and semi-axes to 0.1 %
-HB_TOL = 0.03  # model.md §9.1: Hamrock–Brewe to 3 %
+SPEC_TOL = 1e-3  # docs/model.md §9.1: K and semi-axes to 0.1 %
+HB_TOL = 0.03  # docs/model.md §9.1: Hamrock–Brewe to 3 %
 
-# The study's bearing (model.md §10, rv-main-bearing-study.md)
+# The study's bearing (docs/model.md §10, rv-main-bearing-study.md)
 D, DM, ALPHA = 23e-3, 351.5e-3, math.radians(15.0)
 
 
@@ -296,7 +296,7 @@ def test_pressure_integrates_to_the_load_and_deflection_round_trips():
 
 
 def test_study_stiffness_is_of_the_spec_order():
-    # model.md §3 sanity check (≈ 4.5e10 and ≈ 4.0e10); a loose guard, not a test constant
+    # docs/model.md §3 sanity check (≈ 4.5e10 and ≈ 4.0e10); a loose guard, not a test constant
     e_eff = steel()
     ki = hertz.race_contact(D, DM, 0.52, ALPHA, "inner", e_eff).stiffness
     ko = hertz.race_contact(D, DM, 0.53, ALPHA, "outer", e_eff).stiffness

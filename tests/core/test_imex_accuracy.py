@@ -43,7 +43,7 @@ centred start (seed −1); the candidate is IMEX at its default settings
 
 The ensemble's standard error
 -----------------------------
-A transient range depends on where the balls start in their pockets (model.md §8): a
+A transient range depends on where the balls start in their pockets (docs/model.md §8): a
 different start is a different, equally valid realization, so two integrators cannot be
 asked to agree closer than the spread of the realizations allows. The spread is
 estimated from N = 3 random starts (``SolverSettings.seed`` 0, 1, 2) run with RK4 at its

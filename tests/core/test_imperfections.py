@@ -1,4 +1,4 @@
-"""Imperfect bearings (model.md §12): each check derived here from geometry or from the
+"""Imperfect bearings (docs/model.md §12): each check derived here from geometry or from the
 classical theory of bearing vibration, never from the code's own output.
 
 The reduced 12-ball section of the study bearing, weightless (so that a perfect bearing
@@ -131,7 +131,7 @@ def test_inner_eccentricity_dynamic_runout_is_two_e_and_follows_the_statics():
 @pytest.mark.parametrize("angle", [0.0, 2.2, 4.0])
 def test_eccentric_bearing_at_rest_settles_to_its_statics(angle):
     """ω = 0, loads ramped over 10 ms and held, no friction (nothing holds a ball but the
-    contacts): the damped response settles to the quasi-static pose (model.md §9.2)
+    contacts): the damped response settles to the quasi-static pose (docs/model.md §9.2)
     whichever way the inner eccentricity points, in x and y: the dynamics and the statics
     see the same imperfect geometry through the one penetration function."""
     from pipeline.schema.bearingfile import load_bearing
@@ -207,7 +207,7 @@ def test_perfect_bearing_under_pure_axial_load_does_not_move_radially():
 def test_study_startup_sensor_ranges_converge_with_the_step(tolerance_class):
     """The study case (660 °/s, 30 kN + 10 kN, in gravity, the study's two sensors), perfect
     and at ISO 492's Normal class (seed 0): the start-up ranges of δ_r, δ_a and each sensor
-    agree within 2 % between step_safety 0.8 and 0.4 (model.md §9.6 asks 1 % for a tenfold
+    agree within 2 % between step_safety 0.8 and 0.4 (docs/model.md §9.6 asks 1 % for a tenfold
     step change of every metric; a metric that moves with the step is not a result).
     About 25 s."""
     from pipeline.schema.bearingfile import load_bearing

@@ -1,4 +1,4 @@
-"""The quasi-static solver (rvcore.quasistatic) against hand cases (model.md §9.2).
+"""The quasi-static solver (rvcore.quasistatic) against hand cases (docs/model.md §9.2).
 
 Every expected value is derived here from textbook relations, independently of the
 solver:

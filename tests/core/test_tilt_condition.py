@@ -1,4 +1,4 @@
-"""The inner ring's tilt condition (model.md §11): ``inner_ring.tilt = "free" | "held"``.
+"""The inner ring's tilt condition (docs/model.md §11): ``inner_ring.tilt = "free" | "held"``.
 
 A single row under a radial load and zero moment tilts; held square (a shaft on a second
 support) it does not, and the support takes a moment. Every expected value here comes
@@ -85,7 +85,7 @@ def test_held_deep_groove_at_zero_clearance_gives_iso281_life():
 def test_held_dynamics_keep_the_tilt_at_zero_and_carry_the_static_moment(method):
     """Radial + axial load at ω = 0, settled: the held ring's tilt stays 0 (1e-12 rad)
     and the support's moment settles to that of the held statics, since the damped
-    response settles to the quasi-static equilibrium (model.md §9.2)."""
+    response settles to the quasi-static equilibrium (docs/model.md §9.2)."""
     bearing = held(section_bearing(12))
     f_r, f_a = 10e3, 5e3
     res = run_case(bearing, constant_profile(0.01, 0.12), OperatingPoint(0.0, f_r, f_a),

@@ -166,7 +166,7 @@ def test_ball_overlap_is_an_error_with_the_numbers(study_raw):
     err = expect_error(bearing_from_dict, study_raw, "rows[0].balls.count", 51,
                        ["need a pitch diameter"])
     need = overlap_need_mm(51, 23.0)
-    assert 373.5 < need < 373.7  # model.md §10 quotes 373.6 mm
+    assert 373.5 < need < 373.7  # docs/model.md §10 quotes 373.6 mm
     pitch = (320.0 + 383.0) / 2.0
     assert f"51 balls of 23 mm need a pitch diameter of at least {need:.1f} mm; " \
            f"this bearing's is {pitch:.1f} mm" in err.reason
@@ -328,7 +328,7 @@ def test_listed_assumptions_exist_and_are_commented(name):
 
 
 def test_study_unknowns_are_all_assumptions():
-    """Everything the study does not give (model.md §10) is listed as an assumption."""
+    """Everything the study does not give (docs/model.md §10) is listed as an assumption."""
     b = load_bearing(BEARINGS / "rv-main-study.toml")
     needed = {"rows[0].radial_clearance", "rows[0].inner_groove.arcs", "rows[0].outer_groove.arcs",
               "rows[0].cage.pocket_clearance", "rows[0].cage.land_clearance",
