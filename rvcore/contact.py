@@ -33,6 +33,7 @@ import math
 
 from numba import njit
 
+from .friction_law import LAW_INV_VS, LAW_MU_D, LAW_MU_S, LAW_ON, LAW_V_D, LAW_V_S
 from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 
 # Floating-point flags of every kernel (``fastmath=FAST``): none. Results must be
@@ -172,18 +173,13 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
-    """μ(s) of docs/model.md §4 [-].
+def friction_coefficient(s, law):
+    """μ(s) of docs/model.md §4 [-] at the slip speed ``s`` ≥ 0 [m s^-1].
 
-    Parameters
-    ----------
-    s : float
-        Slip speed ≥ 0 [m s^-1].
-    mu_s, mu_d : float
-        Static and dynamic coefficients [-].
-    v_s, v_d : float
-        Their slip speeds, ``0 < v_s < v_d`` [m s^-1].
+    The study's law (``coulomb_step``): ``STEP(s, −v_s, −μ_s, v_s, μ_s)`` below v_s,
+    ``STEP(s, v_s, μ_s, v_d, μ_d)`` up to v_d, μ_d beyond.
     """
+    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
     if s < v_s:
         return step(s, -v_s, -mu_s, v_s, mu_s)
     if s <= v_d:
@@ -192,63 +188,98 @@ def friction_coefficient(s, mu_s, v_s, mu_d, v_d):
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def friction_slope_at_zero_slip(mu_s, v_s):
-    """dμ/ds at s = 0 of :func:`friction_coefficient` [s m^-1] (= 1.5·μ_s/v_s).
+def friction_slope(s, law):
+    """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
+    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
+    if s < v_s:
+        return step_slope(s, -v_s, -mu_s, v_s, mu_s)
+    if s <= v_d:
+        return step_slope(s, v_s, mu_s, v_d, mu_d)
+    return 0.0
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_slope_at_zero_slip(law):
+    """dμ/ds at s = 0 [s m^-1] (the study's law: 1.5·μ_s/v_s).
 
     The law acts as a viscous damper ``c_f = Q·dμ/ds`` at small slip; the explicit step
-    is sized from it (:func:`rvcore.timestep.rk4_time_step`). Taken from the STEP's
-    own slope so that it follows the law.
+    is sized from it (:func:`rvcore.timestep.rk4_time_step`).
     """
-    return step_slope(0.0, -v_s, -mu_s, v_s, mu_s)
+    return friction_slope(0.0, law)
+
+
+def friction_falling_slope(law) -> float:
+    """The steepest fall of μ with the slip, ``|min dμ/ds|`` [s m^-1] (0 for a law that
+    never falls): an explicit stage's rate where the law falls (:mod:`rvcore.timestep`).
+    The study's law falls from μ_s to μ_d along a cubic STEP, steepest at its middle:
+    ``1.5·(μ_s − μ_d)/(v_d − v_s)``."""
+    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
+    return -min(friction_slope(0.5 * (v_s + v_d), law), 0.0) if mu_d < mu_s else 0.0
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def friction_per_slip(s2, mu_s, v_s, mu_d, v_d, inv_vs):
+def friction_per_slip(s2, law):
     """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2].
 
-    Below ``v_s`` the law is odd in s: with ``x = s/v_s``,
+    Below ``v_s`` the study's law is odd in s: with ``x = s/v_s``,
     ``STEP(s, −v_s, −μ_s, v_s, μ_s) = μ_s·(1.5·x − 0.5·x³)`` (Δ = (1 + x)/2 in the cubic),
     so ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs neither s nor a division: rolling
-    contacts, whose slip is small, cost no square root. This is the one closed form kept
-    beside :func:`friction_coefficient`; tests/core/test_contact.py checks that the two
-    agree over the whole range. Above ``v_s`` it calls the law itself.
+    contacts, whose slip is small, cost no square root. tests/core/test_contact.py checks
+    that this form and :func:`friction_coefficient` agree over the whole range.
     """
+    inv_vs = law[LAW_INV_VS]
     x2 = s2 * inv_vs * inv_vs
     if x2 < 1.0:
-        return mu_s * (1.5 - 0.5 * x2) * inv_vs
+        return law[LAW_MU_S] * (1.5 - 0.5 * x2) * inv_vs
     s = math.sqrt(s2)
-    return friction_coefficient(s, mu_s, v_s, mu_d, v_d) / s
+    return friction_coefficient(s, law) / s
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def friction_force(ux, uy, uz, nx, ny, nz, q, mu_s, v_s, mu_d, v_d, inv_vs):
+def friction_tangent_curvature(s2, law):
+    """``(max(μ', 0) − μ/s)/s²`` [s^3 m^-3] at ``s2 = s²``: the coefficient of
+    ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.implicit.friction_tangent`).
+
+    Below v_s the study's law is a cubic, where it is ``−μ_s/v_s³`` exactly: nothing is
+    divided by a small slip. Where the law falls, its slope is left out (the falling part
+    stays explicit), so that the tangent is positive semi-definite.
+    """
+    inv_vs = law[LAW_INV_VS]
+    if s2 * inv_vs * inv_vs < 1.0:
+        return -law[LAW_MU_S] * inv_vs * inv_vs * inv_vs
+    s = s2 ** 0.5
+    return (max(friction_slope(s, law), 0.0) - friction_coefficient(s, law) / s) / s2
+
+
+@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+def friction_force(ux, uy, uz, nx, ny, nz, q, law):
     """Coulomb friction on the ball at a contact of unit normal ``n`` [N].
 
     ``u`` is the slip velocity of the ball's material point against the other body's
     [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
-    (zero at zero slip). ``q`` is the normal load [N], ``inv_vs = 1/v_s`` [s m^-1].
+    (zero at zero slip). ``q`` is the normal load [N].
     """
     un = ux * nx + uy * ny + uz * nz
     tx = ux - un * nx
     ty = uy - un * ny
     tz = uz - un * nz
-    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, mu_s, v_s, mu_d, v_d, inv_vs)
+    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, law)
     return g * tx, g * ty, g * tz
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, friction_on,
-                       mu_s, v_s, mu_d, v_d, inv_vs):
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
     """Force [N] and moment about the ball centre [N m] of one contact on a ball.
 
-    Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction from
-    the slip ``u`` [m s^-1] tangential to the surface normal ``n`` (unit), acting at the
-    arm ``a`` from the ball centre [m]. Returns ``(fx, fy, fz, mx, my, mz)``.
+    Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction by
+    ``law`` (when it is on) from the slip ``u`` [m s^-1] tangential to the surface normal
+    ``n`` (unit), acting at the arm ``a`` from the ball centre [m]. Returns
+    ``(fx, fy, fz, mx, my, mz)``.
     """
     fx, fy, fz = -q * gx, -q * gy, -q * gz
     mx, my, mz = 0.0, 0.0, 0.0
-    if friction_on:
-        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, mu_s, v_s, mu_d, v_d, inv_vs)
+    if law[LAW_ON] != 0.0:
+        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, law)
         fx += ftx
         fy += fty
         fz += ftz

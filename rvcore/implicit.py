@@ -52,7 +52,8 @@ from __future__ import annotations
 
 from numba import njit
 
-from .contact import FAST, friction_per_slip, step_slope
+from .contact import FAST, friction_per_slip, friction_tangent_curvature
+from .friction_law import LAW_ON
 
 #: Columns of the per-ball Jacobian row ``jwork[k]``.
 J_A, J_B, J_W, J_COUPLED = 0, 36, 66, 72
@@ -60,7 +61,7 @@ N_JWORK = 73
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
-def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
+def friction_tangent(q, tx, ty, tz, law):
     """``(α, β)`` of the friction tangent ``q·φ·P + β·v_t·v_tᵀ`` (module Notes).
 
     Parameters
@@ -69,9 +70,8 @@ def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
         Normal load [N].
     tx, ty, tz : float
         Tangential slip ``v_t`` [m s^-1].
-    friction_on : bool
-    mu_s, v_s, mu_d, v_d, inv_vs : float
-        The friction law (rvcore.contact.friction_coefficient) [-], [m s^-1], [s m^-1].
+    law : ndarray
+        The friction law's record (:func:`rvcore.contact.pack_friction_law`).
 
     Returns
     -------
@@ -80,18 +80,10 @@ def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
     beta : float
         ``q·(max(μ', 0) − μ/s)/s²`` [N s^3 m^-3].
     """
-    if not friction_on:
+    if law[LAW_ON] == 0.0:
         return 0.0, 0.0
     s2 = tx * tx + ty * ty + tz * tz
-    alpha = q * friction_per_slip(s2, mu_s, v_s, mu_d, v_d, inv_vs)
-    if s2 * inv_vs * inv_vs < 1.0:
-        return alpha, -q * mu_s * inv_vs * inv_vs * inv_vs
-    s = s2 ** 0.5
-    if s <= v_d:
-        slope = max(step_slope(s, v_s, mu_s, v_d, mu_d), 0.0)
-    else:
-        slope = 0.0
-    return alpha, (q * slope - alpha) / s2
+    return q * friction_per_slip(s2, law), q * friction_tangent_curvature(s2, law)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")

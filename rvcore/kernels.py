@@ -45,10 +45,11 @@ from numba import njit
 from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_penetration, damping_coefficient,
                       friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration,
                       ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame)
+from .friction_law import FRICTION_LAW_SIZE, LAW_ON
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
-from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_FRICTION, P_GX,
-                    P_GY, P_GZ, P_LAND_C, P_MU_D, P_MU_S, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
-                    P_TILT_HELD, P_V_D, P_V_S, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
+from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+                    P_GY, P_GZ, P_LAND_C, P_LAW, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
+                    P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .outputs import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
@@ -155,9 +156,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
     w_ring = channel_value(table, meta, CH_SPEED, t)
     dw_ring = channel_rate(table, meta, CH_SPEED, t)
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
-    mu_s, v_s, mu_d, v_d = params[P_MU_S], params[P_V_S], params[P_MU_D], params[P_V_D]
-    inv_vs = 1.0 / v_s
-    friction_on = params[P_FRICTION] != 0.0
+    law = params[P_LAW:P_LAW + FRICTION_LAW_SIZE]     # the friction law (rvcore.friction_law)
+    friction_on = law[LAW_ON] != 0.0
     damp_scale = params[P_DAMPING]
     c_race = params[P_DAMP_C] * damp_scale
     inv_dmax = 1.0 / params[P_DAMP_D]
@@ -266,10 +266,10 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                 if q <= 0.0:
                     continue
                 fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
-                                                               friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                                                               law)
                 if jac:
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
-                    alpha, beta = friction_tangent(q, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                    alpha, beta = friction_tangent(q, tvx, tvy, tvz, law)
                     cd = damping_coefficient(delta, c_race, inv_dmax)
                     contact_blocks(jwork, p0 + j, schur, inner, hg, alpha, cd - alpha, nx, ny, nz,
                                    beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0, ax, ay, az,
@@ -353,13 +353,12 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     inv_h = 1.0 / h
                     fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(
                         qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h, az * inv_h, ax, ay, az,
-                        friction_on, mu_s, v_s, mu_d, v_d, inv_vs)
+                        law)
                     if jac:
                         nfx, nfy, nfz = ax * inv_h, ay * inv_h, az * inv_h
                         unf = ux * nfx + uy * nfy + uz * nfz
                         tvx, tvy, tvz = ux - unf * nfx, uy - unf * nfy, uz - unf * nfz
-                        alpha, beta = friction_tangent(qp, tvx, tvy, tvz, friction_on, mu_s, v_s, mu_d, v_d,
-                                                       inv_vs)
+                        alpha, beta = friction_tangent(qp, tvx, tvy, tvz, law)
                         cd = damping_coefficient(delta, c_pocket, inv_dmax)
                         # the cage's side stays explicit (rvcore.implicit)
                         contact_blocks(jwork, p0 + j, schur, False, hg, alpha, -alpha, nfx, nfy, nfz,
@@ -413,7 +412,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     if ql > land_q:
                         land_q = ql
                     if friction_on:
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, mu_s, v_s, mu_d, v_d, inv_vs)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, law)
                         fxc += ftx
                         fyc += fty
                         fzc += ftz

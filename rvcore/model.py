@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import hertz
+from .friction_law import FRICTION_LAW_SIZE, pack_friction_law
 from .imperfections import MAX_WAVINESS_TERMS, realize
 from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
                        cage_mass_properties, inner_ring_mass_properties)
@@ -34,11 +35,12 @@ BALL_STATES = 9
 P_RING_M, P_RING_IP, P_RING_IT = 0, 1, 2
 P_DAMP_C, P_DAMP_D = 3, 4
 P_POCKET_C, P_LAND_C = 5, 6
-P_MU_S, P_V_S, P_MU_D, P_V_D = 7, 8, 9, 10
-P_FRICTION, P_DAMPING = 11, 12
-P_GX, P_GY, P_GZ = 13, 14, 15      # gravitational acceleration in the bearing frame [m s^-2]
-P_TILT_HELD = 16                   # 1: the inner ring's tilts are held at 0 (InnerRing.tilt "held")
-N_PARAMS = 17
+P_DAMPING = 7                      # 1: contact damping on
+P_GX, P_GY, P_GZ = 8, 9, 10        # gravitational acceleration in the bearing frame [m s^-2]
+P_TILT_HELD = 11                   # 1: the inner ring's tilts are held at 0 (InnerRing.tilt "held")
+#: The friction law's record (rvcore.contact.pack_friction_law) from this column on.
+P_LAW = 12
+N_PARAMS = P_LAW + FRICTION_LAW_SIZE
 
 # rows columns
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
@@ -90,8 +92,8 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     params[[P_RING_M, P_RING_IP, P_RING_IT]] = m_ring, ip_ring, it_ring
     params[P_DAMP_C], params[P_DAMP_D] = c.damping, c.damping_depth
     params[P_POCKET_C], params[P_LAND_C] = c.pocket_damping, c.land_damping
-    params[[P_MU_S, P_V_S, P_MU_D, P_V_D]] = c.mu_static, c.v_static, c.mu_dynamic, c.v_dynamic
-    params[P_FRICTION] = 1.0 if friction else 0.0
+    params[P_LAW:P_LAW + FRICTION_LAW_SIZE] = pack_friction_law(c.mu_static, c.v_static, c.mu_dynamic,
+                                                                c.v_dynamic, on=friction)
     params[P_DAMPING] = 1.0 if damping else 0.0
     if gravity:
         params[[P_GX, P_GY, P_GZ]] = bearing.gravity

@@ -34,10 +34,10 @@ import math
 
 import numpy as np
 
-from .contact import friction_slope_at_zero_slip
+from .contact import friction_falling_slope, friction_slope_at_zero_slip
+from .friction_law import FRICTION_LAW_SIZE, LAW_ON
 from .imex import IMAG_LIMIT
-from .model import (A_K, P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S, R_ARC0, R_HALF_D, R_IB,
-                    R_MB, R_NARC)
+from .model import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
 
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_LIMIT = 2.785
@@ -80,7 +80,8 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
-    c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
+    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
     dts = []
     for omega, m, rot in row_rates(model, q):
         lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
@@ -101,12 +102,13 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope)
         dt  = safety · min(IMAG_LIMIT/ω_n, 2.785/λ_−)
 
-    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope;
+    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.friction_falling_slope`);
     :data:`rvcore.imex.IMAG_LIMIT` and why it is what it is: :mod:`rvcore.imex`.
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
-    falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
+    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    falling = friction_falling_slope(law) * law[LAW_ON]
     dts = []
     for omega, m, rot in row_rates(model, q):
         lam = 2.0 * q * falling * max(1.0 / m, rot)

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from rvcore import contact
+from rvcore.friction_law import pack_friction_law
 from rvcore.timestep import rk4_time_step
 from rvcore.driver import run_case
 from rvcore.initial_state import peak_contact_load
@@ -23,6 +24,7 @@ from rvcore.quasistatic import solve_statics
 from tests.core.physics_cases import constant_profile, section_bearing
 
 MU_S, V_S, MU_D, V_D = 0.1, 0.1, 0.02, 1.0   # the study's friction law (docs/model.md §4)
+LAW = pack_friction_law(MU_S, V_S, MU_D, V_D)
 
 
 def spec_step(x, x0, h0, x1, h1):
@@ -86,29 +88,28 @@ def test_damper_ramps_in_as_the_step():
 
 def test_friction_coefficient_is_the_law():
     for s in np.concatenate([np.linspace(0.0, 1.5, 1501), [V_S, V_D, 1e-12, 10.0]]):
-        assert contact.friction_coefficient(s, MU_S, V_S, MU_D, V_D) == pytest.approx(
+        assert contact.friction_coefficient(s, LAW) == pytest.approx(
             spec_mu(s), rel=1e-12, abs=1e-15)
 
 
 def test_fast_friction_form_agrees_with_the_law_everywhere():
     """friction_per_slip (μ(s)/s from s², the form the right-hand side runs) against the
     law itself, on a dense grid over every branch and on both sides of each breakpoint."""
-    inv_vs = 1.0 / V_S
     grid = np.concatenate([np.geomspace(1e-9, 3.0, 4000),
                            [V_S * (1 - 1e-12), V_S, V_S * (1 + 1e-12), V_D * (1 - 1e-12), V_D,
                             V_D * (1 + 1e-12)]])
     for s in grid:
-        fast = contact.friction_per_slip(s * s, MU_S, V_S, MU_D, V_D, inv_vs) * s
+        fast = contact.friction_per_slip(s * s, LAW) * s
         assert fast == pytest.approx(spec_mu(s), rel=1e-9, abs=1e-15)
     # zero slip: a finite μ/s (the slope), so the force vanishes without a division by 0
-    assert contact.friction_per_slip(0.0, MU_S, V_S, MU_D, V_D, inv_vs) == pytest.approx(1.5 * MU_S / V_S)
+    assert contact.friction_per_slip(0.0, LAW) == pytest.approx(1.5 * MU_S / V_S)
 
 
 def test_friction_force_is_tangential_and_opposes_slip():
     n = np.array([0.3, -0.4, math.sqrt(1 - 0.25)])
     u = np.array([0.05, 0.2, -0.1])
     q = 1234.0
-    ft = np.array(contact.friction_force(*u, *n, q, MU_S, V_S, MU_D, V_D, 1.0 / V_S))
+    ft = np.array(contact.friction_force(*u, *n, q, LAW))
     vt = u - (u @ n) * n
     s = np.linalg.norm(vt)
     np.testing.assert_allclose(ft, -spec_mu(s) * q * vt / s, rtol=1e-12)
@@ -120,8 +121,33 @@ def test_friction_slope_at_zero_slip_is_the_laws_own():
     for mu_s, v_s in [(0.1, 0.1), (0.25, 0.02), (0.05, 0.5)]:
         e = 1e-7 * v_s
         fd = spec_mu(e, mu_s, v_s, 0.01, 1.0) / e
-        assert contact.friction_slope_at_zero_slip(mu_s, v_s) == pytest.approx(fd, rel=1e-6)
-        assert contact.friction_slope_at_zero_slip(mu_s, v_s) == pytest.approx(1.5 * mu_s / v_s, rel=1e-14)
+        law = pack_friction_law(mu_s, v_s, 0.01, 1.0)
+        assert contact.friction_slope_at_zero_slip(law) == pytest.approx(fd, rel=1e-6)
+        assert contact.friction_slope_at_zero_slip(law) == pytest.approx(1.5 * mu_s / v_s, rel=1e-14)
+
+
+def test_friction_slope_and_fall_are_the_laws_own():
+    """dμ/ds against central differences of the spec law on every branch; the steepest
+    fall is the STEP's from μ_s to μ_d at its middle, 1.5·(μ_s − μ_d)/(v_d − v_s)."""
+    for s in np.concatenate([np.linspace(1e-3, 0.999 * V_S, 7), np.linspace(1.001 * V_S, 0.999 * V_D, 9),
+                             [1.5 * V_D]]):
+        e = 1e-7 * s
+        fd = (spec_mu(s + e) - spec_mu(s - e)) / (2 * e)
+        assert contact.friction_slope(s, LAW) == pytest.approx(fd, rel=1e-6, abs=1e-9)
+    assert contact.friction_falling_slope(LAW) == pytest.approx(1.5 * (MU_S - MU_D) / (V_D - V_S), rel=1e-14)
+    assert contact.friction_falling_slope(pack_friction_law(0.1, 0.1, 0.2, 1.0)) == 0.0   # a law that rises
+
+
+def test_friction_tangent_curvature_is_the_forces_derivative():
+    """The friction force's tangent along the slip, ``∂(μ(s)/s·s)/∂s = μ'``, is
+    ``μ/s + s²·curvature`` wherever μ does not fall (where it falls, the curvature leaves
+    the negative slope out: ``μ/s + s²·curvature = 0``)."""
+    for s in np.concatenate([np.geomspace(1e-6, 0.999 * V_S, 9), np.linspace(1.001 * V_S, 0.999 * V_D, 5),
+                             [2.0 * V_D]]):
+        along = spec_mu(s) / s + s * s * contact.friction_tangent_curvature(s * s, LAW)
+        e = 1e-5 * s
+        slope = (spec_mu(s + e) - spec_mu(s - e)) / (2 * e)
+        assert along == pytest.approx(max(slope, 0.0), rel=1e-6, abs=1e-8)
 
 
 def test_stable_time_step_follows_the_friction_law():
