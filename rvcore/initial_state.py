@@ -78,7 +78,7 @@ def set_rolling_velocities(model, y, omega):
     ``(v, r·w)``, both in m/s (r the ball radius). Why both: the tangential conditions
     leave v along the contact line free to first order, and a least norm that mixed m/s
     with rad/s traded it for a smaller spin; with nearly opposite normals (0° contacts)
-    that started the balls of a 6010 moving radially at up to 1.3 m/s (issue 28). The
+    that started the balls of a 6010 moving radially at up to 1.3 m/s. The
     cage takes the balls' mean orbital speed.
     """
 

@@ -102,7 +102,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
 
     Notes
     -----
-    The designer's diagnostics (``D_DRIVE_TORQUE`` …, issue 10) come from the forces of
+    The designer's diagnostics (``D_DRIVE_TORQUE`` …) come from the forces of
     this same evaluation, no second pass. :func:`rhs_stage` neither computes nor writes
     the slots from ``D_FRICTION_POWER`` on; the drive torque it does.
 
@@ -179,7 +179,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
 
     fxi, fyi, fzi, mxi, myi, mzi = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
-    # issue 10's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
+    # the designer's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
     p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
     for r in range(rows.shape[0]):

@@ -416,7 +416,7 @@ def life_sums_at(bearing, static_result, revolutions) -> dict:
     -------
     dict
         As :func:`duty_cycle_life` takes it, with ``dN·Q_e^3`` from the equilibrium's ball
-        loads (the accumulation contract of issue 10, done by hand).
+        loads (the integrator's accumulation contract, done by hand).
     """
     revs = np.asarray(revolutions, dtype=float)
     g = rating_geometry(bearing)

@@ -6,7 +6,7 @@ beside them and ``report/report.md``, ``report/report.html``, ``report/summary.c
 ``report/figures/*.png``,
 each file atomically.
 
-The report is written for a bearing designer (issue 10), in this order: the summary per
+The report is written for a bearing designer, in this order: the summary per
 operating point (:mod:`.summary`: safety factor, lives, start-up torque, cage forces,
 sliding, displacements, stiffness; also ``report/summary.csv``) and the cases; the
 figures (the designer outputs, time histories, the study's metrics, cage slip,

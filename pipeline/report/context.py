@@ -174,7 +174,7 @@ def ensemble_statistics(da: xr.DataArray):
     mean, stderr : xarray.DataArray
         ``mean = Σ x_k / n`` and ``stderr = s/√n`` with ``s`` the sample standard deviation
         (ddof 1) of the n finite realizations [unit of ``da``]; NaN where n = 0 (mean) or
-        n < 2 (stderr), as ``pipeline.metrics.ensemble_statistics``.
+        n < 2 (stderr), as ``pipeline.analysis.metrics.ensemble_statistics``.
     """
     n = da.notnull().sum(REALIZATION)
     mean = da.sum(REALIZATION, skipna=True) / n.where(n > 0)

@@ -1,11 +1,11 @@
-"""The second bearing family of docs/model.md §9 (issue 28): a 6010-sized deep-groove bearing,
+"""The second bearing family of docs/model.md §9: a 6010-sized deep-groove bearing,
 zero clearance, 0° contact angle, loose grooves (f = 0.625) and a ball-guided steel cage,
 in gravity (sweeps/bearings/deep-groove-6010.toml; docs/validation.md, "A second bearing family").
 
 Checked here, each against a value derived in the test:
 
 - a ball-guided cage is centred by its balls: Hertz's sphere-in-socket law gives the force
-  that pushes a displaced cage back (it was free radially before issue 28, and drifted
+  that pushes a displaced cage back (it was free radially before the pockets were spherical, and drifted
   millimetres off the axis, which ran the cage 4 % over epicyclic, crept the deflection and
   let the friction-free case blow up);
 - settling to statics (§9.2) at rest, cage kinematics (§9.3) and the deflection while
@@ -54,7 +54,7 @@ def _frictionless(bearing):
 
 
 def _issue_profile(t_end):
-    """Issue 28's profile cut at ``t_end``: radial load 0 → 1 over 10 ms, speed from t = 0."""
+    """The deep-groove case's profile cut at ``t_end``: radial load 0 → 1 over 10 ms, speed from t = 0."""
     return constant_profile(0.01, t_end, phases=(("startup", 0.0, 0.01), ("steady", 0.01, 0.45 * t_end / 0.5),
                                                   ("deceleration", 0.45 * t_end / 0.5, t_end)))
 
@@ -77,7 +77,7 @@ def test_ball_guided_cage_is_centred_by_its_balls():
     ball by δ = e − c_p/2 along x (each pocket centre sits e from its ball's centre), so
     the cage is pushed back by Z·K·δ^1.5, with Hertz's sphere-in-socket constant
     ``K = (4/3)·E*·√R``, ``1/R = 2/D − 2/D_p``, ``E* = E/(2(1 − ν²))``. With cylindrical
-    pockets (before issue 28) it was a seventh of this, from the circumferential contacts
+    pockets it was a seventh of this, from the circumferential contacts
     of the pockets near 90° to the shift alone: balls free to slide along their orbit."""
     model = compile_bearing(BEARING, gravity=False)
     y = nominal_state(model)
@@ -102,8 +102,8 @@ def test_ball_guided_cage_is_centred_by_its_balls():
 
 
 def test_frictionless_bearing_runs_to_the_end_at_the_default_step():
-    """Friction off (μ_s = μ_d = 0), issue 28's case to 0.25 s at the default step (the
-    contact oscillation's, 11.5 µs). Before issue 28 the cage, guided by nothing, fell
+    """Friction off (μ_s = μ_d = 0), the deep-groove case to 0.25 s at the default step (the
+    contact oscillation's, 11.5 µs). With cylindrical pockets the cage, guided by nothing, fell
     freely with the frictionless ball set (its centre 4.4 mm down at 30 ms), until balls met
     its rim edge and the run blew up at 0.13 s. Now it stays within its pocket play of the
     ball set (CAGE_OFFSET_LIMIT)."""
@@ -116,7 +116,7 @@ def test_frictionless_bearing_runs_to_the_end_at_the_default_step():
 
 
 def test_ball_guided_cage_kinematics_and_deflection_in_gravity():
-    """§9.3 in gravity with a ball-guided cage: issue 28's case to 0.1 s (RK4, default
+    """§9.3 in gravity with a ball-guided cage: the deep-groove case to 0.1 s (RK4, default
     step). The cage runs within 2 % of epicyclic, ``ω/2·(1 − D/d_m)`` at 0° (before the
     fix: 0.450 of the ring speed against 0.4328, 4 % over, with the cage 3 mm off the axis),
     stays within its play of the axis, and the ring's deflection holds within 1 % of the
@@ -154,7 +154,7 @@ def test_energy_balance_with_friction_in_gravity():
     """§9.4 on this family: loads held and the ring at 720 °/s from a rolling start at the
     statics, 20 ms, friction and damping on, gravity on: the drive's work plus the work of
     the loads and gravity equals the change of kinetic and elastic energy plus friction and
-    damping (rvcore.kernels.rhs Notes), within 1 % of what was supplied. (Before issue 28
+    damping (rvcore.kernels.rhs Notes), within 1 % of what was supplied. (With cylindrical pockets
     the rolling start gave these balls radial speeds up to 1.3 m/s, 0.016 J that the
     damper took in the first 0.2 ms, and the balance missed by 2.4 % of it.)"""
     supplied, balance, e, _ = energy_balance_of(BEARING, constant_profile(0.0, 0.02), OP, SolverSettings(output_rate=1e3))
@@ -179,7 +179,7 @@ def _growth_rate(res, t0=0.2, t1=0.45):
 
 
 def test_rocking_instability_rate_from_the_statics():
-    """Issue 28's tilt growth is the model's physics. At zero clearance and 0° the ring's
+    """The deep-groove ring's tilt growth is the model's physics. At zero clearance and 0° the ring's
     tilt and axial stiffness come only from the load's geometry, and the statics' own
     tangent stiffness (rvcore.stiffness, no dynamics) of the free-tilting ring at 500 N has
     one negative eigenvalue λ of M⁻¹K (M: the ring's mass and transverse inertia): the ring
@@ -187,7 +187,7 @@ def test_rocking_instability_rate_from_the_statics():
     (d_m − D)/2 = 28.1 mm, 5 %). The centred equilibrium is a saddle and the tilt grows as
     exp(√(−λ)·t), a real rate: a divergence, not a flutter fed by friction.
 
-    Measured on issue 28's run between 0.2 and 0.45 s (from a round-off seed): within 5 %
+    Measured on the deep-groove run between 0.2 and 0.45 s (from a round-off seed): within 5 %
     of √(−λ) (23.2 against 23.1 1/s). Without friction it grows too (no drive work at all
     then), within 15 %: there the balls at the top of the ring are unstable of their own
     (they slide down the inner race, held by the cage; real eigenvalues of 16–26 1/s of the
@@ -235,7 +235,7 @@ def test_rocking_saturates_at_the_statics_tilted_equilibrium():
 
 
 def test_issue_case_holds_its_deflection_and_cage_speed_over_the_cycle():
-    """Issue 28's whole 0.5 s case (RK4, default step): the steady and deceleration phases'
+    """The deep-groove case's whole 0.5 s (RK4, default step): the steady and deceleration phases'
     mean deflections within 1 % of the statics in gravity (before the fix: 8.69 µm at
     0.5 s against 9.197, 5 % off) and the cage within 2 % of epicyclic (before: 4 % over)."""
     res = run_case(BEARING, _issue_profile(0.5), OP, SolverSettings(output_rate=1e3))
@@ -247,7 +247,7 @@ def test_issue_case_holds_its_deflection_and_cage_speed_over_the_cycle():
 
 def test_convergence_with_the_step():
     """§9.6 on this family: a ten times smaller step changes the steady phase's mean
-    deflection and cage speed by less than 1 % (issue 28's case to 0.15 s, RK4). The tilt
+    deflection and cage speed by less than 1 % (the deep-groove case to 0.15 s, RK4). The tilt
     is left out: it grows from round-off (the rocking instability above), whose seed is
     the step's."""
     metrics = []

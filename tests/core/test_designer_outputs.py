@@ -1,4 +1,4 @@
-"""The designer's outputs of a dynamic case (issue 10), against values derived here.
+"""The designer's outputs of a dynamic case, against values derived here.
 
 A pure axial load on an angular-contact row at rest loads every ball alike, so the ball
 load, the contact angle and the peak pressure follow from textbook relations without any
@@ -107,7 +107,7 @@ def test_life_sums_of_equal_ball_loads():
 
 
 def test_case_file_labels_every_new_output():
-    """Every issue-10 series and phase metric reaches the case dataset with units and a
+    """Every designer series and phase metric reaches the case dataset with units and a
     long name, and the NaN conventions hold (no inf)."""
     from pipeline.io.case import PHASE_METRICS, SERIES, case_dataset
 
@@ -141,7 +141,7 @@ def test_case_file_labels_every_new_output():
 
 
 def test_duty_cycle_life_reaches_the_case_file():
-    """With rvcore.life (issue 10's other half) the case file holds the duty-cycle life:
+    """The case file holds the duty-cycle life:
     the scalars, the cycle's damage as the test computes it from the run's accumulated
     sums, and the damage per phase, whose sum over phases that cover the cycle is the
     cycle's damage."""

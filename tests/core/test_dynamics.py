@@ -26,7 +26,7 @@ milliseconds, and compares with a value derived here:
 - blow-up reporting and the per-step phase accumulators.
 
 The statics, kinematics, conservation and centrifugal checks run for every integrator of
-``rvcore.integrator.METHODS`` (issue 11: RK4 and IMEX), with the same tolerances: they
+``rvcore.integrator.METHODS`` (RK4 and IMEX), with the same tolerances: they
 are physical facts, not properties of one scheme.
 """
 from __future__ import annotations
@@ -79,7 +79,7 @@ def test_damped_response_settles_to_quasistatic(z, f_r, f_a, load_angle, method)
 
     With the study's contact damping (250 N s/m) the slowest ring mode decays with a time
     constant of ~16 ms, so after 100 ms the response is within ~0.1 %; docs/model.md §9.2
-    asks for 1 %, of every integrator (issue 11) at its default step.
+    asks for 1 %, of every integrator at its default step.
     """
     bearing = section_bearing(z)
     t_end = 0.12
@@ -107,7 +107,7 @@ def test_damped_response_settles_to_quasistatic(z, f_r, f_a, load_angle, method)
 @pytest.mark.parametrize("f_r, f_a", [(0.0, 20e3), (10e3, 5e3)])
 def test_kinematics_cage_speed_and_ball_spin(f_r, f_a, method):
     """Started from rest: loads over 10 ms, speed 0 → 20 rad/s over 10–30 ms, held to 130 ms.
-    Every integrator (issue 11), at its default step.
+    Every integrator, at its default step.
 
     Notes
     -----
@@ -195,7 +195,7 @@ def test_energy_conserved_without_friction_and_damping(method):
     step is 0.125 µs: Hertz contacts opening and closing make RK4's energy error fall only
     like dt^2.6 here (3.9e-6 at 0.5 µs, 6e-7 at 0.25 µs, 2.1e-7 at 0.125 µs).
 
-    Every integrator runs at this same step (issue 11). With friction and damping off the
+    Every integrator runs at this same step. With friction and damping off the
     IMEX scheme's implicit part (friction at small slip, contact damping) is empty, and
     what is left must be a consistent explicit scheme that conserves the energy to the
     same 1e-6. (Not at the methods' default steps: docs/model.md's 1e-6 needs a resolved
@@ -408,7 +408,7 @@ def test_centrifugal_radial_balance(alpha_deg, f_a, step_safety, tol, method):
     (no pocket load here). docs/model.md §9.7 asks for 3 % at the default step; with a quarter
     of it the instantaneous balance holds to 1e-3. (At the default step a sustained
     step-locked ball oscillation leaves 1.3 % (5°) / 0.5 % (15°): see the report.)
-    Every integrator (issue 11), at the same fractions of its own stability limit.
+    Every integrator, at the same fractions of its own stability limit.
     """
     bearing, model, res, rho, w_orbit, m_b = _orbiting(
         alpha_deg, f_a, 300.0, SolverSettings(output_rate=1e3, step_safety=step_safety, gravity=False, method=method))
@@ -436,7 +436,7 @@ def test_centrifugal_load_difference(step_safety, method):
     the two angles. Nominal 5° under 2 kN operates at ᾱ ≈ 11°: the raw comparison is
     expected ≈ 1.8 % low (1 − cos ᾱ), inside docs/model.md's 3 %. The angles are measured
     from the ball diagnostics (``cos α = |F_r|/Q``) and the exact relation is checked
-    too, to 0.3 % with the finer step. Every integrator (issue 11).
+    too, to 0.3 % with the finer step. Every integrator.
     """
     bearing, model, res, rho, w_orbit, m_b = _orbiting(
         5.0, 2e3, 300.0, SolverSettings(output_rate=1e3, step_safety=step_safety, gravity=False, method=method))

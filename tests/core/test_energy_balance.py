@@ -1,4 +1,4 @@
-"""Energy balance of a dynamic case (issue 10): the drive's work against dissipation.
+"""Energy balance of a dynamic case: the drive's work against dissipation.
 
 The balance, derived from the model's equations of motion (rvcore.kernels.rhs)
 -------------------------------------------------------------------------------
@@ -38,7 +38,7 @@ rectangle rule left an O(dt) error of 10 % of the drive's work after the start
 transient: the tests do resolve the quadrature.)
 
 The balance is the equations of motion's, whatever integrates them: the tests run for
-every integrator of ``rvcore.integrator.METHODS`` (issue 11), each at its default step.
+every integrator of ``rvcore.integrator.METHODS``, each at its default step.
 """
 from __future__ import annotations
 
@@ -88,9 +88,9 @@ def energy_balance_of(bearing, profile, op, settings):
 
 
 @pytest.mark.parametrize("method", [pytest.param(m, marks=pytest.mark.xfail(
-    m == "imex", strict=True, reason="issue 11, open: at the default step (10.1 µs, |ω_n·h| 1.36) the balance "
+    m == "imex", strict=True, reason="open: at the default step (10.1 µs, |ω_n·h| 1.36) the balance "
     "misses by 1.4 % of the 0.0097 J supplied (RK4: 2e-5). (The 0.12 J contact ring-down once named here "
-    "was the rolling start's spurious radial ball speeds, up to 1.3 m/s, fixed in issue 28.)")) for m in METHODS])
+    "was the rolling start's spurious radial ball speeds, up to 1.3 m/s, since fixed.)")) for m in METHODS])
 def test_energy_balance_at_constant_speed_and_load(method):
     """Loads held and the ring spinning at 660 °/s from the start (rolling start at the
     statics): the drive's work and the elastic energy the start transient releases go
@@ -113,7 +113,7 @@ def test_energy_balance_at_constant_speed_and_load(method):
 
 
 def test_imex_energy_balance_closes_as_its_step_shrinks():
-    """Issue 11: IMEX's missing energy at the rolling start (the xfail above) is a step
+    """IMEX's missing energy at the rolling start (the xfail above) is a step
     effect, the explicit stages' numerical damping of the contact ring-down, and not a
     term the scheme or the bookkeeping leaves out: as the step shrinks (step_safety 0.8,
     0.4, 0.2) the gap shrinks, and at a quarter of the default step the balance closes
@@ -131,7 +131,7 @@ def test_imex_energy_balance_closes_as_its_step_shrinks():
 
 
 @pytest.mark.parametrize("method", [pytest.param(m, marks=pytest.mark.xfail(
-    m == "imex", strict=True, reason="issue 11, open: at IMAG_LIMIT 1.7 (third-order tableau) the balance is "
+    m == "imex", strict=True, reason="open: at IMAG_LIMIT 1.7 (third-order tableau) the balance is "
     "0.033 J off of 0.645 J dissipated (5 %); it closed at the earlier 1.4: the contact ring-downs the "
     "explicit stages damp numerically, as at the rolling start (rvcore.imex, 'Why not more')")) for m in METHODS])
 def test_energy_balance_over_a_study_cycle(method):

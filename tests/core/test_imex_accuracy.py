@@ -1,4 +1,4 @@
-"""The IMEX integrator against RK4 on the study bearing (issue 11; slow).
+"""The IMEX integrator against RK4 on the study bearing (slow).
 
 The case is the study's: the bearing of ``sweeps/bearings/rv-main-study.toml`` (51 balls),
 the cycle of ``sweeps/profiles/study.toml`` and the operating point of
@@ -83,8 +83,8 @@ REPO = Path(__file__).resolve().parents[2]
 CANDIDATE_ENV = "RV_IMEX_ACCURACY_CANDIDATE"
 REFERENCE_SAFETY = 0.25
 ENSEMBLE_SEEDS = (0, 1, 2)
-STEADY_TOL = 0.005       # issue 11: every steady metric within 0.5 %
-RANGE_TOL = 0.03         # issue 11: every transient range within 3 % (or the standard error)
+STEADY_TOL = 0.005       # every steady metric within 0.5 %
+RANGE_TOL = 0.03         # every transient range within 3 % (or the standard error)
 #: per-phase metrics that are not magnitudes of the motion (see the module docstring)
 NOT_COMPARED = ("phase_start", "phase_end", "inner_ring_speed_mean")
 SLIPS = ("cage_slip", "cage_slip_nominal")
@@ -154,7 +154,7 @@ def range_comparison(candidate: dict, reference: dict, ensemble: list, phases) -
 
 @pytest.mark.slow
 def test_imex_matches_rk4_on_the_study_cycle():
-    """Issue 11: IMEX's steady metrics within 0.5 % of RK4 at step_safety 0.25, its
+    """IMEX's steady metrics within 0.5 % of RK4 at step_safety 0.25, its
     start-up and deceleration ranges within 3 % or the seed ensemble's standard error."""
     bearing, profile, op = study_case()
     k_start, k_steady, k_decel = (phase_index(profile, n) for n in ("startup", "steady", "deceleration"))

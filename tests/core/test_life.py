@@ -1,4 +1,4 @@
-"""Rating life (issue 10): ISO 281 L10, ISO/TS 16281 L10r from the load distribution, the
+"""Rating life: ISO 281 L10, ISO/TS 16281 L10r from the load distribution, the
 catalogue load rating, and the duty-cycle life of a profile held at one point.
 
 The standards' formulas are written out again here, from the standards, not imported
@@ -58,7 +58,7 @@ def stribeck_loads(z: int, radial_load: float) -> np.ndarray:
 
 
 def test_deep_groove_zero_clearance_l10r_matches_iso281_l10():
-    """Issue 10: ISO/TS 16281 L10r within 5 % of ISO 281's (C_r/P)^3, both from the
+    """ISO/TS 16281 L10r within 5 % of ISO 281's (C_r/P)^3, both from the
     standards' formulas here; and the code gives the same C_r, Q_c and L10r."""
     z, fr = 42, 30e3
     b = section_bearing(z, alpha=0.0)
@@ -125,7 +125,7 @@ def test_pair_is_rated_as_double_row():
 
 
 def _hand_life_sums(b, st, revolutions):
-    """The integrator's accumulation (issue 10's contract) done by hand: per phase and
+    """The integrator's accumulation contract done by hand: per phase and
     row, dN·(1/Z)Σ Q_i^3 and dN·((1/Z)Σ Q_o^(10/3))^(9/10), from the statics' loads."""
     q = st.ball_loads
     inner_cols = st.arc_rings == 0
@@ -140,7 +140,7 @@ def _hand_life_sums(b, st, revolutions):
 
 @pytest.mark.parametrize("alpha_deg, fr, fa", [(0.0, 20e3, 0.0), (15.0, 15e3, 8e3)])
 def test_duty_cycle_at_one_point_equals_static_l10r(alpha_deg, fr, fa):
-    """Issue 10: a profile held at one constant operating point has the static L10r
+    """A profile held at one constant operating point has the static L10r
     (here exactly, within 1 % asked); the damage splits over the phases as their revolutions."""
     b = section_bearing(12, alpha=math.radians(alpha_deg))
     st = solve_statics(b, fr, fa, gravity=False, stiffness=False)
@@ -256,10 +256,10 @@ def _has_life_sums() -> bool:
     return any(f.name == "life_sums" for f in dc.fields(CaseResult))
 
 
-@pytest.mark.skipif(not _has_life_sums(), reason="the integrator's life accumulation (issue 10, helper DYN) "
+@pytest.mark.skipif(not _has_life_sums(), reason="the integrator's life accumulation "
                                                  "is not in rvcore.driver yet")
 def test_dynamic_constant_point_life_equals_static_l10r():
-    """Issue 10: a reduced case rolling at constant speed under constant loads; the life of
+    """A reduced case rolling at constant speed under constant loads; the life of
     its steady phase (a profile held there) equals the static L10r there within 1 %.
 
     The integrator accumulates dN·Q_e^3 with the balls' dynamic loads at every step, while

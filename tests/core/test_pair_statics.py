@@ -1,4 +1,4 @@
-"""A preloaded pair and the tangent stiffness of the statics (issue 9).
+"""A preloaded pair and the tangent stiffness of the statics.
 
 Reduced bearings (12 balls of the study's ring section) keep every solve to milliseconds.
 Every expected value is derived here from the geometry and Hertz's law, independently of

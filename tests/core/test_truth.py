@@ -190,7 +190,7 @@ def test_gravity_at_rest_cage_on_land_balls_carry_ring(method):
     ``K·δ^1.5`` on the bearing's groove geometry; ``K_land·(e − c_land)^1.5`` from the
     cage's eccentricity e); the pocket loads are the kernel's per-ball diagnostics.
     Measured: land 0.25 %, pocket loads 0.06 % of m_b·g, ring 7e-5, total 8e-6.
-    Every integrator settles there (issue 11), at the same fixed step.
+    Every integrator settles there, at the same fixed step.
     """
     z = 10
     bearing = _deep_groove(z)
@@ -253,7 +253,7 @@ def test_gravity_only_case_gets_a_stable_step(method):
     ``2√2/ω_n = 7.0e-5 s`` (``ω_n = √(2·1.5·K^(2/3)·Q^(1/3)/m_b) = 4.0e4 rad/s``,
     K = 4.45e10 N/m^1.5); a step sized for the 1 N floor (8.2e-5 s, 7.7e-5 s once
     fitted to the output interval) is beyond it, and the run blows up within a few ms.
-    Every integrator's derived step (issue 11).
+    Every integrator's derived step.
     """
     bearing = _deep_groove(10)
     row = bearing.rows[0]

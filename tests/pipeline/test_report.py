@@ -84,7 +84,7 @@ def synthetic_sweep(directory, windows: bool = True, **kw):
         store_statics(d, **{k: kw[k] for k in ("speeds_deg", "loads", "missing") if k in kw})
     return d
 
-#: The report's sections in their order (issue 10): the designer's summary first, then the cases and the
+#: The report's sections in their order: the designer's summary first, then the cases and the
 #: figures, the study comparison, the files and the configuration as an appendix.
 SECTIONS = ("# Sweep report", "## Summary per operating point", "## Cases", "## Time histories",
             "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",

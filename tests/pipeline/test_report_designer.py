@@ -1,4 +1,4 @@
-"""The report for the designer (issue 10): the summary table per operating point first, the
+"""The report for the designer: the summary table per operating point first, the
 designer figures, the configuration last in engineering units; ``metrics.nc`` carrying the
 designer outputs.
 
