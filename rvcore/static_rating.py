@@ -191,16 +191,10 @@ def static_load_rating(ball_diameter: float, pitch_diameter: float, contact_angl
 
     Parameters
     ----------
-    ball_diameter : float
-        ``D_w`` [m].
-    pitch_diameter : float
-        ``D_pw`` [m].
-    contact_angle : float
-        Nominal contact angle ``α`` [rad].
-    ball_count : int
-        ``Z``, balls per row.
-    rows : int
-        ``i``, rows of balls (a pair of single-row bearings is ``i = 2``).
+    ball_diameter, pitch_diameter, contact_angle, ball_count, rows
+        ``D_w`` [m], ``D_pw`` [m], the nominal ``α`` [rad], ``Z`` balls per row and ``i``
+        rows (a pair of single-row bearings is ``i = 2``), as
+        :func:`rvcore.iso281.basic_dynamic_load_rating` takes them.
 
     Returns
     -------

@@ -130,21 +130,16 @@ def free_stiffness_scalars(k: np.ndarray, load_angle: float = 0.0, tilt_held: bo
 
     Parameters
     ----------
-    k : ndarray (5, 5)
-        Tangent stiffness in the bearing frame (:func:`tangent_stiffness`).
-    load_angle : float
-        Direction ψ of the radial load from +x [rad].
+    k, load_angle
+        As :func:`stiffness_scalars`.
     tilt_held : bool
         The tilts are held by a support (:attr:`rvcore.geometry.InnerRing.tilt`).
 
     Returns
     -------
-    radial : float
-        Along the radial load [N m^-1].
-    axial : float
-        Along z [N m^-1].
-    tilting : float
-        About the axis normal to the radial load [N m rad^-1]; NaN when held.
+    radial, axial, tilting : float
+        As :func:`stiffness_scalars` [N m^-1, N m^-1, N m rad^-1]; the tilting one NaN
+        when held.
 
     Notes
     -----

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcore.outputs import OUTPUT, SERIES, SPECTRUM
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION
@@ -94,6 +95,19 @@ COLUMNS = (
     *(Column(name, f"{name.split('_')[0]} stiffness [{unit}]", name, scale=scale)
       for name, (scale, unit, _) in STIFFNESS_DISPLAY.items()),
 )
+
+
+def _check_columns() -> None:
+    """Every column reads an output of the output table (rvcore.outputs), a per-case one
+    (metrics.nc holds no series): a renamed output fails at import, not in a report."""
+    for col in COLUMNS:
+        row = OUTPUT.get(col.variable)
+        if row is None or row.kind in (SERIES, SPECTRUM):
+            raise ValueError(f"pipeline.report.summary: column {col.key!r} reads {col.variable!r}, "
+                             "which is no per-case output of rvcore.outputs")
+
+
+_check_columns()
 
 
 def _reduce(a: np.ndarray, axis: int, how: str) -> np.ndarray:
