@@ -28,6 +28,9 @@ from __future__ import annotations
 
 import math
 
+from .life import rating_geometry
+from .static_rating import bearing_static_load_rating, static_equivalent_load
+
 #: ``f_1 = z·(P_0/C_0)^y`` of the load term: bearing type -> (z smallest, z largest, y).
 #: Source: Harris & Kotzalas, table of ``z`` and ``y`` for the load-dependent friction
 #: moment (Palmgren 1959). Deep groove: z = 0.0004 … 0.0006 (light … heavy series),
@@ -251,9 +254,6 @@ def friction_moment(bearing, radial_load: float, axial_load: float, speed: float
     different loads (sum the rows' moments, each with its own loads, with the
     functions above).
     """
-    from .life import rating_geometry
-    from .static_rating import bearing_static_load_rating, static_equivalent_load
-
     g = rating_geometry(bearing)
     if g["rows"] != 1 or g["four_point"]:
         raise FrictionMomentError(f"Palmgren's estimate here covers single-row deep-groove and angular-contact "

@@ -11,9 +11,12 @@ import math
 
 import numpy as np
 
+from .friction_moment import FrictionMomentError, friction_moment
+from .life import LifeError, static_life
 from .outputs import STEADY, outputs_of
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
-from .quasistatic import StaticResult, solve_statics
+from .quasistatic import NoEquilibriumError, StaticResult, solve_statics
+from .static_rating import StaticRatingError, static_safety_factor, static_safety_factor_from_pressure
 
 
 def steady_time(profile: Profile) -> float:
@@ -52,7 +55,6 @@ def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
 def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:
     """The ``steady`` outputs of :mod:`rvcore.outputs` for one case, SI; NaN where the
     statics find no equilibrium."""
-    from .quasistatic import NoEquilibriumError
 
     try:
         st = steady_statics(bearing, profile, op, gravity=gravity)
@@ -82,9 +84,6 @@ def positive_definite(k, n: int = 5) -> bool:
 def _steady_ratings(bearing, st: StaticResult, speed: float) -> dict:
     """ISO 76's s0 both ways and Palmgren's friction moment at the equilibrium (the loads it
     carries, the ring's weight included) and ``speed`` [rad s^-1]; NaN where not rated."""
-    from .friction_moment import FrictionMomentError, friction_moment
-    from .life import LifeError
-    from .static_rating import StaticRatingError, static_safety_factor, static_safety_factor_from_pressure
 
     fr, fa = float(np.hypot(*st.applied[:2])), float(abs(st.applied[2]))
     nan = float("nan")
@@ -109,7 +108,6 @@ def _steady_ratings(bearing, st: StaticResult, speed: float) -> dict:
 def _steady_lives(bearing, st: StaticResult) -> dict:
     """L10 and L10r [rev] at the equilibrium (:func:`rvcore.life.static_life`, the loads the
     equilibrium carries, the ring's weight included); NaN where infinite or not rated."""
-    from .life import LifeError, static_life
 
     try:
         life = static_life(bearing, st)

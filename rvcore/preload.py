@@ -31,6 +31,7 @@ import math
 from scipy import optimize
 
 from .geometry import Arc, Bearing, Row
+from .quasistatic import solve_statics
 
 #: The arrangements of a pair; the sign of the contact angle of the row at −s/2.
 ARRANGEMENTS = {"back-to-back": 1.0, "face-to-face": -1.0, "tandem": 1.0}
@@ -97,7 +98,6 @@ def preload_force(bearing: Bearing) -> float:
     """
     if len(bearing.rows) != 2:
         return 0.0
-    from .quasistatic import solve_statics   # quasistatic imports geometry, not this module
     st = solve_statics(bearing, gravity=False, stiffness=False)
     return float(st.row_axial_loads.mean())
 

@@ -33,6 +33,8 @@ import math
 
 import numpy as np
 
+from .life import LifeError, rating_geometry
+
 #: Contact pressure at the centre of the most heavily loaded ball–raceway contact under
 #: the basic static load rating, radial ball bearings other than self-aligning [Pa]
 #: (ISO 76:2006 3.2).
@@ -253,7 +255,6 @@ def bearing_static_load_rating(bearing) -> float:
     """ISO 76 ``C_0r`` of a :class:`rvcore.geometry.Bearing` from its geometry [N]
     (:func:`static_load_rating` with :func:`rvcore.life.rating_geometry`'s ``i``, ``Z``,
     ``D_w``, ``D_pw``, ``α``)."""
-    from .life import LifeError, rating_geometry
 
     try:
         g = rating_geometry(bearing)
@@ -287,8 +288,6 @@ def static_safety_factor(bearing, radial_load: float, axial_load: float) -> dict
     (:func:`static_safety_factor_from_pressure`) includes it through the load
     distribution.
     """
-    from .life import rating_geometry
-
     g = rating_geometry(bearing)
     c0 = bearing_static_load_rating(bearing)
     p0 = static_equivalent_load(radial_load, axial_load, g["contact_angle"], g["double_row"])
