@@ -6,6 +6,8 @@ Physics
 - ``geometry``        bearing, rows, groove arcs, cages, materials (frozen dataclasses)
 - ``hertz``           Hertz point-contact constants from the elliptic integrals
 - ``contact``         every contact law once: STEP, Hertz with its damper, friction, penetrations
+- ``friction_law``    the friction law as data: its name and its record of parameters
+- ``ring_pose``       the inner ring's rotation, angular velocity and frame
 - ``raceway``         an imperfect raceway's radial shift and slope at a contact
 - ``imperfections``   eccentricities, waviness, ball sizes; a tolerance class realized from a seed
 - ``tolerances``      ISO 492 runout and ISO 3290 ball grades (tables with their sources)

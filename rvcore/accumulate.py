@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .contact import ring_rotation
+from .ring_pose import ring_rotation
 from .kernels import B_QI, B_QO
 from .model import R_CAGE0, R_HALF_D, R_PITCH_R, R_POCKET0, R_Z
 from .outputs import (ARCSINE_LOADED, CUBE_ROOT, ISO76_LOAD_RATIO, N_ROW_SIGNALS, N_SIGNALS, OUTPUTS, PHASE,

@@ -1,6 +1,6 @@
 """Contact laws, written once: the cubic STEP, Hertz force with the IMPACT damper, the
-friction law and its slope at zero slip, the penetrations of every contact type and the
-inner ring's pose. SI throughout.
+friction law and its slopes, and the penetrations of every contact type. SI throughout.
+(The inner ring's pose: :mod:`rvcore.ring_pose`.)
 
 Every function is ``@njit(cache=True, nogil=True)`` on scalars, inlined into its callers,
 and allocates nothing. The right-hand side (:func:`rvcore.kernels.rhs`), the potential
@@ -290,48 +290,6 @@ def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def ring_rotation(tilt_x, tilt_y):
-    """Rotation matrix ``R = Ry(θy)·Rx(θx)`` of the inner ring, row by row [-].
-
-    Parameters
-    ----------
-    tilt_x, tilt_y : float
-        Tilts about x and y [rad].
-
-    Returns
-    -------
-    tuple of float
-        ``(r00, r01, r02, r10, r11, r12, r20, r21, r22)``; a point fixed in the ring at
-        ``p`` (ring frame) is at ``r_ring + R·p``.
-    """
-    ca, sa, cb, sb = math.cos(tilt_x), math.sin(tilt_x), math.cos(tilt_y), math.sin(tilt_y)
-    return cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca
-
-
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def ring_angular_velocity(w_ring, tilt_rate_x, tilt_rate_y, r00, r20, r02, r12, r22):
-    """Inertial angular velocity Ω of the inner ring [rad s^-1] (rvcore.kernels notes).
-
-    ``w_ring`` [rad s^-1] is the prescribed spin about the ring's own axis
-    ``R·ẑ = (r02, r12, r22)``; ``r00 = cos θy`` and ``r20 = −sin θy`` turn the tilt rate
-    about x [rad s^-1] into Ry(θy)·x̂.
-    """
-    return (tilt_rate_x * r00 + w_ring * r02, tilt_rate_y + w_ring * r12,
-            tilt_rate_x * r20 + w_ring * r22)
-
-
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow):
-    """A point P [m] in the inner ring's frame, ``Rᵀ·(P − r_ring)``, axial coordinate
-    measured from the row plane ``zrow`` [m]; returns ``(x, y, z, √(x² + y²))`` [m]."""
-    dx, dy, dz = px - xi, py - yi, pz - zi
-    plx = r00 * dx + r10 * dy + r20 * dz
-    ply = r01 * dx + r11 * dy + r21 * dz
-    plz = r02 * dx + r12 * dy + r22 * dz - zrow
-    return plx, ply, plz, math.sqrt(plx * plx + ply * ply)
-
-
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
     """Penetration of a ball into one groove arc, in the ring's own frame.
 
@@ -476,7 +434,7 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
 
     An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
-    centre being ``(plx, ply, plz)`` there (:func:`to_ring_frame`); an outer-ring arc in
+    centre being ``(plx, ply, plz)`` there (:func:`rvcore.ring_pose.to_ring_frame`); an outer-ring arc in
     the fixed frame, the ball centre being ``(px, py, pzr)`` with ``pzr`` from the row
     plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
     An imperfect bearing (:func:`rvcore.raceway.ball_offsets`) moves the inner or outer
@@ -511,10 +469,3 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
         scale = 1.0 / math.sqrt(1.0 + n_phi * n_phi)
         nx, ny, nz = (nx - n_phi * uy) * scale, (ny + n_phi * ux) * scale, nz * scale
     return inner, delta, nx, ny, nz
-
-
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
-def ring_to_global(x, y, z, r00, r01, r02, r10, r11, r12, r20, r21, r22):
-    """A vector given in the inner ring's frame, in the fixed frame: ``R·v`` [as v]."""
-    return (r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z,
-            r20 * x + r21 * y + r22 * z)

@@ -6,8 +6,8 @@ import math
 
 from numba import njit
 
-from .contact import (cage_pocket_penetration, hertz_energy, land_penetration, race_arc_penetration,
-                      ring_rotation, to_ring_frame)
+from .contact import cage_pocket_penetration, hertz_energy, land_penetration, race_arc_penetration
+from .ring_pose import ring_rotation, to_ring_frame
 from .kernels import spin_of
 from .model import (A_K, BALL_STATES, GUIDE_OUTER_LAND, P_GX, P_GY, P_GZ, P_RING_IT, P_RING_M, R_ARC0, R_BALL0,
                     R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT,

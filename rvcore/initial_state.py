@@ -7,7 +7,8 @@ import math
 
 import numpy as np
 
-from .contact import arc_penetration, ring_angular_velocity, ring_rotation
+from .contact import arc_penetration
+from .ring_pose import ring_angular_velocity, ring_rotation
 from .model import (A_CR, A_CZ, A_RING, A_RMH, A_SIDE, BALL_STATES, R_ARC0, R_BALL0, R_CAGE0, R_HALF_D, R_MB,
                     R_NARC, R_PITCH_R, R_POCKET0, R_POCKET_R, R_Z, R_ZROW, nominal_state)
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_integral
@@ -58,7 +59,7 @@ def inner_race_velocity(y, omega, point):
     """Velocity of the inner race's material point at ``point`` [m s^-1].
 
     ``v_ring + Ω × (point − r_ring)`` with the ring's full angular velocity
-    (:func:`rvcore.contact.ring_angular_velocity`): spin about its tilted axis plus the
+    (:func:`rvcore.ring_pose.ring_angular_velocity`): spin about its tilted axis plus the
     tilt rates, as in the right-hand side.
     """
     r00, _, r02, _, _, r12, r20, _, r22 = ring_rotation(y[3], y[4])

@@ -43,8 +43,8 @@ import numpy as np
 from numba import njit
 
 from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_penetration, damping_coefficient,
-                      friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration,
-                      ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame)
+                      friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration)
+from .ring_pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
 from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,

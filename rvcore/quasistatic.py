@@ -31,8 +31,8 @@ from scipy import optimize
 
 from .geometry import Bearing
 from .stiffness import free_stiffness_scalars, stiffness_scalars, tangent_stiffness
-from .contact import (LOADED_BALL_LOAD, hertz_energy, hertz_load, race_arc_penetration, ring_rotation, ring_to_global,
-                      to_ring_frame)
+from .contact import LOADED_BALL_LOAD, hertz_energy, hertz_load, race_arc_penetration
+from .ring_pose import ring_rotation, ring_to_global, to_ring_frame
 from .raceway import ball_offsets
 from .model import (A_K, A_PC3, A_RING, A_RMH, P_GX, P_GY, P_GZ, P_TILT_HELD, R_IMPERFECT,
                     P_RING_M, R_ARC0, R_HALF_D, R_NARC, R_PITCH_R, R_POCKET0, R_Z, R_ZROW,

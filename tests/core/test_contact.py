@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from rvcore import contact
+from rvcore import contact, ring_pose
 from rvcore.friction_law import pack_friction_law
 from rvcore.timestep import rk4_time_step
 from rvcore.driver import run_case
@@ -189,12 +189,12 @@ def test_ring_pose_and_angular_velocity():
     """R = Ry(θy)·Rx(θx); Ω = θ̇y·ŷ + θ̇x·Ry(θy)·x̂ + ω·R·ẑ (docs/model.md §1: the spin about the
     ring's own tilted axis plus the tilt rates)."""
     tx, ty = 0.2, -0.35
-    r = np.array(contact.ring_rotation(tx, ty)).reshape(3, 3)
+    r = np.array(ring_pose.ring_rotation(tx, ty)).reshape(3, 3)
     rx = np.array([[1, 0, 0], [0, math.cos(tx), -math.sin(tx)], [0, math.sin(tx), math.cos(tx)]])
     ry = np.array([[math.cos(ty), 0, math.sin(ty)], [0, 1, 0], [-math.sin(ty), 0, math.cos(ty)]])
     np.testing.assert_allclose(r, ry @ rx, atol=1e-15)
     w, wx, wy = 3.0, 0.4, -0.2
-    om = contact.ring_angular_velocity(w, wx, wy, r[0, 0], r[2, 0], r[0, 2], r[1, 2], r[2, 2])
+    om = ring_pose.ring_angular_velocity(w, wx, wy, r[0, 0], r[2, 0], r[0, 2], r[1, 2], r[2, 2])
     expected = wy * np.array([0, 1, 0]) + wx * ry @ np.array([1, 0, 0]) + w * (ry @ rx) @ np.array([0, 0, 1])
     np.testing.assert_allclose(om, expected, rtol=1e-13, atol=1e-15)
 

@@ -12,7 +12,7 @@ prescribed spin, and ``V_el = Σ ⅖·K·δ^2.5`` the elastic energy of every co
    ball's (or cage's) material point against the other body's. Its normal part is
    ``−q·δ̇ = −K·δ^1.5·δ̇ − (q − K·δ^1.5)·δ̇`` = ``−dV_el/dt − P_damp``; its tangential
    part ``F_t·u = −P_fric ≤ 0``. Summed over all contacts, with the ring moving as the
-   rigid body it is (angular velocity ``Ω``, :func:`rvcore.contact.ring_angular_velocity`):
+   rigid body it is (angular velocity ``Ω``, :func:`rvcore.ring_pose.ring_angular_velocity`):
    ``P_contacts = −dV_el/dt − P_damp − P_fric``.
 2. The ring's share of it is ``F_c·v + M_c·Ω``, ``M_c`` the contact moment about the ring
    centre. With ``Ω = θ̇x·Ry·x̂ + θ̇y·ŷ + ω·e`` (``e = R·ẑ``, the spin axis):

@@ -40,7 +40,8 @@ def sensor_sweep(tmp_path_factory):
     path.write_text(text)
     with contextlib.redirect_stdout(io.StringIO()):
         code = main(["sweep", str(path), "--out", str(root / "out"), "--serial", "--no-progress"])
-    assert code == 0
+        assert code == 0
+        assert main(["report", str(root / "out" / "smoke")]) == 0     # it writes metrics.nc
     return root / "out" / "smoke"
 
 
