@@ -82,7 +82,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .implicit import J_A, J_B, J_COUPLED, J_W, N_JWORK
+from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, J_W, N_JWORK, N_SCHUR, S_K
 from .kernels import D_DRIVE_TORQUE, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
@@ -97,9 +97,9 @@ B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
 #: (Found by a constrained search over the one-parameter family of order-3 tableaux:
 #: a larger γ buys a larger ω·h limit at a larger |R(−∞)|: γ 0.50 → 2.25 and 0.33,
 #: 0.55 → 2.65 and 0.50, 0.58 → 2.80 and 0.57.)
-GAMMA = 0.55
-I32 = -1.114469965957916
-I42, I43 = 0.4502370361034324, 0.478702895812399
+GAMMA = 1.0 / 6.0
+I32 = 4.0 / 27.0
+I42, I43 = 17.0 / 54.0, 0.5
 I21 = 0.5 - GAMMA
 I31 = 0.5 - GAMMA - I32
 I41 = 1.0 - GAMMA - I42 - I43
@@ -111,10 +111,14 @@ IB1, IB2, IB3, IB4 = B1, B2, B3, B4
 #: 1.5 at c·h ≈ 20). Stability is not what sets 1.7 but accuracy: the explicit stages'
 #: numerical damping of the contact vibrations (module docstring, "Why not more").
 IMAG_LIMIT = 1.7
+#: Steps one evaluation of the tangents and one factorization serve (module docstring).
+JAC_EVERY = 4
 
-#: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass.
-W_F, W_TMP, W_G, W_INVM, W_M = 0, 4, 5, 9, 10
-N_WORK = 11
+#: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
+#: implicit velocities), and the offset from an implicit position to its velocity (3 for
+#: a ball's centre, 5 for the ring's pose; 0 elsewhere).
+W_F, W_TMP, W_G, W_INVM, W_M, W_VOF = 0, 4, 5, 9, 10, 11
+N_WORK = 12
 
 
 def new_work(model):
@@ -129,14 +133,60 @@ def new_work(model):
     # balls then drops out of the Schur complement to 1e-12), and the right-hand side
     # reads them as 0 whatever they hold
     inv_m[8:10] = 1.0 / (p[P_RING_IT] * (1e12 if p[P_TILT_HELD] != 0.0 else 1.0))
+    work[W_VOF, 0:5] = 5.0
     for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
+            work[W_VOF, b:b + 3] = 3.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
-    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((6, 5))
+    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
+
+
+@njit(cache=True, nogil=True)
+def stiffness_rhs(v, jwork, schur, rows, inv_m):
+    """Subtract ``M⁻¹·h·γ·K·ê_x`` from the velocities of the increment ``v`` (its positions
+    are ``ê_x``), so that :func:`solve`'s ``(M + h·γ·D + (h·γ)²·K)⁻¹·M·v`` is the stage's
+    velocity increment (module docstring). ``schur[5]`` is its scratch (before the solve
+    uses it)."""
+    rz = schur[5]
+    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
+    # the ring's own block, upper triangle stored
+    rz[0] = (schur[S_K, 0] * x0 + schur[S_K, 1] * x1 + schur[S_K, 2] * x2 + schur[S_K, 3] * x3
+             + schur[S_K, 4] * x4)
+    rz[1] = (schur[S_K, 1] * x0 + schur[S_K + 1, 1] * x1 + schur[S_K + 1, 2] * x2 + schur[S_K + 1, 3] * x3
+             + schur[S_K + 1, 4] * x4)
+    rz[2] = (schur[S_K, 2] * x0 + schur[S_K + 1, 2] * x1 + schur[S_K + 2, 2] * x2 + schur[S_K + 2, 3] * x3
+             + schur[S_K + 2, 4] * x4)
+    rz[3] = (schur[S_K, 3] * x0 + schur[S_K + 1, 3] * x1 + schur[S_K + 2, 3] * x2 + schur[S_K + 3, 3] * x3
+             + schur[S_K + 3, 4] * x4)
+    rz[4] = (schur[S_K, 4] * x0 + schur[S_K + 1, 4] * x1 + schur[S_K + 2, 4] * x2 + schur[S_K + 3, 4] * x3
+             + schur[S_K + 4, 4] * x4)
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            k = p0 + j
+            b = b0 + BALL_STATES * j
+            bx, by, bz = v[b], v[b + 1], v[b + 2]
+            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
+            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
+            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
+            if jwork[k, J_COUPLED] != 0.0:
+                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
+                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
+                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
+                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
+                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
+                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
+                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
+                    rz[c] += jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
+            v[b + 3] -= inv_m[b + 3] * fx
+            v[b + 4] -= inv_m[b + 4] * fy
+            v[b + 5] -= inv_m[b + 5] * fz
+    for c in range(5):
+        v[5 + c] -= inv_m[5 + c] * rz[c]
 
 
 @njit(cache=True, nogil=True)
@@ -321,31 +371,36 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g0, g1, g2 = work[W_G], work[W_G + 1], work[W_G + 2]
-    mass, inv_m = work[W_M], work[W_INVM]
+    mass, inv_m, vof = work[W_M], work[W_INVM], work[W_VOF]
     for m in range(n):
         s = a1 * f0[m] + (i1 - a1) * g0[m]
         if i >= 2:
             s += a2 * f1[m] + (i2 - a2) * g1[m]
         if i >= 3:
             s += a3 * f2[m] + (i3 - a3) * g2[m]
-        tmp[m] = y[m] + dt * s
-        g[m] = tmp[m]          # V̂, for g_i below
-        if mass[m] > 0.0:      # the solve is for the increment V − V_n
-            tmp[m] -= y[m]
+        tmp[m] = dt * s        # the increment ê = Ŷ − y_n
+        g[m] = tmp[m]          # ê, for g_i below
+    stiffness_rhs(tmp, jwork, schur, rows, inv_m)
     solve(tmp, jwork, schur, rows, mass)
-    inv_hg = 1.0 / (dt * GAMMA)
+    hg = dt * GAMMA
+    inv_hg = 1.0 / hg
     for m in range(n):
-        if mass[m] > 0.0:
-            tmp[m] += y[m]
+        o = int(vof[m])
+        if o > 0:
+            # e_x = ê_x + h·γ·e_v (e_v still an increment: its index is above m), g_x = e_v
+            g[m] = tmp[m + o]
+            tmp[m] = tmp[m] + hg * g[m]
+        elif mass[m] > 0.0:
             g[m] = (tmp[m] - g[m]) * inv_hg
         else:
             g[m] = 0.0
+        tmp[m] += y[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
 
 
 @njit(cache=True, nogil=True)
-def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
+def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh):
     """Advance ``y`` by one IMEX step of ``dt``.
 
     On entry ``work[W_F]`` holds ``F(y)``, and ``jwork`` and ``schur`` the blocks that
@@ -354,7 +409,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     [N m] (the first stage's, ``b_1·T(y)``, the caller has).
     """
     n = y.size
-    factor(jwork, schur, rows, work[W_M])
+    if refresh:
+        factor(jwork, schur, rows, work[W_M])
     g0 = work[W_G]
     for m in range(n):
         g0[m] = 0.0       # g(y_n) = −M⁻¹·D·(V_n − V_n)

@@ -38,7 +38,7 @@ from .contact import FAST, friction_slope_at_zero_slip, ring_rotation
 from .kernels import (B_QI, B_QO, D_COS_ALPHA, D_DAMPING_POWER, D_DRIVE_TORQUE, D_FRICTION_POWER, D_HOLD_MX, D_HOLD_MY, D_LAND_Q,
                       D_DRIVE_POWER, D_LOAD_POWER, D_LOADED, D_MAX_P3, D_MAX_PEN, D_MAX_PV6, D_MAX_QI, D_MAX_QO, D_MAX_QP,
                       D_MAX_SLIDE2, D_PEN_BALL, D_RACE_P3, D_SIN_MAX, D_SIN_MIN, D_TILT_POWER, rhs, rhs_jac, rhs_stage)
-from .imex import B1, B2, B3, B4, GAMMA, imex_step
+from .imex import B1, B2, B3, B4, GAMMA, JAC_EVERY, imex_step
 from .model import (BALL_STATES, P_RING_IP, P_RING_IT, P_RING_M,
                     R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_POCKET0, R_Z)
 from .static_rating import ISO76_BALL_PRESSURE
@@ -284,7 +284,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         t = t_start + i * dt
         # the designer's diagnostics at the step's state only (rhs_stage skips them); the
         # IMEX scheme's stiff damping blocks from the same evaluation
-        if method == IMEX:
+        # (the frozen tangents serve JAC_EVERY steps: rvcore.imex, "Step")
+        refresh = i % JAC_EVERY == 0
+        if method == IMEX and refresh:
             rhs_jac(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
         else:
             rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
@@ -386,7 +388,8 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if i == n_steps:
             break
         if method == IMEX:
-            torque += imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
+            torque += imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur,
+                                refresh)
         else:
             # classical RK4
             for m in range(n):
