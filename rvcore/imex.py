@@ -112,13 +112,13 @@ IB1, IB2, IB3, IB4 = B1, B2, B3, B4
 #: numerical damping of the contact vibrations (module docstring, "Why not more").
 IMAG_LIMIT = 1.7
 #: Steps one evaluation of the tangents and one factorization serve (module docstring).
-JAC_EVERY = 4
+JAC_EVERY = 1
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
 #: implicit velocities), and the offset from an implicit position to its velocity (3 for
 #: a ball's centre, 5 for the ring's pose; 0 elsewhere).
-W_F, W_TMP, W_G, W_INVM, W_M, W_VOF = 0, 4, 5, 9, 10, 11
-N_WORK = 12
+W_F, W_TMP, W_G, W_INVM, W_M, W_VOF, W_OFF = 0, 4, 5, 9, 10, 11, 12
+N_WORK = 13
 
 
 def new_work(model):
@@ -378,7 +378,36 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
             s += a2 * f1[m] + (i2 - a2) * g1[m]
         if i >= 3:
             s += a3 * f2[m] + (i3 - a3) * g2[m]
-        tmp[m] = dt * s        # the increment ê = Ŷ − y_n
+        tmp[m] = dt * s        # Ŷ − y_n
+    # The balls' stages are solved as deviations from a reference ỹ(t): y_n turned about
+    # the bearing's axis at the ball's orbital speed Ω = (x·v_y − y·v_x)/ρ² (centre,
+    # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
+    # (the explicit row's own quadrature of ỹ', one node back) and Y = ỹ(t_i) + e, so that
+    # a ball on that orbit stays on it exactly. Rotations are Cayley's (orthogonal).
+    off = work[W_OFF]
+    ap = a1 if i == 1 else (a2 if i == 2 else a3)
+    cp = 0.0 if i == 1 else 0.5        # the node of the explicit row's one entry
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            px, py, vx, vy = y[b], y[b + 1], y[b + 3], y[b + 4]
+            om = (px * vy - py * vx) / (px * px + py * py)
+            phi = om * c * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            cm1, sn = -0.5 * phi * phi * d, phi * d
+            php = om * cp * dt
+            dp = 1.0 / (1.0 + 0.25 * php * php)
+            cp1, snp = 1.0 - 0.5 * php * php * dp, php * dp
+            w = dt * ap * om
+            for o in (0, 3, 6):         # centre, velocity, spin: the x and y components
+                ux, uy = y[b + o], y[b + o + 1]
+                off[b + o] = cm1 * ux - sn * uy
+                off[b + o + 1] = sn * ux + cm1 * uy
+                # h·a·Ω·(ẑ × R(φ_prev)·u)
+                tmp[b + o] -= w * -(snp * ux + cp1 * uy)
+                tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
+    for m in range(n):
         g[m] = tmp[m]          # ê, for g_i below
     stiffness_rhs(tmp, jwork, schur, rows, inv_m)
     solve(tmp, jwork, schur, rows, mass)
@@ -394,7 +423,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
             g[m] = (tmp[m] - g[m]) * inv_hg
         else:
             g[m] = 0.0
-        tmp[m] += y[m]
+        tmp[m] += y[m] + off[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
 
