@@ -111,8 +111,15 @@ IB1, IB2, IB3, IB4 = B1, B2, B3, B4
 #: 1.5 at c·h ≈ 20). Stability is not what sets 1.7 but accuracy: the explicit stages'
 #: numerical damping of the contact vibrations (module docstring, "Why not more").
 IMAG_LIMIT = 1.7
+#: Largest ``λ_f·h`` (λ_f the friction's rate at zero slip, on the negative real axis):
+#: where the implicit tableau damps a friction mode by at least :data:`FRICTION_DAMPING`
+#: per step. ``R(−x) = ((6 − x)/(6 + x))³`` tends to −1 as x → ∞ (an all-pass function
+#: cannot be L-stable), so the step must keep x below the root of ``|R(−x)| = ρ``:
+#: ``x = 6·(1 + ρ^⅓)/(1 − ρ^⅓)``.
+FRICTION_DAMPING = 0.2
+FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION_DAMPING ** (1.0 / 3.0))
 #: Steps one evaluation of the tangents and one factorization serve (module docstring).
-JAC_EVERY = 1
+JAC_EVERY = 2
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
 #: implicit velocities), and the offset from an implicit position to its velocity (3 for
@@ -459,27 +466,40 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
 
 def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
                      dynamic_margin: float = 1.0) -> float:
-    """The fixed IMEX step [s] from the rates that stay explicit.
+    """The fixed IMEX step [s] from the rates that bound it (module docstring, "Step").
 
     Notes
     -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``k = 1.5·K^(2/3)·Q^(1/3)``
-    for the stiffest arc and the two race contacts of a ball::
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``c_f = Q·dμ/ds`` at zero
+    slip and the two race contacts of a ball (the rates of
+    :func:`rvcore.integrator.stable_time_step`)::
 
-        ω_n = √(2k/m_b)                                  (contact oscillation)
-        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope)
-        dt  = safety · min(IMAG_LIMIT/ω_n, 2.785/λ_−)
+        λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
+        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
+        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−)
 
-    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope.
+    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope. The
+    contact oscillation ω_n does not enter: it is implicit and the tableau keeps it
+    undamped at any ω_n·h.
     """
     from .integrator import RK4_REAL_LIMIT, row_rates
-    from .model import P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S
+    from .model import P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S
+
+    from .contact import friction_slope_at_zero_slip
 
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
+    c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
     falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
     dts = []
-    for omega, m, rot in row_rates(model, q):
+    for _omega, m, rot in row_rates(model, q):
+        lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         lam = 2.0 * q * falling * max(1.0 / m, rot)
-        dts.append(min(IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
-    return safety * min(dts)
+        dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
+                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    dt = safety * min(dts)
+    if not math.isfinite(dt):
+        # neither friction nor damping (the conservation checks): nothing bounds the step
+        # but the resolution of the contact oscillation, two steps to its period
+        dt = safety * min(math.pi / omega for omega, _m, _r in row_rates(model, q))
+    return dt

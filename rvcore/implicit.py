@@ -100,7 +100,7 @@ def friction_tangent(q, tx, ty, tz, friction_on, mu_s, v_s, mu_d, v_d, inv_vs):
     return alpha, (q * slope - alpha) / s2
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
 def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
                    w3, p3x, p3y, p3z, ax, ay, az, qx, qy, qz, e1x, e1z):
     """Add one ball contact's ``h·γ·GᵀCG``: its blocks of ``M + h·γ·D``.
@@ -214,7 +214,7 @@ def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x,
     schur[4, 4] += hg * (r2x * s2x + r2y * s2y + r2z * s2z)
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
 def stiffness_blocks(jwork, k, schur, ring, hk, nx, ny, nz, qx, qy, qz, e1x, e1z):
     """Add one race contact's ``h·γ·K = h·γ·k_n·∇δ·∇δᵀ`` on the positions.
 

@@ -419,12 +419,17 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                                         + B4 * channel_rate(table, meta, CH_SPEED, t + dt))
         if i == 0:
             torque_f1 = torque_f2 = torque - inertial
-        else:
+        # the band-limited torque at t, the time whose phase it goes to: the filter's
+        # output before this step's torque enters it (after, it is the output at t + dt,
+        # which put the filter's decay over one step after a profile's corner into the
+        # next phase's peak: an error growing as the step squared)
+        band = inertial + torque_f2
+        if i > 0:
             torque_f1 += decay * (torque - inertial - torque_f1)
             torque_f2 += decay * (torque_f1 - torque_f2)
         for k in range(n_ph + 1):
             if (k < n_ph and phases[k, 0] <= t < phases[k, 1]) or (k == n_ph and has_cycle):
-                _torque_stats(acc[k, 0], torque, inertial + torque_f2)
+                _torque_stats(acc[k, 0], torque, band)
     return OK, t_start + n_steps * dt, -1, n_out
 
 
