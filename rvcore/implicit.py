@@ -2,11 +2,21 @@
 
 What the IMEX integrator (:mod:`rvcore.imex`) treats implicitly is the velocity
 dependence of the ball contacts' forces: the friction law at small slip, whose slope
-``q·dμ/ds = 1.5·μ_s·q/v_s`` is a stiff viscous damper, and the contact damper. Frozen at a
-state, it is a damping matrix ``D`` on the generalized velocities (every ball's 6 and the
-inner ring's 5)::
+``q·dμ/ds = 1.5·μ_s·q/v_s`` is a stiff viscous damper, and the contact damper; and the
+Hertz stiffness of the ball–race contacts. Frozen at a state, they are a damping matrix
+``D`` on the generalized velocities (every ball's 6 and the inner ring's 5) and a
+stiffness ``K`` on the positions (every ball's centre and the ring's 5)::
 
-    generalized contact force ≈ F(x, V₀) − D·(V − V₀),   D = Σ_contacts Gᵀ·C·G
+    generalized contact force ≈ F(x₀, V₀) − D·(V − V₀) − K·(x − x₀),   D = Σ_contacts Gᵀ·C·G
+
+The stiffness of a race contact is ``K = k_n·∇δ·∇δᵀ`` with ``k_n = dq/dδ = 1.5·K_H·δ^0.5``
+(the Hertz tangent; the rotation of the normal with the position, a term of order q/ρ, is
+left explicit) and ``∇δ = Gᵀ·n``: the ball's spin does not move a race contact (its arm is
+along n), so the same G serves the positions. The stage matrix is
+``M + h·γ·D + (h·γ)²·K``: the caller adds ``h·γ·k_n`` to the normal weight of ``C``
+(:func:`contact_blocks` multiplies by h·γ), and :func:`stiffness_blocks` keeps ``h·γ·K``
+alone for the stage's right-hand side. The pockets' stiffness stays explicit (their
+rates are far below the races'; and a pocket acts on the cage, which is explicit).
 
 with ``u = G·V`` the slip velocity of the contact (ball point against the other body's
 point, linear in V) and ``C = −∂F/∂u`` the
