@@ -164,50 +164,6 @@ def new_work(model):
 
 
 @njit(cache=True, nogil=True)
-def stiffness_rhs(v, jwork, schur, rows, inv_m):
-    """Subtract ``M⁻¹·h·γ·K·ê_x`` from the velocities of the increment ``v`` (its positions
-    are ``ê_x``), so that :func:`solve`'s ``(M + h·γ·D + (h·γ)²·K)⁻¹·M·v`` is the stage's
-    velocity increment (module docstring). ``schur[5]`` is its scratch (before the solve
-    uses it)."""
-    rz = schur[5]
-    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
-    # the ring's own block, upper triangle stored
-    rz[0] = (schur[S_K, 0] * x0 + schur[S_K, 1] * x1 + schur[S_K, 2] * x2 + schur[S_K, 3] * x3
-             + schur[S_K, 4] * x4)
-    rz[1] = (schur[S_K, 1] * x0 + schur[S_K + 1, 1] * x1 + schur[S_K + 1, 2] * x2 + schur[S_K + 1, 3] * x3
-             + schur[S_K + 1, 4] * x4)
-    rz[2] = (schur[S_K, 2] * x0 + schur[S_K + 1, 2] * x1 + schur[S_K + 2, 2] * x2 + schur[S_K + 2, 3] * x3
-             + schur[S_K + 2, 4] * x4)
-    rz[3] = (schur[S_K, 3] * x0 + schur[S_K + 1, 3] * x1 + schur[S_K + 2, 3] * x2 + schur[S_K + 3, 3] * x3
-             + schur[S_K + 3, 4] * x4)
-    rz[4] = (schur[S_K, 4] * x0 + schur[S_K + 1, 4] * x1 + schur[S_K + 2, 4] * x2 + schur[S_K + 3, 4] * x3
-             + schur[S_K + 4, 4] * x4)
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j
-            bx, by, bz = v[b], v[b + 1], v[b + 2]
-            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
-            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
-            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
-            if jwork[k, J_COUPLED] != 0.0:
-                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
-                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
-                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
-                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
-                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
-                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
-                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
-                    rz[c] += jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
-            v[b + 3] -= inv_m[b + 3] * fx
-            v[b + 4] -= inv_m[b + 4] * fy
-            v[b + 5] -= inv_m[b + 5] * fz
-    for c in range(5):
-        v[5 + c] -= inv_m[5 + c] * rz[c]
-
-
-@njit(cache=True, nogil=True)
 def factor(jwork, schur, rows, mass):
     """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.kernels.rhs_jac`
     accumulated.
@@ -309,21 +265,42 @@ def factor(jwork, schur, rows, mass):
 
 @njit(cache=True, nogil=True)
 def solve(v, jwork, schur, rows, mass):
-    """Overwrite the velocities of the balls and the ring in the state ``v`` with
-    ``(M + h·γ·D + (h·γ)²·K)⁻¹·M·v`` (factors of :func:`factor`, reciprocal diagonals); the rest is
-    untouched. ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
+    """Overwrite the velocities of the balls and the ring in the increment ``v`` with
+    ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its
+    positions ``v_x`` being ``ê_x``; module docstring) with the factors of :func:`factor`
+    (reciprocal diagonals) and the ``h·γ·K`` blocks of
+    :func:`rvcore.implicit.stiffness_blocks`; the rest is untouched.
+    ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
     rz = schur[5]
-    for i in range(5):
-        rz[i] = mass[5 + i] * v[5 + i]
+    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
+    for i in range(5):     # the ring's M·v − h·γ·K_rr·x (upper triangle stored)
+        s = mass[5 + i] * v[5 + i]
+        for l in range(5):
+            s -= (schur[S_K + i, l] if l >= i else schur[S_K + l, i]) * v[l]
+        rz[i] = s
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
             k = p0 + j
             b = b0 + BALL_STATES * j + 3
-            # w = U⁻ᵀ·M_b·v_b
-            w0 = mass[b] * v[b] * jwork[k, J_A + 0]
-            w1 = (mass[b + 1] * v[b + 1] - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
-            w2 = (mass[b + 2] * v[b + 2] - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
+            # h·γ·K·ê_x on the ball's centre, and the ring's share
+            bx, by, bz = v[b - 3], v[b - 2], v[b - 1]
+            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
+            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
+            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
+            if jwork[k, J_COUPLED] != 0.0:
+                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
+                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
+                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
+                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
+                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
+                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
+                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
+                    rz[c] -= jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
+            # w = U⁻ᵀ·(M_b·v_b − f)
+            w0 = (mass[b] * v[b] - fx) * jwork[k, J_A + 0]
+            w1 = (mass[b + 1] * v[b + 1] - fy - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
+            w2 = (mass[b + 2] * v[b + 2] - fz - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
             w3 = (mass[b + 3] * v[b + 3] - jwork[k, J_A + 3] * w0 - jwork[k, J_A + 9] * w1
                   - jwork[k, J_A + 15] * w2) * jwork[k, J_A + 21]
             w4 = (mass[b + 4] * v[b + 4] - jwork[k, J_A + 4] * w0 - jwork[k, J_A + 10] * w1
@@ -390,7 +367,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g0, g1, g2 = work[W_G], work[W_G + 1], work[W_G + 2]
-    mass, inv_m, vof = work[W_M], work[W_INVM], work[W_VOF]
+    mass, vof = work[W_M], work[W_VOF]
     for m in range(n):
         s = a1 * f0[m] + (i1 - a1) * g0[m]
         if i >= 2:
@@ -428,7 +405,6 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
                 tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
     for m in range(n):
         g[m] = tmp[m]          # ê, for g_i below
-    stiffness_rhs(tmp, jwork, schur, rows, inv_m)
     solve(tmp, jwork, schur, rows, mass)
     hg = dt * GAMMA
     inv_hg = 1.0 / hg
