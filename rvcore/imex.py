@@ -80,11 +80,14 @@ What bounds it (:func:`stable_time_step`):
   ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
 - the friction law's falling slope between v_s and v_d, explicit (at most
   ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
-- with neither friction nor damping (the conservation checks) only the contact
-  oscillation's resolution, two steps to its period.
+- a race contact that closes within a step: its stiffness is not in the step's
+  tangents, so for that step it is explicit, on the explicit tableau's imaginary-axis
+  limit, ``ω_c·h ≤`` :data:`ONSET_LIMIT` = 2√2 with ``ω_c = ω_n/√2`` (one contact: a
+  rattling ball's other side is open) at the peak contact load. A case with no load and
+  no speed (the ring's weight alone, balls rattling) blows up just past it.
 
-The contact oscillation does not bound it: the tableau is A-stable and keeps it
-undamped; its phase per step is ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of
+Once a contact is in the tangents its oscillation does not bound the step: the tableau
+is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of
 about (ω_n·h)²/108. The pockets' stiffness and the cage–land contact stay explicit
 (``rvcore.implicit``): their rates are far below the race contacts' (a ball on a 100 N
 pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
@@ -127,6 +130,11 @@ IB1, IB2, IB3, IB4 = B1, B2, B3, B4
 #: ``x = 6·(1 + ρ^⅓)/(1 − ρ^⅓)``.
 FRICTION_DAMPING = 0.2
 FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION_DAMPING ** (1.0 / 3.0))
+#: Limit on ``ω_c·h`` for a race contact that closes within a step: its stiffness is not
+#: in the tangents of the step's start, so for that step it is explicit, on the explicit
+#: tableau's imaginary-axis limit 2√2. ``ω_c = ω_n/√2``, one contact on the ball (the
+#: other side open, as for a ball that rattles) at the peak contact load.
+ONSET_LIMIT = 2.0 * math.sqrt(2.0)
 #: Steps one evaluation of the tangents and one factorization serve (module docstring,
 #: "Step"): every other step costs a right-hand side without the tangents and no
 #: factorization.
@@ -465,11 +473,12 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
 
         λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
-        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−)
+        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
 
-    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope. The
-    contact oscillation ω_n does not enter: it is implicit and the tableau keeps it
-    undamped at any ω_n·h.
+    ``|min μ'| = 1.5·(μ_s − μ_d)/(v_d − v_s)``, the cubic STEP's steepest slope, and
+    ω_n the contact oscillation of :func:`rvcore.integrator.row_rates`, here only for a
+    contact's first step (its oscillation is implicit from the next: the tableau keeps
+    it undamped at any ω_n·h).
     """
     from .integrator import RK4_REAL_LIMIT, row_rates
     from .model import P_DAMP_C, P_DAMPING, P_FRICTION, P_MU_D, P_MU_S, P_V_D, P_V_S
@@ -481,14 +490,10 @@ def stable_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     c_f = friction_slope_at_zero_slip(p[P_MU_S], p[P_V_S]) * q * p[P_FRICTION]
     falling = 1.5 * max(p[P_MU_S] - p[P_MU_D], 0.0) / (p[P_V_D] - p[P_V_S]) * p[P_FRICTION]
     dts = []
-    for _omega, m, rot in row_rates(model, q):
+    for omega, m, rot in row_rates(model, q):
         lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         lam = 2.0 * q * falling * max(1.0 / m, rot)
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
-                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
-    dt = safety * min(dts)
-    if not math.isfinite(dt):
-        # neither friction nor damping (the conservation checks): nothing bounds the step
-        # but the resolution of the contact oscillation, two steps to its period
-        dt = safety * min(math.pi / omega for omega, _m, _r in row_rates(model, q))
-    return dt
+                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
+                       ONSET_LIMIT * math.sqrt(2.0) / omega))
+    return safety * min(dts)
