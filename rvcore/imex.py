@@ -370,14 +370,15 @@ def solve(v, jwork, schur, rows, mass):
 @njit(cache=True, nogil=True, inline="always")
 def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     a1, a2, a3, i1, i2, i3, c):
-    """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring)."""
+    """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring). ``i1``
+    weighs g_1, which is 0 (the reference at t_n is y_n): it drops out."""
     n = y.size
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
-    g0, g1, g2 = work[W_G], work[W_G + 1], work[W_G + 2]
+    g1, g2 = work[W_G + 1], work[W_G + 2]
     mass, vof = work[W_M], work[W_VOF]
     for m in range(n):
-        s = a1 * f0[m] + (i1 - a1) * g0[m]
+        s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
         if i >= 2:
             s += a2 * f1[m] + (i2 - a2) * g1[m]
         if i >= 3:
@@ -444,9 +445,6 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     n = y.size
     if refresh:
         factor(jwork, schur, rows, work[W_M])
-    g0 = work[W_G]
-    for m in range(n):
-        g0[m] = 0.0       # g(y_n) = −M⁻¹·D·(V_n − V_n)
     torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
     torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
@@ -454,10 +452,9 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     0.0, 0.0, A43, I41, I42, I43, 1.0)
     f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
-    g1, g2, g3 = work[W_G + 1], work[W_G + 2], work[W_G + 3]
+    # b̂ = b: the g_i drop out of the update (module docstring)
     for m in range(n):
-        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m]
-                      + (IB1 - B1) * g0[m] + (IB2 - B2) * g1[m] + (IB3 - B3) * g2[m] + (IB4 - B4) * g3[m])
+        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m])
     return torque
 
 
