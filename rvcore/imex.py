@@ -141,10 +141,11 @@ ONSET_LIMIT = 2.0 * math.sqrt(2.0)
 JAC_EVERY = 2
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
-#: implicit velocities), and the offset from an implicit position to its velocity (3 for
-#: a ball's centre, 5 for the ring's pose; 0 elsewhere).
-W_F, W_TMP, W_G, W_INVM, W_M, W_VOF, W_OFF = 0, 4, 5, 9, 10, 11, 12
-N_WORK = 13
+#: implicit velocities), 1 at the implicit velocities and 1 at the implicit positions (the
+#: balls' centres, the ring's pose; 0 elsewhere: masks that keep the stage's loop free of
+#: branches), and the balls' reference offset ỹ − y_n.
+W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
+N_WORK = 14
 
 
 def new_work(model):
@@ -159,15 +160,16 @@ def new_work(model):
     # balls then drops out of the Schur complement to 1e-12), and the right-hand side
     # reads them as 0 whatever they hold
     inv_m[8:10] = 1.0 / (p[P_RING_IT] * (1e12 if p[P_TILT_HELD] != 0.0 else 1.0))
-    work[W_VOF, 0:5] = 5.0
+    work[W_ISP, 0:5] = 1.0
     for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
-            work[W_VOF, b:b + 3] = 3.0
+            work[W_ISP, b:b + 3] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
+    work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
 
 
@@ -376,7 +378,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g1, g2 = work[W_G + 1], work[W_G + 2]
-    mass, vof = work[W_M], work[W_VOF]
+    mass, isv, isp = work[W_M], work[W_ISV], work[W_ISP]
     for m in range(n):
         s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
         if i >= 2:
@@ -417,16 +419,20 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     solve(tmp, jwork, schur, rows, mass)
     hg = dt * GAMMA
     inv_hg = 1.0 / hg
+    # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
+    for m in range(5):
+        g[m] = tmp[m + 5]
+        tmp[m] = tmp[m] + hg * g[m]
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            for m in range(b, b + 3):
+                g[m] = tmp[m + 3]
+                tmp[m] = tmp[m] + hg * g[m]
+    # the velocities: g_v = (e_v − ê_v)/(h·γ); 0 off the implicit unknowns
     for m in range(n):
-        o = int(vof[m])
-        if o > 0:
-            # e_x = ê_x + h·γ·e_v (e_v still an increment: its index is above m), g_x = e_v
-            g[m] = tmp[m + o]
-            tmp[m] = tmp[m] + hg * g[m]
-        elif mass[m] > 0.0:
-            g[m] = (tmp[m] - g[m]) * inv_hg
-        else:
-            g[m] = 0.0
+        g[m] = isv[m] * ((tmp[m] - g[m]) * inv_hg) + isp[m] * g[m]
         tmp[m] += y[m] + off[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
