@@ -1,79 +1,101 @@
-"""The coupled implicit–explicit integrator: friction at small slip and contact damping
-implicit in every stage, the Hertz contacts and everything else explicit. SI throughout.
+"""The coupled implicit–explicit integrator: the ball–race Hertz stiffness, friction at
+small slip and contact damping implicit in every stage, everything else explicit. SI
+throughout.
 
 Why, and which scheme
 ---------------------
 RK4's step is set by the friction law's slope at zero slip, ``c_f = 1.5·μ_s·Q/v_s``
 ≈ 5.3e3 N s/m per race contact at the study's 3.55 kN, a real-axis rate
-λ_f ≈ 5.4e5 1/s that limits RK4 to 5.2e-6 s (:func:`rvcore.integrator.stable_time_step`).
-The contact oscillation, ω_n = √(2k/m_b) ≈ 1.1e5 rad/s, would allow 5× more. The
-friction is stiff through the rings too: a ball drags the inner ring and its cage
-(``rvcore.implicit``), so the implicit part must couple every ball with the ring and the
-cages, in every stage.
+λ_f ≈ 5.4e5 1/s that limits RK4 to 5.2e-6 s (:func:`rvcore.timestep.rk4_time_step`),
+and behind it by the contact oscillation, ω_n = √(2k/m_b) ≈ 1.1e5 rad/s. Both are
+implicit here. The friction is stiff through the rings too: a ball drags the inner ring
+and its cage (``rvcore.implicit``), so the implicit part couples every ball with the
+ring, in every stage.
 
-The scheme is an additive Runge–Kutta (IMEX-ARK) method of order 2 on
-``dy/dt = f(y) + g(y)``: ``g(y) = −M⁻¹·D·(V − V_n)`` is the stiff damping of
-:mod:`rvcore.implicit` about the step's start, with ``D`` the exact velocity tangent of
-the friction and damper forces there (frozen over the step; any ``D`` keeps the order),
-and ``f = F − g`` the rest, whose velocity tangent is then zero at that state.
-Linearising about ``V_n`` (not about V = 0) keeps ``f`` and ``g`` each small: a ball
-orbiting at 20 m/s has a near-zero slip but ``D·V`` of thousands of g, and splitting that
-large pair left a 10 % error in the balls' centrifugal force balance at this step. Explicit tableau: classical RK4 (``c = 0, ½, ½, 1``), kept for its
-imaginary-axis stability (|λ·h| ≤ 2√2) on the contact oscillation. Implicit tableau: an
-ESDIRK with the same nodes, the same weights ``b̂ = b`` and a constant diagonal γ
-(:data:`GAMMA`), so one factorization serves the three implicit stages::
+The scheme is an additive Runge–Kutta (IMEX-ARK) method on ``dy/dt = f(t, y) + g(t, y)``
+with ``g = J·(y − ỹ(t))``: ``J`` the frozen tangent of :mod:`rvcore.implicit` on the
+implicit unknowns (the ring's pose and rates, every ball's centre, velocity and spin)::
 
-    Ŷ_i = y_n + h·Σ_{j<i} (a_ij·F_j + (â_ij − a_ij)·g_j)
-    (M + h·γ·D)·(V_i − V_n) = M·(V̂_i − V_n) ,   g_i = (V_i − V̂_i)/(h·γ),   g_1 = 0
-    y_{n+1} = y_n + h·Σ_i (b_i·F_i + (b̂_i − b_i)·g_i)
+    J = [[0, I], [−M⁻¹·K, −M⁻¹·D]]
+
+``K`` the Hertz stiffness of the ball–race contacts on the positions, ``D`` the velocity
+tangent of the friction and dampers, and ``f = F − g`` the rest. The splitting is exact
+for any ``J`` and any reference ``ỹ``: the pair's order does not depend on them, only its
+stability, so ``J`` may be frozen over several steps (:data:`JAC_EVERY`). Explicit tableau:
+classical RK4 (``c = 0, ½, ½, 1``). Implicit tableau: an ESDIRK with the same nodes, the
+same weights ``b̂ = b`` and the constant diagonal γ = 1/6, so one factorization serves
+the three implicit stages. Stage i (e the deviation from the reference)::
+
+    ê   = h·Σ_{j<i} (a_ij·F_j + (â_ij − a_ij)·g_j) − (ỹ_i − y_n)
+    e_x = ê_x + h·γ·e_v
+    (M + h·γ·D + (h·γ)²·K)·e_v = M·ê_v − h·γ·K·ê_x
+    Y_i = ỹ_i + e,   g_i = (e − ê)/(h·γ)   (g_x = e_v),   g_1 = 0
+    y_{n+1} = y_n + h·Σ_i b_i·F_i
 
 with ``F_i = F(Y_i)`` the full right-hand side: four evaluations per step, as RK4.
-``M + h·γ·D`` is block-arrowhead (each ball coupled only to the ring; which couplings
-are in ``D`` and why: :mod:`rvcore.implicit`); it is solved exactly through the Schur
-complement on the ring, O(Z) per stage.
-The pair satisfies every order-3 condition, the coupling ones included. With ``b̂ = b``
+``M + h·γ·D + (h·γ)²·K`` is block-arrowhead (each ball coupled only to the ring); it is
+solved exactly through the Schur complement on the ring, O(Z) per stage. With ``b̂ = b``
 the velocity update weighs the stages' full forces by ``b`` alone, so ``Σ b_i·T(Y_i)`` is
 the drive torque whose impulse the step gave the balls (the step's torque that
 :func:`rvcore.integrator.integrate` accumulates). A change to ``b̂ ≠ b`` must change that.
 
+The implicit tableau: all-pass
+------------------------------
+Its stability function is ``R(z) = ((1 + z/6)/(1 − z/6))³`` (that of three trapezoidal
+steps of h/3), so ``|R(iy)| = 1``: the contact oscillation, now in the implicit part, is
+integrated without numerical damping at any ω_n·h, and the energy its ring-downs carry
+leaves through the damper, not the scheme. It is the only such function the structure
+allows: with the denominator ``(1 − γz)³``, ``|R(iy)| = 1`` needs the numerator
+``(1 + γz)³``, and ``R = e^z + O(z²)`` then fixes γ = 1/6; its z³ coefficient is
+1/6 + 1/108, so the implicit tableau, and the pair, are of order 2 (order 3 and
+``|R(iy)| = 1`` exclude each other here). Of the one-parameter family of tableaux with
+this R (rows summing to c, ``b̂ = b``), the entries below keep the stage values of a stiff
+mode smallest (about 2× the step's start at most, on the real and imaginary axes). The price:
+an all-pass function cannot be L-stable, ``R(−x) → −1`` as x → ∞, so a stiff friction
+mode is damped per step by ``|R(−λ_f·h)|`` only, which bounds the step (below).
+
+Reference
+---------
+Linearised about ``y_n``, a ball's orbit is not a small deviation: over a step its
+centre leaves the tangent by v²h²/(2ρ) (about 1 µm at 300 rad/s and 25 µs), which the
+implicit Hertz stiffness reads as a change of penetration, and the explicit stages'
+O(h²) error of the orbit's position turns into stage forces of order (ω_n·h)²·m_b·a.
+So the balls' stages are deviations from ``ỹ(t)``: ``y_n`` turned about the bearing's
+axis at the ball's orbital speed (centre, velocity and spin), and ``ê`` subtracts the
+explicit row's own quadrature of ``ỹ'`` (the row's one entry, at the previous node) where
+it would subtract ``ỹ_i − y_n``: then a ball on that orbit stays on it exactly, and the
+centrifugal balance (docs/model.md §9.7) does not depend on the step. The ring and cages are
+not turned (``ỹ = y_n`` for the ring; the cages are explicit).
+
 Step
 ----
-What remains explicit: the Hertz contact oscillation, the friction law's negative slope
-between v_s and v_d (at most 1.5·(μ_s − μ_d)/(v_d − v_s)·Q), and slow terms (gyroscopic
-coupling of the ring, gravity). :func:`stable_time_step` takes the step from the first
-two, with |ω_n·h| ≤ :data:`IMAG_LIMIT` = 1.7 at the peak contact load (why 1.7: below).
-On the study case (Q = 3.55 kN): ω_n ≈ 1.08e5 rad/s → 1.25e-5 s at safety 0.8, against
-RK4's 4.07e-6 s (3.1×). One step costs about 1.65 RK4 steps (the velocity tangents,
-one factorization and three solves on top of the same four right-hand sides), so the
-full study cycle runs about 1.9× faster than RK4 (``make bench``, README).
+What bounds it (:func:`rvcore.timestep.imex_time_step`):
 
-Why not more. The Hertz oscillation stays explicit, so it is integrated by RK4's
-stability function, whose amplitude per step on the imaginary axis is
-``|R(i·ω·h)| = |1 − x²/2 + x⁴/24 + i(x − x³/6)|``, x = ω·h: 0.994 at 1.0, 0.960 at
-1.4, 0.886 at 1.7, 0.745 at 2.0, 0.507 at 2.4 (1 at 2.83, the stability limit). That
-loss is numerical damping of the contact vibrations near the step's frequency scale,
-with a phase error that grows alike. What it costs, measured:
+- the stiff friction modes, implicit, damped per step by ``|R(−λ_f·h)|``: the step keeps
+  ``λ_f·h ≤`` :data:`FRICTION_LIMIT`, where that factor is :data:`FRICTION_DAMPING`.
+  Beyond it the friction's slip oscillates from step to step, and the law's saturation
+  turns that into a chatter that dissipates energy the physics does not (the energy
+  balances of tests/core/test_energy_balance.py break); λ_f is RK4's friction-and-damping
+  rate (:func:`rvcore.timestep.rk4_time_step`), so the IMEX step is
+  ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
+- the friction law's falling slope between v_s and v_d, explicit (at most
+  ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
+- a race contact that closes within a step: its stiffness is not in the step's
+  tangents, so for that step it is explicit, on the explicit tableau's imaginary-axis
+  limit, ``ω_c·h ≤`` :data:`ONSET_LIMIT` = 2√2 with ``ω_c = ω_n/√2`` (one contact: a
+  rattling ball's other side is open) at the peak contact load. A case with no load and
+  no speed (the ring's weight alone, balls rattling) blows up just past it.
 
-- the 12-ball section's centrifugal balance (docs/model.md §9.7, test_dynamics.py, 3 %),
-  worst of its two cases: 2.8 % at 1.7, 4.9 % at 2.0, 5.9 % at 2.12, 8.4 % at 2.4. This
-  is what binds (re-measured 2026-11-25, MODEL_VERSION 6);
-- the energy a contact ring-down carries goes out through the scheme and not the
-  damper: on the 8-ball rolling start (test_energy_balance.py) the missing energy is
-  0.0216, 0.0071 and 0.0010 J of the 0.12 J ring-down at 10.1, 7.6 and 5.1 µs
-  (about h⁴), so the energy balances with friction hold only at a smaller step;
-- the steady peak drive torque of the study cycle, the accuracy test's metric closest
-  to its 0.5 % (tests/core/test_imex_accuracy.py, slow): since the torque fix of
-  MODEL_VERSION 6, −0.09 % at 1.7 (12.5 µs), −0.32 % at 2.16 (20 µs, every metric of
-  the test passes; the full cycle then takes 13.0 s against RK4's 34.4 s, 2.6×),
-  −0.59 % at 2.7 (25 µs, fails). (Before the fix: 2.2 % off at 2.4.)
+Once a contact is in the tangents its oscillation does not bound the step: the tableau
+is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of
+about (ω_n·h)²/108. The pockets' stiffness and the cage–land contact stay explicit
+(``rvcore.implicit``): their rates are far below the race contacts' (a ball on a 100 N
+pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
+these steps.
 
-Hence 1.7, and no route to issue 11's 4× while the Hertz contact is explicit. The
-speed-up is the step ratio over the cost ratio; a step costs 1.6–1.8 RK4 steps (per part
-on the study case, 51 balls: rhs 8.6 µs, rhs_stage 8.0, rhs_jac 13.6, factor 8.0, solve
-3.8; one IMEX step 52 µs against RK4's 33), so 4× needs a step of 26–30 µs, ω·h 2.8–3.2,
-past the pair's stability limit (2.65). At 1.3 RK4 steps it would need ω·h 2.3 (§9.7
-about 7 % off), and at no overhead at all 1.76, §9.7's edge.
-
+The tangents and the factorization are evaluated every :data:`JAC_EVERY` steps (the
+splitting stays exact with a frozen ``J``; between, the step costs four right-hand sides
+and three solves).
 """
 from __future__ import annotations
 
@@ -82,7 +104,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .implicit import J_A, J_B, J_COUPLED, J_W, N_JWORK
+from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, J_W, N_JWORK, N_SCHUR, S_K
 from .kernels import D_DRIVE_TORQUE, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
@@ -90,31 +112,40 @@ from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
 A21, A32, A43 = 0.5, 0.5, 1.0
 B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
-#: The implicit tableau: a third-order ESDIRK paired with RK4 (γ = 0.55, b̂ = b, rows
-#: summing to c; every order-3 condition of the pair holds, the coupling ones included),
-#: chosen for the coupled stability of the contact oscillation with its damping implicit
-#: (:data:`IMAG_LIMIT`). Free entries I32, I42, I43; the rest follow from the row sums.
-#: (Found by a constrained search over the one-parameter family of order-3 tableaux:
-#: a larger γ buys a larger ω·h limit at a larger |R(−∞)|: γ 0.50 → 2.25 and 0.33,
-#: 0.55 → 2.65 and 0.50, 0.58 → 2.80 and 0.57.)
-GAMMA = 0.55
-I32 = -1.114469965957916
-I42, I43 = 0.4502370361034324, 0.478702895812399
+#: The implicit tableau: the ESDIRK whose stability function is the all-pass
+#: ((1 + z/6)/(1 − z/6))³ (module docstring), γ = 1/6, b̂ = b, rows summing to c. Free
+#: entries I32, I42, I43 (one of them free within the family: I43 = ½ keeps the stage
+#: values smallest); the rest follow from the row sums.
+GAMMA = 1.0 / 6.0
+I32 = 4.0 / 27.0
+I42, I43 = 17.0 / 54.0, 0.5
 I21 = 0.5 - GAMMA
 I31 = 0.5 - GAMMA - I32
 I41 = 1.0 - GAMMA - I42 - I43
 IB1, IB2, IB3, IB4 = B1, B2, B3, B4
-#: Limit on |ω_n·h| (ω_n the contact oscillation at the peak contact load), the damping
-#: implicit. On the damped oscillator ẍ = −ω²x − c·ẋ with c implicit, the pair is stable
-#: for ω·h ≤ 2.65 at every c·h (0 to 1e8; the explicit tableau alone: 2.83). The earlier
-#: stiffly accurate γ = 1/6 tableau was not (unstable from ω·h = 0.96 as c·h → ∞, from
-#: 1.5 at c·h ≈ 20). Stability is not what sets 1.7 but accuracy: the explicit stages'
-#: numerical damping of the contact vibrations (module docstring, "Why not more").
-IMAG_LIMIT = 1.7
+#: Largest ``λ_f·h`` (λ_f the friction's rate at zero slip, on the negative real axis):
+#: where the implicit tableau damps a friction mode by at least :data:`FRICTION_DAMPING`
+#: per step. ``R(−x) = ((6 − x)/(6 + x))³`` tends to −1 as x → ∞ (an all-pass function
+#: cannot be L-stable), so the step must keep x below the root of ``|R(−x)| = ρ``:
+#: ``x = 6·(1 + ρ^⅓)/(1 − ρ^⅓)``.
+FRICTION_DAMPING = 0.2
+FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION_DAMPING ** (1.0 / 3.0))
+#: Limit on ``ω_c·h`` for a race contact that closes within a step: its stiffness is not
+#: in the tangents of the step's start, so for that step it is explicit, on the explicit
+#: tableau's imaginary-axis limit 2√2. ``ω_c = ω_n/√2``, one contact on the ball (the
+#: other side open, as for a ball that rattles) at the peak contact load.
+ONSET_LIMIT = 2.0 * math.sqrt(2.0)
+#: Steps one evaluation of the tangents and one factorization serve (module docstring,
+#: "Step"): every other step costs a right-hand side without the tangents and no
+#: factorization.
+JAC_EVERY = 2
 
-#: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass.
-W_F, W_TMP, W_G, W_INVM, W_M = 0, 4, 5, 9, 10
-N_WORK = 11
+#: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
+#: implicit velocities), 1 at the implicit velocities and 1 at the implicit positions (the
+#: balls' centres, the ring's pose; 0 elsewhere: masks that keep the stage's loop free of
+#: branches), and the balls' reference offset ỹ − y_n.
+W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
+N_WORK = 14
 
 
 def new_work(model):
@@ -129,19 +160,23 @@ def new_work(model):
     # balls then drops out of the Schur complement to 1e-12), and the right-hand side
     # reads them as 0 whatever they hold
     inv_m[8:10] = 1.0 / (p[P_RING_IT] * (1e12 if p[P_TILT_HELD] != 0.0 else 1.0))
+    work[W_ISP, 0:5] = 1.0
     for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
+            work[W_ISP, b:b + 3] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
-    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((6, 5))
+    work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
+    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
 
 
 @njit(cache=True, nogil=True)
 def factor(jwork, schur, rows, mass):
-    """Factor ``M + h·γ·D`` from the blocks :func:`rvcore.kernels.rhs_jac` accumulated.
+    """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.kernels.rhs_jac`
+    accumulated.
 
     Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle) and ``X = U⁻ᵀ·B`` in place
     of B; then the ring's Schur complement ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and
@@ -240,21 +275,42 @@ def factor(jwork, schur, rows, mass):
 
 @njit(cache=True, nogil=True)
 def solve(v, jwork, schur, rows, mass):
-    """Overwrite the velocities of the balls and the ring in the state ``v`` with
-    ``(M + h·γ·D)⁻¹·M·v`` (factors of :func:`factor`, reciprocal diagonals); the rest is
-    untouched. ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
+    """Overwrite the velocities of the balls and the ring in the increment ``v`` with
+    ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its
+    positions ``v_x`` being ``ê_x``; module docstring) with the factors of :func:`factor`
+    (reciprocal diagonals) and the ``h·γ·K`` blocks of
+    :func:`rvcore.implicit.stiffness_blocks`; the rest is untouched.
+    ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
     rz = schur[5]
-    for i in range(5):
-        rz[i] = mass[5 + i] * v[5 + i]
+    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
+    for i in range(5):     # the ring's M·v − h·γ·K_rr·x (upper triangle stored)
+        s = mass[5 + i] * v[5 + i]
+        for l in range(5):
+            s -= (schur[S_K + i, l] if l >= i else schur[S_K + l, i]) * v[l]
+        rz[i] = s
     for r in range(rows.shape[0]):
         b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
         for j in range(int(rows[r, R_Z])):
             k = p0 + j
             b = b0 + BALL_STATES * j + 3
-            # w = U⁻ᵀ·M_b·v_b
-            w0 = mass[b] * v[b] * jwork[k, J_A + 0]
-            w1 = (mass[b + 1] * v[b + 1] - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
-            w2 = (mass[b + 2] * v[b + 2] - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
+            # h·γ·K·ê_x on the ball's centre, and the ring's share
+            bx, by, bz = v[b - 3], v[b - 2], v[b - 1]
+            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
+            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
+            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
+            if jwork[k, J_COUPLED] != 0.0:
+                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
+                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
+                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
+                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
+                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
+                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
+                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
+                    rz[c] -= jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
+            # w = U⁻ᵀ·(M_b·v_b − f)
+            w0 = (mass[b] * v[b] - fx) * jwork[k, J_A + 0]
+            w1 = (mass[b + 1] * v[b + 1] - fy - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
+            w2 = (mass[b + 2] * v[b + 2] - fz - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
             w3 = (mass[b + 3] * v[b + 3] - jwork[k, J_A + 3] * w0 - jwork[k, J_A + 9] * w1
                   - jwork[k, J_A + 15] * w2) * jwork[k, J_A + 21]
             w4 = (mass[b + 4] * v[b + 4] - jwork[k, J_A + 4] * w0 - jwork[k, J_A + 10] * w1
@@ -316,48 +372,85 @@ def solve(v, jwork, schur, rows, mass):
 @njit(cache=True, nogil=True, inline="always")
 def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     a1, a2, a3, i1, i2, i3, c):
-    """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring)."""
+    """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring). ``i1``
+    weighs g_1, which is 0 (the reference at t_n is y_n): it drops out."""
     n = y.size
     tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
-    g0, g1, g2 = work[W_G], work[W_G + 1], work[W_G + 2]
-    mass, inv_m = work[W_M], work[W_INVM]
+    g1, g2 = work[W_G + 1], work[W_G + 2]
+    mass, isv, isp = work[W_M], work[W_ISV], work[W_ISP]
     for m in range(n):
-        s = a1 * f0[m] + (i1 - a1) * g0[m]
+        s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
         if i >= 2:
             s += a2 * f1[m] + (i2 - a2) * g1[m]
         if i >= 3:
             s += a3 * f2[m] + (i3 - a3) * g2[m]
-        tmp[m] = y[m] + dt * s
-        g[m] = tmp[m]          # V̂, for g_i below
-        if mass[m] > 0.0:      # the solve is for the increment V − V_n
-            tmp[m] -= y[m]
-    solve(tmp, jwork, schur, rows, mass)
-    inv_hg = 1.0 / (dt * GAMMA)
+        tmp[m] = dt * s        # Ŷ − y_n
+    # The balls' stages are solved as deviations from a reference ỹ(t): y_n turned about
+    # the bearing's axis at the ball's orbital speed Ω = (x·v_y − y·v_x)/ρ² (centre,
+    # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
+    # (the explicit row's own quadrature of ỹ', one node back) and Y = ỹ(t_i) + e, so that
+    # a ball on that orbit stays on it exactly. Rotations are Cayley's (orthogonal).
+    off = work[W_OFF]
+    ap = a1 if i == 1 else (a2 if i == 2 else a3)
+    cp = 0.0 if i == 1 else 0.5        # the node of the explicit row's one entry
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            px, py, vx, vy = y[b], y[b + 1], y[b + 3], y[b + 4]
+            om = (px * vy - py * vx) / (px * px + py * py)
+            phi = om * c * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            cm1, sn = -0.5 * phi * phi * d, phi * d
+            php = om * cp * dt
+            dp = 1.0 / (1.0 + 0.25 * php * php)
+            cp1, snp = 1.0 - 0.5 * php * php * dp, php * dp
+            w = dt * ap * om
+            for o in (0, 3, 6):         # centre, velocity, spin: the x and y components
+                ux, uy = y[b + o], y[b + o + 1]
+                off[b + o] = cm1 * ux - sn * uy
+                off[b + o + 1] = sn * ux + cm1 * uy
+                # h·a·Ω·(ẑ × R(φ_prev)·u)
+                tmp[b + o] -= w * -(snp * ux + cp1 * uy)
+                tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
     for m in range(n):
-        if mass[m] > 0.0:
-            tmp[m] += y[m]
-            g[m] = (tmp[m] - g[m]) * inv_hg
-        else:
-            g[m] = 0.0
+        g[m] = tmp[m]          # ê, for g_i below
+    solve(tmp, jwork, schur, rows, mass)
+    hg = dt * GAMMA
+    inv_hg = 1.0 / hg
+    # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
+    for m in range(5):
+        g[m] = tmp[m + 5]
+        tmp[m] = tmp[m] + hg * g[m]
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            for m in range(b, b + 3):
+                g[m] = tmp[m + 3]
+                tmp[m] = tmp[m] + hg * g[m]
+    # the velocities: g_v = (e_v − ê_v)/(h·γ); 0 off the implicit unknowns
+    for m in range(n):
+        g[m] = isv[m] * ((tmp[m] - g[m]) * inv_hg) + isp[m] * g[m]
+        tmp[m] += y[m] + off[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
 
 
 @njit(cache=True, nogil=True)
-def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
+def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh):
     """Advance ``y`` by one IMEX step of ``dt``.
 
     On entry ``work[W_F]`` holds ``F(y)``, and ``jwork`` and ``schur`` the blocks that
-    :func:`rvcore.kernels.rhs_jac` accumulated at ``(t, y)`` with ``h·γ = dt·GAMMA``.
+    :func:`rvcore.kernels.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
+    when ``refresh`` (then factored here), or as factored at an earlier step.
     Returns ``Σ_{i≥2} b_i·T(Y_i)``, the later stages' share of the step's drive torque
     [N m] (the first stage's, ``b_1·T(y)``, the caller has).
     """
     n = y.size
-    factor(jwork, schur, rows, work[W_M])
-    g0 = work[W_G]
-    for m in range(n):
-        g0[m] = 0.0       # g(y_n) = −M⁻¹·D·(V_n − V_n)
+    if refresh:
+        factor(jwork, schur, rows, work[W_M])
     torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
     torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
@@ -365,8 +458,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     0.0, 0.0, A43, I41, I42, I43, 1.0)
     f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
-    g1, g2, g3 = work[W_G + 1], work[W_G + 2], work[W_G + 3]
+    # b̂ = b: the g_i drop out of the update (module docstring)
     for m in range(n):
-        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m]
-                      + (IB1 - B1) * g0[m] + (IB2 - B2) * g1[m] + (IB3 - B3) * g2[m] + (IB4 - B4) * g3[m])
+        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m])
     return torque

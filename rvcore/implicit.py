@@ -2,11 +2,21 @@
 
 What the IMEX integrator (:mod:`rvcore.imex`) treats implicitly is the velocity
 dependence of the ball contacts' forces: the friction law at small slip, whose slope
-``q·dμ/ds = 1.5·μ_s·q/v_s`` is a stiff viscous damper, and the contact damper. Frozen at a
-state, it is a damping matrix ``D`` on the generalized velocities (every ball's 6 and the
-inner ring's 5)::
+``q·dμ/ds = 1.5·μ_s·q/v_s`` is a stiff viscous damper, and the contact damper; and the
+Hertz stiffness of the ball–race contacts. Frozen at a state, they are a damping matrix
+``D`` on the generalized velocities (every ball's 6 and the inner ring's 5) and a
+stiffness ``K`` on the positions (every ball's centre and the ring's 5)::
 
-    generalized contact force ≈ F(x, V₀) − D·(V − V₀),   D = Σ_contacts Gᵀ·C·G
+    generalized contact force ≈ F(x₀, V₀) − D·(V − V₀) − K·(x − x₀),   D = Σ_contacts Gᵀ·C·G
+
+The stiffness of a race contact is ``K = k_n·∇δ·∇δᵀ`` with ``k_n = dq/dδ = 1.5·K_H·δ^0.5``
+(the Hertz tangent; the rotation of the normal with the position, a term of order q/ρ, is
+left explicit) and ``∇δ = Gᵀ·n``: the ball's spin does not move a race contact (its arm is
+along n), so the same G serves the positions. The stage matrix is
+``M + h·γ·D + (h·γ)²·K``: the caller adds ``h·γ·k_n`` to the normal weight of ``C``
+(:func:`contact_blocks` multiplies by h·γ), and :func:`stiffness_blocks` keeps ``h·γ·K``
+alone for the stage's right-hand side. The pockets' stiffness stays explicit (their
+rates are far below the races'; and a pocket acts on the cage, which is explicit).
 
 with ``u = G·V`` the slip velocity of the contact (ball point against the other body's
 point, linear in V) and ``C = −∂F/∂u`` the
@@ -55,9 +65,15 @@ from numba import njit
 from .contact import FAST, friction_per_slip, friction_tangent_curvature
 from .friction_law import LAW_ON
 
-#: Columns of the per-ball Jacobian row ``jwork[k]``.
-J_A, J_B, J_W, J_COUPLED = 0, 36, 66, 72
-N_JWORK = 73
+#: Columns of the per-ball Jacobian row ``jwork[k]``: the blocks of ``M + h·γ·D + (h·γ)²·K``
+#: (A, B), the solve's scratch (W), the coupling flag, and the blocks of ``h·γ·K`` alone
+#: (KA: the ball's 3×3 upper triangle xx, xy, xz, yy, yz, zz; KB: ball–ring 3×5 row-major).
+J_A, J_B, J_W, J_COUPLED, J_KA, J_KB = 0, 36, 66, 72, 73, 79
+N_JWORK = 94
+#: Rows of ``schur``: 0–4 the ring's block of ``M + h·γ·D + (h·γ)²·K`` (factored in
+#: place), 5 the solve's scratch, 6–10 the ring's block of ``h·γ·K`` (upper triangle).
+S_K = 6
+N_SCHUR = 11
 
 
 @njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
@@ -86,7 +102,7 @@ def friction_tangent(q, tx, ty, tz, law):
     return q * friction_per_slip(s2, law), q * friction_tangent_curvature(s2, law)
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
 def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
                    w3, p3x, p3y, p3z, ax, ay, az, qx, qy, qz, e1x, e1z):
     """Add one ball contact's ``h·γ·GᵀCG``: its blocks of ``M + h·γ·D``.
@@ -198,3 +214,60 @@ def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x,
     schur[3, 3] += hg * (r1x * s1x + r1y * s1y + r1z * s1z)
     schur[3, 4] += hg * (r1x * s2x + r1y * s2y + r1z * s2z)
     schur[4, 4] += hg * (r2x * s2x + r2y * s2y + r2z * s2z)
+
+
+@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+def stiffness_blocks(jwork, k, schur, ring, hk, nx, ny, nz, qx, qy, qz, e1x, e1z):
+    """Add one race contact's ``h·γ·K = h·γ·k_n·∇δ·∇δᵀ`` on the positions.
+
+    ``hk = h·γ·k_n`` (``k_n`` the Hertz tangent dq/dδ). The penetration's gradient is
+    ``n`` on the ball's centre (its rotation does not move a race contact: the arm is
+    along ``n``) and, with ``ring``, ``G_ringᵀ·n = −(n, (e1 × q)·n, (ŷ × q)·n)`` on the
+    ring's ``(x, y, z, θx, θy)`` (the same ``G_ring`` as the velocities':
+    :func:`contact_blocks`). Written into ``jwork[k, J_KA:J_KB + 15]`` and
+    ``schur[S_K:S_K + 5]``; the same ``(h·γ)²·K`` enters ``M + h·γ·D`` through the
+    caller's normal weight of :func:`contact_blocks`.
+    """
+    jw = jwork[k]
+    jw[J_KA + 0] += hk * nx * nx
+    jw[J_KA + 1] += hk * nx * ny
+    jw[J_KA + 2] += hk * nx * nz
+    jw[J_KA + 3] += hk * ny * ny
+    jw[J_KA + 4] += hk * ny * nz
+    jw[J_KA + 5] += hk * nz * nz
+    if not ring:
+        return
+    # g = G_ringᵀ·n
+    g0, g1, g2 = -nx, -ny, -nz
+    g3 = -((-e1z * qy) * nx + (e1z * qx - e1x * qz) * ny + (e1x * qy) * nz)    # −(e1 × q)·n
+    g4 = -(qz * nx - qx * nz)                                                   # −(ŷ × q)·n
+    jw[J_KB + 0] += hk * nx * g0
+    jw[J_KB + 1] += hk * nx * g1
+    jw[J_KB + 2] += hk * nx * g2
+    jw[J_KB + 3] += hk * nx * g3
+    jw[J_KB + 4] += hk * nx * g4
+    jw[J_KB + 5] += hk * ny * g0
+    jw[J_KB + 6] += hk * ny * g1
+    jw[J_KB + 7] += hk * ny * g2
+    jw[J_KB + 8] += hk * ny * g3
+    jw[J_KB + 9] += hk * ny * g4
+    jw[J_KB + 10] += hk * nz * g0
+    jw[J_KB + 11] += hk * nz * g1
+    jw[J_KB + 12] += hk * nz * g2
+    jw[J_KB + 13] += hk * nz * g3
+    jw[J_KB + 14] += hk * nz * g4
+    schur[S_K + 0, 0] += hk * g0 * g0
+    schur[S_K + 0, 1] += hk * g0 * g1
+    schur[S_K + 0, 2] += hk * g0 * g2
+    schur[S_K + 0, 3] += hk * g0 * g3
+    schur[S_K + 0, 4] += hk * g0 * g4
+    schur[S_K + 1, 1] += hk * g1 * g1
+    schur[S_K + 1, 2] += hk * g1 * g2
+    schur[S_K + 1, 3] += hk * g1 * g3
+    schur[S_K + 1, 4] += hk * g1 * g4
+    schur[S_K + 2, 2] += hk * g2 * g2
+    schur[S_K + 2, 3] += hk * g2 * g3
+    schur[S_K + 2, 4] += hk * g2 * g4
+    schur[S_K + 3, 3] += hk * g3 * g3
+    schur[S_K + 3, 4] += hk * g3 * g4
+    schur[S_K + 4, 4] += hk * g4 * g4

@@ -19,7 +19,7 @@ from .accumulate import (SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_
                          write_series)
 from .contact import FAST
 from .energy import kinetic_energy
-from .imex import GAMMA, imex_step
+from .imex import GAMMA, JAC_EVERY, imex_step
 from .kernels import D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
 from .model import P_RING_IP
 from .profile import CH_SPEED, channel_rate
@@ -90,8 +90,10 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     for i in range(n_steps + 1):
         t = t_start + i * dt
         # the outputs' signals at the step's state (the stages skip the costly ones); the
-        # IMEX scheme's stiff damping blocks from the same evaluation
-        if method == IMEX:
+        # IMEX scheme's tangents from the same evaluation, every JAC_EVERY steps (they
+        # stay frozen in between: rvcore.imex, "Step")
+        refresh = i % JAC_EVERY == 0
+        if method == IMEX and refresh:
             rhs_jac(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
         else:
             rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
@@ -126,7 +128,8 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         # the balls (both methods weigh the stages' forces by the same b)
         torque = B1 * diag[D_DRIVE_TORQUE]
         if method == IMEX:
-            torque += imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
+            torque += imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur,
+                                refresh)
         else:
             torque += rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work)
         # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
@@ -138,11 +141,15 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                                         + B4 * channel_rate(table, meta, CH_SPEED, t + dt))
         if i == 0:
             torque_f1 = torque_f2 = torque - inertial
-        else:
+        # the band-limited torque at t, the time whose phase it goes to: the filter's
+        # output before this step's torque enters it (after, it is the output at t + dt,
+        # which put the filter's decay over one step after a profile's corner into the
+        # next phase's peak: an error growing as the step squared)
+        diag[SL_TORQUE_BAND] = inertial + torque_f2
+        if i > 0:
             torque_f1 += decay * (torque - inertial - torque_f1)
             torque_f2 += decay * (torque_f1 - torque_f2)
         diag[SL_TORQUE_STEP] = torque
-        diag[SL_TORQUE_BAND] = inertial + torque_f2
         for k in range(n_ph + 1):
             if _in_window(phases, k, n_ph, t):
                 reduce_step(acc[k], reductions, diag, t, 1, half)

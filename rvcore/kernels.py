@@ -46,7 +46,7 @@ from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_pe
                       friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration)
 from .ring_pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
-from .implicit import J_COUPLED, J_W, contact_blocks, friction_tangent
+from .implicit import J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent, stiffness_blocks
 from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
@@ -164,7 +164,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
 
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     if jac:
-        for i in range(schur.shape[1]):
+        for i in range(schur.shape[0]):
             for k in range(schur.shape[1]):
                 schur[i, k] = 0.0
 
@@ -220,6 +220,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                 for i in range(J_W):
                     jwork[p0 + j, i] = 0.0
                 jwork[p0 + j, J_COUPLED] = 0.0    # contact_blocks sets it when it writes B
+                for i in range(J_KA, N_JWORK):
+                    jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
             # ball centre in the inner ring's frame: Rᵀ·(p − r_i)
@@ -271,9 +273,14 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
                     alpha, beta = friction_tangent(q, tvx, tvy, tvz, law)
                     cd = damping_coefficient(delta, c_race, inv_dmax)
-                    contact_blocks(jwork, p0 + j, schur, inner, hg, alpha, cd - alpha, nx, ny, nz,
+                    # the Hertz stiffness k_n = dq/dδ = 1.5·K·δ^0.5, implicit too: h·γ·k_n
+                    # along n, whose h·γ·(h·γ·k_n)·n·nᵀ is the (h·γ)²·K of the stage matrix
+                    hk = hg * 1.5 * arcs[a, A_K] * math.sqrt(delta)
+                    contact_blocks(jwork, p0 + j, schur, inner, hg, alpha, cd - alpha + hk, nx, ny, nz,
                                    beta, tvx, tvy, tvz, 0.0, 0.0, 0.0, 0.0, ax, ay, az,
                                    cx - xi, cy - yi, cz - zi, r00, r20)
+                    stiffness_blocks(jwork, p0 + j, schur, inner, hk, nx, ny, nz, cx - xi, cy - yi, cz - zi,
+                                     r00, r20)
                 mbx += dmx
                 mby += dmy
                 mbz += dmz

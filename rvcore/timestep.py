@@ -20,8 +20,9 @@ adaptive pair would only rediscover by rejecting steps:
 For RK4 the friction limit dominates by ~5×, so its step is derived from it at the peak
 quasi-static contact load of the cycle, and is the same at every step: deterministic,
 reproducible bit for bit, four right-hand-side evaluations per step and no error norm.
-The IMEX scheme (:mod:`rvcore.imex`) takes the friction and damping implicitly, so its
-step comes from what stays explicit. ``SolverSettings.step_safety`` scales either; the
+The IMEX scheme (:mod:`rvcore.imex`) takes the Hertz contacts, the friction and the
+damping implicitly, so its step comes from the friction modes' damping per step and
+from what stays explicit. ``SolverSettings.step_safety`` scales either; the
 convergence check of docs/model.md §9.6 halves it tenfold. Beyond the limit the friction
 mode does not always diverge: the saturating friction law can bound it into a slip
 chatter that spoils the metrics silently, which is why the step is held below the limit
@@ -36,7 +37,7 @@ import numpy as np
 
 from .contact import friction_falling_slope, friction_slope_at_zero_slip
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
-from .imex import IMAG_LIMIT
+from .imex import FRICTION_LIMIT, ONSET_LIMIT
 from .model import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
 
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
@@ -91,28 +92,35 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
 
 def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
                    dynamic_margin: float = 1.0) -> float:
-    """The fixed IMEX step [s] from the rates that stay explicit.
+    """The fixed IMEX step [s] from the rates that bound it (:mod:`rvcore.imex`, "Step").
 
     Notes
     -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``k = 1.5·K^(2/3)·Q^(1/3)``
-    for the stiffest arc and the two race contacts of a ball::
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``c_f = Q·dμ/ds`` at zero
+    slip and the two race contacts of a ball (the rates of :func:`rk4_time_step`)::
 
-        ω_n = √(2k/m_b)                                  (contact oscillation)
-        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope)
-        dt  = safety · min(IMAG_LIMIT/ω_n, 2.785/λ_−)
+        λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
+        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
+        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
 
-    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.friction_falling_slope`);
-    :data:`rvcore.imex.IMAG_LIMIT` and why it is what it is: :mod:`rvcore.imex`.
+    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.friction_falling_slope`),
+    and ω_n the contact oscillation of :func:`row_rates`, here only for a contact's first
+    step (its oscillation is implicit from the next: the tableau keeps it undamped at any
+    ω_n·h). :data:`rvcore.imex.FRICTION_LIMIT` and :data:`rvcore.imex.ONSET_LIMIT`, and
+    why: :mod:`rvcore.imex`.
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
     law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
     falling = friction_falling_slope(law) * law[LAW_ON]
     dts = []
     for omega, m, rot in row_rates(model, q):
+        lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         lam = 2.0 * q * falling * max(1.0 / m, rot)
-        dts.append(min(IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+        dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
+                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
+                       ONSET_LIMIT * math.sqrt(2.0) / omega))
     return safety * min(dts)
 
 
