@@ -43,20 +43,18 @@ def load_kernels_on_worker() -> None:
     warm_up()
 
 
-#: Rough step length of each integrator relative to RK4's at the same ``step_safety`` [-]:
-#: the IMEX scheme treats friction and damping implicitly, so its step is set by the
-#: contact oscillation alone: about 5x RK4's, a rough figure (``rvsweep bench`` reports
-#: ``rk4_time_step_s`` and ``imex_time_step_s`` for the study case). Its steps are taken as
-#: costing what RK4's do (4 right-hand sides each; the implicit solves are not counted).
-#: Only the order of the cases depends on it, never a result.
-_STEP_LENGTH = {"rk4": 1.0, "imex": 5.0}
+#: Rough speed of each integrator relative to RK4's at the same ``step_safety`` [-]: the
+#: IMEX scheme's step is about 7x RK4's on the study case and costs about two of RK4's
+#: (``rvsweep bench`` reports the steps and the speed-up). Only the order of the cases
+#: depends on it, never a result.
+_STEP_LENGTH = {"rk4": 1.0, "imex": 3.6}
 
 
 def estimated_cost(spec: CaseSpec) -> float:
     """A relative cost of a case, to start the longest ones first [-].
 
     The integrator's fixed step is inversely proportional to the peak contact load (the
-    friction-mode limit, ``rvcore.integrator.stable_time_step``), and each step costs in
+    friction-mode limit, ``rvcore.timestep.rk4_time_step``), and each step costs in
     proportion to the number of balls, so the cost scales as
     ``balls × simulated time × peak load``, divided by the method's relative step length
     (:data:`_STEP_LENGTH`). The peak load is taken as the larger of the radial and axial

@@ -4,7 +4,7 @@ The time is a rough model fitted to two measurements on this project's 2-core ma
 (RK4, step_safety 0.8): a case of the smoke sweep (12 balls, 0.46 s cycle, 30 kN) costs
 2.1 s of one core, one of the study sweep (51 balls, 4.6 s cycle, 30 kN, 2 sensors) about
 43 s, and within the study sweep a 40 kN case about twice a 20 kN one. The derived step
-shrinks with the contact load (``rvcore.integrator.stable_time_step``), so the cost grows
+shrinks with the contact load (``rvcore.timestep.rk4_time_step``), so the cost grows
 as ``cycle length x peak load``; the ball count enters as its square root (each step costs
 in proportion to the balls, but more balls share the load and allow a longer step).
 With a fixed ``time_step`` a step costs about 0.56 us per ball (``rvsweep bench``:
