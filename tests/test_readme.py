@@ -43,7 +43,7 @@ def test_the_readme_snippet_runs_on_the_smoke_output(smoke_run, tmp_path, monkey
         namespace[name].close()
 
 
-@pytest.mark.parametrize("path", ["docs/performance.md", "docs/validation.md", "docs/inputs.md",
+@pytest.mark.parametrize("path", ["docs/model.md", "docs/performance.md", "docs/validation.md", "docs/inputs.md",
                                   "docs/outputs.md", "CHANGELOG.md"])
 def test_the_readme_links_resolve(path):
     assert f"({path})" in README and (REPO / path).is_file()
