@@ -46,31 +46,30 @@ def test_module_is_at_most_500_lines(path):
     assert len(path.read_text().splitlines()) <= MAX_LINES
 
 
-def test_no_private_name_is_imported_from_another_module():
-    found = []
+def _project_imports():
+    """``(where, module, names)`` of every import of the project's own modules."""
     for path in SOURCES:
         for line, module, names in _imports(path):
-            if module.split(".")[0] not in PACKAGES + ("tests",):
-                continue
-            private = [n for n in names if n.startswith("_") and not n.startswith("__")]
-            private += [m for m in module.split(".") if m.startswith("_") and not m.startswith("__")]
-            if private:
-                found.append(f"{path.relative_to(REPO)}:{line}: {module} {private}")
+            if module.split(".")[0] in PACKAGES + ("tests",):
+                yield f"{path.relative_to(REPO)}:{line}", module, names
+
+
+def test_no_private_name_is_imported_from_another_module():
+    found = []
+    for where, module, names in _project_imports():
+        private = [n for n in names + module.split(".") if n.startswith("_") and not n.startswith("__")]
+        if private:
+            found.append(f"{where}: {module} {private}")
     assert not found, "\n".join(found)
 
 
 def test_every_project_import_resolves():
     missing = []
-    for path in SOURCES:
-        for line, module, names in _imports(path):
-            if module.split(".")[0] not in PACKAGES + ("tests",):
-                continue
-            if importlib.util.find_spec(module) is None:
-                missing.append(f"{path.relative_to(REPO)}:{line}: no module {module}")
-                continue
-            for name in names:
-                if not _provides(module, name):
-                    missing.append(f"{path.relative_to(REPO)}:{line}: {module} has no {name}")
+    for where, module, names in _project_imports():
+        if importlib.util.find_spec(module) is None:
+            missing.append(f"{where}: no module {module}")
+            continue
+        missing += [f"{where}: {module} has no {name}" for name in names if not _provides(module, name)]
     assert not missing, "\n".join(missing)
 
 
