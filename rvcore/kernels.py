@@ -46,8 +46,9 @@ from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_pe
                       friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration)
 from .ring_pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
-from .implicit import J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent, stiffness_blocks
-from .model import (A_K, A_PC3, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+from .implicit import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
+                       groove_blocks, stiffness_blocks)
+from .model import (A_K, A_PC3, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
@@ -281,6 +282,13 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                                    cx - xi, cy - yi, cz - zi, r00, r20)
                     stiffness_blocks(jwork, p0 + j, schur, inner, hk, nx, ny, nz, cx - xi, cy - yi, cz - zi,
                                      r00, r20)
+                    # t ⊥ n in the groove's meridian plane (ring frame), for groove_blocks
+                    mx, my = (plx * inv_rho_l, ply * inv_rho_l) if inner else (erx, ery)
+                    tlx, tly, tlz = nlz * mx, nlz * my, -(nlx * mx + nly * my)
+                    if inner:
+                        tlx, tly, tlz = ring_to_global(tlx, tly, tlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
+                    groove_blocks(jwork, p0 + j, schur, inner, hg, hg * q / (delta + arcs[a, A_RMH]),
+                                  tlx, tly, tlz, px - xi, py - yi, pz - zi, r00, r20)
                 mbx += dmx
                 mby += dmy
                 mbz += dmz

@@ -37,19 +37,16 @@ import re
 import numpy as np
 import pytest
 
-from rvcore import integrator as ig
 from rvcore.driver import run_case
 from rvcore.results import SimulationError
 from rvcore.settings import SolverSettings
 from rvcore.integrator import METHODS
-from rvcore.accumulate import build_plan, new_accumulators
 from rvcore.energy import kinetic_energy, potential_energy
-from rvcore.kernels import new_diagnostics
 from rvcore.model import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.quasistatic import solve_statics
 from tests.core.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
-                                 ramp_profile, section_bearing)
+                                      ramp_profile, run_in_chunks, section_bearing)
 
 STUDY_SPEED = math.radians(660.0)  # the study's top speed [rad/s]
 EZ = np.array([0.0, 0.0, 1.0])
@@ -214,10 +211,6 @@ def test_energy_conserved_without_friction_and_damping(method):
     cage = cage_state(model, y)
     cage[4], cage[7] = 0.08, 0.3
     per = int(round(t_end / dt)) // chunks
-    plan = build_plan(model.rows.shape[0], 0)
-    out = np.zeros((per + 2, plan.series.shape[0]))
-    acc = new_accumulators(plan, resolved.phases.shape[0])
-    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
 
     def energy(t):
         kin = kinetic_energy(y, model.params, model.rows)
@@ -226,13 +219,7 @@ def test_energy_conserved_without_friction_and_damping(method):
     kin, e0 = energy(0.0)
     kinetic, total = [kin], [e0]
     pocket_hits = land_hits = 0
-    t = 0.0
-    for _ in range(chunks):
-        status, *_ = ig.advance(method, y, t, dt, per, per, model, table, meta, resolved.phases,
-                                np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9,
-                                np.ones(model.rows.shape[0]))
-        assert status == ig.OK
-        t += per * dt
+    for t, bdiag in run_in_chunks(method, model, y, resolved, dt, per, chunks):
         pocket_hits += np.count_nonzero(bdiag[:, 4])
         land_hits += math.hypot(cage[0], cage[1]) > bearing.rows[0].cage.land_clearance
         kin, e = energy(t)
