@@ -18,7 +18,8 @@ implicit unknowns (the ring's pose and rates, every ball's centre, velocity and 
 
     J = [[0, I], [−M⁻¹·K, −M⁻¹·D]]
 
-``K`` the Hertz stiffness of the ball–race contacts on the positions, ``D`` the velocity
+``K`` the Hertz stiffness of the ball–race contacts on the positions (with the groove's
+geometric stiffness, :func:`rvcore.implicit.groove_blocks`), ``D`` the velocity
 tangent of the friction and dampers, and ``f = F − g`` the rest. The splitting is exact
 for any ``J`` and any reference ``ỹ``: the pair's order does not depend on them, only its
 stability, so ``J`` may be frozen over several steps (:data:`JAC_EVERY`). Explicit tableau:
