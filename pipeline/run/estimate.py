@@ -1,15 +1,19 @@
 """What a sweep will cost, said before it starts: case count, a rough time, compiling.
 
-The time is a rough model fitted to two measurements on this project's 2-core machine
-(RK4, step_safety 0.8): a case of the smoke sweep (12 balls, 0.46 s cycle, 30 kN) costs
-2.1 s of one core, one of the study sweep (51 balls, 4.6 s cycle, 30 kN, 2 sensors) about
-43 s, and within the study sweep a 40 kN case about twice a 20 kN one. The derived step
-shrinks with the contact load (``rvcore.timestep.rk4_time_step``), so the cost grows
-as ``cycle length x peak load``; the ball count enters as its square root (each step costs
-in proportion to the balls, but more balls share the load and allow a longer step).
-With a fixed ``time_step`` a step costs about 0.56 us per ball (``rvsweep bench``:
-141 ns per ball per right-hand side, four per RK4 step). Another machine, a loaded one
-or another method moves it: it is for "a minute or an hour", not for planning.
+The time is a rough model fitted to `make sweep` and `make smoke` on a fresh clone of
+this project's 2-core machine (MODEL_VERSION 9, RK4, step_safety 0.8; the seconds of each
+case in the sweep's status.json): a smoke case (12 balls, 0.46 s cycle, 30 kN) costs
+3.0 s of one core, a study case (51 balls, 4.6 s cycle, 2 sensors) 20.0, 26.8 and 31.5 s at
+20, 30 and 40 kN radial (means over speeds and draws). A case costs a fixed part (the
+statics, the start, the files: about 1.8 s) and a part per simulated second, which grows
+with the ball count's square root (each step costs in proportion to the balls, but more
+balls share the load and allow a longer step) and with the load (the derived step
+shrinks with the contact load, ``rvcore.timestep.rk4_time_step``; the peak contact load
+grows more slowly than the radial load beside a fixed axial one, hence a constant beside
+the load term). With a fixed ``time_step`` a step costs about 0.41 us per ball
+(``rvsweep bench``: 102 ns per ball per right-hand side, four per RK4 step). Another
+machine, a loaded one or another method moves it: it is for "a minute or an hour", not
+for planning.
 """
 from __future__ import annotations
 
@@ -17,12 +21,17 @@ import math
 import os
 import sys
 
-#: Seconds of one core per (second of cycle x newton of peak load x sqrt(balls) / step_safety).
-_AUTO_STEP = 3.5e-5
+#: Seconds of one core per case, whatever it simulates.
+_PER_CASE = 1.8
+#: Seconds of one core per (second of cycle x sqrt(balls) / step_safety), at no load ...
+_PER_CYCLE = 0.164
+#: ... and per newton of peak load on top.
+_PER_CYCLE_LOAD = 1.40e-5
 #: Seconds of one core per ball per step at a fixed time_step (RK4).
-_PER_BALL_STEP = 0.56e-6
-#: IMEX's cost of a case relative to RK4's (``rvsweep bench``: 5.8 s against 23.8 s).
-_METHOD = {"rk4": 1.0, "imex": 0.24}
+_PER_BALL_STEP = 0.41e-6
+#: IMEX's cost of the integration relative to RK4's (``rvsweep bench``: 6.23 s against
+#: 23.7 s, MODEL_VERSION 9).
+_METHOD = {"rk4": 1.0, "imex": 0.26}
 
 #: Above either, ``rvsweep sweep`` starts only with ``--yes``.
 CONFIRM_CASES = 1000
@@ -36,10 +45,11 @@ def case_seconds(spec) -> float:
     balls = sum(row.ball_count for row in spec.bearing.rows)
     method = _METHOD.get(s.method, 1.0)
     if s.time_step > 0:
-        return _PER_BALL_STEP * balls * duration / s.time_step * method
+        return _PER_CASE + _PER_BALL_STEP * balls * duration / s.time_step * method
     op = spec.operating_point
     peak = max(abs(op.radial_load), abs(op.axial_load), 1e3)
-    return _AUTO_STEP * duration * peak * math.sqrt(balls) / max(s.step_safety, 1e-9) * method
+    per_cycle = duration * math.sqrt(balls) / max(s.step_safety, 1e-9)
+    return _PER_CASE + per_cycle * (_PER_CYCLE + _PER_CYCLE_LOAD * peak) * method
 
 
 def sweep_seconds(specs, workers: int) -> float:
