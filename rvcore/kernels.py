@@ -287,7 +287,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                     tlx, tly, tlz = nlz * mx, nlz * my, -(nlx * mx + nly * my)
                     if inner:
                         tlx, tly, tlz = ring_to_global(tlx, tly, tlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
-                    groove_blocks(jwork, p0 + j, schur, inner, hg, hg * q / (delta + arcs[a, A_RMH]),
+                    # |p − c| = δ + (f − ½)·D − d_half (an imperfect set's larger ball)
+                    groove_blocks(jwork, p0 + j, schur, inner, hg, hg * q / (delta + arcs[a, A_RMH] - d_half),
                                   tlx, tly, tlz, px - xi, py - yi, pz - zi, r00, r20)
                 mbx += dmx
                 mby += dmy
