@@ -8,7 +8,10 @@ Two layers:
   the pair conserves a linear oscillator's energy at any ω·h; with a tangent that misses
   the stiffness by a fraction ε the explicit stages carry ε·k, and the pair's step
   changes the energy by an amount proportional to ε (why a nonlinear contact, whose
-  stiffness changes within a step, is not conserved at large ω·h);
+  stiffness changes within a step, is not conserved at large ω·h); and on a Hertz
+  impact, which a step of a third of the impact does not conserve whether its force is
+  explicit or implicit, and an eighth of the step does (the pocket impacts below need
+  resolving in time, not implicitness);
 - the bearing with friction and damping off, ω = 0, started at the statics of 95 % of
   its loads and held at the full loads: the ring and balls oscillate about the new
   statics, and kinetic plus potential energy must stay within 1e-4 of the largest kinetic
@@ -110,6 +113,70 @@ def test_energy_error_of_a_wrong_tangent_is_proportional_to_its_error():
         assert change[0.01] * change[-0.01] < 0.0
     growth = [abs(np.abs(np.linalg.eigvals(oscillator_step_matrix(w, 0.99))).max() - 1.0) for w in (0.65, 1.3, 2.6)]
     assert growth[0] < growth[1] < growth[2]
+
+
+def hertz_impact_energy_errors(omega_h, implicit):
+    """Relative energy error of one Hertz impact through the pair's step, at 10 onsets.
+
+    ``u'' = −u^1.5`` for ``u > 0`` (the relative motion of a ball and its pocket, scaled:
+    K = μ = 1), struck at the speed that reaches ``u = 1``, where the linearised rate is
+    ``ω_p = √1.5``; ``omega_h`` is ``ω_p·h``. The impact starts at 10 fractions of a step
+    (where in a step the contact closes). ``implicit`` False: the contact force in the
+    explicit stages (as the pocket is in rvcore.imex). True: in the implicit stages,
+    each solved to convergence by Newton (the most an implicit pocket could do).
+    Returns ``(E_after − E_before)/E_before`` per onset.
+    """
+    def force(y):
+        return np.array([y[1], -max(y[0], 0.0) ** 1.5])
+
+    def step(y, h):
+        stages = []
+        for i in range(4):
+            if not implicit:
+                stage = y + h * sum(EXPLICIT[i, j] * stages[j] for j in range(i))
+            else:
+                known = y + h * sum(IMPLICIT[i, j] * stages[j] for j in range(i))
+                stage = known.copy()
+                for _ in range(60 if i else 0):
+                    residual = stage - known - h * imex.GAMMA * force(stage)
+                    tangent = np.array([[0.0, 1.0], [-1.5 * math.sqrt(max(stage[0], 0.0)), 0.0]])
+                    change = np.linalg.solve(np.eye(2) - h * imex.GAMMA * tangent, -residual)
+                    stage += change
+                    if np.abs(change).max() < 1e-15:
+                        break
+            stages.append(force(stage))
+        return y + h * sum(WEIGHTS[i] * stages[i] for i in range(4))
+
+    def energy(y):
+        return 0.5 * y[1] ** 2 + 0.4 * max(y[0], 0.0) ** 2.5
+
+    h = omega_h / math.sqrt(1.5)
+    speed = math.sqrt(0.8)
+    errors = []
+    for onset in np.arange(10) / 10.0:
+        y = np.array([-onset * speed * h, speed])
+        e0 = energy(y)
+        while not (y[1] < 0.0 and y[0] < 0.0):
+            y = step(y, h)
+        errors.append((energy(y) - e0) / e0)
+    return np.array(errors)
+
+
+def test_an_unresolved_hertz_impact_is_not_conserved_explicit_or_implicit():
+    """Why the pocket impacts are not cured by making the pocket implicit: at the combined
+    case's ω_p·h ≈ 1 (an impact of about three steps) a Hertz impact through the pair
+    gains or loses more than 1e-3 of its energy at some onsets whether its force is in the
+    explicit stages or in implicit ones solved to convergence (the all-pass function
+    conserves a linear oscillator, not a contact that closes and stiffens within a step).
+    Resolved in time, with an eighth of the step, both err by less than 1e-4: the impact
+    needs substeps, not implicitness."""
+    for implicit in (False, True):
+        coarse = hertz_impact_energy_errors(1.0, implicit)
+        fine = hertz_impact_energy_errors(1.0 / 8.0, implicit)
+        assert np.abs(coarse).max() > 1e-3, (implicit, coarse)
+        assert np.abs(fine).max() < 1e-4, (implicit, fine)
+    # the explicit stages lose energy on average (what the bearing's drift shows)
+    assert hertz_impact_energy_errors(1.0, False).mean() < -1e-3
 
 
 # --------------------------------------------------------------------------- the bearing
