@@ -47,17 +47,21 @@ _KIND_OF = {"mean": SUM, "slip": SUM, "max": MAX, "min": MIN, "max_time": MAX_AN
 
 #: Reductions the driver reads besides the outputs': the energies of the balance of
 #: tests/core/test_energy_balance.py and the life sums of :mod:`rvcore.life`.
-ENERGIES = {"friction": "friction_power", "damping": "damping_power", "drive": "drive_power",
+#: The drive's work comes from the step's stage-weighted power (the work its impulse did):
+#: the instantaneous ``drive_power`` carries the contact oscillation's chatter, which a
+#: trapezoid of samples at the steps' starts aliases (docs/performance.md).
+ENERGIES = {"friction": "friction_power", "damping": "damping_power", "drive": "drive_power_step",
             "load": "load_power", "tilt": "tilt_power"}
 
 _S = SLOT
 _R = ROW_SLOT
 # the fixed slots the loop writes (rvcore.outputs.SIGNALS)
 (SL_X, SL_Y, SL_Z, SL_TX, SL_TY, SL_DR, SL_DA, SL_FR, SL_FA, SL_W, SL_M, SL_PSI, SL_HOLD, SL_REV, SL_TORQUE_STEP,
- SL_TORQUE_BAND) = (_S[n] for n in (
+ SL_TORQUE_BAND, SL_POWER_STEP) = (_S[n] for n in (
      "inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_tilt_x", "inner_ring_tilt_y", "radial_displacement",
      "axial_displacement", "applied_radial_load", "applied_axial_load", "inner_ring_speed", "applied_moment",
-     "load_direction", "tilt_reaction_moment", "revolutions", "drive_torque_step", "drive_torque_band_limited"))
+     "load_direction", "tilt_reaction_moment", "revolutions", "drive_torque_step", "drive_torque_band_limited",
+     "drive_power_step"))
 SL_HOLD_X, SL_HOLD_Y = _S["tilt_reaction_moment_x"], _S["tilt_reaction_moment_y"]
 (RS_COS, RS_CAGE, RS_EPI, RS_EPI_NOMINAL, RS_LIFE_I, RS_LIFE_O) = (_R[n] for n in (
     "cos_contact_angle", "cage_speed", "epicyclic_cage_speed", "epicyclic_cage_speed_nominal", "life_sum_inner",
@@ -233,8 +237,9 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
 def reduce_step(line, plan, diag, t, when, half):
     """Add the step from ``t`` to one accumulator line: every reduction of ``plan`` whose
     signal is known at ``when`` (0 the step's state, 1 after the step). ``half`` is half
-    the step [s]: an integral gets the trapezoid's half from the step's start here and
-    the other half from its end (:func:`add_integral_end`)."""
+    the step [s]: an integral of a state's signal gets the trapezoid's half from the
+    step's start here and the other half from its end (:func:`add_integral_end`); one of
+    a step's signal (its own average over the step) gets the whole step here."""
     if when == 0:
         line[COUNT] += 1.0
     for m in range(plan.shape[0]):
@@ -256,7 +261,7 @@ def reduce_step(line, plan, diag, t, when, half):
                 line[c] = x
                 line[c + 1] = t
         elif kind == INTEGRAL:
-            line[c] += x * half
+            line[c] += x * (half if when == 0 else 2.0 * half)
         elif kind == ABS_MAX:
             if abs(x) > line[c]:
                 line[c] = abs(x)
@@ -275,10 +280,25 @@ def reduce_step(line, plan, diag, t, when, half):
 
 @njit(cache=True, nogil=True)
 def add_integral_end(line, plan, diag, half):
-    """Add the end half of the previous step's trapezoid (``diag`` at its end state)."""
+    """Add the end half of the previous step's trapezoid (``diag`` at its end state) to
+    the integrals of states' signals."""
     for m in range(plan.shape[0]):
-        if plan[m, PL_KIND] == INTEGRAL:
+        if plan[m, PL_KIND] == INTEGRAL and plan[m, PL_WHEN] == 0:
             line[plan[m, PL_COL]] += diag[plan[m, PL_SLOT]] * half
+
+
+@njit(cache=True, nogil=True)
+def add_substep_integrals(line, plan, inner, h):
+    """A step taken again in substeps of ``h`` [s] (rvcore.imex): turn its trapezoid into
+    the substeps' own. ``inner`` holds ``Σ_{s≥1} x_s − (S − 1)/2·x_0`` of each signal at the
+    substeps' starts; with the step's start half here already (``S·h/2·x_0``) and its end
+    half added at ``h/2`` (:func:`add_integral_end` with ``half/S``), an integral then
+    gets ``h·(x_0/2 + Σ_{s≥1} x_s + x_S/2)``: the integrals of the right-hand side's
+    signals (``when`` 0), which every substep evaluates; a step's signal is the substeps'
+    own average already."""
+    for m in range(plan.shape[0]):
+        if plan[m, PL_KIND] == INTEGRAL and plan[m, PL_WHEN] == 0:
+            line[plan[m, PL_COL]] += inner[plan[m, PL_SLOT]] * h
 
 
 @njit(cache=True, nogil=True)

@@ -97,6 +97,20 @@ these steps.
 The tangents and the factorization are evaluated every :data:`JAC_EVERY` steps (the
 splitting stays exact with a frozen ``J``; between, the step costs four right-hand sides
 and three solves).
+
+Pocket impacts
+--------------
+A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1), and a
+step that cuts through the impact makes or loses a few per cent of its energy, implicit
+or not (:mod:`rvcore.pocket_check`). So each step checks every pocket it touched: where
+the pocket's elastic energy and the work the step gave its Hertz force disagree by more
+than a tolerance, the step is taken again from its start as :data:`SUBSTEPS` substeps,
+each with its own tangents. The tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a
+race contact's elastic energy at the case's peak contact load (the load the step is sized
+on): what matters is the energy the bearing gains or loses, and a tolerance relative to
+each pocket's own energy would take the steady pocket contacts of a running bearing,
+whose errors are tiny in joules, in substeps too (4 % of the study cycle's steps at 1e-3 of
+their energy, against 0.4 % here: docs/performance.md).
 """
 from __future__ import annotations
 
@@ -105,10 +119,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, J_W, N_JWORK, N_SCHUR, S_K
-from .kernels import D_DRIVE_TORQUE, rhs_stage
+from .arrowhead import factor, solve
+from .implicit import N_JWORK, N_SCHUR
+from .kernels import B_PP, B_PV, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
+from .pocket_check import pocket_energy
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
 A21, A32, A43 = 0.5, 0.5, 1.0
@@ -140,17 +156,31 @@ ONSET_LIMIT = 2.0 * math.sqrt(2.0)
 #: "Step"): every other step costs a right-hand side without the tangents and no
 #: factorization.
 JAC_EVERY = 2
+#: A step is taken again as :data:`SUBSTEPS` substeps where some pocket's energy error
+#: (:mod:`rvcore.pocket_check`) passes this fraction of the elastic energy of a race
+#: contact at the case's peak contact load (:func:`rvcore.timestep.pocket_energy_tolerance`;
+#: module docstring, "Pocket impacts"). Read at each call of that function, so that a
+#: test can set it.
+POCKET_ENERGY_TOL = 1e-7
+#: Substeps of a step taken again: an eighth of the step keeps a Hertz impact's energy
+#: to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own tangents.
+SUBSTEPS = 8
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
 #: implicit velocities), 1 at the implicit velocities and 1 at the implicit positions (the
 #: balls' centres, the ring's pose; 0 elsewhere: masks that keep the stage's loop free of
-#: branches), and the balls' reference offset ỹ − y_n.
+#: branches), the balls' reference offset ỹ − y_n, the step's start y_n, and per ball
+#: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
+#: and whether any stage touched the pocket; ``work[W_SET, 0]`` is the pocket check's
+#: tolerance [J].
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-N_WORK = 14
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET = 14, 15, 16, 17, 18
+N_WORK = 19
 
 
-def new_work(model):
-    """``(work, jwork, schur)`` for :func:`rvcore.integrator.integrate` with the IMEX method."""
+def new_work(model, pocket_tolerance):
+    """``(work, jwork, schur)`` for :func:`rvcore.integrator.integrate` with the IMEX method;
+    ``pocket_tolerance`` [J] is the pocket check's (:func:`imex_step`)."""
     n = model.n_states
     work = np.zeros((N_WORK, n))
     inv_m = work[W_INVM]
@@ -171,203 +201,8 @@ def new_work(model):
             work[W_ISP, b:b + 3] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
+    work[W_SET, 0] = pocket_tolerance
     return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
-
-
-@njit(cache=True, nogil=True)
-def factor(jwork, schur, rows, mass):
-    """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.kernels.rhs_jac`
-    accumulated.
-
-    Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle) and ``X = U⁻ᵀ·B`` in place
-    of B; then the ring's Schur complement ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and
-    ``S = Uᵀ·U`` in place. ``mass`` is the state-indexed mass (0 at positions). A ball
-    with no inner-race contact has ``B = 0`` (``J_COUPLED`` clear, set by
-    :func:`rvcore.implicit.contact_blocks` when it writes B): skipped here and in
-    :func:`solve`.
-
-    Notes
-    -----
-    The diagonals of U (the balls' and the ring's) are stored as their reciprocals: they
-    are only ever divisors, and a multiplication costs a fraction of a division. The
-    ball's 6×6 block lives in scalar locals (no allocation, no index arithmetic in the
-    inner loops; the 5 columns of B share them).
-    """
-    for i in range(5):
-        schur[i, i] += mass[5 + i]
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            # Cholesky A = UᵀU, row by row of U (same operation order as the textbook loop)
-            u00 = math.sqrt(jwork[k, J_A + 0] + mass[b])
-            i0 = 1.0 / u00
-            u01 = jwork[k, J_A + 1] * i0
-            u02 = jwork[k, J_A + 2] * i0
-            u03 = jwork[k, J_A + 3] * i0
-            u04 = jwork[k, J_A + 4] * i0
-            u05 = jwork[k, J_A + 5] * i0
-            u11 = math.sqrt(jwork[k, J_A + 7] + mass[b + 1] - u01 * u01)
-            i1 = 1.0 / u11
-            u12 = (jwork[k, J_A + 8] - u01 * u02) * i1
-            u13 = (jwork[k, J_A + 9] - u01 * u03) * i1
-            u14 = (jwork[k, J_A + 10] - u01 * u04) * i1
-            u15 = (jwork[k, J_A + 11] - u01 * u05) * i1
-            u22 = math.sqrt(jwork[k, J_A + 14] + mass[b + 2] - u02 * u02 - u12 * u12)
-            i2 = 1.0 / u22
-            u23 = (jwork[k, J_A + 15] - u02 * u03 - u12 * u13) * i2
-            u24 = (jwork[k, J_A + 16] - u02 * u04 - u12 * u14) * i2
-            u25 = (jwork[k, J_A + 17] - u02 * u05 - u12 * u15) * i2
-            u33 = math.sqrt(jwork[k, J_A + 21] + mass[b + 3] - u03 * u03 - u13 * u13 - u23 * u23)
-            i3 = 1.0 / u33
-            u34 = (jwork[k, J_A + 22] - u03 * u04 - u13 * u14 - u23 * u24) * i3
-            u35 = (jwork[k, J_A + 23] - u03 * u05 - u13 * u15 - u23 * u25) * i3
-            u44 = math.sqrt(jwork[k, J_A + 28] + mass[b + 4] - u04 * u04 - u14 * u14 - u24 * u24
-                            - u34 * u34)
-            i4 = 1.0 / u44
-            u45 = (jwork[k, J_A + 29] - u04 * u05 - u14 * u15 - u24 * u25 - u34 * u35) * i4
-            u55 = math.sqrt(jwork[k, J_A + 35] + mass[b + 5] - u05 * u05 - u15 * u15 - u25 * u25
-                            - u35 * u35 - u45 * u45)
-            i5 = 1.0 / u55
-            jwork[k, J_A + 0], jwork[k, J_A + 1], jwork[k, J_A + 2] = i0, u01, u02
-            jwork[k, J_A + 3], jwork[k, J_A + 4], jwork[k, J_A + 5] = u03, u04, u05
-            jwork[k, J_A + 7], jwork[k, J_A + 8], jwork[k, J_A + 9] = i1, u12, u13
-            jwork[k, J_A + 10], jwork[k, J_A + 11] = u14, u15
-            jwork[k, J_A + 14], jwork[k, J_A + 15], jwork[k, J_A + 16] = i2, u23, u24
-            jwork[k, J_A + 17] = u25
-            jwork[k, J_A + 21], jwork[k, J_A + 22], jwork[k, J_A + 23] = i3, u34, u35
-            jwork[k, J_A + 28], jwork[k, J_A + 29] = i4, u45
-            jwork[k, J_A + 35] = i5
-            if jwork[k, J_COUPLED] == 0.0:
-                continue
-            # X = U⁻ᵀ B (forward substitution, column by column)
-            for c in range(5):
-                x0 = jwork[k, J_B + c] * i0
-                x1 = (jwork[k, J_B + 5 + c] - u01 * x0) * i1
-                x2 = (jwork[k, J_B + 10 + c] - u02 * x0 - u12 * x1) * i2
-                x3 = (jwork[k, J_B + 15 + c] - u03 * x0 - u13 * x1 - u23 * x2) * i3
-                x4 = (jwork[k, J_B + 20 + c] - u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
-                x5 = (jwork[k, J_B + 25 + c] - u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
-                jwork[k, J_B + c], jwork[k, J_B + 5 + c], jwork[k, J_B + 10 + c] = x0, x1, x2
-                jwork[k, J_B + 15 + c], jwork[k, J_B + 20 + c], jwork[k, J_B + 25 + c] = x3, x4, x5
-            # S −= XᵀX (upper triangle)
-            for c in range(5):
-                for d in range(c, 5):
-                    schur[c, d] -= (jwork[k, J_B + c] * jwork[k, J_B + d]
-                                    + jwork[k, J_B + 5 + c] * jwork[k, J_B + 5 + d]
-                                    + jwork[k, J_B + 10 + c] * jwork[k, J_B + 10 + d]
-                                    + jwork[k, J_B + 15 + c] * jwork[k, J_B + 15 + d]
-                                    + jwork[k, J_B + 20 + c] * jwork[k, J_B + 20 + d]
-                                    + jwork[k, J_B + 25 + c] * jwork[k, J_B + 25 + d])
-    # Cholesky of S (upper triangle; reciprocal diagonal, as the balls')
-    for i in range(5):
-        s = schur[i, i]
-        for l in range(i):
-            s -= schur[l, i] ** 2
-        inv = 1.0 / math.sqrt(s)
-        schur[i, i] = inv
-        for c in range(i + 1, 5):
-            s = schur[i, c]
-            for l in range(i):
-                s -= schur[l, i] * schur[l, c]
-            schur[i, c] = s * inv
-
-
-@njit(cache=True, nogil=True)
-def solve(v, jwork, schur, rows, mass):
-    """Overwrite the velocities of the balls and the ring in the increment ``v`` with
-    ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its
-    positions ``v_x`` being ``ê_x``; module docstring) with the factors of :func:`factor`
-    (reciprocal diagonals) and the ``h·γ·K`` blocks of
-    :func:`rvcore.implicit.stiffness_blocks`; the rest is untouched.
-    ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
-    rz = schur[5]
-    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
-    for i in range(5):     # the ring's M·v − h·γ·K_rr·x (upper triangle stored)
-        s = mass[5 + i] * v[5 + i]
-        for l in range(5):
-            s -= (schur[S_K + i, l] if l >= i else schur[S_K + l, i]) * v[l]
-        rz[i] = s
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            # h·γ·K·ê_x on the ball's centre, and the ring's share
-            bx, by, bz = v[b - 3], v[b - 2], v[b - 1]
-            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
-            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
-            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
-            if jwork[k, J_COUPLED] != 0.0:
-                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
-                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
-                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
-                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
-                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
-                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
-                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
-                    rz[c] -= jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
-            # w = U⁻ᵀ·(M_b·v_b − f)
-            w0 = (mass[b] * v[b] - fx) * jwork[k, J_A + 0]
-            w1 = (mass[b + 1] * v[b + 1] - fy - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
-            w2 = (mass[b + 2] * v[b + 2] - fz - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
-            w3 = (mass[b + 3] * v[b + 3] - jwork[k, J_A + 3] * w0 - jwork[k, J_A + 9] * w1
-                  - jwork[k, J_A + 15] * w2) * jwork[k, J_A + 21]
-            w4 = (mass[b + 4] * v[b + 4] - jwork[k, J_A + 4] * w0 - jwork[k, J_A + 10] * w1
-                  - jwork[k, J_A + 16] * w2 - jwork[k, J_A + 22] * w3) * jwork[k, J_A + 28]
-            w5 = (mass[b + 5] * v[b + 5] - jwork[k, J_A + 5] * w0 - jwork[k, J_A + 11] * w1
-                  - jwork[k, J_A + 17] * w2 - jwork[k, J_A + 23] * w3 - jwork[k, J_A + 29] * w4) * jwork[k, J_A + 35]
-            jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2] = w0, w1, w2
-            jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5] = w3, w4, w5
-            if jwork[k, J_COUPLED] != 0.0:
-                for c in range(5):     # r_ring −= Xᵀ·w
-                    rz[c] -= (jwork[k, J_B + c] * w0 + jwork[k, J_B + 5 + c] * w1
-                              + jwork[k, J_B + 10 + c] * w2 + jwork[k, J_B + 15 + c] * w3
-                              + jwork[k, J_B + 20 + c] * w4 + jwork[k, J_B + 25 + c] * w5)
-    # S·Z = r: Uᵀ then U
-    for i in range(5):
-        s = rz[i]
-        for l in range(i):
-            s -= schur[l, i] * rz[l]
-        rz[i] = s * schur[i, i]
-    for i in range(4, -1, -1):
-        s = rz[i]
-        for l in range(i + 1, 5):
-            s -= schur[i, l] * rz[l]
-        rz[i] = s * schur[i, i]
-    z0, z1, z2, z3, z4 = rz[0], rz[1], rz[2], rz[3], rz[4]
-    v[5], v[6], v[7], v[8], v[9] = z0, z1, z2, z3, z4
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            w0, w1, w2 = jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2]
-            w3, w4, w5 = jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5]
-            if jwork[k, J_COUPLED] != 0.0:     # w − X·Z
-                w0 -= (jwork[k, J_B + 0] * z0 + jwork[k, J_B + 1] * z1 + jwork[k, J_B + 2] * z2
-                       + jwork[k, J_B + 3] * z3 + jwork[k, J_B + 4] * z4)
-                w1 -= (jwork[k, J_B + 5] * z0 + jwork[k, J_B + 6] * z1 + jwork[k, J_B + 7] * z2
-                       + jwork[k, J_B + 8] * z3 + jwork[k, J_B + 9] * z4)
-                w2 -= (jwork[k, J_B + 10] * z0 + jwork[k, J_B + 11] * z1 + jwork[k, J_B + 12] * z2
-                       + jwork[k, J_B + 13] * z3 + jwork[k, J_B + 14] * z4)
-                w3 -= (jwork[k, J_B + 15] * z0 + jwork[k, J_B + 16] * z1 + jwork[k, J_B + 17] * z2
-                       + jwork[k, J_B + 18] * z3 + jwork[k, J_B + 19] * z4)
-                w4 -= (jwork[k, J_B + 20] * z0 + jwork[k, J_B + 21] * z1 + jwork[k, J_B + 22] * z2
-                       + jwork[k, J_B + 23] * z3 + jwork[k, J_B + 24] * z4)
-                w5 -= (jwork[k, J_B + 25] * z0 + jwork[k, J_B + 26] * z1 + jwork[k, J_B + 27] * z2
-                       + jwork[k, J_B + 28] * z3 + jwork[k, J_B + 29] * z4)
-            # v_b = U⁻¹·(w − X·Z)
-            x5 = w5 * jwork[k, J_A + 35]
-            x4 = (w4 - jwork[k, J_A + 29] * x5) * jwork[k, J_A + 28]
-            x3 = (w3 - jwork[k, J_A + 22] * x4 - jwork[k, J_A + 23] * x5) * jwork[k, J_A + 21]
-            x2 = (w2 - jwork[k, J_A + 15] * x3 - jwork[k, J_A + 16] * x4 - jwork[k, J_A + 17] * x5) * jwork[k, J_A + 14]
-            x1 = (w1 - jwork[k, J_A + 8] * x2 - jwork[k, J_A + 9] * x3 - jwork[k, J_A + 10] * x4
-                  - jwork[k, J_A + 11] * x5) * jwork[k, J_A + 7]
-            x0 = (w0 - jwork[k, J_A + 1] * x1 - jwork[k, J_A + 2] * x2 - jwork[k, J_A + 3] * x3
-                  - jwork[k, J_A + 4] * x4 - jwork[k, J_A + 5] * x5) * jwork[k, J_A + 0]
-            v[b], v[b + 1], v[b + 2], v[b + 3], v[b + 4], v[b + 5] = x0, x1, x2, x3, x4, x5
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -439,27 +274,107 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     return diag[D_DRIVE_TORQUE]
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _pocket_power(work, bdiag, weight):
+    """Add ``weight·P`` of the stage just evaluated to each ball's Σ b_i·P_i, and mark
+    the balls whose pocket it touched."""
+    for k in range(bdiag.shape[0]):
+        work[W_PACC, k] += weight * bdiag[k, B_PP]
+        if bdiag[k, B_PV] > 0.0:
+            work[W_TOUCH, k] = 1.0
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
+    """The three implicit stages and the update ``y_{n+1} = y_n + h·Σ b_i·F_i`` (b̂ = b:
+    the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
+    ``Σ_{i≥2} b_i·T(Y_i)·ω(t_i)``."""
+    torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                  bdiag, A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
+    _pocket_power(work, bdiag, B2)
+    power = B2 * diag[D_DRIVE_POWER]
+    torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                   bdiag, 0.0, A32, 0.0, I31, I32, 0.0, 0.5)
+    _pocket_power(work, bdiag, B3)
+    power += B3 * diag[D_DRIVE_POWER]
+    torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                   bdiag, 0.0, 0.0, A43, I41, I42, I43, 1.0)
+    _pocket_power(work, bdiag, B4)
+    power += B4 * diag[D_DRIVE_POWER]
+    f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
+    for m in range(y.size):
+        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m])
+    return torque, power
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _pocket_energy_kept(y, dt, rows, pockets, work):
+    """Whether every pocket the step touched kept its energy: ``|ε|`` within the tolerance
+    ``work[W_SET, 0]`` [J], ``ε = V_{n+1} − V_n − h·Σ b_i·P_i`` (rvcore.pocket_check)."""
+    tolerance = work[W_SET, 0]
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            k = p0 + j
+            if work[W_TOUCH, k] == 0.0:
+                continue
+            v1 = pocket_energy(y, rows, pockets, r, j)
+            if abs(v1 - work[W_PV0, k] - dt * work[W_PACC, k]) > tolerance:
+                return False
+    return True
+
+
 @njit(cache=True, nogil=True)
-def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh):
+def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
+              inner):
     """Advance ``y`` by one IMEX step of ``dt``.
 
-    On entry ``work[W_F]`` holds ``F(y)``, and ``jwork`` and ``schur`` the blocks that
+    On entry ``work[W_F]`` holds ``F(y)``, ``diag`` and ``bdiag`` that evaluation's
+    diagnostics, and ``jwork`` and ``schur`` the blocks that
     :func:`rvcore.kernels.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
-    when ``refresh`` (then factored here), or as factored at an earlier step.
-    Returns ``Σ_{i≥2} b_i·T(Y_i)``, the later stages' share of the step's drive torque
-    [N m] (the first stage's, ``b_1·T(y)``, the caller has).
+    when ``refresh`` (then factored here), or as factored at an earlier step. Where a
+    pocket the step touched did not keep its energy (:func:`_pocket_energy_kept`), the
+    step is taken again from ``y`` as :data:`SUBSTEPS` substeps, each with the tangents
+    of its own start; ``inner`` then receives the diagnostics at the substeps' starts as
+    :func:`rvcore.accumulate.add_substep_integrals` takes them.
+
+    Returns
+    -------
+    torque : float
+        The step's drive torque less the first stage's ``b_1·T(y)``, which the caller
+        has [N m]: ``Σ_{i≥2} b_i·T(Y_i)``, or over substeps their mean less ``b_1·T(y)``.
+    power : float
+        The same of the drive's power ``T·ω`` [W].
+    substepped : bool
+        Whether the step was taken again: the tangents left in ``jwork`` are then the last
+        substep's, and the next step must evaluate its own.
     """
     n = y.size
     if refresh:
         factor(jwork, schur, rows, work[W_M])
-    torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
-                    A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
-    torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
-                    0.0, A32, 0.0, I31, I32, 0.0, 0.5)
-    torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
-                    0.0, 0.0, A43, I41, I42, I43, 1.0)
-    f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
-    # b̂ = b: the g_i drop out of the update (module docstring)
+    first, first_power = B1 * diag[D_DRIVE_TORQUE], B1 * diag[D_DRIVE_POWER]
     for m in range(n):
-        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m])
-    return torque
+        work[W_Y0, m] = y[m]
+    for k in range(bdiag.shape[0]):
+        work[W_PV0, k] = bdiag[k, B_PV]
+        work[W_PACC, k] = B1 * bdiag[k, B_PP]
+        work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
+    torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
+    if _pocket_energy_kept(y, dt, rows, pockets, work):
+        return torque, power, False
+    for m in range(n):
+        y[m] = work[W_Y0, m]
+    h = dt / SUBSTEPS
+    total, total_power = 0.0, 0.0
+    for s in range(SUBSTEPS):
+        ts = t + s * h
+        rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * GAMMA, jwork, schur)
+        for m in range(inner.size):
+            inner[m] = -0.5 * (SUBSTEPS - 1) * diag[m] if s == 0 else inner[m] + diag[m]
+        diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
+        factor(jwork, schur, rows, work[W_M])
+        later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork,
+                                     schur)
+        total += B1 * diag_torque + later
+        total_power += B1 * diag_power + later_power
+    return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True

@@ -15,12 +15,14 @@ import math
 import numpy as np
 from numba import njit
 
-from .accumulate import (SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_state_signals, reduce_step,
+from .accumulate import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, add_substep_integrals,
+                         fill_state_signals,
+                         reduce_step,
                          write_series)
 from .contact import FAST
 from .energy import kinetic_energy
-from .imex import GAMMA, JAC_EVERY, imex_step
-from .kernels import D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
+from .imex import GAMMA, JAC_EVERY, SUBSTEPS, imex_step
+from .kernels import D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
 from .model import P_RING_IP
 from .profile import CH_SPEED, channel_rate
 from .rk4 import B1, B2, B3, B4, rk4_step
@@ -55,7 +57,7 @@ def _in_window(phases, k, n_ph, t):
 @njit(cache=True, nogil=True, fastmath=FAST)
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
-              cos_nominal, method, jwork, schur):
+              cos_nominal, method, jwork, schur, inner):
     """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of ``method`` (``RK4`` or
     ``IMEX``; :func:`advance` allocates the scratch for it).
 
@@ -77,6 +79,8 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         State index (non-finite) or ball state offset (penetration) of the culprit.
     n_out : int
         Lines written to ``out``.
+    substepped : int
+        IMEX steps taken again in substeps (:func:`rvcore.imex.imex_step`); 0 for RK4.
     """
     n = y.size
     k1 = work[0]
@@ -87,12 +91,17 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     # a torque held over each step, started at the first step's torque
     decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
     torque_f1, torque_f2 = 0.0, 0.0
+    since = JAC_EVERY      # steps since the IMEX tangents were evaluated
+    substepped = 0
+    end_half = half        # the trapezoid's end weight of the step just taken
     for i in range(n_steps + 1):
         t = t_start + i * dt
         # the outputs' signals at the step's state (the stages skip the costly ones); the
         # IMEX scheme's tangents from the same evaluation, every JAC_EVERY steps (they
-        # stay frozen in between: rvcore.imex, "Step")
-        refresh = i % JAC_EVERY == 0
+        # stay frozen in between: rvcore.imex, "Step"), and after a step taken in substeps
+        refresh = since >= JAC_EVERY
+        if refresh:
+            since = 0
         if method == IMEX and refresh:
             rhs_jac(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
         else:
@@ -104,34 +113,49 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if not math.isfinite(total):
             for m in range(n):
                 if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
-                    return NONFINITE, t, m, n_out
+                    return NONFINITE, t, m, n_out, substepped
         if diag[D_MAX_PEN] > pen_limit:
-            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out
+            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, substepped
         fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal)
         if i > 0:
             tp = t - dt
             for k in range(n_ph + 1):
                 if _in_window(phases, k, n_ph, tp):
-                    add_integral_end(acc[k], reductions, diag, half)
+                    add_integral_end(acc[k], reductions, diag, end_half)
         if i < n_steps:
             for k in range(n_ph + 1):
                 if _in_window(phases, k, n_ph, t):
                     reduce_step(acc[k], reductions, diag, t, 0, half)
         if i % out_every == 0 or i == n_steps:
             if kinetic_energy(y, params, rows) > ke_limit:
-                return ENERGY, t, -1, n_out
+                return ENERGY, t, -1, n_out, substepped
             write_series(out[n_out], series, diag)
             n_out += 1
         if i == n_steps:
             break
         # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
-        # the balls (both methods weigh the stages' forces by the same b)
+        # the balls (both methods weigh the stages' forces by the same b), and its power
+        # Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the drive's energy)
         torque = B1 * diag[D_DRIVE_TORQUE]
+        power = B1 * diag[D_DRIVE_POWER]
         if method == IMEX:
-            torque += imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur,
-                                refresh)
+            later, later_power, again = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag,
+                                                  work, jwork, schur, refresh, inner)
+            torque += later
+            power += later_power
+            since = since + 1
+            end_half = half
+            if again:      # the integrals over its substeps (rvcore.accumulate.add_substep_integrals)
+                since = JAC_EVERY
+                substepped += 1
+                end_half = half / SUBSTEPS
+                for k in range(n_ph + 1):
+                    if _in_window(phases, k, n_ph, t):
+                        add_substep_integrals(acc[k], reductions, inner, dt / SUBSTEPS)
         else:
-            torque += rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work)
+            later, later_power = rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work)
+            torque += later
+            power += later_power
         # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
         # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
         # would only lag. It is weighed over the stages as the step's torque is (both
@@ -150,33 +174,37 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
             torque_f1 += decay * (torque - inertial - torque_f1)
             torque_f2 += decay * (torque_f1 - torque_f2)
         diag[SL_TORQUE_STEP] = torque
+        diag[SL_POWER_STEP] = power
         for k in range(n_ph + 1):
             if _in_window(phases, k, n_ph, t):
                 reduce_step(acc[k], reductions, diag, t, 1, half)
-    return OK, t_start + n_steps * dt, -1, n_out
+    return OK, t_start + n_steps * dt, -1, n_out, substepped
 
 
-def new_work(model, method: str):
-    """The scratch arrays ``(work, jwork, schur)`` that :func:`integrate` needs for ``method``."""
+def new_work(model, method: str, pocket_tolerance: float):
+    """The scratch arrays ``(work, jwork, schur)`` that :func:`integrate` needs for ``method``
+    (``pocket_tolerance`` [J]: the IMEX pocket check's, :func:`rvcore.imex.imex_step`)."""
     if method == "rk4":
         from .rk4 import N_WORK
 
         return np.zeros((N_WORK, model.n_states)), np.zeros((1, 1)), np.zeros((1, 1))
     from . import imex
 
-    return imex.new_work(model)
+    return imex.new_work(model, pocket_tolerance)
 
 
 def advance(method: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
-            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal):
+            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance):
     """:func:`integrate` with ``method`` by name (:data:`METHODS`), the plan's arrays and
     the method's scratch.
 
-    Returns ``(status, t_fail, where, n_out)`` as :func:`integrate`.
+    ``pocket_tolerance`` [J] is the IMEX pocket check's
+    (:func:`rvcore.timestep.pocket_energy_tolerance`). Returns ``(status, t_fail, where,
+    n_out, substepped)`` as :func:`integrate`.
     """
     if method not in METHODS:
         raise ValueError(f"unknown integrator {method!r}: use one of {', '.join(METHODS)}")
-    work, jwork, schur = new_work(model, method)
+    work, jwork, schur = new_work(model, method, pocket_tolerance)
     return integrate(y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
                      table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
-                     pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur)
+                     pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur, np.zeros(diag.size))

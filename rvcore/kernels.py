@@ -2,12 +2,8 @@
 
 Every function here is ``@njit`` on flat arrays (layouts in :mod:`rvcore.model`); none
 allocates. The right-hand side :func:`rhs` is the whole model; it, the energy
-(:mod:`rvcore.energy`) and the quasi-static solver take every contact law and
-penetration from :mod:`rvcore.contact`, so the equations live in one place each.
-
-Notes
------
-The cubic STEP, the normal force with its damper and the friction law are written out in
+(:mod:`rvcore.energy`) and the quasi-static solver take every contact law (the STEP, the
+normal force with its damper, the friction law) and penetration from
 :mod:`rvcore.contact`, their one home.
 
 Inner-ring kinematics (docs/model.md §1). The ring's pose is ``R = Ry(θy)·Rx(θx)`` and it
@@ -39,7 +35,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-
 from numba import njit
 
 from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_penetration, damping_coefficient,
@@ -74,9 +69,10 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = 
 #: ``D_ROW0 + D_ROW_STRIDE·r + D_COS_ALPHA``.
 D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_contact_angle"]
 # per-ball diag columns: total inner / outer race load, radial components of the inner /
-# outer race forces on the ball (outward positive), pocket load
-B_QI, B_QO, B_FIR, B_FOR, B_QP = 0, 1, 2, 3, 4
-N_BDIAG = 5
+# outer race forces on the ball (outward positive), pocket load, and the pocket's elastic
+# energy and its rate (0.4·Q·δ, Q·δ̇ of the Hertz part: rvcore.imex's impact check)
+B_QI, B_QO, B_FIR, B_FOR, B_QP, B_PV, B_PP = 0, 1, 2, 3, 4, 5, 6
+N_BDIAG = 7
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -348,7 +344,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             sth = sphi * cs0 + cphi * sn0
             delta, ax, ay, az, a_sec = cage_pocket_penetration(guide, px - xc, py - yc, pz - zc - zrow, cth, sth,
                                                                pitch_r, pocket_r, h, cage_ri, cage_ro)
-            qp = 0.0
+            qp, pv, pp = 0.0, 0.0, 0.0
             fpx, fpy, fpz, mpx, mpy, mpz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             if delta > 0.0:
                 if delta > max_pen:
@@ -362,8 +358,10 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
                 uz = vz + wx * ay - wy * ax - vzc
                 un = ux * dgx + uy * dgy + uz * dgz   # dδ/dt
                 qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
+                q_hertz = hertz_load(k_pocket, delta)
+                pv, pp = 0.4 * q_hertz * delta, q_hertz * un
                 if full:
-                    p_damp += (qp - hertz_load(k_pocket, delta)) * un
+                    p_damp += (qp - q_hertz) * un
                 if qp > 0.0:
                     # friction tangential to the ball's surface there, normal a/h
                     inv_h = 1.0 / h
@@ -396,6 +394,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, 
             bdiag[p0 + j, B_FIR] = fi_rad
             bdiag[p0 + j, B_FOR] = fo_rad
             bdiag[p0 + j, B_QP] = qp
+            bdiag[p0 + j, B_PV] = pv
+            bdiag[p0 + j, B_PP] = pp
 
             dy[b] = vx
             dy[b + 1] = vy

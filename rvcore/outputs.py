@@ -87,6 +87,7 @@ SIGNALS = (
     Signal("drive_torque_step", "N m", "the step's drive torque, stage-weighted (the impulse the step gave)", STEP),
     Signal("drive_torque_band_limited", "N m", "the step's drive torque band-limited to "
                                                 "rvcore.integrator.TORQUE_BANDWIDTH", STEP),
+    Signal("drive_power_step", "W", "the step's drive power, stage-weighted (the work the step's impulse did)", STEP),
 )
 
 #: Signals once per row of balls, from slot ``N_SIGNALS + N_ROW_SIGNALS·r``.

@@ -9,7 +9,7 @@ from __future__ import annotations
 from numba import njit
 
 from .contact import FAST
-from .kernels import D_DRIVE_TORQUE, rhs_stage
+from .kernels import D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_stage
 
 #: The weights b, by which both integrators weigh the stages' drive torques (their nodes
 #: are 0, ½, ½, 1 alike; rvcore.imex keeps b̂ = b for that reason).
@@ -22,8 +22,9 @@ N_WORK = 5
 def rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work):
     """Advance ``y`` by one RK4 step of ``dt``; ``work[0]`` holds ``F(t, y)`` on entry.
 
-    Returns ``Σ_{i≥2} b_i·T(Y_i)``, the later stages' share of the step's drive torque
-    [N m] (the first stage's, ``b_1·T(y)``, the caller has).
+    Returns ``Σ_{i≥2} b_i·T(Y_i)`` and ``Σ_{i≥2} b_i·T(Y_i)·ω(t_i)``, the later stages'
+    shares of the step's drive torque [N m] and power [W] (the first stage's the caller
+    has).
     """
     n = y.size
     half = 0.5 * dt
@@ -31,16 +32,18 @@ def rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wo
     for m in range(n):
         tmp[m] = y[m] + half * k1[m]
     rhs_stage(t + half, tmp, k2, params, rows, arcs, pockets, table, meta, diag, bdiag)
-    torque = B2 * diag[D_DRIVE_TORQUE]
+    torque, power = B2 * diag[D_DRIVE_TORQUE], B2 * diag[D_DRIVE_POWER]
     for m in range(n):
         tmp[m] = y[m] + half * k2[m]
     rhs_stage(t + half, tmp, k3, params, rows, arcs, pockets, table, meta, diag, bdiag)
     torque += B3 * diag[D_DRIVE_TORQUE]
+    power += B3 * diag[D_DRIVE_POWER]
     for m in range(n):
         tmp[m] = y[m] + dt * k3[m]
     rhs_stage(t + dt, tmp, k4, params, rows, arcs, pockets, table, meta, diag, bdiag)
     torque += B4 * diag[D_DRIVE_TORQUE]
+    power += B4 * diag[D_DRIVE_POWER]
     sixth = dt / 6.0
     for m in range(n):
         y[m] += sixth * (k1[m] + 2.0 * (k2[m] + k3[m]) + k4[m])
-    return torque
+    return torque, power

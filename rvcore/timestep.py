@@ -37,6 +37,7 @@ import numpy as np
 
 from .contact import friction_falling_slope, friction_slope_at_zero_slip
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
+from . import imex
 from .imex import FRICTION_LIMIT, ONSET_LIMIT
 from .model import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
 
@@ -122,6 +123,21 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
                        ONSET_LIMIT * math.sqrt(2.0) / omega))
     return safety * min(dts)
+
+
+def pocket_energy_tolerance(model, peak_contact_load: float) -> float:
+    """The IMEX pocket check's tolerance [J] (:func:`rvcore.imex.imex_step`):
+    :data:`rvcore.imex.POCKET_ENERGY_TOL` of ``⅖·Q·δ``, the elastic energy of a race
+    contact at ``Q = peak_contact_load`` [N] (``δ = (Q/K)^(2/3)``, K of the row's stiffest
+    arc; the smallest over the rows). On the study case 2.6e-9 J."""
+    q = max(peak_contact_load, 1.0)
+    energies = []
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        energies.append(0.4 * q * (q / k_hertz) ** (2.0 / 3.0))
+    return imex.POCKET_ENERGY_TOL * min(energies)
 
 
 def row_rates(model, q: float):

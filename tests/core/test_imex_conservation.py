@@ -19,8 +19,10 @@ Two layers:
   and fall at least at second order when the step is halved. Under both loads every race
   contact stays closed; under the combined load the balls also move along their orbit and
   strike their cage pockets, impacts of about three IMEX steps whose Hertz stiffness the
-  explicit stages carry (the pocket is explicit in rvcore.implicit): that is where IMEX's
-  drift comes from (the diagnosis tests at the end).
+  explicit stages carry (the pocket is explicit in rvcore.implicit): that was where most
+  of IMEX's drift came from, until the pocket check (rvcore.pocket_check) took those steps
+  in substeps (the diagnosis tests and the check's at the end);
+- the pocket check itself: the energy and power it compares, and what it does to the drift.
 """
 from __future__ import annotations
 
@@ -34,7 +36,8 @@ from rvcore import imex
 from rvcore.energy import kinetic_energy, potential_energy
 from rvcore.initial_state import initial_state, peak_contact_load
 from rvcore.integrator import METHODS
-from rvcore.kernels import B_QI, B_QO, B_QP
+from rvcore.kernels import B_PP, B_PV, B_QI, B_QO, B_QP, new_diagnostics, rhs
+from rvcore.pocket_check import pocket_energy
 from rvcore.model import compile_bearing
 from rvcore.profile import OperatingPoint
 from rvcore.timestep import time_step
@@ -239,9 +242,9 @@ def energies_of(model, y, table, meta):
     "thrust",
     pytest.param("combined", marks=pytest.mark.xfail(
         strict=True, reason="open for IMEX (issue 27): at its default step (24 µs here) the drift is "
-        "7.7e-3, 77x the 1e-4, nearly all of it at two cage-pocket impacts, which the explicit stages "
-        "carry at ω_p·h ≈ 1 (the diagnosis tests below); with the pockets out of reach it is 1.2e-4. "
-        "RK4 passes at its 2.9 µs")),
+        "2.0e-4, twice the 1e-4 (7.7e-3 before the pocket check took the cage-pocket impacts in "
+        "substeps); what remains is the race contacts' frozen tangent, 1.2e-4 with the pockets out of "
+        "reach (the diagnosis tests below). RK4 passes at its 2.9 µs")),
 ])
 def test_imex_conserves_energy_at_its_default_step(loads):
     """The restated §9.4(a) for the implicit-stage integrator: drift below 1e-4 at the
@@ -283,10 +286,65 @@ def test_combined_case_keeps_every_race_contact_loaded_and_strikes_the_pockets()
     assert loads[:, :, 2].max() > 10.0
 
 
-def test_imex_drift_under_the_combined_load_comes_from_the_pocket_impacts():
-    """With the cage's pockets out of the balls' reach (5 mm clearance) IMEX's drift at its
+def test_imex_drift_under_the_combined_load_comes_from_the_pocket_impacts(monkeypatch):
+    """Without the pocket check (rvcore.pocket_check: off with an infinite tolerance), and
+    with the cage's pockets out of the balls' reach (5 mm clearance), IMEX's drift at its
     default step falls more than tenfold: the pocket impacts, explicit in the scheme, carry
     it. The rest is the race contacts' (the frozen-tangent mechanism above)."""
+    monkeypatch.setattr(imex, "POCKET_ENERGY_TOL", math.inf)
     with_pockets, _ = energy_drift("imex", LOADS["combined"], 1.0)
     without, _ = energy_drift("imex", LOADS["combined"], 1.0, pocket_clearance=5e-3)
     assert without < with_pockets / 10.0, (with_pockets, without)
+
+
+# --------------------------------------------------------------------------- the pocket check
+
+
+def combined_case_in_an_impact(min_pocket_load=50.0):
+    """The combined case's model, loads and state at the first IMEX step after which some
+    ball presses its pocket with more than ``min_pocket_load`` [N]."""
+    bearing = section_with_pocket_clearance(None)
+    model = compile_bearing(bearing, friction=False, damping=False, gravity=False)
+    sized = compile_bearing(bearing, gravity=False)
+    fr, fa = LOADS["combined"]
+    resolved = constant_profile(0.0, HORIZON).resolve(OperatingPoint(0.0, fr, fa))
+    start = constant_profile(0.0, HORIZON).resolve(OperatingPoint(0.0, START_FRACTION * fr, START_FRACTION * fa))
+    dt = time_step(sized, peak_contact_load(sized, resolved), "imex")
+    y = initial_state(model, start, 0.0)
+    for _, bdiag in run_in_chunks("imex", model, y, resolved, dt, 1, int(round(HORIZON / dt))):
+        if bdiag[:, B_QP].max() > min_pocket_load:
+            return model, resolved, y
+    raise AssertionError("no pocket impact in the combined case")
+
+
+def test_pocket_energy_and_its_rate_agree_with_the_motion():
+    """What rvcore.pocket_check compares: the right-hand side's ``B_PV`` is the pocket's
+    elastic energy ``pocket_energy`` at the same state, and its ``B_PP`` is that energy's
+    rate along the motion, d/dt V(y + t·ẏ) by central differences (to 1e-6 relative),
+    at every ball of a state in an impact."""
+    model, resolved, y = combined_case_in_an_impact()
+    table, meta = resolved.arrays()
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
+    dy = np.zeros_like(y)
+    rhs(0.0, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    z = model.n_balls     # one row
+    energies = np.array([pocket_energy(y, model.rows, model.pockets, 0, j) for j in range(z)])
+    np.testing.assert_allclose(bdiag[:, B_PV], energies, rtol=1e-12, atol=0.0)
+    touched = np.flatnonzero(energies > 0.0)
+    assert touched.size > 0
+    eps = 1e-9      # [s]: a 1e-10 m move of a ball at 0.1 m/s, against a µm penetration
+    rate = np.array([(pocket_energy(y + eps * dy, model.rows, model.pockets, 0, j)
+                      - pocket_energy(y - eps * dy, model.rows, model.pockets, 0, j)) / (2 * eps) for j in touched])
+    np.testing.assert_allclose(bdiag[touched, B_PP], rate, rtol=1e-6)
+
+
+def test_imex_takes_the_pocket_impacts_in_substeps(monkeypatch):
+    """With the pocket check (rvcore.pocket_check) the combined case's drift at the
+    default step falls more than tenfold against the same scheme without it (the check
+    off: an infinite tolerance); under the thrust no ball touches its pocket, no step is
+    taken again, and the drift is the same to the last bit."""
+    checked = {name: energy_drift("imex", LOADS[name], 1.0)[0] for name in LOADS}
+    monkeypatch.setattr(imex, "POCKET_ENERGY_TOL", math.inf)
+    unchecked = {name: energy_drift("imex", LOADS[name], 1.0)[0] for name in LOADS}
+    assert checked["combined"] < unchecked["combined"] / 10.0, (checked, unchecked)
+    assert checked["thrust"] == unchecked["thrust"]
