@@ -35,6 +35,7 @@ Numerics and the case
 - ``rk4``             one step of classical RK4 (the reference)
 - ``imex``            one step of the implicit–explicit scheme
 - ``arrowhead``       the scheme's block-arrowhead matrix factored and solved
+- ``pocket_check``    the IMEX step's check on the cage-pocket impacts' energy
 - ``integrator``      the loop: steps, blow-up checks, output lines, reductions
 - ``initial_state``   the state a case starts from; the peak contact load
 - ``settings``        SolverSettings and Sensor
