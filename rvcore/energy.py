@@ -17,6 +17,21 @@ from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, channel_value
 from .raceway import ball_offsets
 
 
+@njit(cache=True, nogil=True, inline="always")
+def pocket_energy(y, rows, pockets, r, j, cphi, sphi):
+    """Elastic energy ``⅖·K_p·δ^2.5`` [J] of ball ``j`` of row ``r`` against its cage pocket
+    at the state ``y``; ``cphi``, ``sphi`` the cosine and sine of the row's cage angle."""
+    b = int(rows[r, R_BALL0]) + BALL_STATES * j
+    c0, k = int(rows[r, R_CAGE0]), int(rows[r, R_POCKET0]) + j
+    cs0, sn0 = pockets[k, 0], pockets[k, 1]
+    d, _, _, _, _ = cage_pocket_penetration(rows[r, R_GUIDE], y[b] - y[c0], y[b + 1] - y[c0 + 1],
+                                            y[b + 2] - y[c0 + 2] - rows[r, R_ZROW],
+                                            cphi * cs0 - sphi * sn0, sphi * cs0 + cphi * sn0,
+                                            rows[r, R_PITCH_R], rows[r, R_POCKET_R], rows[r, R_HALF_D],
+                                            rows[r, R_CAGE_RI], rows[r, R_CAGE_RO])
+    return hertz_energy(rows[r, R_POCKET_K], d)
+
+
 @njit(cache=True, nogil=True)
 def kinetic_energy(y, params, rows):
     """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded)."""
@@ -77,12 +92,7 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
                                                      px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
                 e += hertz_energy(arcs[a, A_K], d)
-            cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
-            d, _, _, _, _ = cage_pocket_penetration(rows[r, R_GUIDE], px - xc, py - yc, pz - zc - zrow,
-                                                    cphi * cs0 - sphi * sn0, sphi * cs0 + cphi * sn0,
-                                                    rows[r, R_PITCH_R], rows[r, R_POCKET_R], h,
-                                                    rows[r, R_CAGE_RI], rows[r, R_CAGE_RO])
-            e += hertz_energy(rows[r, R_POCKET_K], d)
+            e += pocket_energy(y, rows, pockets, r, j, cphi, sphi)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:
             d, _, _ = land_penetration(xc, yc, rows[r, R_LAND_CLEAR])
             e += hertz_energy(rows[r, R_LAND_K], d)

@@ -124,7 +124,7 @@ from .implicit import N_JWORK, N_SCHUR
 from .kernels import B_PP, B_PV, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
-from .pocket_check import pocket_energy
+from .pocket_check import pocket_energy_kept
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
 A21, A32, A43 = 0.5, 0.5, 1.0
@@ -307,23 +307,6 @@ def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wor
     return torque, power
 
 
-@njit(cache=True, nogil=True, inline="always")
-def _pocket_energy_kept(y, dt, rows, pockets, work):
-    """Whether every pocket the step touched kept its energy: ``|ε|`` within the tolerance
-    ``work[W_SET, 0]`` [J], ``ε = V_{n+1} − V_n − h·Σ b_i·P_i`` (rvcore.pocket_check)."""
-    tolerance = work[W_SET, 0]
-    for r in range(rows.shape[0]):
-        p0 = int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            if work[W_TOUCH, k] == 0.0:
-                continue
-            v1 = pocket_energy(y, rows, pockets, r, j)
-            if abs(v1 - work[W_PV0, k] - dt * work[W_PACC, k]) > tolerance:
-                return False
-    return True
-
-
 @njit(cache=True, nogil=True)
 def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
               inner):
@@ -333,7 +316,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     diagnostics, and ``jwork`` and ``schur`` the blocks that
     :func:`rvcore.kernels.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
     when ``refresh`` (then factored here), or as factored at an earlier step. Where a
-    pocket the step touched did not keep its energy (:func:`_pocket_energy_kept`), the
+    pocket the step touched did not keep its energy (:func:`rvcore.pocket_check.pocket_energy_kept`), the
     step is taken again from ``y`` as :data:`SUBSTEPS` substeps, each with the tangents
     of its own start; ``inner`` then receives the diagnostics at the substeps' starts as
     :func:`rvcore.accumulate.add_substep_integrals` takes them.
@@ -360,7 +343,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         work[W_PACC, k] = B1 * bdiag[k, B_PP]
         work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
     torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
-    if _pocket_energy_kept(y, dt, rows, pockets, work):
+    if pocket_energy_kept(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH], work[W_SET, 0]):
         return torque, power, False
     for m in range(n):
         y[m] = work[W_Y0, m]

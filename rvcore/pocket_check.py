@@ -27,24 +27,28 @@ import math
 
 from numba import njit
 
-from .contact import FAST, cage_pocket_penetration, hertz_energy
-from .model import (BALL_STATES, R_BALL0, R_CAGE0, R_CAGE_RI, R_CAGE_RO, R_GUIDE, R_HALF_D, R_PITCH_R,
-                    R_POCKET0, R_POCKET_K, R_POCKET_R, R_ZROW)
+from .energy import pocket_energy
+from .model import R_CAGE0, R_POCKET0, R_Z
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
-def pocket_energy(y, rows, pockets, r, j):
-    """Elastic energy ``⅖·K_p·δ^2.5`` [J] of ball ``j`` of row ``r`` against its cage
-    pocket at the state ``y`` (the penetration of :func:`rvcore.contact.cage_pocket_penetration`,
-    as the right-hand side takes it)."""
-    c0 = int(rows[r, R_CAGE0])
-    b = int(rows[r, R_BALL0]) + BALL_STATES * j
-    k = int(rows[r, R_POCKET0]) + j
-    xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
-    cphi, sphi = math.cos(phi), math.sin(phi)
-    cs0, sn0 = pockets[k, 0], pockets[k, 1]
-    delta, _, _, _, _ = cage_pocket_penetration(
-        rows[r, R_GUIDE], y[b] - xc, y[b + 1] - yc, y[b + 2] - zc - rows[r, R_ZROW], cphi * cs0 - sphi * sn0,
-        sphi * cs0 + cphi * sn0, rows[r, R_PITCH_R], rows[r, R_POCKET_R], rows[r, R_HALF_D], rows[r, R_CAGE_RI],
-        rows[r, R_CAGE_RO])
-    return hertz_energy(rows[r, R_POCKET_K], delta)
+@njit(cache=True, nogil=True, inline="always")
+def pocket_energy_kept(y, dt, rows, pockets, start_energy, power_sum, touched, tolerance):
+    """Whether every pocket a step of ``dt`` [s] touched kept its energy at the step's end
+    state ``y``: ``|ε| ≤ tolerance`` [J], ``ε = V_{n+1} − V_n − h·Σ b_i·P_i``.
+
+    Per ball (indexed as the pockets): ``start_energy`` the pocket's elastic energy at the
+    step's start [J], ``power_sum`` the stages' ``Σ b_i·P_i`` [W], ``touched`` nonzero
+    where any stage had the ball in its pocket (only those are evaluated here).
+    """
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        phi = y[int(rows[r, R_CAGE0]) + 3]
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        for j in range(int(rows[r, R_Z])):
+            k = p0 + j
+            if touched[k] == 0.0:
+                continue
+            v1 = pocket_energy(y, rows, pockets, r, j, cphi, sphi)
+            if abs(v1 - start_energy[k] - dt * power_sum[k]) > tolerance:
+                return False
+    return True

@@ -37,7 +37,8 @@ from rvcore.energy import kinetic_energy, potential_energy
 from rvcore.initial_state import initial_state, peak_contact_load
 from rvcore.integrator import METHODS
 from rvcore.kernels import B_PP, B_PV, B_QI, B_QO, B_QP, new_diagnostics, rhs
-from rvcore.pocket_check import pocket_energy
+from rvcore.energy import pocket_energy
+from rvcore.model import R_CAGE0
 from rvcore.model import compile_bearing
 from rvcore.profile import OperatingPoint
 from rvcore.timestep import time_step
@@ -328,13 +329,17 @@ def test_pocket_energy_and_its_rate_agree_with_the_motion():
     dy = np.zeros_like(y)
     rhs(0.0, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
     z = model.n_balls     # one row
-    energies = np.array([pocket_energy(y, model.rows, model.pockets, 0, j) for j in range(z)])
+
+    def energy_at(state, j):
+        phi = state[int(model.rows[0, R_CAGE0]) + 3]
+        return pocket_energy(state, model.rows, model.pockets, 0, j, math.cos(phi), math.sin(phi))
+
+    energies = np.array([energy_at(y, j) for j in range(z)])
     np.testing.assert_allclose(bdiag[:, B_PV], energies, rtol=1e-12, atol=0.0)
     touched = np.flatnonzero(energies > 0.0)
     assert touched.size > 0
     eps = 1e-9      # [s]: a 1e-10 m move of a ball at 0.1 m/s, against a µm penetration
-    rate = np.array([(pocket_energy(y + eps * dy, model.rows, model.pockets, 0, j)
-                      - pocket_energy(y - eps * dy, model.rows, model.pockets, 0, j)) / (2 * eps) for j in touched])
+    rate = np.array([(energy_at(y + eps * dy, j) - energy_at(y - eps * dy, j)) / (2 * eps) for j in touched])
     np.testing.assert_allclose(bdiag[touched, B_PP], rate, rtol=1e-6)
 
 
