@@ -121,7 +121,7 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
     from rvcore import integrator as ig
     from rvcore.accumulate import build_plan, new_accumulators
     from rvcore.imex import SUBSTEPS
-    from rvcore.timestep import pocket_energy_tolerance, time_step
+    from rvcore.timestep import pocket_energy_tolerance, tangent_load_tolerance, time_step
     from rvcore.initial_state import initial_state, peak_contact_load
     from rvcore.kernels import new_diagnostics, rhs
     from rvcore.model import R_BALL0, compile_bearing
@@ -147,9 +147,11 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
         phases = np.zeros((0, 2))
         sensors = np.zeros((0, 6))
         t0 = time.perf_counter()
-        status, _, _, _, substepped = ig.advance(method, y, t_start, window / n, n, n, model, table, meta, phases,
-                                                 sensors, out, acc, plan, diag, bdiag, 1.0, 1e30,
-                                                 np.ones(model.rows.shape[0]), pocket_energy_tolerance(model, q_peak))
+        status, _, _, _, substepped, _ = ig.advance(method, y, t_start, window / n, n, n, model, table, meta,
+                                                    phases, sensors, out, acc, plan, diag, bdiag, 1.0, 1e30,
+                                                    np.ones(model.rows.shape[0]),
+                                                    pocket_energy_tolerance(model, q_peak, window / n),
+                                                    tangent_load_tolerance(q_peak))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         # a step taken again in substeps (rvcore.imex) evaluates 4 per substep besides its own

@@ -29,7 +29,7 @@ from .results import (CaseResult, SimulationError, duty_cycle_outputs, read_ener
                       read_phase_metrics)
 from .settings import SolverSettings
 from .spectra import kinematic_frequencies, steady_spectra
-from .timestep import pocket_energy_tolerance, time_step
+from .timestep import pocket_energy_tolerance, tangent_load_tolerance, time_step
 
 
 def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,
@@ -105,10 +105,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     ke_limit = 100.0 * e_ref + f_max * 2 * float(rows[:, R_HALF_D].max())
 
     t0 = time_module.perf_counter()
-    status, t_fail, where, n_out, substepped = advance(
+    status, t_fail, where, n_out, substepped, refreshes = advance(
         settings.method, y, t_start, dt, n_steps, out_every, model, table, meta, resolved.phases, sensor_rows,
         out, acc, plan, diag, bdiag, pen_limit, ke_limit,
-        np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]), pocket_energy_tolerance(model, q_peak))
+        np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]),
+        pocket_energy_tolerance(model, q_peak, dt), tangent_load_tolerance(q_peak))
     wall = time_module.perf_counter() - t0
     if status != OK:
         what = {NONFINITE: "a non-finite state value",
@@ -138,8 +139,8 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     energy = read_energies(acc, plan)
     # a step taken again in substeps (rvcore.imex) evaluated 4 per substep besides its own
     info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": 4 * n_steps + 1 + 4 * SUBSTEPS * substepped,
-            "substepped_steps": substepped, "method": settings.method, "wall_time": wall,
-            "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
+            "substepped_steps": substepped, "tangent_refreshes": refreshes, "method": settings.method,
+            "wall_time": wall, "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
             "seed": int(settings.seed), "inner_ring_tilt": bearing.inner_ring.tilt}

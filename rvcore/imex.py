@@ -22,7 +22,7 @@ implicit unknowns (the ring's pose and rates, every ball's centre, velocity and 
 geometric stiffness, :func:`rvcore.implicit.groove_blocks`), ``D`` the velocity
 tangent of the friction and dampers, and ``f = F − g`` the rest. The splitting is exact
 for any ``J`` and any reference ``ỹ``: the pair's order does not depend on them, only its
-stability, so ``J`` may be frozen over several steps (:data:`JAC_EVERY`). Explicit tableau:
+stability, so ``J`` may be frozen over several steps ("Step", below). Explicit tableau:
 classical RK4 (``c = 0, ½, ½, 1``). Implicit tableau: an ESDIRK with the same nodes, the
 same weights ``b̂ = b`` and the constant diagonal γ = 1/6, so one factorization serves
 the three implicit stages. Stage i (e the deviation from the reference)::
@@ -50,8 +50,14 @@ allows: with the denominator ``(1 − γz)³``, ``|R(iy)| = 1`` needs the numera
 ``(1 + γz)³``, and ``R = e^z + O(z²)`` then fixes γ = 1/6; its z³ coefficient is
 1/6 + 1/108, so the implicit tableau, and the pair, are of order 2 (order 3 and
 ``|R(iy)| = 1`` exclude each other here). Of the one-parameter family of tableaux with
-this R (rows summing to c, ``b̂ = b``), the entries below keep the stage values of a stiff
-mode smallest (about 2× the step's start at most, on the real and imaginary axes). The price:
+this R (rows summing to c, ``b̂ = b``; ``â_43`` its parameter, ``â_32 = 2/(27·â_43)``), the
+one below is stiffly accurate: its last row is ``b̂``, so the last stage is the step's
+end. Its stage values of a stiff mode are at most 2× the step's start on the real and
+imaginary axes (the family's least: the second stage alone reaches 2 at infinity; 2.65
+at ``â_43 = ½``). On the bearing it keeps the energy of a combined load's oscillation
+better than ``â_43 = ½`` did, by 2.3× (docs/performance.md, "IMEX at MODEL_VERSION
+11"); a single Hertz contact shows no such gain, so this is a measured property of the
+bearing, not of the tableau. The price:
 an all-pass function cannot be L-stable, ``R(−x) → −1`` as x → ∞, so a stiff friction
 mode is damped per step by ``|R(−λ_f·h)|`` only, which bounds the step (below).
 
@@ -88,15 +94,28 @@ What bounds it (:func:`rvcore.timestep.imex_time_step`):
   no speed (the ring's weight alone, balls rattling) blows up just past it.
 
 Once a contact is in the tangents its oscillation does not bound the step: the tableau
-is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of
-about (ω_n·h)²/108. The pockets' stiffness and the cage–land contact stay explicit
+is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against
+ω_n·h, a frequency error of about (ω_n·h)²/108: 8 % at ω_n·h = 3.2, the onset bound's.
+That is the likely reason why the steady metrics that carry the contact's ring-downs
+miss docs/model.md §9.6 at this step (docs/performance.md). The pockets' stiffness and the cage–land contact stay explicit
 (``rvcore.implicit``): their rates are far below the race contacts' (a ball on a 100 N
 pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
 these steps.
 
-The tangents and the factorization are evaluated every :data:`JAC_EVERY` steps (the
-splitting stays exact with a frozen ``J``; between, the step costs four right-hand sides
-and three solves).
+The tangents and the factorization are evaluated again when the contacts they were
+taken at have moved, and at least every :data:`TANGENT_MAX_STEPS` steps; between, a step
+costs four right-hand sides and three solves. The splitting stays exact with a frozen
+``J``: what a stale tangent leaves out (``J_true − J``) is integrated by the explicit
+tableau, so it must stay within that tableau's limits, and the energy a large oscillation
+keeps depends on it (tests/core/test_imex_conservation.py). Both follow the race contacts'
+loads: ``D`` of a contact in micro-slip is proportional to its load, and ``K`` to its
+cube root. So at each step's end (the last stage, at t + h) every ball's inner- and
+outer-race loads are compared with those the tangents were taken at; where one has moved
+by more than :data:`TANGENT_LOAD_TOL` of the case's peak contact load
+(:func:`rvcore.timestep.tangent_load_tolerance`), the next step evaluates them again. A
+ring-down or an impact then refreshes them every step; a running bearing, whose loads
+move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
+(docs/performance.md, "IMEX at MODEL_VERSION 11").
 
 Pocket impacts
 --------------
@@ -107,7 +126,8 @@ the pocket's elastic energy and the work the step gave its Hertz force disagree 
 than a tolerance, the step is taken again from its start as :data:`SUBSTEPS` substeps,
 each with its own tangents. The tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a
 race contact's elastic energy at the case's peak contact load (the load the step is sized
-on): what matters is the energy the bearing gains or loses, and a tolerance relative to
+on), scaled as the step's cube so that it puts no floor under the drift's convergence
+(:func:`rvcore.timestep.pocket_energy_tolerance`): what matters is the energy the bearing gains or loses, and a tolerance relative to
 each pocket's own energy would take the steady pocket contacts of a running bearing,
 whose errors are tiny in joules, in substeps too (4 % of the study cycle's steps at 1e-3 of
 their energy, against 0.4 % here: docs/performance.md).
@@ -121,7 +141,7 @@ from numba import njit
 
 from .arrowhead import factor, solve
 from .implicit import N_JWORK, N_SCHUR
-from .kernels import B_PP, B_PV, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
+from .kernels import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_kept
@@ -130,12 +150,12 @@ from .pocket_check import pocket_energy_kept
 A21, A32, A43 = 0.5, 0.5, 1.0
 B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
 #: The implicit tableau: the ESDIRK whose stability function is the all-pass
-#: ((1 + z/6)/(1 − z/6))³ (module docstring), γ = 1/6, b̂ = b, rows summing to c. Free
-#: entries I32, I42, I43 (one of them free within the family: I43 = ½ keeps the stage
-#: values smallest); the rest follow from the row sums.
+#: ((1 + z/6)/(1 − z/6))³ (module docstring), γ = 1/6, b̂ = b, rows summing to c. Of the
+#: family (``I32 = 2/(27·I43)``, ``I42 = 10/9 − I43 − 4/(27·I43)``), ``I43 = 1/3``: the
+#: stiffly accurate member (last row ``b̂``), with the least stage values.
 GAMMA = 1.0 / 6.0
-I32 = 4.0 / 27.0
-I42, I43 = 17.0 / 54.0, 0.5
+I32 = 2.0 / 9.0
+I42, I43 = 1.0 / 3.0, 1.0 / 3.0
 I21 = 0.5 - GAMMA
 I31 = 0.5 - GAMMA - I32
 I41 = 1.0 - GAMMA - I42 - I43
@@ -152,16 +172,28 @@ FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION
 #: tableau's imaginary-axis limit 2√2. ``ω_c = ω_n/√2``, one contact on the ball (the
 #: other side open, as for a ball that rattles) at the peak contact load.
 ONSET_LIMIT = 2.0 * math.sqrt(2.0)
-#: Steps one evaluation of the tangents and one factorization serve (module docstring,
-#: "Step"): every other step costs a right-hand side without the tangents and no
-#: factorization.
-JAC_EVERY = 2
+#: Most steps one evaluation of the tangents and one factorization serve (module
+#: docstring, "Step"), whatever the loads.
+TANGENT_MAX_STEPS = 8
+#: A race contact's load may move by this fraction of the case's peak contact load from
+#: the load the tangents were taken at before they are evaluated again (module docstring,
+#: "Step"). A stale friction tangent leaves ``D_true − D`` to the explicit tableau, whose
+#: real-axis limit 2.785 is 15 % of the implicit one at the default step
+#: (``0.8·FRICTION_LIMIT``): the bound for stability. Accuracy asks for less: in the
+#: ring-down of docs/model.md §9.4(a) the loads move by 0.1–1 % of the peak per step, and
+#: tangents that lag 1 % leave 2.5× the drift of tangents taken at every step
+#: (docs/performance.md, "IMEX at MODEL_VERSION 11"). A running bearing's loads move
+#: by a fraction of a newton per step, so :data:`TANGENT_MAX_STEPS` sets its refreshes.
+#: Read at each call of :func:`rvcore.timestep.tangent_load_tolerance`, so that a test can
+#: set it.
+TANGENT_LOAD_TOL = 0.001
 #: A step is taken again as :data:`SUBSTEPS` substeps where some pocket's energy error
 #: (:mod:`rvcore.pocket_check`) passes this fraction of the elastic energy of a race
-#: contact at the case's peak contact load (:func:`rvcore.timestep.pocket_energy_tolerance`;
-#: module docstring, "Pocket impacts"). Read at each call of that function, so that a
-#: test can set it.
-POCKET_ENERGY_TOL = 1e-7
+#: contact at the case's peak contact load, at the step of the onset limit and scaled as
+#: the step's cube (:func:`rvcore.timestep.pocket_energy_tolerance`; module docstring,
+#: "Pocket impacts"): 1.0e-7 at the default step (0.8 of the onset limit's). Read at
+#: each call of that function, so that a test can set it.
+POCKET_ENERGY_TOL = 2e-7
 #: Substeps of a step taken again: an eighth of the step keeps a Hertz impact's energy
 #: to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own tangents.
 SUBSTEPS = 8
@@ -171,16 +203,18 @@ SUBSTEPS = 8
 #: balls' centres, the ring's pose; 0 elsewhere: masks that keep the stage's loop free of
 #: branches), the balls' reference offset ỹ − y_n, the step's start y_n, and per ball
 #: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
-#: and whether any stage touched the pocket; ``work[W_SET, 0]`` is the pocket check's
-#: tolerance [J].
+#: and whether any stage touched the pocket; per ball the inner- and outer-race loads the
+#: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J] and
+#: ``work[W_SET, 1]`` the tangents' load tolerance [N].
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET = 14, 15, 16, 17, 18
-N_WORK = 19
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF = 14, 15, 16, 17, 18, 19
+N_WORK = 21
 
 
-def new_work(model, pocket_tolerance):
+def new_work(model, pocket_tolerance, load_tolerance):
     """``(work, jwork, schur)`` for :func:`rvcore.integrator.integrate` with the IMEX method;
-    ``pocket_tolerance`` [J] is the pocket check's (:func:`imex_step`)."""
+    ``pocket_tolerance`` [J] is the pocket check's and ``load_tolerance`` [N] the
+    tangents' (:func:`imex_step`)."""
     n = model.n_states
     work = np.zeros((N_WORK, n))
     inv_m = work[W_INVM]
@@ -202,6 +236,7 @@ def new_work(model, pocket_tolerance):
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     work[W_SET, 0] = pocket_tolerance
+    work[W_SET, 1] = load_tolerance
     return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
 
 
@@ -307,6 +342,19 @@ def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wor
     return torque, power
 
 
+@njit(cache=True, nogil=True, inline="always")
+def _tangents_stale(work, bdiag):
+    """Whether a ball's inner- or outer-race load in ``bdiag`` has moved from the one the
+    tangents were taken at (``work[W_QREF]``, ``work[W_QREF + 1]``) by more than the
+    load tolerance ``work[W_SET, 1]`` (module docstring, "Step")."""
+    tol = work[W_SET, 1]
+    for k in range(bdiag.shape[0]):
+        if (abs(bdiag[k, B_QI] - work[W_QREF, k]) > tol
+                or abs(bdiag[k, B_QO] - work[W_QREF + 1, k]) > tol):
+            return True
+    return False
+
+
 @njit(cache=True, nogil=True)
 def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
               inner):
@@ -331,10 +379,17 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     substepped : bool
         Whether the step was taken again: the tangents left in ``jwork`` are then the last
         substep's, and the next step must evaluate its own.
+    stale : bool
+        Whether the race contacts' loads at the step's last stage have moved from those
+        the tangents were taken at by more than the load tolerance (module docstring,
+        "Step"): the next step must evaluate its own.
     """
     n = y.size
     if refresh:
         factor(jwork, schur, rows, work[W_M])
+        for k in range(bdiag.shape[0]):
+            work[W_QREF, k] = bdiag[k, B_QI]
+            work[W_QREF + 1, k] = bdiag[k, B_QO]
     first, first_power = B1 * diag[D_DRIVE_TORQUE], B1 * diag[D_DRIVE_POWER]
     for m in range(n):
         work[W_Y0, m] = y[m]
@@ -344,7 +399,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
     torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
     if pocket_energy_kept(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH], work[W_SET, 0]):
-        return torque, power, False
+        return torque, power, False, _tangents_stale(work, bdiag)
     for m in range(n):
         y[m] = work[W_Y0, m]
     h = dt / SUBSTEPS
@@ -360,4 +415,4 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
                                      schur)
         total += B1 * diag_torque + later
         total_power += B1 * diag_power + later_power
-    return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True
+    return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True, True

@@ -21,7 +21,7 @@ from .accumulate import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_inte
                          write_series)
 from .contact import FAST
 from .energy import kinetic_energy
-from .imex import GAMMA, JAC_EVERY, SUBSTEPS, imex_step
+from .imex import GAMMA, SUBSTEPS, TANGENT_MAX_STEPS, imex_step
 from .kernels import D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
 from .model import P_RING_IP
 from .profile import CH_SPEED, channel_rate
@@ -81,6 +81,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         Lines written to ``out``.
     substepped : int
         IMEX steps taken again in substeps (:func:`rvcore.imex.imex_step`); 0 for RK4.
+    refreshes : int
+        Steps that evaluated and factored the IMEX tangents (substeps not counted); 0 for
+        RK4.
     """
     n = y.size
     k1 = work[0]
@@ -91,17 +94,22 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     # a torque held over each step, started at the first step's torque
     decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
     torque_f1, torque_f2 = 0.0, 0.0
-    since = JAC_EVERY      # steps since the IMEX tangents were evaluated
+    since = TANGENT_MAX_STEPS  # steps since the IMEX tangents were evaluated
+    stale = True               # the IMEX tangents no longer fit the contacts' loads
+    refreshes = 0
     substepped = 0
     end_half = half        # the trapezoid's end weight of the step just taken
     for i in range(n_steps + 1):
         t = t_start + i * dt
         # the outputs' signals at the step's state (the stages skip the costly ones); the
-        # IMEX scheme's tangents from the same evaluation, every JAC_EVERY steps (they
-        # stay frozen in between: rvcore.imex, "Step"), and after a step taken in substeps
-        refresh = since >= JAC_EVERY
+        # IMEX scheme's tangents from the same evaluation where the contacts' loads have
+        # moved from those they were taken at, after TANGENT_MAX_STEPS steps, and after a
+        # step taken in substeps (they stay frozen in between: rvcore.imex, "Step")
+        refresh = stale or since >= TANGENT_MAX_STEPS
         if refresh:
             since = 0
+            if method == IMEX:
+                refreshes += 1
         if method == IMEX and refresh:
             rhs_jac(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
         else:
@@ -113,9 +121,9 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if not math.isfinite(total):
             for m in range(n):
                 if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
-                    return NONFINITE, t, m, n_out, substepped
+                    return NONFINITE, t, m, n_out, substepped, refreshes
         if diag[D_MAX_PEN] > pen_limit:
-            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, substepped
+            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, substepped, refreshes
         fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal)
         if i > 0:
             tp = t - dt
@@ -128,7 +136,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                     reduce_step(acc[k], reductions, diag, t, 0, half)
         if i % out_every == 0 or i == n_steps:
             if kinetic_energy(y, params, rows) > ke_limit:
-                return ENERGY, t, -1, n_out, substepped
+                return ENERGY, t, -1, n_out, substepped, refreshes
             write_series(out[n_out], series, diag)
             n_out += 1
         if i == n_steps:
@@ -139,14 +147,13 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         torque = B1 * diag[D_DRIVE_TORQUE]
         power = B1 * diag[D_DRIVE_POWER]
         if method == IMEX:
-            later, later_power, again = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag,
-                                                  work, jwork, schur, refresh, inner)
+            later, later_power, again, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+                                                         bdiag, work, jwork, schur, refresh, inner)
             torque += later
             power += later_power
             since = since + 1
             end_half = half
             if again:      # the integrals over its substeps (rvcore.accumulate.add_substep_integrals)
-                since = JAC_EVERY
                 substepped += 1
                 end_half = half / SUBSTEPS
                 for k in range(n_ph + 1):
@@ -178,33 +185,35 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         for k in range(n_ph + 1):
             if _in_window(phases, k, n_ph, t):
                 reduce_step(acc[k], reductions, diag, t, 1, half)
-    return OK, t_start + n_steps * dt, -1, n_out, substepped
+    return OK, t_start + n_steps * dt, -1, n_out, substepped, refreshes
 
 
-def new_work(model, method: str, pocket_tolerance: float):
+def new_work(model, method: str, pocket_tolerance: float, load_tolerance: float):
     """The scratch arrays ``(work, jwork, schur)`` that :func:`integrate` needs for ``method``
-    (``pocket_tolerance`` [J]: the IMEX pocket check's, :func:`rvcore.imex.imex_step`)."""
+    (``pocket_tolerance`` [J] and ``load_tolerance`` [N]: the IMEX pocket check's and
+    tangents', :func:`rvcore.imex.imex_step`)."""
     if method == "rk4":
         from .rk4 import N_WORK
 
         return np.zeros((N_WORK, model.n_states)), np.zeros((1, 1)), np.zeros((1, 1))
     from . import imex
 
-    return imex.new_work(model, pocket_tolerance)
+    return imex.new_work(model, pocket_tolerance, load_tolerance)
 
 
 def advance(method: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
-            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance):
+            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance, load_tolerance):
     """:func:`integrate` with ``method`` by name (:data:`METHODS`), the plan's arrays and
     the method's scratch.
 
-    ``pocket_tolerance`` [J] is the IMEX pocket check's
-    (:func:`rvcore.timestep.pocket_energy_tolerance`). Returns ``(status, t_fail, where,
-    n_out, substepped)`` as :func:`integrate`.
+    ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
+    tangents' (:func:`rvcore.timestep.pocket_energy_tolerance`,
+    :func:`rvcore.timestep.tangent_load_tolerance`). Returns ``(status, t_fail, where,
+    n_out, substepped, refreshes)`` as :func:`integrate`.
     """
     if method not in METHODS:
         raise ValueError(f"unknown integrator {method!r}: use one of {', '.join(METHODS)}")
-    work, jwork, schur = new_work(model, method, pocket_tolerance)
+    work, jwork, schur = new_work(model, method, pocket_tolerance, load_tolerance)
     return integrate(y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
                      table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
                      pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur, np.zeros(diag.size))

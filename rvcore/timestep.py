@@ -125,19 +125,42 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     return safety * min(dts)
 
 
-def pocket_energy_tolerance(model, peak_contact_load: float) -> float:
-    """The IMEX pocket check's tolerance [J] (:func:`rvcore.imex.imex_step`):
+def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:
+    """The IMEX pocket check's tolerance [J] (:func:`rvcore.imex.imex_step`) at the step
+    ``time_step`` [s].
+
+    Notes
+    -----
     :data:`rvcore.imex.POCKET_ENERGY_TOL` of ``⅖·Q·δ``, the elastic energy of a race
     contact at ``Q = peak_contact_load`` [N] (``δ = (Q/K)^(2/3)``, K of the row's stiffest
-    arc; the smallest over the rows). On the study case 2.6e-9 J."""
+    arc; the smallest over the rows), at the step of the onset limit
+    ``h₀ = ONSET_LIMIT·√2/ω_n`` (:func:`imex_time_step`), and scaled as ``(h/h₀)³``::
+
+        tol = POCKET_ENERGY_TOL · ⅖·Q·δ · (h/h₀)³
+
+    Why the cube: an impact the check lets pass leaves an error of up to the tolerance at
+    each of its steps, ``τ/h`` of them (τ the impact's duration); ``(h/h₀)³`` makes that
+    fall as h², the scheme's order, so that the check puts no floor under the drift's
+    convergence when the step is halved (docs/model.md §9.4(a)). At the study case's
+    default step, 1.0e-7 of 26 mJ: 2.6e-9 J.
+    """
     q = max(peak_contact_load, 1.0)
-    energies = []
+    energies, onset = [], []
     for r in range(model.rows.shape[0]):
         row = model.rows[r]
         a0, na = int(row[R_ARC0]), int(row[R_NARC])
         k_hertz = model.arcs[a0:a0 + na, A_K].max()
         energies.append(0.4 * q * (q / k_hertz) ** (2.0 / 3.0))
-    return imex.POCKET_ENERGY_TOL * min(energies)
+    for omega, _, _ in row_rates(model, q):
+        onset.append(ONSET_LIMIT * math.sqrt(2.0) / omega)
+    return imex.POCKET_ENERGY_TOL * min(energies) * (time_step / min(onset)) ** 3
+
+
+def tangent_load_tolerance(peak_contact_load: float) -> float:
+    """The load [N] by which a race contact may move before the IMEX tangents are
+    evaluated again (:func:`rvcore.imex.imex_step`): :data:`rvcore.imex.TANGENT_LOAD_TOL`
+    of ``peak_contact_load`` [N]. On the study case 3.6 N."""
+    return imex.TANGENT_LOAD_TOL * max(peak_contact_load, 1.0)
 
 
 def row_rates(model, q: float):

@@ -160,27 +160,29 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks):
     """Advance ``y`` in place by ``chunks`` × ``per`` steps of ``dt`` [s] with
     :func:`rvcore.integrator.advance` (no sensors, no output kept), yielding the time [s]
     and the per-ball diagnostics after each chunk. A status other than OK raises. The IMEX
-    pocket check has the case's own tolerance
-    (:func:`rvcore.timestep.pocket_energy_tolerance` at the loads' peak contact load)."""
+    pocket check and tangents have the case's own tolerances
+    (:func:`rvcore.timestep.pocket_energy_tolerance` at the loads' peak contact load and
+    the step, :func:`rvcore.timestep.tangent_load_tolerance`)."""
     import numpy as np
 
     from rvcore import integrator as ig
     from rvcore.accumulate import build_plan, new_accumulators
     from rvcore.initial_state import peak_contact_load
     from rvcore.kernels import new_diagnostics
-    from rvcore.timestep import pocket_energy_tolerance
+    from rvcore.timestep import pocket_energy_tolerance, tangent_load_tolerance
 
     table, meta = resolved.arrays()
     plan = build_plan(model.rows.shape[0], 0)
     out = np.zeros((per + 2, plan.series.shape[0]))
     acc = new_accumulators(plan, resolved.phases.shape[0])
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
-    pocket_tolerance = pocket_energy_tolerance(model, peak_contact_load(model, resolved))
+    q_peak = peak_contact_load(model, resolved)
+    pocket_tolerance = pocket_energy_tolerance(model, q_peak, dt)
     t = 0.0
     for _ in range(chunks):
         status, *_ = ig.advance(method, y, t, dt, per, per, model, table, meta, resolved.phases,
                                 np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9,
-                                np.ones(model.rows.shape[0]), pocket_tolerance)
+                                np.ones(model.rows.shape[0]), pocket_tolerance, tangent_load_tolerance(q_peak))
         if status != ig.OK:
             raise RuntimeError(f"{method} stopped with status {status} at t = {t} s")
         t += per * dt

@@ -332,12 +332,13 @@ def _metric_changes(coarse, fine):
     return out
 
 
-def _convergence(scale, z):
+def _convergence(scale, z, method="rk4"):
     bearing = section_bearing(z)
     op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
     prof = scaled_study_profile(scale)
-    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, gravity=False))
-    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=False))
+    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, gravity=False, method=method))
+    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=False,
+                                                      method=method))
     assert fine.info["time_step"] == pytest.approx(coarse.info["time_step"] / 10, rel=1e-3)
     return _metric_changes(coarse, fine)
 
@@ -350,6 +351,20 @@ def test_convergence_tenfold_smaller_step():
     ≤ 0.01 %.
     """
     for name, change in _convergence(0.05, 12).items():
+        limit = 1e-3 if name == "cage_slip" else 0.01
+        assert np.all(change < limit), (name, change)
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "open for IMEX (issue 27): at its default step (9.1 µs here) the steady metrics that carry the "
+    "contact oscillation's ring-downs move by more than 1 % against a tenth of the step (the displacement "
+    "std by 4.9 % and 3.0 %, the ranges by 1.5 % and 1.1 %, the torque peak by 1.6 %), converging at about "
+    "first order; with damping off by up to 9 %, while neither the pocket check nor the tangents' age "
+    "changes them. The likely cause: the all-pass tableau's phase error, 8 % of the contact frequency at "
+    "ω_n·h = 3.2 (docs/performance.md)"))
+def test_imex_convergence_tenfold_smaller_step():
+    """§9.6 for the IMEX integrator: the same check on the same case."""
+    for name, change in _convergence(0.05, 12, "imex").items():
         limit = 1e-3 if name == "cage_slip" else 0.01
         assert np.all(change < limit), (name, change)
 
