@@ -96,8 +96,8 @@ What bounds it (:func:`rvcore.timestep.imex_time_step`):
 Once a contact is in the tangents its oscillation does not bound the step: the tableau
 is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against
 ω_n·h, a frequency error of about (ω_n·h)²/108: 8 % at ω_n·h = 3.2, the onset bound's.
-That is the likely reason why the steady metrics that carry the contact's ring-downs
-miss docs/model.md §9.6 at this step (docs/performance.md). The pockets' stiffness and the cage–land contact stay explicit
+Unlike RK4's, the scheme does not damp high-frequency motion. A likely reason why IMEX's
+steady fluctuation metrics miss docs/model.md §9.6 (docs/performance.md). The pockets' stiffness and the cage–land contact stay explicit
 (``rvcore.implicit``): their rates are far below the race contacts' (a ball on a 100 N
 pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
 these steps.
