@@ -332,12 +332,12 @@ def _metric_changes(coarse, fine):
     return out
 
 
-def _convergence(scale, z, method="rk4"):
+def _convergence(scale, z, method="rk4", gravity=False):
     bearing = section_bearing(z)
     op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
     prof = scaled_study_profile(scale)
-    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, gravity=False, method=method))
-    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=False,
+    coarse = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, gravity=gravity, method=method))
+    fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=gravity,
                                                       method=method))
     assert fine.info["time_step"] == pytest.approx(coarse.info["time_step"] / 10, rel=1e-3)
     return _metric_changes(coarse, fine)
@@ -356,14 +356,63 @@ def test_convergence_tenfold_smaller_step():
 
 
 @pytest.mark.xfail(strict=True, reason=(
-    "open for IMEX (issue 27): at its default step (9.1 µs here) the steady metrics that carry the "
-    "contact oscillation's ring-downs move by more than 1 % against a tenth of the step (the displacement "
-    "std by 4.9 % and 3.0 %, the ranges by 1.5 % and 1.1 %, the torque peak by 1.6 %). Not a smooth "
-    "step error: over step_safety 0.8 to 0.1 the stds scatter by up to 3 % without converging "
-    "(docs/performance.md, 'IMEX at MODEL_VERSION 11')"))
+    "open for IMEX (issue 27): at its default step (9.1 µs here) the steady metrics move by more than 1 % "
+    "against a tenth of the step (the displacement std by 4.9 % and 3.0 %, the ranges by 1.5 % and 1.1 %, "
+    "the torque peak by 1.6 %). The steady phase is a chain of pocket impacts, each ringing the ring's "
+    "1.05 kHz mode; IMEX's second-order error (test_imex_trajectory_converges_at_second_order) shifts "
+    "their timing, and the stds, the ring-downs' interference, scatter until step_safety 0.05, below "
+    "RK4's own step (docs/performance.md, '§9.6 on the study bearing')"))
 def test_imex_convergence_tenfold_smaller_step():
     """§9.6 for the IMEX integrator: the same check on the same case."""
     for name, change in _convergence(0.05, 12, "imex").items():
+        limit = 1e-3 if name == "cage_slip" else 0.01
+        assert np.all(change < limit), (name, change)
+
+
+def test_imex_trajectory_converges_at_second_order():
+    """IMEX's pair is of order 2 (test_imex_conservation.py: its implicit tableau is all-pass,
+    and all-pass with a positive diagonal allows no more). Its trajectory on the 12-ball
+    section must show that order: over the load ramp of the 1/20 cycle (30 kN + 10 kN from
+    zero in 15 ms, no rotation yet, no pocket impact), the ring's δ_r and δ_a against RK4 at
+    its default step differ by an error that falls as h² between step_safety 0.4 and 0.2.
+
+    RK4's own error there (against a fifth of its step) must be a hundredth of IMEX's for the
+    reference to be one. Measured: IMEX 5.2e-9 m at 4.0 µs, 1.6e-9 m at 2.2 µs (order 2.0);
+    the ring's 1.05 kHz ring-down that the ramp excites runs off in phase. It is this error,
+    about 1e-4 of the ring's travel at the default step, that the steady phase's impact
+    chain amplifies (test_imex_convergence_tenfold_smaller_step, above).
+    """
+    bearing = section_bearing(12)
+    op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
+    prof = scaled_study_profile(0.05)
+    ramp_end = prof.phases[0][1]          # the start-up phase opens where the load ramp ends
+
+    def run(method, safety):
+        return run_case(bearing, prof, op, SolverSettings(output_rate=50e3, gravity=False, method=method,
+                                                          step_safety=safety, end_time=ramp_end))
+
+    ref, ref_fine = run("rk4", 0.8), run("rk4", 0.16)
+    coarse, fine = run("imex", 0.4), run("imex", 0.2)
+
+    def error(res):
+        return max(np.abs(res.series[n] - ref.series[n]).max() for n in ("radial_displacement", "axial_displacement"))
+
+    e_coarse, e_fine = error(coarse), error(fine)
+    assert error(ref_fine) < 0.01 * e_fine
+    order = math.log(e_coarse / e_fine) / math.log(coarse.info["time_step"] / fine.info["time_step"])
+    assert 1.7 < order < 2.4, (e_coarse, e_fine, order)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "the 12-ball section in gravity is no §9.6 case for either integrator: its steady phase is a chain of "
+    "pocket impacts whose timing a tenth of RK4's step moves (steady δ_a std 4.8 %, δ_r range 4.1 %, the "
+    "deceleration's δ_a range 3.3 %, a pocket-force peak 6.9 %); docs/performance.md, '§9.6 on the study bearing'"))
+def test_convergence_tenfold_smaller_step_in_gravity():
+    """The check above with the ring's weight on: RK4 does not pass it either. §9.6 for the
+    default integrator is therefore also run on the unreduced study bearing, in gravity
+    (tests/core/test_imex_accuracy.py::test_imex_convergence_tenfold_smaller_step_on_the_study_bearing)."""
+    for name, change in _convergence(0.05, 12, gravity=True).items():
         limit = 1e-3 if name == "cage_slip" else 0.01
         assert np.all(change < limit), (name, change)
 
