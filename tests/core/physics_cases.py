@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from rvcore.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row
 from rvcore.profile import Channel, Profile
 
@@ -163,7 +165,6 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks):
     pocket check and tangents have the case's own tolerances
     (:func:`rvcore.timestep.pocket_energy_tolerance` at the loads' peak contact load and
     the step, :func:`rvcore.timestep.tangent_load_tolerance`)."""
-    import numpy as np
 
     from rvcore import integrator as ig
     from rvcore.accumulate import build_plan, new_accumulators
@@ -188,3 +189,17 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks):
         t += per * dt
         yield t, bdiag
 
+
+def phase_metric_changes(coarse, fine):
+    """Relative change of every displacement, speed and pressure metric; absolute of the slip."""
+    out = {}
+    for name, v in fine.phase_metrics.items():
+        if name.endswith(("_time", "_at_edge")) or name.startswith("phase_"):
+            continue   # when an extreme occurs, and whether at an edge, are locators, not magnitudes
+        if name.startswith("cage_slip"):
+            out[name] = np.abs(coarse.phase_metrics[name] - v)
+        elif name != "inner_ring_speed_mean":  # prescribed
+            c = coarse.phase_metrics[name]
+            # a force that is zero in both (no cage-land contact in a phase) has converged
+            out[name] = np.where((c == 0) & (v == 0), 0.0, np.abs(c / np.where(v == 0, np.nan, v) - 1))
+    return out

@@ -46,7 +46,7 @@ from rvcore.model import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.quasistatic import solve_statics
 from tests.core.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
-                                      ramp_profile, run_in_chunks, section_bearing)
+                                      phase_metric_changes, ramp_profile, run_in_chunks, section_bearing)
 
 STUDY_SPEED = math.radians(660.0)  # the study's top speed [rad/s]
 EZ = np.array([0.0, 0.0, 1.0])
@@ -317,21 +317,6 @@ def test_load_angle_rotates_response(k):
 # --------------------------------------------------------------------------- convergence
 
 
-def _metric_changes(coarse, fine):
-    """Relative change of every displacement, speed and pressure metric; absolute of the slip."""
-    out = {}
-    for name, v in fine.phase_metrics.items():
-        if name.endswith(("_time", "_at_edge")) or name.startswith("phase_"):
-            continue   # when an extreme occurs, and whether at an edge, are locators, not magnitudes
-        if name.startswith("cage_slip"):
-            out[name] = np.abs(coarse.phase_metrics[name] - v)
-        elif name != "inner_ring_speed_mean":  # prescribed
-            c = coarse.phase_metrics[name]
-            # a force that is zero in both (no cage-land contact in a phase) has converged
-            out[name] = np.where((c == 0) & (v == 0), 0.0, np.abs(c / np.where(v == 0, np.nan, v) - 1))
-    return out
-
-
 def _convergence(scale, z, method="rk4", gravity=False):
     bearing = section_bearing(z)
     op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
@@ -340,7 +325,7 @@ def _convergence(scale, z, method="rk4", gravity=False):
     fine = run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=0.08, gravity=gravity,
                                                       method=method))
     assert fine.info["time_step"] == pytest.approx(coarse.info["time_step"] / 10, rel=1e-3)
-    return _metric_changes(coarse, fine)
+    return phase_metric_changes(coarse, fine)
 
 
 def test_convergence_tenfold_smaller_step():

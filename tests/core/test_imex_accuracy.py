@@ -78,6 +78,7 @@ import pytest
 from rvcore.driver import run_case
 from rvcore.settings import SolverSettings
 from rvcore.profile import OperatingPoint
+from tests.core.physics_cases import phase_metric_changes
 
 REPO = Path(__file__).resolve().parents[2]
 CANDIDATE_ENV = "RV_IMEX_ACCURACY_CANDIDATE"
@@ -209,7 +210,7 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing():
     """docs/model.md §9.6 in its unreduced form for IMEX: the study bearing (51 balls), the
     study cycle to the end of its last phase, in gravity; the default step (29.4 µs) against
     a tenth of it. Every phase metric moves by less than 1 % (the cage slips by less than
-    0.001 absolute), the rules of tests/core/test_dynamics.py::_metric_changes.
+    0.001 absolute), the rules of tests/core/physics_cases.py::phase_metric_changes.
 
     The reduced 12-ball section of test_dynamics.py is where IMEX fails the same check: its
     steady phase is a chain of pocket impacts that RK4 itself does not converge on once
@@ -217,8 +218,6 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing():
     worst change 0.22 % (the start-up pocket-force peak), every steady metric ≤ 0.14 %.
     About 70 s on two cores (the fine run is 1.56 million steps).
     """
-    from tests.core.test_dynamics import _metric_changes
-
     bearing, profile, op = study_case()
     end = max(p[2] for p in profile.phases)
     jobs = [SolverSettings(method="imex", end_time=end),
@@ -226,7 +225,7 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing():
     with ThreadPoolExecutor(max_workers=2) as pool:   # the kernels release the GIL
         coarse, fine = pool.map(lambda s: run_case(bearing, profile, op, s), jobs)
     assert fine.info["time_step"] == pytest.approx(coarse.info["time_step"] / 10, rel=0.02)
-    changes = _metric_changes(coarse, fine)
+    changes = phase_metric_changes(coarse, fine)
     assert len(changes) >= 20, sorted(changes)   # displacements, speeds, forces, energies, lives
     for name, change in changes.items():
         limit = 1e-3 if name.startswith("cage_slip") else 0.01
