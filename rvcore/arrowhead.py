@@ -16,7 +16,7 @@ from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, J_W, S_K
 from .model import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def factor(jwork, schur, rows, mass):
     """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.kernels.rhs_jac`
     accumulated.
@@ -116,7 +116,7 @@ def factor(jwork, schur, rows, mass):
             schur[i, c] = s * inv
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def solve(v, jwork, schur, rows, mass):
     """Overwrite the velocities of the balls and the ring in the increment ``v`` with
     ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its

@@ -54,6 +54,12 @@ from .model import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 # Still CPU-dependent: the system libm's sin/cos (glibc picks an FMA variant at run time),
 # used only for the ring tilt and the cage angle. What it costs: docs/performance.md.
 FAST = False
+# Every kernel compiles with ``error_model="numpy"``: a division by zero gives ±inf or NaN,
+# as IEEE-754 says, instead of raising. A step that blows up (a state gone to inf, then
+# 1/inf = 0 as a divisor) then reaches the NaN/Inf check of
+# :func:`rvcore.integrator.integrate`, which names the time and the body; under numba's
+# default "python" model it escaped as a bare ZeroDivisionError (IMEX at a step 20× its
+# own, 2026-11-27). Quotients that do not fault are the same bits under either model.
 
 #: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
 #: more than this normal load on the inner race *and* on the outer race [N]: it passes

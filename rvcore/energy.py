@@ -32,7 +32,7 @@ def pocket_energy(y, rows, pockets, r, j, cphi, sphi):
     return hertz_energy(rows[r, R_POCKET_K], d)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def kinetic_energy(y, params, rows):
     """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded)."""
     e = 0.5 * params[P_RING_M] * (y[5] ** 2 + y[6] ** 2 + y[7] ** 2)
@@ -49,7 +49,7 @@ def kinetic_energy(y, params, rows):
     return e
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     """Elastic energy of every contact minus the work potential of the applied loads [J].
 

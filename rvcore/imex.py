@@ -358,7 +358,7 @@ def _tangents_stale(work, bdiag):
     return False
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, error_model="numpy")
 def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
               inner):
     """Advance ``y`` by one IMEX step of ``dt``.

@@ -54,7 +54,7 @@ def _in_window(phases, k, n_ph, t):
 
 # FAST (rvcore.contact: no fast-math flags) keeps IEEE semantics, so the non-finite check
 # below works and the state sums are rounded in the same order on every CPU.
-@njit(cache=True, nogil=True, fastmath=FAST)
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
               cos_nominal, method, jwork, schur, inner):

@@ -18,7 +18,7 @@ B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
 N_WORK = 5
 
 
-@njit(cache=True, nogil=True, fastmath=FAST)
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work):
     """Advance ``y`` by one RK4 step of ``dt``; ``work[0]`` holds ``F(t, y)`` on entry.
 

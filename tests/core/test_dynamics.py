@@ -551,3 +551,16 @@ def test_phase_metrics_match_dense_series():
         m = (coarse.time >= start) & (coarse.time < end)
         x = coarse.series["radial_displacement"][m]
         assert np.ptp(x) <= res.phase_metrics["radial_displacement_range"][k] * (1 + 1e-12)
+
+
+def test_imex_blow_up_is_a_simulation_error():
+    """IMEX at a step 20× its own on the blow-up case above: the integration runs away and
+    must stop with the SimulationError that names the time and the body, never with an
+    exception from inside a kernel (a division by a quantity gone to zero raised
+    ZeroDivisionError before every kernel used numba's "numpy" error model)."""
+    bearing = section_bearing(12)
+    with pytest.raises(SimulationError) as err:
+        run_case(bearing, constant_profile(0.005, 0.03, speed_ramp=0.01), OperatingPoint(10.0, 20e3, 8e3),
+                 SolverSettings(time_step=2e-4, gravity=False, method="imex"))
+    assert re.search(r"t = [0-9.eE+-]+ s", str(err.value))
+    assert re.search(BODY, str(err.value)), str(err.value)
