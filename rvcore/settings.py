@@ -16,9 +16,10 @@ class SolverSettings:
         Samples per second of the stored time series [Hz]. Phase metrics do not depend
         on it: they are accumulated at every integrator step.
     method : str
-        The integrator: ``"rk4"`` (classical RK4, the reference) or ``"imex"`` (the
-        coupled implicit–explicit additive Runge–Kutta scheme of :mod:`rvcore.imex`:
-        friction at small slip and contact damping implicit, the rest explicit).
+        The integrator: ``"imex"``, the default (the coupled implicit–explicit additive
+        Runge–Kutta scheme of :mod:`rvcore.imex`: the ball–race Hertz stiffness, friction
+        at small slip and contact damping implicit, the rest explicit; about 4× faster on
+        the study cycle), or ``"rk4"`` (classical RK4, the reference it is checked against).
     step_safety : float
         Fraction of the method's explicit stability limit used as the fixed step [-].
     time_step : float
@@ -40,7 +41,7 @@ class SolverSettings:
     """
 
     output_rate: float = 1000.0
-    method: str = "rk4"
+    method: str = "imex"
     step_safety: float = 0.8
     time_step: float = 0.0
     start_time: float = 0.0

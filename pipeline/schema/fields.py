@@ -332,7 +332,7 @@ _PROFILE += [Field(f"phases.{_p}", "list", "profile", "time", "nonnegative", uni
 
 _SOLVER_DOC = {
     "output_rate": ("frequency", "Hz", "positive", "stored samples per second"),
-    "method": (None, "", None, "integrator: rk4 (the reference) or imex (friction and damping implicit)"),
+    "method": (None, "", None, "integrator: imex (the default: contacts, friction and damping implicit) or rk4 (the reference)"),
     "step_safety": ("dimensionless", "", "fraction", "fraction of the method's explicit stability limit"),
     "time_step": ("time", "us", "nonnegative", "fixed step; 0 derives it from the stiffest contact"),
     "start_time": ("time", "s", "nonnegative", "start of the simulated window"),

@@ -2,6 +2,8 @@
 and says when numba is compiling."""
 from __future__ import annotations
 
+import dataclasses
+
 import math
 from pathlib import Path
 
@@ -30,9 +32,14 @@ def test_the_estimate_matches_the_measurements_it_claims():
     study case 1.60 times a 20 kN one."""
     smoke = read_sweep_file(REPO / "sweeps" / "smoke.toml")
     study = read_sweep_file(REPO / "sweeps" / "study.toml")
-    assert case_seconds(_case(smoke, 390, 30)) == pytest.approx(3.0, rel=0.2)
-    assert case_seconds(_case(study, 420, 30)) == pytest.approx(26.8, rel=0.2)
-    assert case_seconds(_case(study, 420, 40)) / case_seconds(_case(study, 420, 20)) == pytest.approx(1.60, rel=0.1)
+
+    def rk4(spec):
+        return dataclasses.replace(spec, settings=dataclasses.replace(spec.settings, method="rk4"))
+
+    assert case_seconds(rk4(_case(smoke, 390, 30))) == pytest.approx(3.0, rel=0.2)
+    assert case_seconds(rk4(_case(study, 420, 30))) == pytest.approx(26.8, rel=0.2)
+    assert (case_seconds(rk4(_case(study, 420, 40))) / case_seconds(rk4(_case(study, 420, 20)))
+            == pytest.approx(1.60, rel=0.1))
 
 
 @pytest.mark.parametrize("seconds, text", [(4, "4 s"), (44, "40 s"), (600, "10 min"), (3234, "54 min"),

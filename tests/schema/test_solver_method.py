@@ -53,9 +53,9 @@ def test_rk4_and_imex_cases_of_one_point_have_different_ids(tmp_path):
     ids = {m: read_sweep_file(make_sweep(tmp_path, f'[solver]\nmethod = "{m}"\n' + ONE_POINT, name=f"{m}.toml"))
            .cases[0].case_id for m in METHODS}
     assert len(set(ids.values())) == len(METHODS)
-    # rk4 written out is the same case as rk4 left to the default
+    # the default written out is the same case as the default left out
     default = read_sweep_file(make_sweep(tmp_path, ONE_POINT, name="default.toml")).cases[0].case_id
-    assert default == ids["rk4"]
+    assert default == ids[SolverSettings().method]
 
 
 def test_method_as_a_categorical_axis(tmp_path):
@@ -137,10 +137,16 @@ def test_stored_configuration_rejects_an_unknown_method(tmp_path):
 
 
 def test_a_stored_rk4_configuration_without_the_key_is_rk4_whatever_the_default(tmp_path, monkeypatch):
-    s = read_sweep_file(make_sweep(tmp_path, GRID))
-    assert "method" not in s.configuration   # rk4: left out, so the pinned ids hold
-    monkeypatch.setattr(SolverSettings, "__init__", _with_default_method(SolverSettings.__init__, "imex"))
-    assert stored_configuration(s.configuration).settings.method == "rk4"
+    s = read_sweep_file(make_sweep(tmp_path, '[solver]\nmethod = "rk4"\n' + GRID))
+    assert "method" not in s.configuration   # rk4: left out, as in every case file before IMEX
+    for default in METHODS:
+        monkeypatch.setattr(SolverSettings, "__init__", _with_default_method(SolverSettings.__init__, default))
+        assert stored_configuration(s.configuration).settings.method == "rk4"
+        monkeypatch.undo()
+    # the default (IMEX) is written out, so that it reads back as itself
+    s = read_sweep_file(make_sweep(tmp_path, GRID, name="default.toml"))
+    assert 'method = "imex"' in s.configuration
+    assert stored_configuration(s.configuration).settings.method == "imex"
 
 
 def _with_default_method(init, method):
@@ -158,7 +164,8 @@ def _cli_args(tmp_path, method=None, sets=()):
 
 
 def test_simulate_method_option_sets_the_method(tmp_path):
-    assert one_case_sweep(_cli_args(tmp_path), profile=None).cases[0].settings.method == "rk4"
+    assert one_case_sweep(_cli_args(tmp_path), profile=None).cases[0].settings.method == "imex"   # the default
+    assert one_case_sweep(_cli_args(tmp_path, "rk4"), profile=None).cases[0].settings.method == "rk4"
     assert one_case_sweep(_cli_args(tmp_path, "imex"), profile=None).cases[0].settings.method == "imex"
     with pytest.raises(ConfigError, match="given twice"):
         one_case_sweep(_cli_args(tmp_path, "imex", ["solver.method=rk4"]), profile=None)
@@ -169,5 +176,6 @@ def test_simulate_method_option_sets_the_method(tmp_path):
 def test_cost_estimate_counts_the_longer_imex_step(tmp_path):
     s = read_sweep_file(make_sweep(tmp_path, GRID))
     c = s.cases[0]
+    rk4 = dataclasses.replace(c, settings=dataclasses.replace(c.settings, method="rk4"))
     imex = dataclasses.replace(c, settings=dataclasses.replace(c.settings, method="imex"))
-    assert estimated_cost(imex) < estimated_cost(c)
+    assert estimated_cost(imex) < estimated_cost(rk4)
