@@ -116,8 +116,8 @@ def test_frictionless_bearing_runs_to_the_end_at_the_default_step():
 
 
 def test_ball_guided_cage_kinematics_and_deflection_in_gravity():
-    """§9.3 in gravity with a ball-guided cage: the deep-groove case to 0.1 s (RK4, default
-    step). The cage runs within 2 % of epicyclic, ``ω/2·(1 − D/d_m)`` at 0° (before the
+    """§9.3 in gravity with a ball-guided cage: the deep-groove case to 0.1 s (the default integrator at
+    its default step). The cage runs within 2 % of epicyclic, ``ω/2·(1 − D/d_m)`` at 0° (before the
     fix: 0.450 of the ring speed against 0.4328, 4 % over, with the cage 3 mm off the axis),
     stays within its play of the axis, and the ring's deflection holds within 1 % of the
     statics in gravity (before: a creep from 9.15 to 8.69 µm over 0.5 s as the drifting
@@ -235,8 +235,8 @@ def test_rocking_saturates_at_the_statics_tilted_equilibrium():
 
 
 def test_issue_case_holds_its_deflection_and_cage_speed_over_the_cycle():
-    """The deep-groove case's whole 0.5 s (RK4, default step): the steady and deceleration phases'
-    mean deflections within 1 % of the statics in gravity (before the fix: 8.69 µm at
+    """The deep-groove case's whole 0.5 s (the default integrator at its default step): the
+    steady and deceleration phases' mean deflections within 1 % of the statics in gravity (before the fix: 8.69 µm at
     0.5 s against 9.197, 5 % off) and the cage within 2 % of epicyclic (before: 4 % over)."""
     res = run_case(BEARING, _issue_profile(0.5), OP, SolverSettings(output_rate=1e3))
     st = solve_statics(BEARING, 500.0, 0.0, gravity=True)
@@ -247,8 +247,8 @@ def test_issue_case_holds_its_deflection_and_cage_speed_over_the_cycle():
 
 def test_convergence_with_the_step():
     """§9.6 on this family: a ten times smaller step changes the steady phase's mean
-    deflection and cage speed by less than 1 % (the deep-groove case to 0.15 s, RK4). The tilt
-    is left out: it grows from round-off (the rocking instability above), whose seed is
+    deflection and cage speed by less than 1 % (the deep-groove case to 0.15 s, the default
+    integrator). The tilt is left out: it grows from round-off (the rocking instability above), whose seed is
     the step's."""
     metrics = []
     for safety in (0.8, 0.08):

@@ -162,10 +162,10 @@ def test_imex_matches_rk4_on_the_study_cycle():
     end = max(p[2] for p in profile.phases)
     assert end < profile.duration   # only the unloading after the last phase is left out
 
-    jobs = {"reference": SolverSettings(step_safety=REFERENCE_SAFETY, end_time=end),
-            "rk4 default": SolverSettings(end_time=end),
+    jobs = {"reference": SolverSettings(method="rk4", step_safety=REFERENCE_SAFETY, end_time=end),
+            "rk4 default": SolverSettings(method="rk4", end_time=end),
             "candidate": candidate_settings(end)}
-    jobs.update({f"seed {s}": SolverSettings(seed=s, end_time=end) for s in ENSEMBLE_SEEDS})
+    jobs.update({f"seed {s}": SolverSettings(method="rk4", seed=s, end_time=end) for s in ENSEMBLE_SEEDS})
 
     def run(item):
         label, settings = item
