@@ -30,7 +30,8 @@ _PER_CYCLE_LOAD = 1.40e-5
 #: Seconds of one core per ball per step at a fixed time_step (RK4).
 _PER_BALL_STEP = 0.41e-6
 #: IMEX's cost of the integration relative to RK4's (``rvsweep bench``: 6.23 s against
-#: 23.7 s, MODEL_VERSION 9).
+#: 23.7 s, MODEL_VERSION 9). With it the model gives 603 s for the study sweep's cases on
+#: 2 workers with IMEX, the default since MODEL_VERSION 12, against 603.7 s measured.
 _METHOD = {"rk4": 1.0, "imex": 0.26}
 
 #: Above either, ``rvsweep sweep`` starts only with ``--yes``.
@@ -91,5 +92,5 @@ def say_if_compiling(stream=None) -> bool:
     if not kernels_need_compiling():
         return False
     print("compiling the numba kernels (once after an install or an rvcore change; about "
-          "a minute here, some minutes on a slow machine) ...", file=stream or sys.stderr, flush=True)
+          "2.5 minutes on a 2-core machine) ...", file=stream or sys.stderr, flush=True)
     return True
