@@ -73,6 +73,11 @@ D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_cont
 # energy and its rate (0.4·Q·δ, Q·δ̇ of the Hertz part: rvcore.imex's impact check)
 B_QI, B_QO, B_FIR, B_FOR, B_QP, B_PV, B_PP = 0, 1, 2, 3, 4, 5, 6
 N_BDIAG = 7
+#: What :func:`_rhs` computes besides dy/dt: the designer's diagnostics (MODE_FULL), only
+#: what the integrator needs (MODE_STAGE), or the diagnostics and the IMEX tangents
+#: (MODE_JAC). Floats, not booleans: numba compiles a function once per value of a
+#: boolean or integer constant argument, and :func:`_rhs` takes half a minute to compile.
+MODE_STAGE, MODE_FULL, MODE_JAC = 0.0, 1.0, 2.0
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -117,15 +122,15 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
       power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
       tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
     """
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, False, 0.0, bdiag, bdiag)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_FULL, 0.0, bdiag, bdiag)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
 def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
-    on): the integrator's intermediate RK4 stages, whose diagnostics nobody reads. The
-    same code with ``full`` a constant False, which the compiler removes."""
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, False, False, 0.0, bdiag, bdiag)
+    on): the integrator's intermediate stages, whose diagnostics nobody reads: the same
+    code, its branches for them not taken."""
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_STAGE, 0.0, bdiag, bdiag)
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -137,13 +142,19 @@ def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg,
     :mod:`rvcore.implicit`), from the geometry and slips of this same evaluation.
     ``hg`` is ``h·γ`` [s].
     """
-    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, True, True, hg, jwork, schur)
+    _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_JAC, hg, jwork, schur)
 
 
-@njit(nogil=True, fastmath=FAST, error_model="numpy", inline="always")
-def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, full, jac, hg, jwork, schur):
-    """The body of :func:`rhs` (``full`` True), :func:`rhs_stage` (False) and
-    :func:`rhs_jac` (``jac`` True)."""
+@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, hg, jwork, schur):
+    """The body of :func:`rhs` (``mode`` MODE_FULL), :func:`rhs_stage` (MODE_STAGE) and
+    :func:`rhs_jac` (MODE_JAC).
+
+    One compiled function for the three, not one inlined into each: each copy cost the
+    numba compile half a minute (docs/performance.md, "The numba compile"), and the
+    branches on ``mode``, the same at every call of a loop, cost nothing measurable."""
+    full = mode != MODE_STAGE
+    jac = mode == MODE_JAC
     # ---- applied loads and the prescribed speed
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
