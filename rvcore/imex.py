@@ -322,7 +322,8 @@ def _pocket_power(work, bdiag, weight):
             work[W_TOUCH, k] = 1.0
 
 
-@njit(cache=True, nogil=True, inline="always")
+# compiled once, not inlined: imex_step calls it for the step and for each substep
+@njit(cache=True, nogil=True, error_model="numpy")
 def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
     """The three implicit stages and the update ``y_{n+1} = y_n + h·Σ b_i·F_i`` (b̂ = b:
     the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
