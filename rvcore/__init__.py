@@ -8,7 +8,7 @@ Physics
 - ``contact``         every contact law once: STEP, Hertz with its damper, friction, penetrations
 - ``friction_law``    the friction law as data: its name and its record of parameters
 - ``ring_pose``       the inner ring's rotation, angular velocity and frame
-- ``raceway``         an imperfect raceway's radial shift and slope at a contact
+- ``raceway``         an imperfect raceway's radial shift and slope at a contact; its turned angle
 - ``imperfections``   eccentricities, waviness, ball sizes; a tolerance class realized from a seed
 - ``tolerances``      ISO 492 runout and ISO 3290 ball grades (tables with their sources)
 - ``model``           a Bearing compiled into flat arrays for the numba kernels

@@ -8,13 +8,12 @@ from numba import njit
 
 from .contact import cage_pocket_penetration, hertz_energy, land_penetration, race_arc_penetration
 from .ring_pose import ring_rotation, to_ring_frame
-from .kernels import spin_of
 from .model import (A_K, BALL_STATES, GUIDE_OUTER_LAND, P_GX, P_GY, P_GZ, P_RING_IT, P_RING_M, R_ARC0, R_BALL0,
                     R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI, R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT,
                     R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC, R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_R, R_Z,
                     R_ZROW)
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, channel_value
-from .raceway import ball_offsets
+from .raceway import ball_offsets, spin_of
 
 
 @njit(cache=True, nogil=True, inline="always")

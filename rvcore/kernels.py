@@ -49,9 +49,8 @@ from .model import (A_K, A_PC3, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, 
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .outputs import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
-from .profile import (CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_integral, channel_rate,
-                      channel_value)
-from .raceway import ball_offsets
+from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
+from .raceway import ball_offsets, spin_of
 
 # The slots of the diagnostics vector this kernel writes, by the names of the output
 # table (rvcore.outputs.SIGNALS, where each is described with its units). rhs() writes
@@ -78,18 +77,6 @@ N_BDIAG = 7
 #: (MODE_JAC). Floats, not booleans: numba compiles a function once per value of a
 #: boolean or integer constant argument, and :func:`_rhs` takes half a minute to compile.
 MODE_STAGE, MODE_FULL, MODE_JAC = 0.0, 1.0, 2.0
-
-
-@njit(cache=True, nogil=True, inline="always")
-def spin_of(rows, table, meta, t):
-    """Cosine and sine of the angle the inner ring has turned through by ``t`` (the
-    integral of the prescribed speed), which an imperfect inner raceway turns with;
-    (1, 0) when every row is perfect, which needs no angle."""
-    for r in range(rows.shape[0]):
-        if rows[r, R_IMPERFECT] != 0.0:
-            spin = channel_integral(table, meta, CH_SPEED, t)
-            return math.cos(spin), math.sin(spin)
-    return 1.0, 0.0
 
 
 def new_diagnostics(n_rows: int, n_balls: int, n_sensors: int = 0):

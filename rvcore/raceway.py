@@ -1,4 +1,5 @@
-"""Where an imperfect raceway is: the radial shift of a groove at a contact's angle.
+"""Where an imperfect raceway is: the radial shift of a groove at a contact's angle, and
+the angle the inner ring's raceway has turned through (:func:`spin_of`).
 
 The one place an imperfection enters the contact geometry (docs/model.md §12,
 :mod:`rvcore.imperfections`): the right-hand side, the potential energy and the statics
@@ -12,7 +13,8 @@ import math
 from numba import njit
 
 from .imperfections import MAX_WAVINESS_TERMS
-from .model import R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_NWAVE_I, R_NWAVE_O, R_WAVE0
+from .model import R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_IMPERFECT, R_NWAVE_I, R_NWAVE_O, R_WAVE0
+from .profile import CH_SPEED, channel_integral
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -58,3 +60,15 @@ def ball_offsets(rows, r, pockets, j, plx, ply, inv_rho_l, cos_spin, sin_spin, e
     dr_i, slope_i = raceway_offset(rows, r, False, ux, uy)
     dr_o, slope_o = raceway_offset(rows, r, True, erx, ery)
     return dr_i, dr_o, 0.5 * pockets[j, 2], slope_i, slope_o
+
+
+@njit(cache=True, nogil=True, inline="always")
+def spin_of(rows, table, meta, t):
+    """Cosine and sine of the angle the inner ring has turned through by ``t`` (the
+    integral of the prescribed speed), which an imperfect inner raceway turns with;
+    (1, 0) when every row is perfect, which needs no angle."""
+    for r in range(rows.shape[0]):
+        if rows[r, R_IMPERFECT] != 0.0:
+            spin = channel_integral(table, meta, CH_SPEED, t)
+            return math.cos(spin), math.sin(spin)
+    return 1.0, 0.0

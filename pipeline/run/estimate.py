@@ -92,5 +92,5 @@ def say_if_compiling(stream=None) -> bool:
     if not kernels_need_compiling():
         return False
     print("compiling the numba kernels (once after an install or an rvcore change; about "
-          "2.5 minutes on a 2-core machine) ...", file=stream or sys.stderr, flush=True)
+          "a minute on a 2-core machine) ...", file=stream or sys.stderr, flush=True)
     return True
