@@ -13,6 +13,7 @@ Physics
 - ``tolerances``      ISO 492 runout and ISO 3290 ball grades (tables with their sources)
 - ``model``           a Bearing compiled into flat arrays for the numba kernels
 - ``kernels``         the equations of motion (the right-hand side)
+- ``races``           the ball contacts of a row, every ball at once (the vectorised passes)
 - ``implicit``        the stiff velocity tangent of the contacts (the IMEX scheme's blocks)
 - ``energy``          kinetic and potential energy (the conservation checks)
 - ``profile``         service-cycle breakpoint tables (the run protocol as data)

@@ -86,12 +86,14 @@ def unit_step(d):
     -------
     float
         0 for ``d ≤ 0``, 1 for ``d ≥ 1``, ``d²·(3 − 2d)`` between [-].
+
+    Notes
+    -----
+    One expression of selects, as every law here that the ball–race contacts call: several
+    ``return`` statements become a switch that keeps LLVM from vectorising the loops of
+    :mod:`rvcore.races`.
     """
-    if d <= 0.0:
-        return 0.0
-    if d >= 1.0:
-        return 1.0
-    return d * d * (3.0 - 2.0 * d)
+    return 0.0 if d <= 0.0 else (1.0 if d >= 1.0 else d * d * (3.0 - 2.0 * d))
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -115,11 +117,8 @@ def step(x, x0, h0, x1, h1):
     h0, h1 : float
         Values below ``x0`` and above ``x1`` [units of h].
     """
-    if x <= x0:
-        return h0
-    if x >= x1:
-        return h1
-    return h0 + (h1 - h0) * unit_step((x - x0) / (x1 - x0))
+    inside = h0 + (h1 - h0) * unit_step((x - x0) / (x1 - x0))
+    return h0 if x <= x0 else (h1 if x >= x1 else inside)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -147,8 +146,13 @@ def damping_coefficient(delta, c_max, inv_dmax):
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
 def hertz_load(k, delta):
-    """Hertz load ``K·δ^1.5`` [N] for ``δ ≥ 0`` [m], ``K`` [N m^-1.5]."""
-    return k * delta * math.sqrt(delta)
+    """Hertz load ``K·δ^1.5`` [N] for ``δ ≥ 0`` [m], ``K`` [N m^-1.5].
+
+    The root is of ``|δ|``, the same number for δ ≥ 0: an argument LLVM cannot prove
+    non-negative keeps the C library's ``sqrt`` (it may set errno), a call that stops the
+    loops of :mod:`rvcore.races` from being vectorised.
+    """
+    return k * delta * math.sqrt(abs(delta))
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -186,11 +190,9 @@ def friction_coefficient(s, law):
     ``STEP(s, v_s, μ_s, v_d, μ_d)`` up to v_d, μ_d beyond.
     """
     mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
-    if s < v_s:
-        return step(s, -v_s, -mu_s, v_s, mu_s)
-    if s <= v_d:
-        return step(s, v_s, mu_s, v_d, mu_d)
-    return mu_d
+    rising = step(s, -v_s, -mu_s, v_s, mu_s)
+    falling = step(s, v_s, mu_s, v_d, mu_d)
+    return rising if s < v_s else (falling if s <= v_d else mu_d)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -229,16 +231,16 @@ def friction_per_slip(s2, law):
 
     Below ``v_s`` the study's law is odd in s: with ``x = s/v_s``,
     ``STEP(s, −v_s, −μ_s, v_s, μ_s) = μ_s·(1.5·x − 0.5·x³)`` (Δ = (1 + x)/2 in the cubic),
-    so ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs neither s nor a division: rolling
-    contacts, whose slip is small, cost no square root. tests/core/test_contact.py checks
-    that this form and :func:`friction_coefficient` agree over the whole range.
+    so ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs no division by a small slip.
+    tests/core/test_contact.py checks that this form and :func:`friction_coefficient` agree
+    over the whole range. Both forms are evaluated and one selected (:func:`unit_step`,
+    Notes): in the vector loops of :mod:`rvcore.races` the root costs next to nothing.
     """
-    inv_vs = law[LAW_INV_VS]
+    inv_vs, mu_s = law[LAW_INV_VS], law[LAW_MU_S]
     x2 = s2 * inv_vs * inv_vs
-    if x2 < 1.0:
-        return law[LAW_MU_S] * (1.5 - 0.5 * x2) * inv_vs
     s = math.sqrt(s2)
-    return friction_coefficient(s, law) / s
+    sliding = friction_coefficient(s, law) / s
+    return mu_s * (1.5 - 0.5 * x2) * inv_vs if x2 < 1.0 else sliding
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -282,17 +284,14 @@ def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
     ``n`` (unit), acting at the arm ``a`` from the ball centre [m]. Returns
     ``(fx, fy, fz, mx, my, mz)``.
     """
+    # the friction computed either way and selected (unit_step, Notes): its loads of the law
+    # inside a branch would keep LLVM from vectorising the loops of rvcore.races
+    on = law[LAW_ON] != 0.0
+    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, law)
     fx, fy, fz = -q * gx, -q * gy, -q * gz
-    mx, my, mz = 0.0, 0.0, 0.0
-    if law[LAW_ON] != 0.0:
-        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, law)
-        fx += ftx
-        fy += fty
-        fz += ftz
-        mx = ay * ftz - az * fty
-        my = az * ftx - ax * ftz
-        mz = ax * fty - ay * ftx
-    return fx, fy, fz, mx, my, mz
+    return (fx + ftx if on else fx, fy + fty if on else fy, fz + ftz if on else fz,
+            ay * ftz - az * fty if on else 0.0, az * ftx - ax * ftz if on else 0.0,
+            ax * fty - ay * ftx if on else 0.0)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -367,21 +366,21 @@ def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
     tan = -dxp * sth + dyp * cth           # offset across it, circumferential
     dperp2 = tan * tan + dzp * dzp
     # the ball's section is never wider than h: no contact unless dperp + h > pocket_r
-    if dperp2 <= (pocket_r - h) * (pocket_r - h):
-        return -1.0, 0.0, 0.0, 0.0, h
+    near = dperp2 > (pocket_r - h) * (pocket_r - h)
     dperp = math.sqrt(dperp2)
     # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at the
     # station nearest its centre, where its section radius is a_sec
     station = min(max(rad, cage_ri), cage_ro) - rad
     a_sec = math.sqrt(max(h * h - station * station, 0.0))
     delta = dperp + a_sec - pocket_r
-    if not (delta > 0.0 and dperp > 0.0 and a_sec > 1e-3 * h):
-        return -1.0, 0.0, 0.0, 0.0, a_sec
+    touch = near & (delta > 0.0) & (dperp > 0.0) & (a_sec > 1e-3 * h)
     inv = 1.0 / dperp
     ax = a_sec * ((-tan * sth) * inv) + station * cth
     ay = a_sec * ((tan * cth) * inv) + station * sth
     az = a_sec * (dzp * inv)
-    return delta, ax, ay, az, a_sec
+    # one return of selects (unit_step, Notes)
+    return (delta if touch else -1.0, ax if touch else 0.0, ay if touch else 0.0, az if touch else 0.0,
+            a_sec if near else h)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -404,10 +403,9 @@ def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
     ey = dyp - pitch_r * sth
     dist = math.sqrt(ex * ex + ey * ey + dzp * dzp)
     delta = dist + h - pocket_r
-    if not (delta > 0.0 and dist > 0.0):
-        return -1.0, 0.0, 0.0, 0.0, h
+    touch = (delta > 0.0) & (dist > 0.0)
     s = h / dist
-    return delta, ex * s, ey * s, dzp * s, h
+    return delta if touch else -1.0, ex * s if touch else 0.0, ey * s if touch else 0.0, dzp * s if touch else 0.0, h
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")
@@ -415,9 +413,10 @@ def cage_pocket_penetration(guide, dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h
     """The pocket contact of a cage of guidance ``guide`` (rvcore.model.GUIDE_*): spherical
     pockets for a ball-guided cage (:func:`spherical_pocket_penetration`), cylindrical ones
     for a land-guided cage (:func:`pocket_penetration`). Returns as those."""
-    if guide == GUIDE_BALL:
-        return spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h)
-    return pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro)
+    ball = guide == GUIDE_BALL
+    sd, sx, sy, sz, ss = spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h)
+    cd, cx, cy, cz, cs = pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro)
+    return (sd if ball else cd, sx if ball else cx, sy if ball else cy, sz if ball else cz, ss if ball else cs)
 
 
 @njit(cache=True, nogil=True, inline="always", error_model="numpy")

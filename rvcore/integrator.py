@@ -25,6 +25,7 @@ from .imex import GAMMA, SUBSTEPS, TANGENT_MAX_STEPS, imex_step
 from .kernels import D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
 from .model import P_RING_IP
 from .profile import CH_SPEED, channel_rate
+from .races import SCRATCH_SIZE
 from .rk4 import B1, B2, B3, B4, rk4_step
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
@@ -216,4 +217,5 @@ def advance(method: str, y, t_start, dt, n_steps, out_every, model, table, meta,
     work, jwork, schur = new_work(model, method, pocket_tolerance, load_tolerance)
     return integrate(y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
                      table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
-                     pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur, np.zeros(diag.size))
+                     pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur,
+                     np.zeros(diag.size - SCRATCH_SIZE))

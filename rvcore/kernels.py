@@ -37,20 +37,25 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact import (FAST, LOADED_BALL_LOAD, ball_contact_force, cage_pocket_penetration, damping_coefficient,
-                      friction_force, hertz_load, land_penetration, normal_force, race_arc_penetration)
-from .ring_pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
+from .contact import (FAST, LOADED_BALL_LOAD, damping_coefficient, friction_force, hertz_load, land_penetration,
+                      normal_force)
+from .ring_pose import ring_angular_velocity, ring_rotation, ring_to_global
 from .friction_law import FRICTION_LAW_SIZE, LAW_ON
 from .implicit import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
                        groove_blocks, stiffness_blocks)
-from .model import (A_K, A_PC3, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+from .model import (A_K, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
-                    R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_IMPERFECT, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
+                    R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from .outputs import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
 from .profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
-from .raceway import ball_offsets, spin_of
+from .races import (C_DELTA, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
+                    C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
+                    P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
+                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, gather_balls, pocket_contacts,
+                    raceway_offsets, scratch)
+from .raceway import spin_of
 
 # The slots of the diagnostics vector this kernel writes, by the names of the output
 # table (rvcore.outputs.SIGNALS, where each is described with its units). rhs() writes
@@ -81,8 +86,9 @@ MODE_STAGE, MODE_FULL, MODE_JAC = 0.0, 1.0, 2.0
 
 def new_diagnostics(n_rows: int, n_balls: int, n_sensors: int = 0):
     """Empty ``(diag, bdiag)``: the signals of rvcore.outputs for ``n_rows`` rows and
-    ``n_sensors`` sensors, and the per-ball loads that :func:`rhs` writes."""
-    return np.zeros(signal_count(n_rows, n_sensors)), np.zeros((n_balls, N_BDIAG))
+    ``n_sensors`` sensors, then the ball contacts' scratch of :mod:`rvcore.races` (at the
+    end), and the per-ball loads that :func:`rhs` writes."""
+    return np.zeros(signal_count(n_rows, n_sensors) + SCRATCH_SIZE), np.zeros((n_balls, N_BDIAG))
 
 
 @njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
@@ -158,6 +164,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     inv_dmax = 1.0 / params[P_DAMP_D]
 
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
+    buf = scratch(diag)    # rvcore.races's (new_diagnostics)
     if jac:
         for i in range(schur.shape[0]):
             for k in range(schur.shape[1]):
@@ -196,21 +203,30 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
         c_pocket = params[P_POCKET_C] * damp_scale
         cage_ri, cage_ro, guide, pitch_r = rows[r, R_CAGE_RI], rows[r, R_CAGE_RO], rows[r, R_GUIDE], rows[r, R_PITCH_R]
 
+        # every ball's race contacts at once (rvcore.races), read back ball by ball below
+        gather_balls(y, buf, rows, r, pockets)
+        ball_geometry(buf, nz_balls, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow)
+        raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin)
+        for a in range(a0, a0 + na):
+            arc_contacts(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, xi, yi, zi,
+                         vxi, vyi, vzi, omx, omy, omz, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race,
+                         inv_dmax, law)
+
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
         vxc, vyc, vzc, wc = y[c0 + 4], y[c0 + 5], y[c0 + 6], y[c0 + 7]
         cphi, sphi = math.cos(phi), math.sin(phi)
+        pocket_contacts(buf, buf[POCKET:], nz_balls, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket,
+                        c_pocket, inv_dmax, xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law)
         fxc, fyc, fzc, tzc = 0.0, 0.0, 0.0, 0.0
 
         for j in range(nz_balls):
             b = b0 + BALL_STATES * j
             px, py, pz = y[b], y[b + 1], y[b + 2]
             vx, vy, vz = y[b + 3], y[b + 4], y[b + 5]
-            wx, wy, wz = y[b + 6], y[b + 7], y[b + 8]
             fbx, fby, fbz, mbx, mby, mbz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             qi_sum, qo_sum, fi_rad, fo_rad = 0.0, 0.0, 0.0, 0.0
             cos_b, n_b = 0.0, 0.0
-            rho_b = math.sqrt(px * px + py * py)
-            inv_rho_b = 1.0 / rho_b
+            inv_rho_b = buf[G_INV_RHO_B * W + j]
             if jac:
                 for i in range(J_W):
                     jwork[p0 + j, i] = 0.0
@@ -219,51 +235,35 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
 
-            # ball centre in the inner ring's frame: Rᵀ·(p − r_i)
-            plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
-                                                 r20, r21, r22, zrow)
-            inv_rho_l = 1.0 / rho_l
-            dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
-            if rows[r, R_IMPERFECT] != 0.0:
-                dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, inv_rho_l, cos_spin,
-                                                  sin_spin, erx, ery)
+            # the ball centre in the inner ring's frame (Rᵀ·(p − r_i)), and ΔD/2 of an imperfect set
+            plx, ply, inv_rho_l = buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_INV_RHO_L * W + j]
+            d_half = buf[G_D_HALF * W + j]
 
             for a in range(a0, a0 + na):
-                inner, delta, nlx, nly, nlz = race_arc_penetration(
-                    arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h,
-                    dr_i, dr_o, d_half, sl_i, sl_o)
+                o = arc(a - a0) + j      # this contact's values (rvcore.races)
+                delta = buf[o + C_DELTA * W]
                 if delta <= 0.0:
                     continue
                 if delta > max_pen:
                     max_pen = delta
                     pen_ball = b
-                if inner:
-                    nx, ny, nz = ring_to_global(nlx, nly, nlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
-                else:
-                    nx, ny, nz = nlx, nly, nlz
+                inner = arcs[a, A_RING] == 0.0
+                nx, ny, nz = buf[o + C_NX * W], buf[o + C_NY * W], buf[o + C_NZ * W]
                 # contact point on the ball, and the arm from the ball centre
                 ax, ay, az = h * nx, h * ny, h * nz
                 cx, cy, cz = px + ax, py + ay, pz + az
-                # slip of the ball's material point against the race's
-                ux = vx + wy * az - wz * ay
-                uy = vy + wz * ax - wx * az
-                uz = vz + wx * ay - wy * ax
-                if inner:
-                    # the race's material point: v_ring + Ω × (c − r_ring)
-                    qx, qy, qz = cx - xi, cy - yi, cz - zi
-                    ux -= vxi + omy * qz - omz * qy
-                    uy -= vyi + omz * qx - omx * qz
-                    uz -= vzi + omx * qy - omy * qx
-                un = ux * nx + uy * ny + uz * nz    # dδ/dt
-                q = normal_force(delta, un, arcs[a, A_K], c_race, inv_dmax)
+                qx, qy, qz = cx - xi, cy - yi, cz - zi
+                # slip of the ball's material point against the race's, and dδ/dt
+                ux, uy, uz, un = buf[o + C_UX * W], buf[o + C_UY * W], buf[o + C_UZ * W], buf[o + C_UN * W]
+                q = buf[o + C_Q * W]
                 # the damper's dissipation: the normal force's power beyond the elastic one
                 # (also when the force is clipped to zero and the spring unloads unresisted)
                 if full:
                     p_damp += (q - hertz_load(arcs[a, A_K], delta)) * un
                 if q <= 0.0:
                     continue
-                fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
-                                                               law)
+                fx, fy, fz = buf[o + C_FX * W], buf[o + C_FY * W], buf[o + C_FZ * W]
+                dmx, dmy, dmz = buf[o + C_MX * W], buf[o + C_MY * W], buf[o + C_MZ * W]
                 if jac:
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
                     alpha, beta = friction_tangent(q, tvx, tvy, tvz, law)
@@ -277,6 +277,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     stiffness_blocks(jwork, p0 + j, schur, inner, hk, nx, ny, nz, cx - xi, cy - yi, cz - zi,
                                      r00, r20)
                     # t ⊥ n in the groove's meridian plane (ring frame), for groove_blocks
+                    nlx, nly, nlz = buf[o + C_NLX * W], buf[o + C_NLY * W], buf[o + C_NLZ * W]
                     mx, my = (plx * inv_rho_l, ply * inv_rho_l) if inner else (erx, ery)
                     tlx, tly, tlz = nlz * mx, nlz * my, -(nlx * mx + nly * my)
                     if inner:
@@ -336,36 +337,29 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             if qo_sum > max_qo:
                 max_qo = qo_sum
 
-            # ---- ball–pocket (rvcore.contact.cage_pocket_penetration)
-            cs0, sn0 = pockets[p0 + j, 0], pockets[p0 + j, 1]
-            cth = cphi * cs0 - sphi * sn0
-            sth = sphi * cs0 + cphi * sn0
-            delta, ax, ay, az, a_sec = cage_pocket_penetration(guide, px - xc, py - yc, pz - zc - zrow, cth, sth,
-                                                               pitch_r, pocket_r, h, cage_ri, cage_ro)
+            # ---- ball–pocket (rvcore.contact.cage_pocket_penetration, rvcore.races)
+            o = POCKET + j
+            delta = buf[o + P_DELTA * W]
             qp, pv, pp = 0.0, 0.0, 0.0
             fpx, fpy, fpz, mpx, mpy, mpz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             if delta > 0.0:
                 if delta > max_pen:
                     max_pen = delta
                     pen_ball = b
+                ax, ay, az = buf[o + P_AX * W], buf[o + P_AY * W], buf[o + P_AZ * W]
                 # ∇δ along the arm (not named gx…: those hold gravity)
-                dgx, dgy, dgz = ax / a_sec, ay / a_sec, az / a_sec
+                dgx, dgy, dgz = buf[o + P_DGX * W], buf[o + P_DGY * W], buf[o + P_DGZ * W]
                 cx, cy, cz = px + ax, py + ay, pz + az
-                ux = vx + wy * az - wz * ay - (vxc - wc * (cy - yc))
-                uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
-                uz = vz + wx * ay - wy * ax - vzc
-                un = ux * dgx + uy * dgy + uz * dgz   # dδ/dt
-                qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
-                q_hertz = hertz_load(k_pocket, delta)
+                ux, uy, uz, un = buf[o + P_UX * W], buf[o + P_UY * W], buf[o + P_UZ * W], buf[o + P_UN * W]
+                qp, q_hertz = buf[o + P_Q * W], buf[o + P_QH * W]
                 pv, pp = 0.4 * q_hertz * delta, q_hertz * un
                 if full:
                     p_damp += (qp - q_hertz) * un
                 if qp > 0.0:
                     # friction tangential to the ball's surface there, normal a/h
                     inv_h = 1.0 / h
-                    fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(
-                        qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h, az * inv_h, ax, ay, az,
-                        law)
+                    fpx, fpy, fpz = buf[o + P_FX * W], buf[o + P_FY * W], buf[o + P_FZ * W]
+                    mpx, mpy, mpz = buf[o + P_MX * W], buf[o + P_MY * W], buf[o + P_MZ * W]
                     if jac:
                         nfx, nfy, nfz = ax * inv_h, ay * inv_h, az * inv_h
                         unf = ux * nfx + uy * nfy + uz * nfz

@@ -60,6 +60,12 @@ N_PKCOLS = 3
 # arcs columns
 A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE = range(7)
 N_ARCCOLS = 7
+#: Raceway arcs a row may have, inner and outer together (a four-point row has four): the
+#: right-hand side keeps every arc's contacts of a row at once (:mod:`rvcore.races`).
+MAX_ROW_ARCS = 4
+#: Balls a row may have: the right-hand side keeps a row's ball contacts in a scratch of
+#: this width (:mod:`rvcore.races`).
+MAX_ROW_BALLS = 256
 
 GUIDE_BALL, GUIDE_OUTER_LAND = 0, 1
 
@@ -130,6 +136,11 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
         rows[r, R_LAND_CLEAR] = cage.land_clearance
         rows[r, R_LAND_K] = cage.land_stiffness
         rows[r, R_GUIDE] = GUIDE_OUTER_LAND if cage.guidance == "outer-land" else GUIDE_BALL
+        if row.ball_count > MAX_ROW_BALLS:
+            raise ValueError(f"row {r}: {row.ball_count} balls; at most {MAX_ROW_BALLS}")
+        if len(row.inner_arcs) + len(row.outer_arcs) > MAX_ROW_ARCS:
+            raise ValueError(f"row {r}: {len(row.inner_arcs) + len(row.outer_arcs)} raceway arcs; "
+                             f"at most {MAX_ROW_ARCS} (two a groove)")
         rows[r, R_ARC0] = len(arcs)
         rows[r, R_POCKET0] = n_balls
         for ring, ring_arcs in ((INNER, row.inner_arcs), (OUTER, row.outer_arcs)):
