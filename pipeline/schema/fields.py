@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 from rvcore.settings import SolverSettings
 from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
+from rvcore.model import MAX_ROW_BALLS
 from rvcore.tolerances import BALL_GRADES, TOLERANCE_CLASSES
 from rvcore.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
@@ -76,8 +77,8 @@ class Field:
         One line.
     choices : tuple
         The allowed strings of a ``choice``.
-    minimum : int or None
-        Smallest allowed ``integer``.
+    minimum, maximum : int or None
+        Smallest and largest allowed ``integer``.
     why : str
         The reason given when the bounds fail, if the generic one would say too little.
     source : str or None
@@ -97,6 +98,7 @@ class Field:
     doc: str = ""
     choices: tuple = ()
     minimum: int | None = None
+    maximum: int | None = None
     why: str = ""
     source: str | None = None
     length: int | None = None
@@ -129,6 +131,8 @@ class Field:
             return "in (0, 1]"
         if isinstance(b, tuple):
             return f"in ({b[0]:g}, {b[1]:g}) SI"
+        if self.minimum is not None and self.maximum is not None:
+            return f"{self.minimum} to {self.maximum}"
         if self.minimum is not None:
             return f">= {self.minimum}"
         if self.choices:
@@ -260,7 +264,8 @@ _BEARING = [
     _q("rows[].radial_clearance", "length", "mm",
        "radial internal clearance of the row; negative: an interference (a radial preload)", bounds=None,
        default=0.0, source="rows[].radial_clearance"),
-    Field("rows[].balls.count", "integer", "bearing", minimum=3, doc="number of balls in the row",
+    Field("rows[].balls.count", "integer", "bearing", minimum=3, maximum=MAX_ROW_BALLS,
+          doc="number of balls in the row", why="the dynamics keep a row's balls in a scratch of that width",
           source="rows[].ball_count"),
     _q("rows[].balls.diameter", "length", "mm", "ball diameter", source="rows[].ball_diameter"),
     *_arcs("inner_groove", "inner_arcs", "inner"),

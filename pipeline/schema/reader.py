@@ -59,6 +59,8 @@ def check_value(f: schema.Field, v, file, key, bounds=_SAME):
             raise ConfigError(file, key, short(v), "must be an integer")
         if f.minimum is not None and v < f.minimum:
             raise ConfigError(file, key, v, f"must be at least {f.minimum}")
+        if f.maximum is not None and v > f.maximum:
+            raise ConfigError(file, key, v, f"must be at most {f.maximum}" + (f" ({f.why})" if f.why else ""))
         return v
     if f.kind == "boolean":
         if not isinstance(v, bool):

@@ -122,3 +122,14 @@ axial_load = "10 kN"
     assert main(["check", str(sweep)]) != 0
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "1000 x 1000 = 1000000 cases" in err[0] and str(MAX_CASES) in err[0]
+
+
+def test_more_balls_in_a_row_than_the_dynamics_hold_is_refused_in_one_line(capsys, tmp_path):
+    from rvcore.model import MAX_ROW_BALLS
+
+    text = (REPO / "sweeps" / "bearings" / "rv-main-study.toml").read_text()
+    assert "\ncount = 51\n" in text
+    path = tmp_path / "many-balls.toml"
+    path.write_text(text.replace("\ncount = 51\n", f"\ncount = {MAX_ROW_BALLS + 1}\n"))
+    err = _one_line(capsys, main(["check", str(path)]))
+    assert f"rows[0].balls.count = {MAX_ROW_BALLS + 1}: must be at most {MAX_ROW_BALLS}" in err
