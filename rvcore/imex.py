@@ -208,10 +208,11 @@ SUBSTEPS = 8
 #: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
 #: and whether any stage touched the pocket; per ball the inner- and outer-race loads the
 #: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J] and
-#: ``work[W_SET, 1]`` the tangents' load tolerance [N].
+#: ``work[W_SET, 1]`` the tangents' load tolerance [N]; per ball the reference's rotations
+#: (:func:`_orbit_rotations`).
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF = 14, 15, 16, 17, 18, 19
-N_WORK = 21
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT = 14, 15, 16, 17, 18, 19, 21
+N_WORK = 22
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -265,21 +266,19 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
     # (the explicit row's own quadrature of ỹ', one node back) and Y = ỹ(t_i) + e, so that
     # a ball on that orbit stays on it exactly. Rotations are Cayley's (orthogonal).
-    off = work[W_OFF]
+    off, rot = work[W_OFF], work[W_ROT]
     ap = a1 if i == 1 else (a2 if i == 2 else a3)
-    cp = 0.0 if i == 1 else 0.5        # the node of the explicit row's one entry
+    # this stage's rotations (_orbit_rotations): through Ω·c·h, and the explicit row's
+    # previous node's, through Ω·h/2 (stages 2 and 3) or 0 (stage 1)
+    k_now = 1 if c == 0.5 else 5
+    k_prev = 7 if i == 1 else 3
     for r in range(rows.shape[0]):
         b0 = int(rows[r, R_BALL0])
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
-            px, py, vx, vy = y[b], y[b + 1], y[b + 3], y[b + 4]
-            om = (px * vy - py * vx) / (px * px + py * py)
-            phi = om * c * dt
-            d = 1.0 / (1.0 + 0.25 * phi * phi)
-            cm1, sn = -0.5 * phi * phi * d, phi * d
-            php = om * cp * dt
-            dp = 1.0 / (1.0 + 0.25 * php * php)
-            cp1, snp = 1.0 - 0.5 * php * php * dp, php * dp
+            om = rot[b]
+            cm1, sn = rot[b + k_now], rot[b + k_now + 1]
+            cp1, snp = rot[b + k_prev], rot[b + k_prev + 1]
             w = dt * ap * om
             for o in (0, 3, 6):         # centre, velocity, spin: the x and y components
                 ux, uy = y[b + o], y[b + o + 1]
@@ -313,6 +312,32 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
 
 
 @njit(cache=True, nogil=True, inline="always")
+def _orbit_rotations(y, dt, rows, rot):
+    """Per ball, from its state in ``y``, into ``rot[b:b + 9]`` (b the ball's first state):
+    its orbital speed Ω = (x·v_y − y·v_x)/ρ², the Cayley rotation's (cos − 1, sin) through
+    Ω·h/2 and (cos, sin) through the same angle, (cos − 1, sin) through Ω·h, and (cos, sin)
+    through 0: what the three stages turn the reference by (:func:`_implicit_stage`). Once
+    a step, not once a stage: they depend on the step's start alone."""
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            px, py, vx, vy = y[b], y[b + 1], y[b + 3], y[b + 4]
+            om = (px * vy - py * vx) / (px * px + py * py)
+            rot[b] = om
+            phi = om * 0.5 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 1], rot[b + 2] = -0.5 * phi * phi * d, phi * d
+            rot[b + 3], rot[b + 4] = 1.0 - 0.5 * phi * phi * d, phi * d
+            phi = om * 1.0 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 5], rot[b + 6] = -0.5 * phi * phi * d, phi * d
+            phi = om * 0.0 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 7], rot[b + 8] = 1.0 - 0.5 * phi * phi * d, phi * d
+
+
+@njit(cache=True, nogil=True, inline="always")
 def _pocket_power(work, bdiag, weight):
     """Add ``weight·P`` of the stage just evaluated to each ball's Σ b_i·P_i, and mark
     the balls whose pocket it touched."""
@@ -328,6 +353,7 @@ def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wor
     """The three implicit stages and the update ``y_{n+1} = y_n + h·Σ b_i·F_i`` (b̂ = b:
     the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
     ``Σ_{i≥2} b_i·T(Y_i)·ω(t_i)``."""
+    _orbit_rotations(y, dt, rows, work[W_ROT])
     torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
                                   bdiag, A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
     _pocket_power(work, bdiag, B2)
