@@ -29,10 +29,11 @@ _PER_CYCLE = 0.164
 _PER_CYCLE_LOAD = 1.40e-5
 #: Seconds of one core per ball per step at a fixed time_step (RK4).
 _PER_BALL_STEP = 0.41e-6
-#: IMEX's cost of the integration relative to RK4's (``rvsweep bench``: 6.23 s against
-#: 23.7 s, MODEL_VERSION 9). With it the model gives 603 s for the study sweep's cases on
-#: 2 workers with IMEX, the default since MODEL_VERSION 12, against 603.7 s measured.
-_METHOD = {"rk4": 1.0, "imex": 0.26}
+#: IMEX's cost of a case relative to the RK4 model above, fitted to the study sweep's
+#: cases with IMEX, the default since MODEL_VERSION 12 (`make sweep` on a fresh clone,
+#: 2026-11-27, the ball contacts in vector passes): their cores took 992.6 s in all, the
+#: 30 kN ones 6.89 s on average; the model gives 993 s and 6.6 s.
+_METHOD = {"rk4": 1.0, "imex": 0.201}
 
 #: Above either, ``rvsweep sweep`` starts only with ``--yes``.
 CONFIRM_CASES = 1000
