@@ -4,7 +4,9 @@ the Schur complement on the ring. SI throughout.
 The matrix is block-arrowhead: every ball's 6×6 block (its centre's velocity and its spin)
 couples only to the ring's five rates, so :func:`factor` and :func:`solve` are O(Z), with
 the blocks :func:`rvcore.kernels.rhs_jac` accumulates (the columns of
-:mod:`rvcore.implicit`). The scheme that calls them: :mod:`rvcore.imex`.
+:mod:`rvcore.implicit`). :func:`pack` copies the factors a row at a time into a layout
+of one quantity a row of balls, in which LLVM vectorises the solve's loops over the
+balls (:func:`solve`, Notes). The scheme that calls them: :mod:`rvcore.imex`.
 """
 from __future__ import annotations
 
@@ -12,7 +14,8 @@ import math
 
 from numba import njit
 
-from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, J_W, S_K
+from .implicit import J_A, J_B, J_COUPLED, J_KA, J_KB, S_K
+from .races import W
 from .model import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
 
@@ -116,14 +119,122 @@ def factor(jwork, schur, rows, mass):
             schur[i, c] = s * inv
 
 
+#: The packed factors of one row (:func:`pack`), a quantity ``f`` of the row's ball ``j``
+#: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals, as :func:`factor`
+#: leaves it), X = U⁻ᵀ·B, the blocks of ``h·γ·K``, the coupling flag, the ball's masses,
+#: and the solve's own quantities (the ball's ê_x, then its velocities, w and the
+#: result in turn). Constant distances and indices from 0, so that LLVM vectorises the
+#: loops over the balls (rvcore.races, "The scratch").
+WS = W
+(U00, U01, U02, U03, U04, U05, U11, U12, U13, U14, U15, U22, U23, U24, U25, U33, U34, U35, U44, U45,
+ U55) = range(21)
+_U_COLUMNS = (0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 14, 15, 16, 17, 21, 22, 23, 28, 29, 35)
+F_X, F_KA, F_KB, F_COUPLED, F_M, F_EX, F_V = 21, 51, 57, 72, 73, 79, 82
+N_SOLVE_FIELDS = 88
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
-def solve(v, jwork, schur, rows, mass):
+def pack(jwork, rows, mass, sf):
+    """Copy the factors :func:`factor` left in ``jwork`` and the balls' masses into ``sf``,
+    row ``r`` from ``r·N_SOLVE_FIELDS·WS``, for :func:`solve`."""
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        o = r * N_SOLVE_FIELDS * WS
+        for j in range(int(rows[r, R_Z])):
+            k = p0 + j
+            b = b0 + BALL_STATES * j + 3
+            for i in range(21):
+                sf[o + i * WS + j] = jwork[k, J_A + _U_COLUMNS[i]]
+            for i in range(30):
+                sf[o + (F_X + i) * WS + j] = jwork[k, J_B + i]
+            for i in range(6):
+                sf[o + (F_KA + i) * WS + j] = jwork[k, J_KA + i]
+                sf[o + (F_M + i) * WS + j] = mass[b + i]
+            for i in range(15):
+                sf[o + (F_KB + i) * WS + j] = jwork[k, J_KB + i]
+            sf[o + F_COUPLED * WS + j] = jwork[k, J_COUPLED]
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _forward(s, nz, x0, x1, x2, x3, x4):
+    """Every ball of a row: ``w = U⁻ᵀ·(M_b·v_b − h·γ·K·ê_x)`` in place of its velocities."""
+    for j in range(nz):
+        bx, by, bz = s[F_EX * WS + j], s[(F_EX + 1) * WS + j], s[(F_EX + 2) * WS + j]
+        ka0, ka1, ka2 = s[F_KA * WS + j], s[(F_KA + 1) * WS + j], s[(F_KA + 2) * WS + j]
+        ka3, ka4, ka5 = s[(F_KA + 3) * WS + j], s[(F_KA + 4) * WS + j], s[(F_KA + 5) * WS + j]
+        coupled = s[F_COUPLED * WS + j] != 0.0
+        # h·γ·K·ê_x on the ball's centre, and the ring's share
+        fx = ka0 * bx + ka1 * by + ka2 * bz
+        fy = ka1 * bx + ka3 * by + ka4 * bz
+        fz = ka2 * bx + ka4 * by + ka5 * bz
+        kb = F_KB * WS + j
+        fx = fx + (s[kb] * x0 + s[kb + WS] * x1 + s[kb + 2 * WS] * x2 + s[kb + 3 * WS] * x3
+                   + s[kb + 4 * WS] * x4) if coupled else fx
+        fy = fy + (s[kb + 5 * WS] * x0 + s[kb + 6 * WS] * x1 + s[kb + 7 * WS] * x2 + s[kb + 8 * WS] * x3
+                   + s[kb + 9 * WS] * x4) if coupled else fy
+        fz = fz + (s[kb + 10 * WS] * x0 + s[kb + 11 * WS] * x1 + s[kb + 12 * WS] * x2 + s[kb + 13 * WS] * x3
+                   + s[kb + 14 * WS] * x4) if coupled else fz
+        m, v = F_M * WS + j, F_V * WS + j
+        u = j
+        w0 = (s[m] * s[v] - fx) * s[U00 * WS + u]
+        w1 = (s[m + WS] * s[v + WS] - fy - s[U01 * WS + u] * w0) * s[U11 * WS + u]
+        w2 = (s[m + 2 * WS] * s[v + 2 * WS] - fz - s[U02 * WS + u] * w0 - s[U12 * WS + u] * w1) * s[U22 * WS + u]
+        w3 = (s[m + 3 * WS] * s[v + 3 * WS] - s[U03 * WS + u] * w0 - s[U13 * WS + u] * w1
+              - s[U23 * WS + u] * w2) * s[U33 * WS + u]
+        w4 = (s[m + 4 * WS] * s[v + 4 * WS] - s[U04 * WS + u] * w0 - s[U14 * WS + u] * w1
+              - s[U24 * WS + u] * w2 - s[U34 * WS + u] * w3) * s[U44 * WS + u]
+        w5 = (s[m + 5 * WS] * s[v + 5 * WS] - s[U05 * WS + u] * w0 - s[U15 * WS + u] * w1
+              - s[U25 * WS + u] * w2 - s[U35 * WS + u] * w3 - s[U45 * WS + u] * w4) * s[U55 * WS + u]
+        s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = w0, w1, w2, w3, w4, w5
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def _backward(s, nz, z0, z1, z2, z3, z4):
+    """Every ball of a row: ``U⁻¹·(w − X·Z)`` in place of its w."""
+    for j in range(nz):
+        v = F_V * WS + j
+        w0, w1, w2 = s[v], s[v + WS], s[v + 2 * WS]
+        w3, w4, w5 = s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS]
+        coupled = s[F_COUPLED * WS + j] != 0.0
+        x = F_X * WS + j
+        w0 = w0 - (s[x] * z0 + s[x + WS] * z1 + s[x + 2 * WS] * z2 + s[x + 3 * WS] * z3
+                   + s[x + 4 * WS] * z4) if coupled else w0
+        w1 = w1 - (s[x + 5 * WS] * z0 + s[x + 6 * WS] * z1 + s[x + 7 * WS] * z2 + s[x + 8 * WS] * z3
+                   + s[x + 9 * WS] * z4) if coupled else w1
+        w2 = w2 - (s[x + 10 * WS] * z0 + s[x + 11 * WS] * z1 + s[x + 12 * WS] * z2 + s[x + 13 * WS] * z3
+                   + s[x + 14 * WS] * z4) if coupled else w2
+        w3 = w3 - (s[x + 15 * WS] * z0 + s[x + 16 * WS] * z1 + s[x + 17 * WS] * z2 + s[x + 18 * WS] * z3
+                   + s[x + 19 * WS] * z4) if coupled else w3
+        w4 = w4 - (s[x + 20 * WS] * z0 + s[x + 21 * WS] * z1 + s[x + 22 * WS] * z2 + s[x + 23 * WS] * z3
+                   + s[x + 24 * WS] * z4) if coupled else w4
+        w5 = w5 - (s[x + 25 * WS] * z0 + s[x + 26 * WS] * z1 + s[x + 27 * WS] * z2 + s[x + 28 * WS] * z3
+                   + s[x + 29 * WS] * z4) if coupled else w5
+        u = j
+        x5 = w5 * s[U55 * WS + u]
+        x4 = (w4 - s[U45 * WS + u] * x5) * s[U44 * WS + u]
+        x3 = (w3 - s[U34 * WS + u] * x4 - s[U35 * WS + u] * x5) * s[U33 * WS + u]
+        x2 = (w2 - s[U23 * WS + u] * x3 - s[U24 * WS + u] * x4 - s[U25 * WS + u] * x5) * s[U22 * WS + u]
+        x1 = (w1 - s[U12 * WS + u] * x2 - s[U13 * WS + u] * x3 - s[U14 * WS + u] * x4
+              - s[U15 * WS + u] * x5) * s[U11 * WS + u]
+        x0 = (w0 - s[U01 * WS + u] * x1 - s[U02 * WS + u] * x2 - s[U03 * WS + u] * x3 - s[U04 * WS + u] * x4
+              - s[U05 * WS + u] * x5) * s[U00 * WS + u]
+        s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = x0, x1, x2, x3, x4, x5
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def solve(v, schur, rows, mass, sf):
     """Overwrite the velocities of the balls and the ring in the increment ``v`` with
     ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its
-    positions ``v_x`` being ``ê_x``; module docstring) with the factors of :func:`factor`
-    (reciprocal diagonals) and the ``h·γ·K`` blocks of
-    :func:`rvcore.implicit.stiffness_blocks`; the rest is untouched.
-    ``jwork[:, J_W:J_W + 6]`` and ``schur[5]`` are its scratch."""
+    positions ``v_x`` being ``ê_x``; module docstring) with the factors :func:`pack` left
+    in ``sf`` (reciprocal diagonals), the ring's factor and ``h·γ·K`` block in ``schur``
+    and the state-indexed ``mass``; the rest is untouched. ``schur[5]`` is its scratch.
+
+    Notes
+    -----
+    The balls' parts are loops over a row's balls (:func:`_forward`, :func:`_backward`),
+    the ring's sums over the balls a loop of their own, in the balls' order: the same
+    operations in the same order as one loop a ball, the same bits.
+    """
     rz = schur[5]
     x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
     for i in range(5):     # the ring's M·v − h·γ·K_rr·x (upper triangle stored)
@@ -132,41 +243,27 @@ def solve(v, jwork, schur, rows, mass):
             s -= (schur[S_K + i, l] if l >= i else schur[S_K + l, i]) * v[l]
         rz[i] = s
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            # h·γ·K·ê_x on the ball's centre, and the ring's share
-            bx, by, bz = v[b - 3], v[b - 2], v[b - 1]
-            fx = jwork[k, J_KA + 0] * bx + jwork[k, J_KA + 1] * by + jwork[k, J_KA + 2] * bz
-            fy = jwork[k, J_KA + 1] * bx + jwork[k, J_KA + 3] * by + jwork[k, J_KA + 4] * bz
-            fz = jwork[k, J_KA + 2] * bx + jwork[k, J_KA + 4] * by + jwork[k, J_KA + 5] * bz
-            if jwork[k, J_COUPLED] != 0.0:
-                fx += (jwork[k, J_KB + 0] * x0 + jwork[k, J_KB + 1] * x1 + jwork[k, J_KB + 2] * x2
-                       + jwork[k, J_KB + 3] * x3 + jwork[k, J_KB + 4] * x4)
-                fy += (jwork[k, J_KB + 5] * x0 + jwork[k, J_KB + 6] * x1 + jwork[k, J_KB + 7] * x2
-                       + jwork[k, J_KB + 8] * x3 + jwork[k, J_KB + 9] * x4)
-                fz += (jwork[k, J_KB + 10] * x0 + jwork[k, J_KB + 11] * x1 + jwork[k, J_KB + 12] * x2
-                       + jwork[k, J_KB + 13] * x3 + jwork[k, J_KB + 14] * x4)
-                for c in range(5):     # the ring's row: K_brᵀ·ê_x,ball
-                    rz[c] -= jwork[k, J_KB + c] * bx + jwork[k, J_KB + 5 + c] * by + jwork[k, J_KB + 10 + c] * bz
-            # w = U⁻ᵀ·(M_b·v_b − f)
-            w0 = (mass[b] * v[b] - fx) * jwork[k, J_A + 0]
-            w1 = (mass[b + 1] * v[b + 1] - fy - jwork[k, J_A + 1] * w0) * jwork[k, J_A + 7]
-            w2 = (mass[b + 2] * v[b + 2] - fz - jwork[k, J_A + 2] * w0 - jwork[k, J_A + 8] * w1) * jwork[k, J_A + 14]
-            w3 = (mass[b + 3] * v[b + 3] - jwork[k, J_A + 3] * w0 - jwork[k, J_A + 9] * w1
-                  - jwork[k, J_A + 15] * w2) * jwork[k, J_A + 21]
-            w4 = (mass[b + 4] * v[b + 4] - jwork[k, J_A + 4] * w0 - jwork[k, J_A + 10] * w1
-                  - jwork[k, J_A + 16] * w2 - jwork[k, J_A + 22] * w3) * jwork[k, J_A + 28]
-            w5 = (mass[b + 5] * v[b + 5] - jwork[k, J_A + 5] * w0 - jwork[k, J_A + 11] * w1
-                  - jwork[k, J_A + 17] * w2 - jwork[k, J_A + 23] * w3 - jwork[k, J_A + 29] * w4) * jwork[k, J_A + 35]
-            jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2] = w0, w1, w2
-            jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5] = w3, w4, w5
-            if jwork[k, J_COUPLED] != 0.0:
-                for c in range(5):     # r_ring −= Xᵀ·w
-                    rz[c] -= (jwork[k, J_B + c] * w0 + jwork[k, J_B + 5 + c] * w1
-                              + jwork[k, J_B + 10 + c] * w2 + jwork[k, J_B + 15 + c] * w3
-                              + jwork[k, J_B + 20 + c] * w4 + jwork[k, J_B + 25 + c] * w5)
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            for i in range(3):
+                s[(F_EX + i) * WS + j] = v[b + i]
+            for i in range(6):
+                s[(F_V + i) * WS + j] = v[b + 3 + i]
+        _forward(s, nz, x0, x1, x2, x3, x4)
+        for j in range(nz):     # the ring's row, ball by ball: K_brᵀ·ê_x,ball and Xᵀ·w
+            if s[F_COUPLED * WS + j] == 0.0:
+                continue
+            bx, by, bz = s[F_EX * WS + j], s[(F_EX + 1) * WS + j], s[(F_EX + 2) * WS + j]
+            kb, x, vv = F_KB * WS + j, F_X * WS + j, F_V * WS + j
+            for c in range(5):
+                rz[c] -= s[kb + c * WS] * bx + s[kb + (5 + c) * WS] * by + s[kb + (10 + c) * WS] * bz
+            w0, w1, w2 = s[vv], s[vv + WS], s[vv + 2 * WS]
+            w3, w4, w5 = s[vv + 3 * WS], s[vv + 4 * WS], s[vv + 5 * WS]
+            for c in range(5):
+                rz[c] -= (s[x + c * WS] * w0 + s[x + (5 + c) * WS] * w1 + s[x + (10 + c) * WS] * w2
+                          + s[x + (15 + c) * WS] * w3 + s[x + (20 + c) * WS] * w4 + s[x + (25 + c) * WS] * w5)
     # S·Z = r: Uᵀ then U
     for i in range(5):
         s = rz[i]
@@ -181,32 +278,10 @@ def solve(v, jwork, schur, rows, mass):
     z0, z1, z2, z3, z4 = rz[0], rz[1], rz[2], rz[3], rz[4]
     v[5], v[6], v[7], v[8], v[9] = z0, z1, z2, z3, z4
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
+        _backward(s, nz, z0, z1, z2, z3, z4)
+        for j in range(nz):
             b = b0 + BALL_STATES * j + 3
-            w0, w1, w2 = jwork[k, J_W + 0], jwork[k, J_W + 1], jwork[k, J_W + 2]
-            w3, w4, w5 = jwork[k, J_W + 3], jwork[k, J_W + 4], jwork[k, J_W + 5]
-            if jwork[k, J_COUPLED] != 0.0:     # w − X·Z
-                w0 -= (jwork[k, J_B + 0] * z0 + jwork[k, J_B + 1] * z1 + jwork[k, J_B + 2] * z2
-                       + jwork[k, J_B + 3] * z3 + jwork[k, J_B + 4] * z4)
-                w1 -= (jwork[k, J_B + 5] * z0 + jwork[k, J_B + 6] * z1 + jwork[k, J_B + 7] * z2
-                       + jwork[k, J_B + 8] * z3 + jwork[k, J_B + 9] * z4)
-                w2 -= (jwork[k, J_B + 10] * z0 + jwork[k, J_B + 11] * z1 + jwork[k, J_B + 12] * z2
-                       + jwork[k, J_B + 13] * z3 + jwork[k, J_B + 14] * z4)
-                w3 -= (jwork[k, J_B + 15] * z0 + jwork[k, J_B + 16] * z1 + jwork[k, J_B + 17] * z2
-                       + jwork[k, J_B + 18] * z3 + jwork[k, J_B + 19] * z4)
-                w4 -= (jwork[k, J_B + 20] * z0 + jwork[k, J_B + 21] * z1 + jwork[k, J_B + 22] * z2
-                       + jwork[k, J_B + 23] * z3 + jwork[k, J_B + 24] * z4)
-                w5 -= (jwork[k, J_B + 25] * z0 + jwork[k, J_B + 26] * z1 + jwork[k, J_B + 27] * z2
-                       + jwork[k, J_B + 28] * z3 + jwork[k, J_B + 29] * z4)
-            # v_b = U⁻¹·(w − X·Z)
-            x5 = w5 * jwork[k, J_A + 35]
-            x4 = (w4 - jwork[k, J_A + 29] * x5) * jwork[k, J_A + 28]
-            x3 = (w3 - jwork[k, J_A + 22] * x4 - jwork[k, J_A + 23] * x5) * jwork[k, J_A + 21]
-            x2 = (w2 - jwork[k, J_A + 15] * x3 - jwork[k, J_A + 16] * x4 - jwork[k, J_A + 17] * x5) * jwork[k, J_A + 14]
-            x1 = (w1 - jwork[k, J_A + 8] * x2 - jwork[k, J_A + 9] * x3 - jwork[k, J_A + 10] * x4
-                  - jwork[k, J_A + 11] * x5) * jwork[k, J_A + 7]
-            x0 = (w0 - jwork[k, J_A + 1] * x1 - jwork[k, J_A + 2] * x2 - jwork[k, J_A + 3] * x3
-                  - jwork[k, J_A + 4] * x4 - jwork[k, J_A + 5] * x5) * jwork[k, J_A + 0]
-            v[b], v[b + 1], v[b + 2], v[b + 3], v[b + 4], v[b + 5] = x0, x1, x2, x3, x4, x5
+            for i in range(6):
+                v[b + i] = s[(F_V + i) * WS + j]

@@ -142,7 +142,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .arrowhead import factor, solve
+from .arrowhead import N_SOLVE_FIELDS, WS, factor, pack, solve
 from .implicit import N_JWORK, N_SCHUR
 from .kernels import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from .model import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
@@ -211,8 +211,8 @@ SUBSTEPS = 8
 #: ``work[W_SET, 1]`` the tangents' load tolerance [N]; per ball the reference's rotations
 #: (:func:`_orbit_rotations`).
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT = 14, 15, 16, 17, 18, 19, 21
-N_WORK = 22
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_SF = 14, 15, 16, 17, 18, 19, 21, 22
+N_WORK = 22      # and the rows of the packed factors from W_SF (new_work)
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -220,7 +220,8 @@ def new_work(model, pocket_tolerance, load_tolerance):
     ``pocket_tolerance`` [J] is the pocket check's and ``load_tolerance`` [N] the
     tangents' (:func:`imex_step`)."""
     n = model.n_states
-    work = np.zeros((N_WORK, n))
+    # from W_SF the block solve's packed factors, a row of the bearing in N_SOLVE_FIELDS·WS
+    work = np.zeros((N_WORK + -(-model.rows.shape[0] * N_SOLVE_FIELDS * WS // n), n))
     inv_m = work[W_INVM]
     p, rows = model.params, model.rows
     inv_m[5:8] = 1.0 / p[P_RING_M]
@@ -289,7 +290,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
                 tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
     for m in range(n):
         g[m] = tmp[m]          # ê, for g_i below
-    solve(tmp, jwork, schur, rows, mass)
+    solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
     hg = dt * GAMMA
     inv_hg = 1.0 / hg
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
@@ -417,6 +418,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     n = y.size
     if refresh:
         factor(jwork, schur, rows, work[W_M])
+        pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
         for k in range(bdiag.shape[0]):
             work[W_QREF, k] = bdiag[k, B_QI]
             work[W_QREF + 1, k] = bdiag[k, B_QO]
@@ -441,6 +443,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
             inner[m] = -0.5 * (SUBSTEPS - 1) * diag[m] if s == 0 else inner[m] + diag[m]
         diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
         factor(jwork, schur, rows, work[W_M])
+        pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
         later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork,
                                      schur)
         total += B1 * diag_torque + later
