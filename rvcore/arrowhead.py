@@ -175,16 +175,15 @@ def _forward(s, nz, x0, x1, x2, x3, x4):
         fz = fz + (s[kb + 10 * WS] * x0 + s[kb + 11 * WS] * x1 + s[kb + 12 * WS] * x2 + s[kb + 13 * WS] * x3
                    + s[kb + 14 * WS] * x4) if coupled else fz
         m, v = F_M * WS + j, F_V * WS + j
-        u = j
-        w0 = (s[m] * s[v] - fx) * s[U00 * WS + u]
-        w1 = (s[m + WS] * s[v + WS] - fy - s[U01 * WS + u] * w0) * s[U11 * WS + u]
-        w2 = (s[m + 2 * WS] * s[v + 2 * WS] - fz - s[U02 * WS + u] * w0 - s[U12 * WS + u] * w1) * s[U22 * WS + u]
-        w3 = (s[m + 3 * WS] * s[v + 3 * WS] - s[U03 * WS + u] * w0 - s[U13 * WS + u] * w1
-              - s[U23 * WS + u] * w2) * s[U33 * WS + u]
-        w4 = (s[m + 4 * WS] * s[v + 4 * WS] - s[U04 * WS + u] * w0 - s[U14 * WS + u] * w1
-              - s[U24 * WS + u] * w2 - s[U34 * WS + u] * w3) * s[U44 * WS + u]
-        w5 = (s[m + 5 * WS] * s[v + 5 * WS] - s[U05 * WS + u] * w0 - s[U15 * WS + u] * w1
-              - s[U25 * WS + u] * w2 - s[U35 * WS + u] * w3 - s[U45 * WS + u] * w4) * s[U55 * WS + u]
+        w0 = (s[m] * s[v] - fx) * s[U00 * WS + j]
+        w1 = (s[m + WS] * s[v + WS] - fy - s[U01 * WS + j] * w0) * s[U11 * WS + j]
+        w2 = (s[m + 2 * WS] * s[v + 2 * WS] - fz - s[U02 * WS + j] * w0 - s[U12 * WS + j] * w1) * s[U22 * WS + j]
+        w3 = (s[m + 3 * WS] * s[v + 3 * WS] - s[U03 * WS + j] * w0 - s[U13 * WS + j] * w1
+              - s[U23 * WS + j] * w2) * s[U33 * WS + j]
+        w4 = (s[m + 4 * WS] * s[v + 4 * WS] - s[U04 * WS + j] * w0 - s[U14 * WS + j] * w1
+              - s[U24 * WS + j] * w2 - s[U34 * WS + j] * w3) * s[U44 * WS + j]
+        w5 = (s[m + 5 * WS] * s[v + 5 * WS] - s[U05 * WS + j] * w0 - s[U15 * WS + j] * w1
+              - s[U25 * WS + j] * w2 - s[U35 * WS + j] * w3 - s[U45 * WS + j] * w4) * s[U55 * WS + j]
         s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = w0, w1, w2, w3, w4, w5
 
 
@@ -209,15 +208,14 @@ def _backward(s, nz, z0, z1, z2, z3, z4):
                    + s[x + 24 * WS] * z4) if coupled else w4
         w5 = w5 - (s[x + 25 * WS] * z0 + s[x + 26 * WS] * z1 + s[x + 27 * WS] * z2 + s[x + 28 * WS] * z3
                    + s[x + 29 * WS] * z4) if coupled else w5
-        u = j
-        x5 = w5 * s[U55 * WS + u]
-        x4 = (w4 - s[U45 * WS + u] * x5) * s[U44 * WS + u]
-        x3 = (w3 - s[U34 * WS + u] * x4 - s[U35 * WS + u] * x5) * s[U33 * WS + u]
-        x2 = (w2 - s[U23 * WS + u] * x3 - s[U24 * WS + u] * x4 - s[U25 * WS + u] * x5) * s[U22 * WS + u]
-        x1 = (w1 - s[U12 * WS + u] * x2 - s[U13 * WS + u] * x3 - s[U14 * WS + u] * x4
-              - s[U15 * WS + u] * x5) * s[U11 * WS + u]
-        x0 = (w0 - s[U01 * WS + u] * x1 - s[U02 * WS + u] * x2 - s[U03 * WS + u] * x3 - s[U04 * WS + u] * x4
-              - s[U05 * WS + u] * x5) * s[U00 * WS + u]
+        x5 = w5 * s[U55 * WS + j]
+        x4 = (w4 - s[U45 * WS + j] * x5) * s[U44 * WS + j]
+        x3 = (w3 - s[U34 * WS + j] * x4 - s[U35 * WS + j] * x5) * s[U33 * WS + j]
+        x2 = (w2 - s[U23 * WS + j] * x3 - s[U24 * WS + j] * x4 - s[U25 * WS + j] * x5) * s[U22 * WS + j]
+        x1 = (w1 - s[U12 * WS + j] * x2 - s[U13 * WS + j] * x3 - s[U14 * WS + j] * x4
+              - s[U15 * WS + j] * x5) * s[U11 * WS + j]
+        x0 = (w0 - s[U01 * WS + j] * x1 - s[U02 * WS + j] * x2 - s[U03 * WS + j] * x3 - s[U04 * WS + j] * x4
+              - s[U05 * WS + j] * x5) * s[U00 * WS + j]
         s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = x0, x1, x2, x3, x4, x5
 
 
