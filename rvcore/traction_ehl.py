@@ -90,7 +90,7 @@ from .contact import step, step_slope
 
 __all__ = [
     "EHL_ETA0", "EHL_ALPHA", "EHL_TAU_L0", "EHL_GAMMA_L", "EHL_MU_B", "EHL_V_B",
-    "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX",
+    "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX", "CURVATURE_X_FLOOR",
     "pack_ehl_traction_law", "boundary_weight", "film_shear_stress",
     "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
     "ehl_tangent_curvature", "ehl_slope_at_zero_slip",
@@ -100,8 +100,12 @@ __all__ = [
 #: v_b [m s⁻¹], λ_b [-], λ_f [-].
 EHL_ETA0, EHL_ALPHA, EHL_TAU_L0, EHL_GAMMA_L, EHL_MU_B, EHL_V_B, EHL_LAMBDA_B, EHL_LAMBDA_F = range(8)
 EHL_LAW_SIZE = 8
-#: Cap of the Barus exponent α·p [-]: exp(700) ≈ 1e304 stays finite (numerical guard).
-BARUS_EXPONENT_MAX = 700.0
+#: Cap of the Barus exponent α·p [-]: exp(200) ≈ 7e86, so η(p)/(h·τ_L) stays finite even for a
+#: nanometre film (a numerical guard, not physics: α·p of a real contact is below ~60).
+BARUS_EXPONENT_MAX = 200.0
+
+#: Smallest ``x = k·s`` the tangent's curvature is evaluated at [-] (a numerical floor).
+CURVATURE_X_FLOOR = 1e-20
 
 #: Defaults of :func:`pack_ehl_traction_law` (sources in the module Notes).
 TAU_L0_DEFAULT = 0.0
@@ -261,7 +265,9 @@ def ehl_tangent_curvature(s2, p, h, lam, law):
     it grows as ``−1/(2x)`` when s → 0, but the tangent's term ``coefficient·v_t·v_tᵀ``
     vanishes there like ``s``: at s = 0 exactly the function returns the boundary part
     alone (``−μ_b/v_b³``), the film's term being multiplied by ``v_t = 0``. Below
-    x = 1e-3 the series ``φ/x² = −1/(2x) + 1/3 − x/8 + x²/30`` is used.
+    x = 1e-3 the series ``φ/x² = −1/(2x) + 1/3 − x/8 + x²/30`` is used, and x is held at
+    :data:`CURVATURE_X_FLOOR` at least, so the coefficient stays finite: the tangent's
+    term along v_t then errs by at most ``x_floor/2`` times the zero-slip slope.
     """
     w = boundary_weight(lam, law)
     inv_vb = 1.0 / law[EHL_V_B]
@@ -274,7 +280,7 @@ def ehl_tangent_curvature(s2, p, h, lam, law):
         return w * bnd
     s = math.sqrt(s2)
     tau_l, k = _film_constants(p, h, law)
-    x = k * s
+    x = max(k * s, CURVATURE_X_FLOOR)
     if x < 1e-3:
         phi_x2 = -0.5 / x + 1.0 / 3.0 - x / 8.0 + x * x / 30.0
     else:

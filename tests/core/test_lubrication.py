@@ -363,6 +363,27 @@ def test_dissipation_is_never_negative(s, p, h, lam):
     assert tr.ehl_traction_slope(s, p, h, lam, LAW) >= 0.0
 
 
+@settings(max_examples=200, deadline=None)
+@given(s=st.floats(0.0, 1e3), p=st.floats(1e3, 1e11), h=st.floats(1e-12, 1e-3), lam=st.floats(0.0, 10.0))
+def test_law_stays_finite_far_outside_its_range(s, p, h, lam):
+    """The Barus exponent's guard keeps every term a finite number, even for pressures
+    and films no bearing sees (a NaN would reach the integrator's blow-up check)."""
+    for value in (tr.ehl_traction_coefficient(s, p, h, lam, LAW), tr.ehl_traction_slope(s, p, h, lam, LAW),
+                  tr.ehl_traction_per_slip(s * s, p, h, lam, LAW),
+                  tr.ehl_tangent_curvature(s * s, p, h, lam, LAW)):
+        assert math.isfinite(value)
+
+
+@settings(max_examples=200, deadline=None)
+@given(s=st.floats(0.0, 1e-100), p=st.floats(1e8, 1e11), h=st.floats(1e-12, 1e-6), lam=st.floats(0.0, 5.0))
+def test_tangent_term_stays_finite_at_vanishing_slip(s, p, h, lam):
+    """The film's curvature coefficient grows as 1/s; its tangent term, coefficient·s²,
+    goes to 0 with s and never overflows."""
+    c = tr.ehl_tangent_curvature(s * s, p, h, lam, LAW)
+    assert math.isfinite(c) and math.isfinite(c * s * s)
+    assert abs(c * s * s) <= tr.ehl_slope_at_zero_slip(p, h, lam, LAW) * (1 + 1e-9) + 1e-300
+
+
 @pytest.mark.parametrize("lam", [0.5, 1.7, 4.0])
 @pytest.mark.parametrize("s", [2e-4, 1e-3, 0.03, 0.3])
 def test_slope_and_tangent_terms_against_finite_differences(s, lam):
