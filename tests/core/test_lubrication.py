@@ -79,6 +79,19 @@ def test_film_scales_with_speed_and_load_as_the_law_says(ring, f):
     assert heavy.minimum / base.minimum == pytest.approx(4.0 ** -0.073, rel=1e-12)
 
 
+def test_study_inner_contact_matches_the_issue_table():
+    """Issue 40's table, computed there from the same published formulas: the inner
+    contact of the study bearing at 3 kN, base oil 100 mm²/s (η0 = 0.088 Pa s at 880 kg/m³),
+    α = 2e-8 1/Pa, pure rolling: h_c about 0.15 µm at 120 °/s and 0.46 µm at 660 °/s."""
+    alpha = math.radians(15.0)
+    contact = hertz.race_contact(STUDY_D, STUDY_DM, 0.52, alpha, "inner", E_EFF)
+    for deg_s, expected in ((120.0, 0.15e-6), (660.0, 0.46e-6)):
+        u = film.entrainment_speed_pure_rolling(math.radians(deg_s), STUDY_DM, STUDY_D, alpha)
+        got = film.hamrock_dowson_contact(contact, 3000.0, u, 0.088, 2e-8)
+        assert got.central == pytest.approx(expected, rel=0.03)
+        assert got.extrapolated                     # k = 8.5, beyond the fit's 1..8
+
+
 def test_ellipticity_outside_the_fit_is_flagged_and_k_below_one_refused():
     inside = film.hamrock_dowson(100.0, 1.0, 0.04, 2e-8, E_EFF, 0.005, 8.0)
     outside = film.hamrock_dowson(100.0, 1.0, 0.04, 2e-8, E_EFF, 0.005, 8.5)
