@@ -13,7 +13,9 @@ import json
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 
 from pipeline.cli import main
 from pipeline.io import read_status
@@ -163,8 +165,6 @@ def _enospc(*args, **kwargs):
 def test_a_full_disk_while_writing_cases_stops_in_one_line(tmp_path, monkeypatch, capsys):
     """The second case file hits a full disk: one line naming it, exit != 0, the first
     case kept, and a rerun (disk freed) computes only the rest."""
-    import xarray as xr
-
     path = make_sweep(tmp_path, GRID)
     real = xr.Dataset.to_netcdf
     calls = []
@@ -190,8 +190,6 @@ def test_a_full_disk_while_writing_cases_stops_in_one_line(tmp_path, monkeypatch
 
 def test_a_full_disk_in_the_combine_stops_in_one_line(finished, monkeypatch, capsys):
     """Every case done, ``sweep.nc`` cannot be written: one line naming sweep.nc."""
-    import xarray as xr
-
     path, out, _ = finished
     (out / "sweep.nc").unlink()
     monkeypatch.setattr(xr.Dataset, "to_netcdf", _enospc)
@@ -413,3 +411,66 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
     again = run_sweep(path, out, serial=True, progress=False)
     assert again.ok and len(again.computed) == 2 and again.reused == [p[:-3] for p in kept]
     assert {p.name: p.read_bytes() for p in (out / "cases").glob("*.nc") if p.name in kept} == kept
+
+
+# --------------------------------------------------------------------------- item 4
+
+GRID_3X3 = """
+[axes]
+speed = ["120 deg/s", "390 deg/s", "660 deg/s"]
+radial_load = ["20 kN", "30 kN", "40 kN"]
+
+[fixed]
+axial_load = "10 kN"
+"""
+
+
+@pytest.fixture
+def killed_3_of_9(tmp_path):
+    """A 3 x 3 synthetic sweep killed after 3 cases, before it combined (no sweep.nc)."""
+    path = make_sweep(tmp_path, GRID_3X3)
+    out = tmp_path / "s"
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(path, out, serial=True, case_fn=Counting(interrupt_after=3), progress=False)
+    (out / "sweep.nc").unlink()
+    assert len(case_files(out)) == 3
+    return out
+
+
+def test_the_case_files_of_a_partial_sweep_combine_on_the_grid_it_asked_for(killed_3_of_9):
+    """Without sweep.nc the analysis lays the 3 finished cases on the 3 x 3 grid that
+    status.json lists: 3 speeds, 3 loads, 3 ok and 6 not run, the missing ones NaN."""
+    from pipeline.analysis import open_results
+    from pipeline.io import CASE_STATUS
+
+    finished = [xr.open_dataset(p) for p in case_files(killed_3_of_9)]
+    assert len({float(c["speed"]) for c in finished}) < 3    # they alone span less
+    for c in finished:
+        c.close()
+    ds = open_results(killed_3_of_9)
+    assert ds.sizes["speed"] == 3 and ds.sizes["radial_load"] == 3
+    assert sorted(ds["speed"].values.tolist()) == [120.0, 390.0, 660.0]
+    assert sorted(ds["radial_load"].values.tolist()) == [20e3, 30e3, 40e3]
+    flags = ds["case_status"].values
+    assert (flags == CASE_STATUS.index("ok")).sum() == 3 and (flags == CASE_STATUS.index("not_run")).sum() == 6
+    mean = ds["radial_displacement_mean"].values
+    assert np.isnan(mean[flags != 0]).all() and not np.isnan(mean[flags == 0]).any()
+
+
+@pytest.mark.slow
+def test_a_partial_sweep_without_sweep_nc_reports_the_grid_it_asked_for(killed_3_of_9, capsys):
+    """3 of a 3 x 3 sweep's cases finished, then the run was killed before it combined
+    (sweep.nc removed): the report states the 9-case grid and that 3 finished, 6 missing,
+    not a grid made of the 3 finished cases."""
+    out = killed_3_of_9
+    finished_speeds = set()
+    for p in case_files(out):
+        with xr.open_dataset(p) as ds:
+            finished_speeds.add(float(ds["speed"]))
+    code = main(["report", str(out)])
+    printed = capsys.readouterr().out
+    assert code == 0 and "6 case(s) failed or missing" in printed, printed
+    md = (out / "report" / "report.md").read_text()
+    assert "grid 3 speeds × 3 radial loads = 9 cases" in md, md[:2000]
+    assert "9 cases, 3 finished ok, 6 failed or missing" in md
+    assert len(finished_speeds) < 3     # the finished cases alone would not span the grid
