@@ -46,6 +46,8 @@ class WriteError(UserError):
 def _write_error(path: Path, exc: BaseException) -> WriteError:
     if isinstance(exc, OSError) and exc.errno:
         why = os.strerror(exc.errno)
+    elif _disk_full(path.parent):   # HDF5's word for it is "NetCDF: HDF error"
+        why = os.strerror(errno.ENOSPC)
     else:
         why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
     return WriteError(f"{path}: cannot write ({why}); finished files are kept, "
