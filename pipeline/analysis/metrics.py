@@ -22,7 +22,7 @@ from rvcore.outputs import PHASE, STEADY, outputs_of
 from rvcore.profile import PHASES
 
 from ..io.netcdf import CASE_STATUS, case_status_variable
-from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
+from ..io import (PHASE_METRICS, combine_cases, grid_from_cases, read_status, SENSOR_METRICS, VARIABLES, history_line, phase_coordinate, strip_encoding,
                   write_atomic)
 from ..errors import UserError
 from ..schema import REALIZATION
@@ -83,8 +83,9 @@ def open_results(directory) -> xr.Dataset:
         try:
             with xr.open_dataset(path, engine="netcdf4") as ds:
                 return strip_encoding(ds.load())
-        except OSError as exc:
-            raise UserError(f"{path}: cannot read as NetCDF ({exc})") from None
+        except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError
+            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise UserError(f"{path}: cannot read as NetCDF ({why})") from None
     files = sorted((directory / "cases").glob("*.nc"))
     if not files:
         raise UserError(f"{directory}: neither sweep.nc nor any cases/*.nc to report on")
@@ -93,9 +94,17 @@ def open_results(directory) -> xr.Dataset:
         try:
             with xr.open_dataset(f, engine="netcdf4") as ds:
                 cases.append(strip_encoding(ds.load()))
-        except OSError as exc:
-            raise UserError(f"{f}: cannot read as NetCDF ({exc})") from None
-    axes, entries, fixed = grid_from_cases(cases)
+        except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError
+            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise UserError(f"{f}: cannot read as NetCDF ({why})") from None
+    # The grid the sweep asked for is in status.json (every case, finished or not): a
+    # sweep killed before combining still reports its whole grid and what is missing.
+    try:
+        status = read_status(directory)
+    except UserError:
+        status = {}
+    asked = [(e, str(e.get("state", "not_run"))) for e in status.values()]
+    axes, entries, fixed = grid_from_cases(cases, asked)
     combined, resampled = combine_cases(axes, entries, scalars=fixed)
     combined.attrs = dict(cases[0].attrs)
     note = "; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""

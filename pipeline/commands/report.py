@@ -14,9 +14,26 @@ def add_arguments(parser):
                         help="reference-fit TOML to compare with (default: sweeps/reference/study-fits.toml)")
 
 
+def _check_folder(directory: Path) -> None:
+    """The sweep folder exists and takes files (metrics.nc, fits.nc and report/ go there),
+    or one line saying which and why, before any work."""
+    from ..errors import UserError
+    from ..io.folders import writable_folder
+
+    if not directory.is_dir():
+        raise UserError(f"{directory}: no such sweep folder" if not directory.exists()
+                        else f"{directory}: a file, not a sweep folder")
+    try:
+        writable_folder(directory, str(directory))
+    except UserError as exc:
+        raise UserError(f"{exc}; the report writes metrics.nc, fits.nc and report/ there "
+                        "(copy the folder somewhere writable)") from None
+
+
 def run(args) -> int:
     from ..report import build_report
 
+    _check_folder(args.directory)
     start = time.perf_counter()
     files = build_report(args.directory, reference=args.reference)
     elapsed = time.perf_counter() - start

@@ -201,28 +201,56 @@ def _attrs_of(name: str, loaded) -> dict:
     return {"units": units, "long_name": long_name}
 
 
-def grid_from_cases(cases) -> tuple:
+def _case_file_value(key: str, value):
+    """A ``status.json`` value (SI, as in ``CaseSpec.point``) as the case files' coordinate
+    holds it: speed in degree s-1 to 12 significant digits, the seed as a whole number."""
+    if key == "speed":
+        return float(f"{math.degrees(float(value)):.12g}")
+    if key == "realization":
+        return int(value)
+    return float(value)
+
+
+def grid_from_cases(cases, asked=()) -> tuple:
     """The grid of a set of case datasets, read off their scalar coordinates.
 
     ``speed`` and ``radial_load`` are always dimensions, ``axial_load`` and
     ``realization`` when they vary (:data:`CASE_FILE_AXES`); each coordinate keeps the
     case files' attributes.
 
+    Parameters
+    ----------
+    cases : sequence of xarray.Dataset
+        The finished case files.
+    asked : sequence of (dict, str)
+        Every case the sweep asked for, as ``(point, state)`` with ``point`` its
+        ``status.json`` values (SI) and ``state`` its recorded state: the grid then spans
+        them all, and an asked point without a case file is an entry without data (its
+        state 'failed', or 'not_run'). Without it the grid spans only the finished cases.
+
     Returns
     -------
     axes : list of GridAxis
     entries : list of CaseEntry
-        One per case, in the order given, state 'ok'.
+        One per case, in the order given, state 'ok'; then one per asked point without
+        a case.
     fixed : dict
         name -> scalar coordinate of the axes that do not vary (``realization``
         excepted, as in a sweep's ``sweep.nc``).
     """
+    asked_points = []
+    for point, state in asked:
+        try:
+            asked_points.append(({k: _case_file_value(k, point[k]) for k in CASE_FILE_AXES if k in point},
+                                 state))
+        except (TypeError, ValueError):
+            continue
     axes, fixed = [], {}
     for i, key in enumerate(CASE_FILE_AXES):
         present = [c for c in cases if key in c.coords]
-        values = sorted({c[key].item() for c in present})
-        if not values:
+        if not present:
             continue
+        values = sorted({c[key].item() for c in present} | {p[key] for p, _ in asked_points if key in p})
         template = present[0][key]
         if i < 2 or len(values) > 1:
             coord = xr.DataArray(np.asarray(values, dtype=template.dtype), dims=key, attrs=dict(template.attrs))
@@ -230,4 +258,12 @@ def grid_from_cases(cases) -> tuple:
         elif key != "realization":
             fixed[key] = xr.DataArray(template.values, attrs=dict(template.attrs))
     entries = [CaseEntry(tuple(a.index(c[a.name].item()) for a in axes), c, "ok") for c in cases]
+    taken = {e.at for e in entries}
+    for point, state in asked_points:
+        if not all(a.name in point for a in axes):
+            continue
+        at = tuple(a.index(point[a.name]) for a in axes)
+        if at not in taken:
+            taken.add(at)
+            entries.append(CaseEntry(at, None, "failed" if state == "failed" else "not_run"))
     return axes, entries, fixed

@@ -11,16 +11,89 @@ from __future__ import annotations
 
 import contextlib
 import datetime
+import errno
+import hashlib
+import itertools
 import os
 import re
 import tempfile
+import time
 from pathlib import Path
 
 import xarray as xr
 
+from ..errors import UserError
 from .netcdf import encoding_for
 
 TEMP_SUFFIX = ".tmp"
+
+#: Test hook: ``N:SECONDS`` makes the N-th :func:`write_atomic` of this process sleep for
+#: SECONDS once its temporary file exists, so that a test can send a signal inside a
+#: case write (tests/pipeline/test_signals.py). Unset in normal use.
+PAUSE_ENV = "RVSWEEP_TEST_PAUSE_IN_WRITE"
+_writes = itertools.count(1)
+
+#: errno values that mean the place, not the data, is at fault: the sweep stops.
+_PLACE_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO)
+
+
+class WriteError(UserError):
+    """A file could not be written because of where it goes (a full disk, a read-only
+    file system, no permission): one line naming the file and the reason. Work stops; a
+    rerun resumes."""
+
+
+def _write_error(path: Path, exc: BaseException) -> WriteError:
+    if isinstance(exc, OSError) and exc.errno:
+        why = os.strerror(exc.errno)
+    elif _disk_full(path.parent):   # HDF5's word for it is "NetCDF: HDF error"
+        why = os.strerror(errno.ENOSPC)
+    else:
+        why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    return WriteError(f"{path}: cannot write ({why}); finished files are kept, "
+                      "run the same command again once that is fixed")
+
+
+def _disk_full(folder: Path) -> bool:
+    """Whether the file system of ``folder`` has (almost) no space left for us.
+
+    netCDF/HDF5 reports a failed write on a full disk as ``NetCDF: HDF error`` rather
+    than as ``ENOSPC``; the free space tells the two apart."""
+    try:
+        st = os.statvfs(folder)
+    except OSError:
+        return False
+    return st.f_bavail * st.f_frsize < 1 << 20 or (st.f_files and st.f_favail == 0)
+
+
+def _place_fault(path: Path, exc: BaseException) -> bool:
+    """Whether ``exc`` from writing ``path`` is the place's fault (full, read-only, denied)."""
+    if isinstance(exc, OSError) and exc.errno in _PLACE_ERRORS:
+        return True
+    return isinstance(exc, (OSError, RuntimeError)) and _disk_full(path.parent)
+
+
+def file_digest(path) -> str:
+    """The SHA-256 of a file's bytes, as hex [-].
+
+    Recorded in ``status.json`` when a case file is written and compared before the file
+    is reused, so that a file changed since (flipped bytes, a copy of another case) is
+    found without reading its variables. Reading is the cost: about 1 ms per MB.
+    """
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def _pause_for_tests() -> None:
+    spec = os.environ.get(PAUSE_ENV)
+    if not spec:
+        return
+    nth, _, seconds = spec.partition(":")
+    if next(_writes) == int(nth):
+        time.sleep(float(seconds or 60))
 
 
 def utc_stamp() -> str:
@@ -100,12 +173,28 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     (so that the rename is within one file system), are fsync'ed, and the temporary
     file is then renamed onto ``path`` with ``os.replace``, which is atomic on POSIX
     and Windows. On any error the temporary file is removed and ``path`` is untouched.
+    A failure that is the place's fault (a full disk, a read-only file system, no
+    permission) raises :class:`WriteError`: one line naming ``path`` and the reason.
+    No distributed lock is taken, whatever dask client is active.
     """
+    import dask
+
     path = Path(path)
-    with _replacing(path) as tmp:
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                     encoding=encoding_for(ds) if encoding is None else encoding)
-        _fsync(tmp)
+    try:
+        with _replacing(path) as tmp:
+            _pause_for_tests()
+            # The data are numpy arrays in this process. While a distributed Client is
+            # active, xarray would take a scheduler-wide write lock (a round trip to the
+            # scheduler, and where a signal could leave the write hung); the synchronous
+            # scheduler gives it a plain in-process lock instead.
+            with dask.config.set(scheduler="synchronous"):
+                ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
+                             encoding=encoding_for(ds) if encoding is None else encoding)
+            _fsync(tmp)
+    except (OSError, RuntimeError) as exc:
+        if _place_fault(path, exc):
+            raise _write_error(path, exc) from None
+        raise
     return path
 
 
@@ -158,8 +247,11 @@ def _alive(pid: int) -> bool:
 def write_bytes_atomic(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` atomically (temporary file, fsync, ``os.replace``)."""
     path = Path(path)
-    with _replacing(path) as tmp, open(tmp, "wb") as fh:
-        fh.write(data)
-        fh.flush()
-        os.fsync(fh.fileno())
+    try:
+        with _replacing(path) as tmp, open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+    except OSError as exc:
+        raise _write_error(path, exc) from None
     return path

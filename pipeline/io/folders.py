@@ -11,6 +11,7 @@ import contextlib
 import errno
 import os
 import socket
+import stat
 import tempfile
 from pathlib import Path
 
@@ -59,6 +60,32 @@ def writable_file(path, what: str) -> Path:
     return target
 
 
+def _open_lock(path: Path, what: str) -> int:
+    """Open (or create) the lock file without following a symbolic link.
+
+    A symlink (or a hard link, or anything that is not a plain file) named
+    ``.rvsweep.lock`` is refused in one line and left as it is: the lock is truncated and
+    written, and through a link that would overwrite its target (any file, for root).
+    ``O_NOFOLLOW`` refuses a symlink in the kernel, with no window between a check and
+    the open; ``O_NONBLOCK`` keeps a FIFO of that name from blocking the open.
+    """
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0)
+    try:
+        fd = os.open(path, flags, 0o666)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP or path.is_symlink():
+            raise UserError(f"{what}: {path} is a symbolic link; refusing to follow it "
+                            "(remove it: a sweep creates its own lock file)") from None
+        raise UserError(f"{what}: cannot open the lock file {path} ({_why(exc)})") from None
+    info = os.fstat(fd)
+    if not stat.S_ISREG(info.st_mode) or info.st_nlink > 1:
+        os.close(fd)
+        what_it_is = "a hard link to another file" if stat.S_ISREG(info.st_mode) else "not a plain file"
+        raise UserError(f"{what}: {path} is {what_it_is}; refusing to use it as the lock "
+                        "(remove it: a sweep creates its own lock file)")
+    return fd
+
+
 @contextlib.contextmanager
 def sweep_lock(folder, what: str | None = None):
     """Hold an exclusive lock on ``folder`` for the block, or raise a one-line
@@ -67,7 +94,8 @@ def sweep_lock(folder, what: str | None = None):
     ``fcntl.flock`` on ``<folder>/.rvsweep.lock``: the kernel drops the lock when its
     holder exits, however it exits (``kill -9`` included), so a killed run never leaves
     a stale lock; the file itself may stay and means nothing unlocked. Its text (pid and
-    host of the holder) is only for the message. Where ``fcntl`` does not exist
+    host of the holder) is only for the message. A lock that is a symbolic link, a hard
+    link or not a plain file is refused (:func:`_open_lock`), its target untouched. Where ``fcntl`` does not exist
     (Windows) the block runs unlocked.
     """
     try:
@@ -76,7 +104,7 @@ def sweep_lock(folder, what: str | None = None):
         yield
         return
     path = Path(folder) / LOCK_FILE
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    fd = _open_lock(path, what or str(folder))
     try:
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)

@@ -5,11 +5,12 @@ The layout (values SI, as in ``CaseSpec.point``)::
     {"<case id>": {"speed": 2.0944, "radial_load": 20000.0, "axial_load": 10000.0,
                    "<axis key>": ..., "state": "ok" | "failed" | "not_run",
                    "reason": "...", "traceback": "...",   (failed only)
-                   "seconds": 12.3, "index": 0,
+                   "seconds": 12.3, "index": 0, "sha256": "<hex>",   (ok only)
                    "units": {"speed": "rad s-1", "radial_load": "N", ..., "seconds": "s"}}, ...}
 
 ``units`` names the UDUNITS unit of every operating-point value and of ``seconds``
-(the wall time the case took).
+(the wall time the case took). ``sha256`` is the SHA-256 of the case file as written
+(:func:`pipeline.io.files.file_digest`); a resume compares it before reusing the file.
 """
 from __future__ import annotations
 
@@ -36,6 +37,7 @@ class CaseState:
     traceback: str = ""
     seconds: float | None = None
     computed: bool = False
+    sha256: str = ""
 
     def as_json(self) -> dict:
         d = dict(self.point)
@@ -46,6 +48,8 @@ class CaseState:
         if self.seconds is not None:
             d["seconds"] = round(self.seconds, 3)
         d["index"] = self.index
+        if self.state == "ok" and self.sha256:
+            d["sha256"] = self.sha256
         d["units"] = _units(self.point)
         return d
 

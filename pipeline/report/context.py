@@ -279,7 +279,7 @@ def bearing_numbers(ctx: Context) -> dict:
 
 
 #: Keys of a status.json entry that are not axis values.
-_STATUS_KEYS = ("state", "reason", "traceback", "seconds", "index", "units")
+_STATUS_KEYS = ("state", "reason", "traceback", "seconds", "index", "units", "sha256")
 
 
 def status_lookup(ctx: Context):

@@ -7,8 +7,10 @@ submitted longest first (:func:`estimated_cost`) and yielded as they finish.
 from __future__ import annotations
 
 import contextlib
+import json
 import logging
 import os
+import re
 import time
 import traceback
 import uuid
@@ -17,6 +19,9 @@ from pathlib import Path
 from ..errors import UserError
 from ..schema import CaseSpec
 from .cases import CaseOutcome, compute_case, failure_reason
+
+#: The only interface a local cluster listens on.
+LOCAL_HOST = "127.0.0.1"
 
 #: How often a local cluster retries a case whose worker died, before recording it.
 DEFAULT_ALLOWED_FAILURES = 1
@@ -70,6 +75,55 @@ def estimated_cost(spec: CaseSpec) -> float:
     return balls * duration * peak / (max(s.step_safety, 1e-9) * _STEP_LENGTH.get(s.method, 1.0))
 
 
+#: A scheduler address: ``[scheme://]host:port`` with host a name, an IPv4 address or a
+#: bracketed IPv6 address.
+_ADDRESS = re.compile(r"^(?:(tcp|tls|ws|wss|ucx)://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):([0-9]{1,5})$")
+
+#: The largest scheduler file read [bytes] (dask writes a few hundred).
+_MAX_SCHEDULER_FILE = 1 << 20
+
+
+def check_address(address: str, what: str) -> str:
+    """``address`` if it is a dask scheduler address (``[tcp|tls|ws|wss|ucx://]host:port``),
+    else a one-line :class:`UserError` starting with ``what``."""
+    m = _ADDRESS.match(address.strip()) if isinstance(address, str) else None
+    if m is None or not 0 < int(m.group(3)) < 65536:
+        raise UserError(f"{what}: not a dask scheduler address; expected tcp://HOST:PORT "
+                        "(tls://HOST:PORT for TLS), e.g. tcp://10.0.0.5:8786")
+    return address.strip()
+
+
+def scheduler_file_address(path) -> str:
+    """The scheduler address in a ``dask scheduler --scheduler-file`` file, checked, or a
+    one-line :class:`UserError` naming the file and what is wrong with it."""
+    what = f"--scheduler-file {path}"
+    p = Path(path)
+    if not p.is_file():
+        raise UserError(f"{what}: no such file (start `dask scheduler --scheduler-file FILE` first)")
+    try:
+        if p.stat().st_size > _MAX_SCHEDULER_FILE:
+            raise UserError(f"{what}: {p.stat().st_size} bytes, not a scheduler file "
+                            f"(dask writes a few hundred)")
+        doc = json.loads(p.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        why = exc.msg if isinstance(exc, json.JSONDecodeError) else str(exc).splitlines()[0]
+        raise UserError(f"{what}: not a scheduler file written by `dask scheduler` "
+                        f"(not JSON: {why})") from None
+    address = doc.get("address") if isinstance(doc, dict) else None
+    if not isinstance(address, str):
+        raise UserError(f"{what}: not a scheduler file written by `dask scheduler` "
+                        "(no \"address\" in it)")
+    return check_address(address, f"{what}: address {address!r}")
+
+
+def check_scheduler(args) -> None:
+    """Check ``--scheduler`` and ``--scheduler-file`` before any work starts (one line each)."""
+    if getattr(args, "scheduler", None) is not None:
+        check_address(args.scheduler, f"--scheduler {args.scheduler!r}")
+    if getattr(args, "scheduler_file", None) is not None:
+        scheduler_file_address(args.scheduler_file)
+
+
 def serial(todo, case_fn):
     for spec in todo:
         yield spec, compute_case(spec, case_fn)
@@ -82,15 +136,14 @@ def client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
     from distributed import Client, LocalCluster
 
     if scheduler or scheduler_file:
-        if scheduler_file and not Path(scheduler_file).is_file():
-            raise UserError(f"--scheduler-file {scheduler_file}: no such file (start "
-                            "`dask scheduler --scheduler-file FILE` first)")
+        address = (check_address(scheduler, f"--scheduler {scheduler!r}") if scheduler
+                   else scheduler_file_address(scheduler_file))
         try:
-            client = (Client(scheduler, timeout="20s") if scheduler
-                      else Client(scheduler_file=str(scheduler_file), timeout="20s"))
-        except (OSError, TimeoutError) as exc:
-            where = scheduler or f"the address in {scheduler_file}"
-            raise UserError(f"cannot reach the dask scheduler at {where}: {exc}") from None
+            client = Client(address, timeout="20s")
+        except Exception as exc:  # OSError, TimeoutError, ValueError from the comm layer
+            where = scheduler or f"{address} (from {scheduler_file})"
+            raise UserError(f"cannot reach the dask scheduler at {where}: "
+                            f"{str(exc).splitlines()[0] if str(exc) else type(exc).__name__}") from None
         try:
             try:
                 client.wait_for_workers(1, timeout=60)
@@ -113,16 +166,40 @@ def client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
         "distributed.worker.profile.enabled": False,
     }
     with dask.config.set(settings):
+        # Every listening socket on the loopback interface: the scheduler, the workers and
+        # the dashboard (a dask scheduler runs code for whoever reaches it).
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=":0", silence_logs=logging.ERROR)
+                               host=LOCAL_HOST, dashboard_address=f"{LOCAL_HOST}:0",
+                               silence_logs=logging.ERROR)
         client = Client(cluster)
+    stopped = False
     try:
         yield client, f"local cluster of {n} process{'es' if n != 1 else ''}"
+    except BaseException:
+        stopped = True   # Ctrl-C, SIGTERM, a full disk: the cases at work are abandoned
+        raise
     finally:
+        if stopped:
+            _kill_workers(cluster)
         with contextlib.suppress(Exception):
-            client.close()
+            client.close(timeout=5 if stopped else None)
         with contextlib.suppress(Exception):
-            cluster.close()
+            cluster.close(timeout=5 if stopped else None)
+
+
+def _kill_workers(cluster) -> None:
+    """Kill the worker processes of a local cluster at once.
+
+    A closing cluster asks each worker to finish and waits for it (seconds, a case
+    long); a stopped sweep abandons those cases anyway, so their processes are killed
+    and the close that follows has nothing to wait for."""
+    import signal
+
+    for nanny in list(getattr(cluster, "workers", {}).values()):
+        with contextlib.suppress(Exception):
+            pid = nanny.process.process.pid
+            if pid:
+                os.kill(pid, signal.SIGKILL)
 
 
 def on_cluster(client, todo, case_fn, allowed_failures):

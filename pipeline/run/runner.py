@@ -12,7 +12,11 @@ How a run goes
 1. The sweep file is expanded and validated (:func:`pipeline.schema.read_sweep_file`);
    any problem stops here, before a case runs.
 2. Cases whose file exists are reused (their id hashes everything that determines the
-   result, see :mod:`pipeline.schema.sweepfile`); the others are computed.
+   result, see :mod:`pipeline.schema.sweepfile`) when the file is the one written for
+   that case: its SHA-256 is the one ``status.json`` recorded when it was written (or,
+   without a record, it names the case in ``configuration_hash`` and every variable
+   reads). Any other file is set aside as ``<name>.damaged`` with one line saying why;
+   those cases and the rest are computed.
 3. The numba kernels are compiled in this process (``rvcore.driver.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
@@ -44,8 +48,8 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
-from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, combine_cases, combined_encoding,
-                  git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
+from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
+                  combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
 from . import cluster
@@ -205,28 +209,92 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
                           combine_at_end=combine_at_end)
 
 
-def _reusable(path: Path) -> bool:
-    """Whether a case file exists and opens. A file that does not open (truncated by a
-    full disk or a copy, say) is set aside as ``<name>.damaged``, not deleted (it may be
-    worth a look), with one warning line, and its case is computed again."""
-    if not path.is_file():
-        return False
-    import netCDF4
+#: The case file's global attribute that names the case it holds (its case id).
+ID_ATTRIBUTE = "configuration_hash"
 
-    try:
-        netCDF4.Dataset(path, "r").close()
-        return True
-    except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
-        reason = str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+
+def _set_aside(path: Path, why: str) -> Path:
+    """Move a case file that must not be reused to ``<name>.damaged`` (``.damaged2``, ...),
+    not deleted (it may be worth a look), and say so in one line on stderr."""
     aside = path.with_name(path.name + ".damaged")
     k = 1
     while aside.exists():
         k += 1
         aside = path.with_name(f"{path.name}.damaged{k}")
     os.replace(path, aside)
-    print(f"warning: {path} could not be read ({reason}); moved to {aside.name}, "
-          f"the case will be computed again", file=sys.stderr)
-    return False
+    print(f"warning: {path}: {why}; moved to {aside.name}, the case will be computed again",
+          file=sys.stderr)
+    return aside
+
+
+def _first_line(exc: BaseException) -> str:
+    return str(exc).splitlines()[0] if str(exc) else exc.__class__.__name__
+
+
+def _held_case(path: Path) -> str | None:
+    """The case id a case file says it holds (its ``configuration_hash``), or None."""
+    import netCDF4
+
+    with netCDF4.Dataset(path, "r") as nc:
+        return str(nc.getncattr(ID_ATTRIBUTE)) if ID_ATTRIBUTE in nc.ncattrs() else None
+
+
+def _read_fully(path: Path) -> None:
+    """Open a case file and read every variable (each chunk is inflated and checked)."""
+    import netCDF4
+
+    with netCDF4.Dataset(path, "r") as nc:
+        nc.set_auto_mask(False)
+        for var in nc.variables.values():
+            var[...]
+
+
+def _reusable(path: Path, case_id: str, recorded: str = "") -> str:
+    """The SHA-256 of a case file that may be reused for ``case_id``, or '' (computed again).
+
+    A file is reused only when it is the one written for this case:
+
+    - with a digest recorded in ``status.json`` when it was written, its bytes must give
+      that digest (one read of the file, no netCDF; flipped bytes or another case's file
+      differ);
+    - without one (a folder of an older version, files copied in), it must open, say it
+      holds ``case_id`` (its ``configuration_hash``) and every variable must read.
+
+    A file that fails is set aside by :func:`_set_aside` with one line saying why.
+    """
+    if not path.is_file():
+        return ""
+    from ..io import file_digest
+
+    try:
+        digest = file_digest(path)
+    except OSError as exc:
+        _set_aside(path, f"could not be read ({_first_line(exc)})")
+        return ""
+    if recorded and digest == recorded:
+        return digest
+    try:
+        held = _held_case(path)
+        if held != case_id:
+            _set_aside(path, f"holds case {held or '(none named)'} ({ID_ATTRIBUTE}), not {case_id}")
+            return ""
+        if recorded:   # the right case, but not the bytes that were written
+            _set_aside(path, "its bytes differ from those written (SHA-256 recorded in status.json)")
+            return ""
+        _read_fully(path)
+    except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
+        _set_aside(path, f"could not be read ({_first_line(exc)})")
+        return ""
+    return digest
+
+
+def _recorded_digests(out: Path) -> dict:
+    """case id -> the SHA-256 recorded in ``status.json`` when its file was written."""
+    try:
+        status = read_status(out)
+    except UserError:   # an unreadable status.json: every file is checked in full
+        return {}
+    return {cid: str(e.get("sha256", "")) for cid, e in status.items() if e.get("state") == "ok"}
 
 
 def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, serial, case_fn,
@@ -238,10 +306,13 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
 
     states = {}
     todo = []
+    recorded = _recorded_digests(out) if resume else {}
     for i, spec in enumerate(sweep.cases):
         st = CaseState(spec.case_id, i, spec.point)
-        if resume and _reusable(cases_dir / f"{spec.case_id}.nc"):
-            st.state = "ok"
+        digest = _reusable(cases_dir / f"{spec.case_id}.nc", spec.case_id,
+                           recorded.get(spec.case_id, "")) if resume else ""
+        if digest:
+            st.state, st.sha256 = "ok", digest
         else:
             todo.append(spec)
         states[spec.case_id] = st
@@ -290,8 +361,11 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     if outcome.ok:
                         try:
                             ds = label_case(spec, outcome.result, source=source, sweep_name=sweep.name)
-                            write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
+                            path = write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
+                            st.sha256 = file_digest(path)
                             st.state, st.reason, st.traceback = "ok", "", ""
+                        except WriteError:   # a full disk, a read-only folder: stop, in one line
+                            raise
                         except Exception as exc:  # bad result arrays: this case fails
                             st.state, st.reason = "failed", f"could not write the case file: {failure_reason(exc)}"
                             st.traceback = traceback.format_exc()
@@ -431,8 +505,12 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
                           state=st.state if st is not None else "not_run")
         p = cases_dir / f"{spec.case_id}.nc"
         if p.is_file():
-            with xr.open_dataset(p, engine="netcdf4") as ds:
-                entry.data = ds.load()
+            try:
+                with xr.open_dataset(p, engine="netcdf4") as ds:
+                    entry.data = ds.load()
+            except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError
+                raise UserError(f"{p}: cannot be read ({_first_line(exc)}); move it away and run "
+                                "the sweep again to compute that case again") from None
             loaded += 1
         entries.append(entry)
     fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
