@@ -46,6 +46,19 @@ def input_file(arg) -> Path:
     return shipped if shipped.is_file() else p
 
 
+def check_out_option(value, flag: str = "--out") -> None:
+    """Refuse an ``--out`` that names nothing: empty or only blanks (``--out ''`` wrote
+    into the current folder), or holding a control character (a newline typed into a
+    path)."""
+    from ..errors import UserError
+
+    if not str(value).strip():
+        raise UserError(f"{flag} {value!r}: empty; name a folder or file (e.g. {flag} results)")
+    bad = next((ch for ch in str(value) if ord(ch) < 32 or ord(ch) == 127), None)
+    if bad is not None:
+        raise UserError(f"{flag} {value!r}: holds the control character {bad!r}; a path should not")
+
+
 def add_load_arguments(parser, *, speed: bool) -> None:
     parser.add_argument("--bearing", required=True, metavar="FILE", help="bearing TOML file: " + SHIPPED_HELP)
     if speed:

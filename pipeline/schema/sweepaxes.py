@@ -27,7 +27,7 @@ REQUIRED_OPERATING_POINT = tuple(f.path for f in fields.fields_of("operating_poi
 REALIZATION = "realization"
 _SENSOR_KEYS = ("name", "position", "direction")
 _RANGE_KEYS = ("start", "stop", "step")
-NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*\Z")   # \Z, not $: "$" matches before a final newline
 
 
 @dataclass(frozen=True)
