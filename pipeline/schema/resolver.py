@@ -21,9 +21,30 @@ def resolve_file(sweep_file: Path, raw: dict, key: str) -> Path:
     if not isinstance(v, str) or not v.strip():
         raise ConfigError(sweep_file, key, v, "must be a file path (a string)")
     p = resolve_path(sweep_file, v)
-    if not p.is_file():
-        raise ConfigError(sweep_file, key, v, f"no such {key} file ({p})")
-    return p
+    if p.is_file():
+        return p
+    shipped = _shipped(v)
+    if shipped is not None:
+        return shipped
+    raise ConfigError(sweep_file, key, v, f"no such {key} file ({p}), nor a shipped one of that name")
+
+
+def _shipped(written: str):
+    """The shipped file a relative path names (``bearings/reduced-test.toml``, or
+    ``sweeps/bearings/...``), or None: the README's "shipped files can be named from
+    anywhere" holds inside a copied sweep file too."""
+    from .shipped import shipped_root
+
+    rel = Path(written).expanduser()
+    if rel.is_absolute() or not rel.parts:
+        return None
+    if rel.parts[0] == "sweeps":
+        rel = Path(*rel.parts[1:])
+    root = shipped_root().resolve()
+    candidate = (root / rel).resolve()
+    if root in candidate.parents and candidate.is_file():
+        return candidate
+    return None
 
 class Resolver:
     """Builds bearing/profile/solver/operating point for a set of values, with caches."""

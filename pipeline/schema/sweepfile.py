@@ -96,7 +96,7 @@ from rvcore.profile import OperatingPoint, Profile
 from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
-from .reader import short
+from .reader import refuse_other_kind, short
 from .resolver import Resolver, resolve_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
@@ -289,7 +289,13 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
     name, description = _name_and_description(raw, file)
     bearing_file = resolve_file(file, raw, "bearing")
     profile_file = resolve_file(file, raw, "profile")
-    resolver = Resolver(file, bearing_file, read_toml(bearing_file), profile_file, read_toml(profile_file))
+    bearing_raw, profile_raw = read_toml(bearing_file), read_toml(profile_file)
+    for key, named, named_raw in (("bearing", bearing_file, bearing_raw), ("profile", profile_file, profile_raw)):
+        try:
+            refuse_other_kind(named_raw, named, key)
+        except ConfigError as exc:   # said about the sweep file's key, which is what to change
+            raise ConfigError(file, key, raw[key], f"{exc.reason} ({named})") from None
+    resolver = Resolver(file, bearing_file, bearing_raw, profile_file, profile_raw)
     solver_values = _solver_values(raw, file)
     fixed = _fixed_settings(raw, file)
     if ("axes" in raw) == ("cases" in raw):
