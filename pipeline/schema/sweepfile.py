@@ -102,7 +102,7 @@ from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_P
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
                         sort_key, target_of)
-from .tomlfile import read_toml
+from .tomlfile import lookup, read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
            "SOLVER_UNHASHED_DEFAULTS", "BEARING_UNHASHED_DEFAULTS", "Axis", "CaseSpec", "Setting",
@@ -313,7 +313,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
 
     cases, ids = [], {}
     for n, point in enumerate(points):
-        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file)
+        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw)
         if case.case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
                               f"case {n} is the same as case {ids[case.case_id]} (same resolved values)")
@@ -462,13 +462,31 @@ def _listed_points(raw: dict, file: Path, fixed: dict) -> tuple:
     return tuple(axes), points
 
 
+def _refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw) -> None:
+    """A load no set of balls carries, or an output rate the step cannot feed or the memory
+    cannot hold (:mod:`pipeline.schema.physical`), said about the key that set it, before
+    any case runs."""
+    from .physical import load_problems, record_problems
+
+    problems = [("operating_point", *p) for p in load_problems(bearing, op)]
+    problems += [("solver", *p) for p in record_problems(settings, profile, bearing, sensors)]
+    for target, key, value, reason in problems[:1]:
+        where = next((s.where for s in settings_of if s.target == target and s.inner == key),
+                     key if target == "operating_point" else f"solver.{key}")
+        typed = lookup((raw or {}), where, None) if raw is not None else None
+        if typed is None or isinstance(typed, (dict, list)):
+            unit = {"radial_load": "N", "axial_load": "N", "moment": "N m", "output_rate": "Hz"}[key]
+            typed = f"{value:g} {unit}"
+        raise ConfigError(file, where, typed, reason)
+
+
 def _overrides(settings, target: str) -> tuple:
     """``(inner key, value, where)`` of the settings for ``target``, as the resolver takes them."""
     return tuple((s.inner, s.value, s.where) for s in settings if s.target == target)
 
 
 def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: SolverSettings,
-                  resolver: Resolver, sensors: tuple, file: Path) -> CaseSpec:
+                  resolver: Resolver, sensors: tuple, file: Path, raw: dict | None = None) -> CaseSpec:
     """One case: ``[fixed]`` with the point's settings over it, resolved and hashed."""
     merged = {**fixed, **point}
     settings_of = list(merged.values())
@@ -484,6 +502,7 @@ def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: Solve
         check_settings(settings, file, {s.inner: s.where for s in settings_of if s.target == "solver"})
     bearing = resolver.bearing(_overrides(settings_of, "bearing"))
     profile = resolver.profile(_overrides(settings_of, "profile"))
+    _refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
     conf = case_configuration(bearing, profile, op, settings, sensors)
     coords = {k: merged[k].coord for k in REQUIRED_OPERATING_POINT}
     coords.update({k: s.coord for k, s in point.items()})
