@@ -118,9 +118,16 @@ def realization_axis(raw: dict, file) -> Axis | None:
     n = raw.get("realizations", 1)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ConfigError(file, "realizations", n, "must be a whole number of at least 1")
+    from .sweepfile import MAX_CASES   # said before the seeds are listed, which alone could fill the memory
+
+    if n > MAX_CASES:
+        raise ConfigError(file, "realizations", n, f"more than the {MAX_CASES} cases a sweep holds")
     seed = raw.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise ConfigError(file, "seed", seed, "must be a whole number of at least 0")
+    if seed is not None and seed + n - 1 > fields.MAX_SEED:
+        raise ConfigError(file, "seed", seed, f"seed + realizations - 1 must be at most {fields.MAX_SEED} "
+                                              "(2**53 - 1: the realization axis stores seeds as exact floats)")
     if n == 1 and seed is None:
         return None
     seeds = tuple(float((seed or 0) + k) for k in range(n))
@@ -362,6 +369,13 @@ def check_settings(settings: SolverSettings, file, where):
             raise ConfigError(file, key(k), x, f.why or "must lie in (0, 1]")
         if f.kind == "choice":
             check_value(f, x, file, key(k))
+        if f.kind == "integer" and not (isinstance(x, bool) or (f.minimum is not None and x < f.minimum)
+                                        or (f.maximum is not None and x > f.maximum)) and x != int(x):
+            raise ConfigError(file, key(k), x, "must be a whole number")
+        if f.kind == "integer" and f.minimum is not None and x < f.minimum:
+            raise ConfigError(file, key(k), x, f"must be at least {f.minimum}")
+        if f.kind == "integer" and f.maximum is not None and x > f.maximum:
+            raise ConfigError(file, key(k), x, f"must be at most {f.maximum}" + (f" ({f.why})" if f.why else ""))
     if settings.end_time and settings.end_time <= settings.start_time:
         raise ConfigError(file, key("end_time"), settings.end_time,
                           "must come after start_time (or be 0: the profile's duration)")
