@@ -18,7 +18,7 @@ from ..io.netcdf import cf_name
 from . import fields
 from .reader import check_value, short
 from .tomlfile import parse_key_path
-from .units import SI_UNITS, parse_quantity, registry, si_udunits
+from .units import SI_UNITS, is_safe_text, parse_quantity, registry, si_udunits
 
 #: Operating-point keys and their kinds (pipeline.schema.units.SI_UNITS), from the schema.
 OPERATING_POINT = fields.operating_point()
@@ -204,6 +204,8 @@ def _key_kind(target: str, key: str):
 def _kind_of_quantity(text: str):
     """Kind of a unit string by its dimensionality; None if it is not a quantity."""
     ureg = registry()
+    if not is_safe_text(text):   # "9**9**9 N" would not come back; the loader says why
+        return None
     try:
         q = ureg.Quantity(text.strip())
     except Exception:  # pint raises several types for text that is not a quantity

@@ -189,6 +189,18 @@ def _check_arithmetic(value: str, file, key) -> None:
         raise ConfigError(file, key, value, "not a quantity: a power without a number after it")
 
 
+def is_safe_text(value: str) -> bool:
+    """Whether pint may be given ``value`` to evaluate: the checks of :func:`parse_quantity`
+    (characters, trailing text, power towers, length) pass. For callers that ask pint
+    about a text before it is parsed as a quantity (a sweep axis's kind)."""
+    try:
+        _check_text(value, "", None, None)
+        _check_arithmetic(value, None, None)
+    except ConfigError:
+        return False
+    return True
+
+
 def format_quantity(value_si: float, unit: str, kind: str) -> str:
     """Format an SI float in ``unit`` (e.g. ``format_quantity(30000, 'kN', 'force')``)."""
     ureg = registry()

@@ -362,3 +362,19 @@ def test_a_missing_file_next_to_nothing_shipped_is_still_refused(capsys, tmp_pat
                  '[axes]\nspeed = ["120 deg/s"]\nradial_load = ["20 kN"]\n[fixed]\naxial_load = "10 kN"\n')
     err = _one_line(capsys, main(["check", str(p)]))
     assert "bearing = 'bearings/no-such.toml': no such bearing file" in err
+
+
+@pytest.mark.parametrize("body, key", [
+    ('radial_load = ["20 kN"]\n[fixed]\naxial_load = "10 kN"\n"contact.damping" = "9**9**9 N s/m"\n',
+     "fixed.contact.damping"),
+    ('radial_load = {start = "2**2**20 N", stop = "3 kN", step = "1 kN"}\n[fixed]\naxial_load = "10 kN"\n',
+     "axes.radial_load.start"),
+])
+def test_power_towers_in_a_sweep_file_are_refused_before_pint_sees_them(capsys, tmp_path, body, key):
+    """A sweep asks pint for the kind of an override's or a range's unit before parsing it:
+    that question is not put to pint for a power tower either."""
+    p = tmp_path / "s.toml"
+    p.write_text(f'bearing = "{REDUCED.as_posix()}"\nprofile = "{SHORT.as_posix()}"\n'
+                 '[axes]\nspeed = ["120 deg/s"]\n' + body)
+    err = _one_line(capsys, main(["check", str(p)]))
+    assert f"{p}: {key} = " in err and "not a quantity" in err
