@@ -29,7 +29,7 @@ from rvcore import geometry as geo
 from rvcore.hertz import effective_modulus, race_contact
 from rvcore.static_rating import ISO76_BALL_PRESSURE
 
-__all__ = ["static_limit", "physical_problems", "load_problems", "record_problems", "MAX_RECORD_BYTES",
+__all__ = ["static_limit", "physical_problems", "load_problems", "record_problems", "refuse_beyond_bounds", "MAX_RECORD_BYTES",
            "MAX_RUNOUT_POINTS"]
 
 #: Largest record one case may store [bytes]: samples × signals × 8 bytes. The study's
@@ -239,3 +239,31 @@ def record_problems(settings, profile, bearing, sensors=()) -> list:
                     f"{signals} signals, {size / 2**30:.4g} GiB, more than the {MAX_RECORD_BYTES / 2**30:g} GiB "
                     f"a case's record may take; at most {most:.4g} Hz here"))
     return out
+
+
+def refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw) -> None:
+    """A load no set of balls carries, or an output rate the step cannot feed or the memory
+    cannot hold (:mod:`pipeline.schema.physical`), said about the key that set it, before
+    any case runs (:func:`load_problems`, :func:`record_problems`).
+
+    ``settings_of`` are the case's :class:`pipeline.schema.sweepaxes.Setting` values (where
+    each was written); ``raw`` the sweep file's TOML, to show the value as typed.
+
+    Raises
+    ------
+    ConfigError
+        The first problem, naming the sweep file, the key and the value as typed.
+    """
+    from ..errors import ConfigError
+    from .tomlfile import lookup
+
+    problems = [("operating_point", *p) for p in load_problems(bearing, op)]
+    problems += [("solver", *p) for p in record_problems(settings, profile, bearing, sensors)]
+    for target, key, value, reason in problems[:1]:
+        where = next((s.where for s in settings_of if s.target == target and s.inner == key),
+                     key if target == "operating_point" else f"solver.{key}")
+        typed = lookup((raw or {}), where, None) if raw is not None else None
+        if typed is None or isinstance(typed, (dict, list)):
+            unit = {"radial_load": "N", "axial_load": "N", "moment": "N m", "output_rate": "Hz"}[key]
+            typed = f"{value:g} {unit}"
+        raise ConfigError(file, where, typed, reason)

@@ -46,6 +46,22 @@ def _shipped(written: str):
         return candidate
     return None
 
+def read_named_file(sweep_file: Path, raw: dict, key: str) -> tuple:
+    """(path, TOML) of the ``bearing`` or ``profile`` file a sweep names; a file of another
+    kind there is said about the sweep file's key ("this is a bearing file, not a profile
+    file"), which is what to change."""
+    from .reader import refuse_other_kind
+    from .tomlfile import read_toml
+
+    path = resolve_file(sweep_file, raw, key)
+    named = read_toml(path)
+    try:
+        refuse_other_kind(named, path, key)
+    except ConfigError as exc:
+        raise ConfigError(sweep_file, key, raw[key], f"{exc.reason} ({path})") from None
+    return path, named
+
+
 class Resolver:
     """Builds bearing/profile/solver/operating point for a set of values, with caches."""
 

@@ -96,13 +96,14 @@ from rvcore.profile import OperatingPoint, Profile
 from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
-from .reader import refuse_other_kind, short
-from .resolver import Resolver, resolve_file
+from .reader import short
+from .physical import refuse_beyond_bounds
+from .resolver import Resolver, read_named_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
                         sort_key, target_of)
-from .tomlfile import lookup, read_toml
+from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
            "SOLVER_UNHASHED_DEFAULTS", "BEARING_UNHASHED_DEFAULTS", "Axis", "CaseSpec", "Setting",
@@ -287,14 +288,8 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
     _refuse_other_kinds(raw, file)
     _check_top_keys(raw, file)
     name, description = _name_and_description(raw, file)
-    bearing_file = resolve_file(file, raw, "bearing")
-    profile_file = resolve_file(file, raw, "profile")
-    bearing_raw, profile_raw = read_toml(bearing_file), read_toml(profile_file)
-    for key, named, named_raw in (("bearing", bearing_file, bearing_raw), ("profile", profile_file, profile_raw)):
-        try:
-            refuse_other_kind(named_raw, named, key)
-        except ConfigError as exc:   # said about the sweep file's key, which is what to change
-            raise ConfigError(file, key, raw[key], f"{exc.reason} ({named})") from None
+    bearing_file, bearing_raw = read_named_file(file, raw, "bearing")
+    profile_file, profile_raw = read_named_file(file, raw, "profile")
     resolver = Resolver(file, bearing_file, bearing_raw, profile_file, profile_raw)
     solver_values = _solver_values(raw, file)
     fixed = _fixed_settings(raw, file)
@@ -462,24 +457,6 @@ def _listed_points(raw: dict, file: Path, fixed: dict) -> tuple:
     return tuple(axes), points
 
 
-def _refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw) -> None:
-    """A load no set of balls carries, or an output rate the step cannot feed or the memory
-    cannot hold (:mod:`pipeline.schema.physical`), said about the key that set it, before
-    any case runs."""
-    from .physical import load_problems, record_problems
-
-    problems = [("operating_point", *p) for p in load_problems(bearing, op)]
-    problems += [("solver", *p) for p in record_problems(settings, profile, bearing, sensors)]
-    for target, key, value, reason in problems[:1]:
-        where = next((s.where for s in settings_of if s.target == target and s.inner == key),
-                     key if target == "operating_point" else f"solver.{key}")
-        typed = lookup((raw or {}), where, None) if raw is not None else None
-        if typed is None or isinstance(typed, (dict, list)):
-            unit = {"radial_load": "N", "axial_load": "N", "moment": "N m", "output_rate": "Hz"}[key]
-            typed = f"{value:g} {unit}"
-        raise ConfigError(file, where, typed, reason)
-
-
 def _overrides(settings, target: str) -> tuple:
     """``(inner key, value, where)`` of the settings for ``target``, as the resolver takes them."""
     return tuple((s.inner, s.value, s.where) for s in settings if s.target == target)
@@ -502,7 +479,7 @@ def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: Solve
         check_settings(settings, file, {s.inner: s.where for s in settings_of if s.target == "solver"})
     bearing = resolver.bearing(_overrides(settings_of, "bearing"))
     profile = resolver.profile(_overrides(settings_of, "profile"))
-    _refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
+    refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
     conf = case_configuration(bearing, profile, op, settings, sensors)
     coords = {k: merged[k].coord for k in REQUIRED_OPERATING_POINT}
     coords.update({k: s.coord for k, s in point.items()})
