@@ -46,6 +46,19 @@ def input_file(arg) -> Path:
     return shipped if shipped.is_file() else p
 
 
+def check_out_option(value, flag: str = "--out") -> None:
+    """Refuse an ``--out`` that names nothing: empty or only blanks (``--out ''`` wrote
+    into the current folder), or holding a control character (a newline typed into a
+    path)."""
+    from ..errors import UserError
+
+    if not str(value).strip():
+        raise UserError(f"{flag} {value!r}: empty; name a folder or file (e.g. {flag} results)")
+    bad = next((ch for ch in str(value) if ord(ch) < 32 or ord(ch) == 127), None)
+    if bad is not None:
+        raise UserError(f"{flag} {value!r}: holds the control character {bad!r}; a path should not")
+
+
 def add_load_arguments(parser, *, speed: bool) -> None:
     parser.add_argument("--bearing", required=True, metavar="FILE", help="bearing TOML file: " + SHIPPED_HELP)
     if speed:
@@ -116,6 +129,12 @@ _FLAGS = {"speed": "--speed", "radial_load": "--radial-load", "axial_load": "--a
           "moment": "--moment", "load_angle": "--load-angle"}
 
 
+def _shown(text, most: int = 80):
+    """``text`` as typed, cut in the middle when longer than ``most`` characters."""
+    text = str(text)
+    return text if len(text) <= most else f"{text[:most // 2]}...{text[-most // 4:]}"
+
+
 def _as_typed(exc, args):
     """A schema error about the command line's one case, told as the user typed it: the
     option and its text ("--radial-load '30 kg'"), not the sweep's internal key and SI value."""
@@ -127,7 +146,9 @@ def _as_typed(exc, args):
     if key.startswith("cases[0]."):
         key = key[len("cases[0]."):]
         if key in _FLAGS:
-            return UserError(f"{_FLAGS[key]} {getattr(args, key)!r}: {exc.reason}")
+            return UserError(f"{_FLAGS[key]} {_shown(getattr(args, key))!r}: {exc.reason}")
+    if key in ("bearing", "profile") and getattr(args, key, None):
+        return UserError(f"--{key} {getattr(args, key)!r}: {exc.reason}")
     typed = next((item for item in args.set if item.split("=", 1)[0].strip() == key), None)
     if typed is not None:
         return UserError(f"--set {typed!r}: {exc.reason}")

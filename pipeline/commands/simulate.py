@@ -6,7 +6,7 @@ import time
 
 from ..errors import UserError
 from ..io.folders import writable_file
-from .common import add_load_arguments, add_method_argument, one_case_sweep
+from .common import add_load_arguments, add_method_argument, check_out_option, one_case_sweep
 
 HELP = "one dynamic case through the duty cycle to a CF NetCDF file"
 
@@ -24,6 +24,7 @@ def run(args):
     from ..run import run_one_case
     from ..run.estimate import say_if_compiling
 
+    check_out_option(args.out)   # before any work
     sweep = one_case_sweep(args, profile=args.profile)
     out = writable_file(args.out, f"--out {args.out}")   # before the case, not after it
     spec = sweep.cases[0]

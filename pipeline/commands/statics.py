@@ -25,7 +25,7 @@ def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print one JSON object (SI units)")
     parser.add_argument("--no-gravity", action="store_true",
                         help="leave out the inner ring's weight (it is included by default, along the mounting)")
-    parser.add_argument("--runout", type=int, default=0, metavar="N",
+    parser.add_argument("--runout", type=int, default=None, metavar="N",
                         help="also the quasi-static runout path: the pose at N ring angles over one revolution "
                              "(an imperfect bearing's; see [imperfections])")
     parser.add_argument("--seed", type=int, default=-1, metavar="S",
@@ -60,6 +60,7 @@ def run(args):
     from rvcore.contact import LOADED_BALL_LOAD
     from rvcore.stiffness import COORDINATES, stiffness_scalars
 
+    _check_runout(args)   # before any work
     sweep = one_case_sweep(args, profile=None)
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
@@ -232,10 +233,8 @@ def run(args):
 
 def _runout(args, bearing, op, mx: float, my: float):
     """The quasi-static runout path of ``--runout N`` (None without it)."""
-    if not args.runout:
+    if args.runout is None:
         return None
-    if args.runout < 2:
-        raise UserError(f"--runout {args.runout}: give at least 2 ring angles")
     if mx or my:
         raise UserError("--runout takes --moment only (about the axis normal to the radial load), "
                         "not --moment-x/--moment-y")
@@ -247,6 +246,21 @@ def _runout(args, bearing, op, mx: float, my: float):
                            points=args.runout, gravity=not args.no_gravity, seed=args.seed)
     except NoEquilibriumError as exc:
         raise UserError(str(exc)) from None
+
+
+def _check_runout(args) -> None:
+    """``--runout N`` within its bounds, before any work: at least 2 ring angles, at most
+    :data:`pipeline.schema.physical.MAX_RUNOUT_POINTS`."""
+    from ..schema.physical import MAX_RUNOUT_POINTS
+
+    if args.runout is None:
+        return
+    if args.runout < 2:
+        raise UserError(f"--runout {args.runout}: give at least 2 ring angles (leave --runout out "
+                        "for no runout path)")
+    if args.runout > MAX_RUNOUT_POINTS:
+        raise UserError(f"--runout {args.runout}: more than the {MAX_RUNOUT_POINTS} ring angles (one every "
+                        f"{360 / MAX_RUNOUT_POINTS:g} deg) a runout path takes; each is a full quasi-static solve")
 
 
 def _num(x) -> str:

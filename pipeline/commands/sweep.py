@@ -15,7 +15,7 @@ from ..io.folders import writable_folder
 from ..run.cluster import check_scheduler
 from ..run.estimate import (CONFIRM_CASES, CONFIRM_SECONDS, duration_text, local_workers,
                             sweep_seconds)
-from .common import SHIPPED_HELP, input_file
+from .common import SHIPPED_HELP, check_out_option, input_file
 
 HELP = "run a sweep file's grid of cases (resumable, on dask) into <out>/<name>/"
 
@@ -174,6 +174,7 @@ def run(args) -> int:
             raise UserError("--workers sizes the local cluster; it does not apply with "
                             "--scheduler, --scheduler-file or --serial")
     check_scheduler(args)
+    check_out_option(args.out)   # before any work
     sweep = read_sweep_file(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
     writable_folder(out / "cases", f"--out {args.out}")

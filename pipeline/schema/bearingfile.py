@@ -376,8 +376,30 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
                        "as a warning (docs/model.md §10)")
         raise ConfigError(file, key, shown, reason)
+    _refuse_unphysical(bearing, raw, file, arrangement)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
     return _preload(bearing, top) if arrangement else bearing
+
+
+def _refuse_unphysical(bearing: Bearing, raw: dict, file, arrangement: str) -> None:
+    """The first of :func:`pipeline.schema.physical.physical_problems`, said about the key
+    the file wrote it under (a row's, the bearing's ``[imperfections]``, or a pair's entry)."""
+    from .physical import physical_problems
+
+    for i, key, value, reason in physical_problems(bearing):
+        row = 0 if arrangement else i
+        if key.startswith("imperfections."):
+            name = key.removeprefix("imperfections.")
+            head = name.split("[")[0].split(".")[0]
+            places = ([f"pair.imperfections[{i}]"] if arrangement else []) + [f"rows[{row}].imperfections",
+                                                                            "imperfections"]
+            absent = object()
+            where = next((p for p in places if lookup(raw, f"{p}.{head}", absent) is not absent), places[-1])
+            key = f"{where}.{name}"
+        else:
+            key = f"rows[{row}].{key}"
+        shown = lookup(raw, key, value)
+        raise ConfigError(file, key, shown if not isinstance(shown, (dict, list)) else value, reason)
 
 
 def load_bearing(path) -> Bearing:

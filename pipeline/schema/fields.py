@@ -42,6 +42,15 @@ from rvcore.geometry import Lubricant
 
 from ..errors import ConfigError
 
+#: Largest seed: the realization axis stores seeds as float coordinates, exact up to 2**53.
+MAX_SEED = 2**53 - 1
+
+#: Most lobes of a waviness term: a million lobes on the study's 328 mm inner raceway are a
+#: wavelength of 1 µm, roughness rather than waviness. The amplitude bounds the order much
+#: further (:mod:`pipeline.schema.physical`: the ball must not bridge the troughs); this
+#: bound holds where the amplitude is 0.
+MAX_WAVINESS_ORDER = 10**6
+
 #: Default of a field that must be given.
 REQUIRED = object()
 
@@ -173,8 +182,12 @@ def _imperfections(prefix: str, where: str) -> list:
             _q(f"{prefix}.{ring}_eccentricity_angle", "angle", "deg",
                f"direction of the {ring} raceway's offset (its high point) in its ring's frame",
                bounds=None, default="(drawn from the case's seed, else 0)"),
-            Field(f"{prefix}.{ring}_waviness[].order", "integer", "bearing", minimum=1, default=REQUIRED,
-                  doc=f"lobes of one {ring} raceway waviness harmonic"),
+            Field(f"{prefix}.{ring}_waviness[].order", "integer", "bearing", minimum=1,
+                  maximum=MAX_WAVINESS_ORDER, default=REQUIRED,
+                  doc=f"lobes of one {ring} raceway waviness harmonic; with its amplitude A, "
+                      "A·order²/R² − 1/R (inner) or + 1/R (outer) must stay below 2/D_w, or the "
+                      "ball bridges the troughs (R the raceway radius)",
+                  why="a wavelength of a micrometre is roughness, not waviness"),
             _q(f"{prefix}.{ring}_waviness[].amplitude", "length", "um",
                f"amplitude of the {ring} raceway radius harmonic", bounds="nonnegative"),
             _q(f"{prefix}.{ring}_waviness[].phase", "angle", "deg", "phase of the harmonic at the ring's angle 0",
@@ -363,7 +376,8 @@ def _solver_field(f) -> Field:
         from rvcore.integrator import METHODS
         return Field(path, "choice", "solver", default=f.default, choices=METHODS, doc=doc, source=f.name)
     if isinstance(f.default, int):
-        return Field(path, "integer", "solver", default=f.default, minimum=-1, doc=doc, source=f.name)
+        return Field(path, "integer", "solver", default=f.default, minimum=-1, maximum=MAX_SEED, doc=doc,
+                     source=f.name, why="2**53 - 1: seeds are stored as exact floats")
     return _q(path, unit_kind, unit, doc, file="solver", bounds=bounds, default=f.default, source=f.name,
               why=_SOLVER_WHY.get(f.name, ""))
 

@@ -151,9 +151,28 @@ class Table:
         return [Table(x, self.path + [name, i], self.file, self.schema_file) for i, x in enumerate(v)]
 
 
+#: Top-level keys that tell a kind of file apart (``rvsweep check`` reads them too): a
+#: bearing has ``[[rows]]``/``[envelope]``, a profile ``duration``/``[phases]``, a sweep
+#: names a ``bearing`` and a ``profile`` file.
+KIND_MARKERS = {"bearing": ("rows", "envelope"), "profile": ("duration", "phases"),
+                "sweep": ("bearing", "profile")}
+
+
+def refuse_other_kind(raw, file, expected: str) -> None:
+    """A file of another kind where ``expected`` ("bearing", "profile") belongs: say which
+    it is, rather than "unknown key" about its first key."""
+    if not isinstance(raw, dict) or any(k in raw for k in KIND_MARKERS[expected]):
+        return
+    for kind, markers in KIND_MARKERS.items():
+        if kind != expected and any(k in raw for k in markers) and (
+                kind != "sweep" or any(isinstance(raw.get(k), str) for k in markers)):
+            raise ConfigError(file, None, None, f"this is a {kind} file, not a {expected} file")
+
+
 def top_table(raw, file, schema_file: str) -> tuple:
     """(the file's top-level :class:`Table`, its ``name``): the name defaults to the
     file's stem, or to ``schema_file`` ("bearing", "profile") for in-memory input."""
+    refuse_other_kind(raw, file, schema_file)
     top = Table(raw, [], file, schema_file)
     stem = Path(str(file)).stem if file != "<input>" else schema_file
     return top, top.get("name", default=stem)

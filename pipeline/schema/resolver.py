@@ -21,9 +21,46 @@ def resolve_file(sweep_file: Path, raw: dict, key: str) -> Path:
     if not isinstance(v, str) or not v.strip():
         raise ConfigError(sweep_file, key, v, "must be a file path (a string)")
     p = resolve_path(sweep_file, v)
-    if not p.is_file():
-        raise ConfigError(sweep_file, key, v, f"no such {key} file ({p})")
-    return p
+    if p.is_file():
+        return p
+    shipped = _shipped(v)
+    if shipped is not None:
+        return shipped
+    raise ConfigError(sweep_file, key, v, f"no such {key} file ({p}), nor a shipped one of that name")
+
+
+def _shipped(written: str):
+    """The shipped file a relative path names (``bearings/reduced-test.toml``, or
+    ``sweeps/bearings/...``), or None: the README's "shipped files can be named from
+    anywhere" holds inside a copied sweep file too."""
+    from .shipped import shipped_root
+
+    rel = Path(written).expanduser()
+    if rel.is_absolute() or not rel.parts:
+        return None
+    if rel.parts[0] == "sweeps":
+        rel = Path(*rel.parts[1:])
+    root = shipped_root().resolve()
+    candidate = (root / rel).resolve()
+    if root in candidate.parents and candidate.is_file():
+        return candidate
+    return None
+
+def read_named_file(sweep_file: Path, raw: dict, key: str) -> tuple:
+    """(path, TOML) of the ``bearing`` or ``profile`` file a sweep names; a file of another
+    kind there is said about the sweep file's key ("this is a bearing file, not a profile
+    file"), which is what to change."""
+    from .reader import refuse_other_kind
+    from .tomlfile import read_toml
+
+    path = resolve_file(sweep_file, raw, key)
+    named = read_toml(path)
+    try:
+        refuse_other_kind(named, path, key)
+    except ConfigError as exc:
+        raise ConfigError(sweep_file, key, raw[key], f"{exc.reason} ({path})") from None
+    return path, named
+
 
 class Resolver:
     """Builds bearing/profile/solver/operating point for a set of values, with caches."""

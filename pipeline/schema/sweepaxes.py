@@ -18,7 +18,7 @@ from ..io.netcdf import cf_name
 from . import fields
 from .reader import check_value, short
 from .tomlfile import parse_key_path
-from .units import SI_UNITS, parse_quantity, registry, si_udunits
+from .units import SI_UNITS, is_safe_text, parse_quantity, registry, si_udunits
 
 #: Operating-point keys and their kinds (pipeline.schema.units.SI_UNITS), from the schema.
 OPERATING_POINT = fields.operating_point()
@@ -27,7 +27,7 @@ REQUIRED_OPERATING_POINT = tuple(f.path for f in fields.fields_of("operating_poi
 REALIZATION = "realization"
 _SENSOR_KEYS = ("name", "position", "direction")
 _RANGE_KEYS = ("start", "stop", "step")
-NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*$")
+NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9._-]*\Z")   # \Z, not $: "$" matches before a final newline
 
 
 @dataclass(frozen=True)
@@ -118,9 +118,16 @@ def realization_axis(raw: dict, file) -> Axis | None:
     n = raw.get("realizations", 1)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ConfigError(file, "realizations", n, "must be a whole number of at least 1")
+    from .sweepfile import MAX_CASES   # said before the seeds are listed, which alone could fill the memory
+
+    if n > MAX_CASES:
+        raise ConfigError(file, "realizations", n, f"more than the {MAX_CASES} cases a sweep holds")
     seed = raw.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
         raise ConfigError(file, "seed", seed, "must be a whole number of at least 0")
+    if seed is not None and seed + n - 1 > fields.MAX_SEED:
+        raise ConfigError(file, "seed", seed, f"seed + realizations - 1 must be at most {fields.MAX_SEED} "
+                                              "(2**53 - 1: the realization axis stores seeds as exact floats)")
     if n == 1 and seed is None:
         return None
     seeds = tuple(float((seed or 0) + k) for k in range(n))
@@ -197,6 +204,8 @@ def _key_kind(target: str, key: str):
 def _kind_of_quantity(text: str):
     """Kind of a unit string by its dimensionality; None if it is not a quantity."""
     ureg = registry()
+    if not is_safe_text(text):   # "9**9**9 N" would not come back; the loader says why
+        return None
     try:
         q = ureg.Quantity(text.strip())
     except Exception:  # pint raises several types for text that is not a quantity
@@ -362,6 +371,13 @@ def check_settings(settings: SolverSettings, file, where):
             raise ConfigError(file, key(k), x, f.why or "must lie in (0, 1]")
         if f.kind == "choice":
             check_value(f, x, file, key(k))
+        if f.kind == "integer" and not (isinstance(x, bool) or (f.minimum is not None and x < f.minimum)
+                                        or (f.maximum is not None and x > f.maximum)) and x != int(x):
+            raise ConfigError(file, key(k), x, "must be a whole number")
+        if f.kind == "integer" and f.minimum is not None and x < f.minimum:
+            raise ConfigError(file, key(k), x, f"must be at least {f.minimum}")
+        if f.kind == "integer" and f.maximum is not None and x > f.maximum:
+            raise ConfigError(file, key(k), x, f"must be at most {f.maximum}" + (f" ({f.why})" if f.why else ""))
     if settings.end_time and settings.end_time <= settings.start_time:
         raise ConfigError(file, key("end_time"), settings.end_time,
                           "must come after start_time (or be 0: the profile's duration)")

@@ -97,7 +97,8 @@ from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
 from .reader import short
-from .resolver import Resolver, resolve_file
+from .physical import refuse_beyond_bounds
+from .resolver import Resolver, read_named_file
 from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
@@ -287,9 +288,9 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
     _refuse_other_kinds(raw, file)
     _check_top_keys(raw, file)
     name, description = _name_and_description(raw, file)
-    bearing_file = resolve_file(file, raw, "bearing")
-    profile_file = resolve_file(file, raw, "profile")
-    resolver = Resolver(file, bearing_file, read_toml(bearing_file), profile_file, read_toml(profile_file))
+    bearing_file, bearing_raw = read_named_file(file, raw, "bearing")
+    profile_file, profile_raw = read_named_file(file, raw, "profile")
+    resolver = Resolver(file, bearing_file, bearing_raw, profile_file, profile_raw)
     solver_values = _solver_values(raw, file)
     fixed = _fixed_settings(raw, file)
     if ("axes" in raw) == ("cases" in raw):
@@ -307,7 +308,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
 
     cases, ids = [], {}
     for n, point in enumerate(points):
-        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file)
+        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw)
         if case.case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
                               f"case {n} is the same as case {ids[case.case_id]} (same resolved values)")
@@ -462,7 +463,7 @@ def _overrides(settings, target: str) -> tuple:
 
 
 def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: SolverSettings,
-                  resolver: Resolver, sensors: tuple, file: Path) -> CaseSpec:
+                  resolver: Resolver, sensors: tuple, file: Path, raw: dict | None = None) -> CaseSpec:
     """One case: ``[fixed]`` with the point's settings over it, resolved and hashed."""
     merged = {**fixed, **point}
     settings_of = list(merged.values())
@@ -478,6 +479,7 @@ def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: Solve
         check_settings(settings, file, {s.inner: s.where for s in settings_of if s.target == "solver"})
     bearing = resolver.bearing(_overrides(settings_of, "bearing"))
     profile = resolver.profile(_overrides(settings_of, "profile"))
+    refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
     conf = case_configuration(bearing, profile, op, settings, sensors)
     coords = {k: merged[k].coord for k in REQUIRED_OPERATING_POINT}
     coords.update({k: s.coord for k, s in point.items()})

@@ -7,13 +7,15 @@ written, e.g. ``"0.5 mm"``). Every command and :func:`apply_override` use them.
 from __future__ import annotations
 
 import copy
+import os
 import re
+import stat
 import tomllib
 from pathlib import Path
 
 from ..errors import ConfigError
 
-__all__ = ["read_toml", "resolve_path", "parse_key_path", "format_key_path", "lookup",
+__all__ = ["read_toml", "loads_toml", "MAX_INPUT_BYTES", "resolve_path", "parse_key_path", "format_key_path", "lookup",
            "apply_override", "parse_value", "parse_set", "parse_sets", "MISSING"]
 
 #: Marks "no value" (a required key, a missing default) where None is a value.
@@ -24,8 +26,22 @@ _MISSING = MISSING
 # --------------------------------------------------------------------------- files
 
 
+#: Largest input file read [bytes]. The shipped files are a few kB; a sweep's ``[[cases]]``
+#: list of :data:`pipeline.schema.sweepfile.MAX_CASES` cases of about 100 bytes each is
+#: 10 MB. 16 MiB holds that and stops ``/dev/zero``-like input before it fills the memory.
+MAX_INPUT_BYTES = 16 * 1024 * 1024
+
+#: The UTF-8 byte order mark some Windows editors write first. TOML says nothing of it and
+#: tomllib refuses it ("invalid TOML at line 1"); it carries no meaning, so it is dropped.
+_BOM = b"\xef\xbb\xbf"
+
+
 def read_toml(path) -> dict:
     """Read a TOML file into a dict.
+
+    Only a regular file of at most :data:`MAX_INPUT_BYTES` is read (a device, a FIFO or
+    a larger file is refused before a byte is read); a leading UTF-8 byte order mark is
+    dropped.
 
     Parameters
     ----------
@@ -35,23 +51,50 @@ def read_toml(path) -> dict:
     Raises
     ------
     ConfigError
-        ``ConfigError(path, None, None, reason)`` when the file is missing, unreadable or
-        not valid TOML (the reason carries tomllib's line and column).
+        ``ConfigError(path, None, None, reason)`` when the file is missing, unreadable,
+        not a regular file, too large, nested too deep or not valid TOML (the reason
+        carries tomllib's line and column).
     """
     p = Path(path)
     try:
+        if stat.S_ISDIR(p.stat().st_mode):
+            raise IsADirectoryError(path)
+        if not stat.S_ISREG(p.stat().st_mode):   # before open(): opening a FIFO waits for a writer
+            raise ConfigError(path, None, None, "not a regular file (a device, a pipe or a socket); "
+                                                "give a TOML file")
         with p.open("rb") as fh:
-            return tomllib.load(fh)
+            st = os.fstat(fh.fileno())
+            if st.st_size > MAX_INPUT_BYTES:
+                raise ConfigError(path, None, None, f"{st.st_size} bytes: larger than the "
+                                                    f"{MAX_INPUT_BYTES // 2**20} MiB an input file may be")
+            data = fh.read(MAX_INPUT_BYTES + 1)
+        if len(data) > MAX_INPUT_BYTES:   # grew while being read
+            raise ConfigError(path, None, None, f"larger than the {MAX_INPUT_BYTES // 2**20} MiB an "
+                                                "input file may be")
+        return loads_toml(data.removeprefix(_BOM).decode("utf-8"), path)
     except FileNotFoundError:
         raise ConfigError(path, None, None, "no such file") from None
     except IsADirectoryError:
         raise ConfigError(path, None, None, "is a directory, not a TOML file") from None
     except PermissionError:
         raise ConfigError(path, None, None, "permission denied") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(path, None, None, f"invalid TOML: {exc}") from None
     except UnicodeDecodeError as exc:
-        raise ConfigError(path, None, None, f"not UTF-8 text: {exc.reason}") from None
+        raise ConfigError(path, None, None, f"not UTF-8 text: {exc.reason} at byte {exc.start}") from None
+
+
+def loads_toml(text: str, file="<input>") -> dict:
+    """TOML text into a dict; every failure one :class:`ConfigError` naming ``file``.
+
+    tomllib recurses once a level of nesting: a file nested a few thousand levels deep
+    (``a = [[[[...]]]]``) exhausts Python's stack, which is said here in one line.
+    """
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(file, None, None, f"invalid TOML: {exc}") from None
+    except RecursionError:
+        raise ConfigError(file, None, None, "nested too deep: tables or arrays inside each other "
+                                            "more levels than a TOML reader can follow") from None
 
 
 def resolve_path(base_file, relative) -> Path:
@@ -194,7 +237,7 @@ def parse_value(value):
         return text.lower() == "true"
     try:
         return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
+    except (tomllib.TOMLDecodeError, RecursionError):
         if len(text) >= 2 and text[0] == text[-1] and text[0] in "'\"":
             return text[1:-1]
         return text

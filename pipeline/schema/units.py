@@ -77,6 +77,7 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         raise ConfigError(file, key, value, f"expected a number or a string with units of {target}")
     ureg = registry()
     _check_text(value, target, file, key)
+    _check_arithmetic(value, file, key)
     # Engineers write torque as "Nm"/"kNm"; pint would not read that as newton·metre.
     text = _TORQUE.sub(lambda m: f"{m.group(1) or ''}N*m", value.strip())
     try:
@@ -88,6 +89,10 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         raise ConfigError(file, key, value, f"not a quantity: expected a number and a unit of "
                                             f"{target}, e.g. {_EXAMPLE.get(target, '1 ' + target)!r}") from None
     magnitude = q if isinstance(q, (int, float)) else q.magnitude
+    try:
+        magnitude = float(magnitude)
+    except (OverflowError, TypeError, ValueError):
+        raise ConfigError(file, key, value, "not a finite number") from None
     if not math.isfinite(magnitude):
         raise ConfigError(file, key, value, "not a finite number")
     try:
@@ -123,6 +128,77 @@ def _check_text(value: str, target: str, file, key) -> None:
     unit = value[m.end():] if m else value
     if re.search(r"\d", _EXPONENT.sub("", unit)):
         raise ConfigError(file, key, value, "not a quantity: text after the number and its unit")
+
+
+#: Longest text a quantity may be: "0.000125 N/m^1.5" is 16 characters; 64 leave room for
+#: spaces and long unit names ("kilonewton * meter") and none for a pasted file.
+MAX_QUANTITY_LENGTH = 64
+#: Largest power a unit may be raised to: the units of the schema go up to m^3 (density)
+#: and m^1.5 (Hertz stiffness); 4 leaves room and keeps "m**99999" out.
+MAX_UNIT_POWER = 4
+#: An exponent ("^" or "**") and what it raises: a number, or a parenthesised one.
+_POWER = re.compile(r"(\^|\*\*)\s*(\(\s*[+-]?[\d.]+(?:\s*/\s*\d+)?\s*\)|[+-]?[\d.]+)")
+
+
+def _unit_group(before: str) -> bool:
+    """Whether ``before`` ends in a parenthesised group holding a unit name ("(kN)")."""
+    if not before.endswith(")"):
+        return False
+    depth = 0
+    for i in range(len(before) - 1, -1, -1):
+        depth += {")": 1, "(": -1}.get(before[i], 0)
+        if depth == 0:
+            return any(ch.isalpha() for ch in before[i:]) and not _POWER.search(before[i:])
+    return False
+
+
+def _check_arithmetic(value: str, file, key) -> None:
+    """Refuse what would make pint compute for ever or overflow, before pint sees it.
+
+    pint evaluates its input as arithmetic: ``"9**9**9 N"`` is a number of 370 million
+    digits (the parser hangs) and ``"2**2**20 N"`` one that overflows a float. A quantity
+    is a number and a unit, so a power may raise only a unit (``m^2``, ``N/m**1.5``,
+    ``s^-1``), by at most :data:`MAX_UNIT_POWER`, and never a power (``m^2^3``). The
+    number itself is written as digits with an optional ``e`` exponent (``1e3 N``).
+    """
+    if len(value) > MAX_QUANTITY_LENGTH:
+        raise ConfigError(file, key, value[:MAX_QUANTITY_LENGTH] + "...",
+                          f"not a quantity: {len(value)} characters, more than the "
+                          f"{MAX_QUANTITY_LENGTH} a number and its unit take")
+    for m in _POWER.finditer(value):
+        before = value[:m.start()].rstrip()
+        if not before or not (before[-1].isalpha() or before[-1] in "°µμΩ" or _unit_group(before)):
+            raise ConfigError(file, key, value,
+                              f"not a quantity: {m.group(0).strip()!r} raises a number or a power to a power; "
+                              "write the number with an e exponent (1e3) and raise only a unit (m^2)")
+        rest = value[m.end():].lstrip()
+        if rest.startswith(("^", "**")):
+            raise ConfigError(file, key, value,
+                              "not a quantity: a power of a power (a power tower); raise a unit once (m^2)")
+        text = m.group(2).strip("() ").replace(" ", "")
+        num, _, den = text.partition("/")
+        try:
+            power = float(num) / (float(den) if den else 1.0)
+        except (ValueError, ZeroDivisionError):
+            raise ConfigError(file, key, value, f"not a quantity: {m.group(0).strip()!r} is not a power") from None
+        if abs(power) > MAX_UNIT_POWER:
+            raise ConfigError(file, key, value,
+                              f"not a quantity: the power {power:g} is more than the {MAX_UNIT_POWER} "
+                              "a unit of this schema needs")
+    if "^" in value.replace("**", "^") and value.replace("**", "^").count("^") != len(_POWER.findall(value)):
+        raise ConfigError(file, key, value, "not a quantity: a power without a number after it")
+
+
+def is_safe_text(value: str) -> bool:
+    """Whether pint may be given ``value`` to evaluate: the checks of :func:`parse_quantity`
+    (characters, trailing text, power towers, length) pass. For callers that ask pint
+    about a text before it is parsed as a quantity (a sweep axis's kind)."""
+    try:
+        _check_text(value, "", None, None)
+        _check_arithmetic(value, None, None)
+    except ConfigError:
+        return False
+    return True
 
 
 def format_quantity(value_si: float, unit: str, kind: str) -> str:
