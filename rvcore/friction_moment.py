@@ -106,7 +106,7 @@ def published_spread_text() -> str:
     ours = PUBLISHED_SPREAD_OURS
     sets = ", ".join(f"{k} {a:g} N m" if a == b else f"{k} {a:g}-{b:g} N m" for k, (a, b) in PUBLISHED_SPREAD.items())
     return (f"other published sets give {sets} where this estimate gives {ours:g} N m (study bearing, 30 kN + "
-            f"10 kN, 660 deg/s; issue 39's audit): {100 * (lo / ours - 1):+.0f} % to {100 * (hi / ours - 1):+.0f} %")
+            f"10 kN, 660 °/s; issue 39's audit): {100 * (lo / ours - 1):+.0f} % to {100 * (hi / ours - 1):+.0f} %")
 
 
 class FrictionMomentError(ValueError):
