@@ -29,8 +29,8 @@ def add_arguments(parser):
                         help="also the quasi-static runout path: the pose at N ring angles over one revolution "
                              "(an imperfect bearing's; see [imperfections])")
     parser.add_argument("--seed", type=int, default=-1, metavar="S",
-                        help="the realization whose tolerance-class draws (high points, ball sizes) to use; "
-                             "default none (high points at 0)")
+                        help="the realization whose tolerance-class draws (high points, ball sizes) every "
+                             "number uses, as a sweep's case with that seed; default -1 (high points at 0)")
 
 
 def stiffness_units() -> list:
