@@ -43,7 +43,7 @@ import math
 import numpy as np
 
 from .iso281 import (LIFE_EXPONENT, WEIBULL_E, LifeError, basic_dynamic_load_rating, basic_rating_life,
-                     fc_osculation_problem,
+                     FC_TABLE_F_INNER, FC_TABLE_F_OUTER, fc_osculation_problem,
                      equivalent_dynamic_load)
 
 def contact_load_ratings(load_rating: float, contact_angle: float, gamma: float, f_inner: float,
@@ -281,7 +281,7 @@ def rating_caveats(bearing) -> list:
     except LifeError:
         return []
     out = []
-    if g["f_inner"] > 0.52 or g["f_outer"] > 0.53:
+    if g["f_inner"] > FC_TABLE_F_INNER or g["f_outer"] > FC_TABLE_F_OUTER:   # ISO 76's limits are the same
         out.append(static_rating_basis(g["f_inner"], g["f_outer"]))
         if not float(getattr(bearing, "dynamic_load_rating", 0.0) or 0.0) > 0.0:
             out.append(fc_osculation_problem(g["f_inner"], g["f_outer"]))
