@@ -23,6 +23,28 @@ give it, with the tables of ``f_0`` (bearing type and lubrication), of ``z`` and
 ``f_1`` and of ``F_β``. The tables below were typed from that book's tables as we know
 them; a public reproduction of them was not found to check against. Check them against
 your copy before citing.
+
+Which rows are used (issue 39, item 16)
+---------------------------------------
+- deep groove (α = 0): ``z`` = 0.0005, the middle of the table's 0.0004 … 0.0006 (light …
+  heavy series), ``y`` = 0.55; ``F_β = 3 F_a − 0.1 F_r``; ``f_0`` the top of the grease
+  range (2), or the table's oil value.
+- angular contact (α > 0): the table's one angular-contact row, which Harris & Kotzalas
+  give for contact angles of 30–40° (``z`` = 0.001, ``y`` = 0.33,
+  ``F_β = 0.9 F_a cot α − 0.1 F_r``, grease ``f_0`` = 2), applied at whatever α the
+  bearing has, the study bearing's 15° included. No published row for 15° was at hand,
+  so none is invented; the constants are unchanged, and every output says so
+  (:data:`PALMGREN_BASIS`, :func:`palmgren_basis`).
+
+How far other published sets differ (:data:`PUBLISHED_SPREAD`): at 30 kN radial + 10 kN
+axial and 660 °/s on the study bearing, issue 39's audit found 5.2 N m (KRW), 6.0 N m
+(Timken) and 6.1–10.1 N m (Koyo) where this estimate gives 7.8 N m: −33 % … +29 %
+(about ±35 %). Read the moment as that uncertain.
+
+The ``f_1`` takes ISO 76's ``C_0`` (:func:`rvcore.static_rating.bearing_static_load_rating`),
+so where the grooves are more open than 0.52/0.53·D_w it takes the reduced ``C_0`` of
+:func:`rvcore.static_rating.f0_osculation_factor`: ``P_0/C_0`` is larger and so is
+``f_1`` (by ``k^-y``, ``k`` the reduction).
 """
 from __future__ import annotations
 
@@ -48,12 +70,43 @@ F0_TABLE = {
                         "oil-jet": (6.6, 6.6)},
 }
 
+#: Which source and rows the estimate takes, in one line for every output to repeat.
+PALMGREN_BASIS = {
+    "deep-groove": ("Palmgren (1959) as Harris & Kotzalas tabulate it, deep-groove row: z = 0.0005 (middle of "
+                    "0.0004-0.0006), y = 0.55, F_beta = 3 F_a - 0.1 F_r, f0 grease 2 (top of 0.7-2)"),
+    "angular-contact": ("Palmgren (1959) as Harris & Kotzalas tabulate it, angular-contact row for 30-40 deg "
+                        "applied at this bearing's angle (no published row for smaller angles used): z = 0.001, "
+                        "y = 0.33, F_beta = 0.9 F_a cot(alpha) - 0.1 F_r, f0 grease 2"),
+}
+
+#: The spread of other published friction-moment estimates, as issue 39's audit found it
+#: for the study bearing at 30 kN radial + 10 kN axial and 660 °/s [N m]: source -> (lo, hi),
+#: and this estimate's value there.
+PUBLISHED_SPREAD = {"KRW": (5.2, 5.2), "Timken": (6.0, 6.0), "Koyo": (6.1, 10.1)}
+PUBLISHED_SPREAD_OURS = 7.8
+
 #: Methods of lubrication the ``f_0`` table carries.
 LUBRICATIONS = ("grease", "oil-mist", "oil-bath", "oil-jet")
 
 #: ``ν·n`` [mm²/s · rpm] below which the viscous moment no longer falls with speed
 #: (Palmgren: ``M_v = 160·10^-7·f_0·d_m³`` there).
 VISCOUS_THRESHOLD = 2000.0
+
+
+def palmgren_basis(contact_angle: float) -> str:
+    """One line: the source and row of Palmgren's constants for a bearing of nominal
+    contact angle ``contact_angle`` [rad] (:data:`PALMGREN_BASIS`)."""
+    return PALMGREN_BASIS["deep-groove" if abs(contact_angle) < 1e-9 else "angular-contact"]
+
+
+def published_spread_text() -> str:
+    """One line: the spread of other published sets (:data:`PUBLISHED_SPREAD`)."""
+    lo = min(v[0] for v in PUBLISHED_SPREAD.values())
+    hi = max(v[1] for v in PUBLISHED_SPREAD.values())
+    ours = PUBLISHED_SPREAD_OURS
+    sets = ", ".join(f"{k} {a:g} N m" if a == b else f"{k} {a:g}-{b:g} N m" for k, (a, b) in PUBLISHED_SPREAD.items())
+    return (f"other published sets give {sets} where this estimate gives {ours:g} N m (study bearing, 30 kN + "
+            f"10 kN, 660 °/s; issue 39's audit): {100 * (lo / ours - 1):+.0f} % to {100 * (hi / ours - 1):+.0f} %")
 
 
 class FrictionMomentError(ValueError):
@@ -238,7 +291,8 @@ def friction_moment(bearing, radial_load: float, axial_load: float, speed: float
     -------
     dict
         ``load_moment_N_m`` (``M_l``), ``viscous_moment_N_m`` (``M_v``),
-        ``friction_moment_N_m`` (their sum), ``f1``, ``F_beta_N``, ``f0``.
+        ``friction_moment_N_m`` (their sum), ``f1``, ``F_beta_N``, ``f0`` and ``basis``
+        (:func:`palmgren_basis`).
 
     Notes
     -----
@@ -270,4 +324,4 @@ def friction_moment(bearing, radial_load: float, axial_load: float, speed: float
     m_v = viscous_friction_moment(nu, speed, dm, f0)
     return {"load_moment_N_m": m_l, "viscous_moment_N_m": m_v, "friction_moment_N_m": m_l + m_v,
             "f1": load_friction_factor(p0, c0, alpha), "F_beta_N": load_friction_force(radial_load, axial_load, alpha),
-            "f0": f0}
+            "f0": f0, "basis": palmgren_basis(alpha)}

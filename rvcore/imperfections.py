@@ -31,7 +31,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .tolerances import DEFAULT_BALL_GRADE, TOLERANCE_CLASSES, ball_lot_variation, inner_runout, outer_runout
+from .tolerances import (DEFAULT_BALL_GRADE, TOLERANCE_CLASSES, ball_lot_variation, default_ball_grade,  # noqa: F401
+                         inner_runout, outer_runout)
 
 #: Most waviness terms per raceway (the kernels' fixed layout, :mod:`rvcore.model`).
 MAX_WAVINESS_TERMS = 8
@@ -131,7 +132,7 @@ def _angle(given, rng) -> float:
 
 
 def realize_row(imp: Imperfections, bore: float, outer_diameter: float, ball_count: int,
-                seed: int = -1, row_index: int = 0) -> RealizedImperfections:
+                seed: int = -1, row_index: int = 0, ball_diameter: float = 0.0) -> RealizedImperfections:
     """One row's imperfections for a case with ``seed`` (−1: none).
 
     Parameters
@@ -145,6 +146,9 @@ def realize_row(imp: Imperfections, bore: float, outer_diameter: float, ball_cou
         grade) the ball deviations from it.
     row_index : int
         Row of the bearing: each row draws from its own stream.
+    ball_diameter : float
+        ``D_w`` [m], for the class's default ball grade
+        (:func:`rvcore.tolerances.default_ball_grade`); 0: the class's own grade.
 
     Returns
     -------
@@ -167,7 +171,7 @@ def realize_row(imp: Imperfections, bore: float, outer_diameter: float, ball_cou
     balls = tuple(float(d) for d in imp.ball_diameter_deviation)
     if balls and len(balls) != ball_count:
         raise ValueError(f"ball_diameter_deviation has {len(balls)} values for {ball_count} balls")
-    grade = imp.ball_grade or (DEFAULT_BALL_GRADE[cls] if cls else "")
+    grade = imp.ball_grade or (default_ball_grade(cls, ball_diameter) if cls else "")
     if not balls and grade:
         half = ball_lot_variation(grade) / 2
         draw = np.random.default_rng([max(seed, 0), row_index, 1])
@@ -179,6 +183,6 @@ def realize(bearing, seed: int = -1):
     """``bearing`` with every row's imperfections realized for a case with ``seed``
     (rows already realized are kept as they are)."""
     rows = tuple(dataclasses.replace(row, imperfections=realize_row(
-        row.imperfections, bearing.bore, bearing.outer_diameter, row.ball_count, seed, r))
+        row.imperfections, bearing.bore, bearing.outer_diameter, row.ball_count, seed, r, row.ball_diameter))
         if isinstance(row.imperfections, Imperfections) else row for r, row in enumerate(bearing.rows))
     return dataclasses.replace(bearing, rows=rows)

@@ -68,6 +68,40 @@ _XY_ANGULAR = np.array([
     [45.0, 1.34, 0.33, 0.50, 0.47, 0.54, 0.81]])
 
 
+#: Largest groove radii, over the ball diameter, for which ISO 281 Table 2's ``f_c`` holds
+#: (inner ring, outer ring) [-]: radial and angular contact groove ball bearings.
+FC_TABLE_F_INNER, FC_TABLE_F_OUTER = 0.52, 0.53
+
+
+def fc_osculation_problem(f_inner: float, f_outer: float) -> str:
+    """Why ISO 281 Table 2's ``f_c`` does not hold at these groove radii ('' where it does).
+
+    Parameters
+    ----------
+    f_inner, f_outer : float
+        ``r_i/D_w``, ``r_e/D_w`` [-].
+
+    Returns
+    -------
+    str
+        One line, empty within ``r_i ≤ 0.52·D_w`` and ``r_e ≤ 0.53·D_w``.
+
+    Notes
+    -----
+    ISO 281 (5.1.1) gives Table 2 for those radii; above them it asks for a reduced
+    ``f_c``, to be calculated as ISO/TR 1281-1 explains. That calculation (Lundberg and
+    Palmgren's dependence of ``f_c`` on both osculations) could not be checked against the
+    standard's text here, so the project refuses the rating rather than guess it: ``C_r``,
+    ``L10`` and ``L10r`` (which ISO/TS 16281 splits from the same ``C_r``) are NaN with
+    this reason, unless the bearing file gives the maker's ``dynamic_load_rating``.
+    """
+    if f_inner <= FC_TABLE_F_INNER and f_outer <= FC_TABLE_F_OUTER:
+        return ""
+    return (f"ISO 281 C_r, L10 and L10r not rated: groove radii {f_inner:.4g}/{f_outer:.4g} Dw exceed "
+            f"Table 2's {FC_TABLE_F_INNER:g}/{FC_TABLE_F_OUTER:g} Dw, where ISO 281 5.1.1 requires a reduced f_c "
+            "(ISO/TR 1281-1) that is not implemented; give the maker's dynamic_load_rating in the bearing file")
+
+
 class LifeError(ValueError):
     """The standards give no rating for this bearing or load (said why)."""
 

@@ -43,6 +43,7 @@ import math
 import numpy as np
 
 from .iso281 import (LIFE_EXPONENT, WEIBULL_E, LifeError, basic_dynamic_load_rating, basic_rating_life,
+                     FC_TABLE_F_INNER, FC_TABLE_F_OUTER, fc_osculation_problem,
                      equivalent_dynamic_load)
 
 def contact_load_ratings(load_rating: float, contact_angle: float, gamma: float, f_inner: float,
@@ -236,8 +237,14 @@ def rating_geometry(bearing) -> dict:
 
 
 def geometry_load_rating(bearing) -> float:
-    """ISO 281 ``C_r`` of the bearing from its geometry [N] (:func:`basic_dynamic_load_rating`)."""
+    """ISO 281 ``C_r`` of the bearing from its geometry [N] (:func:`basic_dynamic_load_rating`).
+
+    Raises :class:`LifeError` (one line, :func:`rvcore.iso281.fc_osculation_problem`)
+    where the groove radii exceed 0.52/0.53·D_w: Table 2's ``f_c`` does not hold there."""
     g = rating_geometry(bearing)
+    problem = fc_osculation_problem(g["f_inner"], g["f_outer"])
+    if problem:
+        raise LifeError(problem)
     return basic_dynamic_load_rating(g["ball_diameter"], g["pitch_diameter"], g["contact_angle"],
                                      g["ball_count"], g["rows"],
                                      double_row_deep_groove=g["rows"] > 1 and g["contact_angle"] == 0.0)
@@ -248,6 +255,37 @@ def dynamic_load_rating(bearing) -> float:
     (``Bearing.dynamic_load_rating > 0``), else ISO 281 from the geometry."""
     c = float(getattr(bearing, "dynamic_load_rating", 0.0) or 0.0)
     return c if c > 0.0 else geometry_load_rating(bearing)
+
+
+def dynamic_rating_basis(bearing) -> str:
+    """One line: which ``C_r`` the lives take (the maker's, ISO 281 Table 2's, or none and
+    why), for every output to repeat."""
+    if float(getattr(bearing, "dynamic_load_rating", 0.0) or 0.0) > 0.0:
+        return "C_r from the bearing file (the maker's catalogue value)"
+    try:
+        g = rating_geometry(bearing)
+    except LifeError as exc:
+        return str(exc)
+    return fc_osculation_problem(g["f_inner"], g["f_outer"]) or \
+        "ISO 281 C_r from the geometry, Table 2 f_c (groove radii within 0.52/0.53 Dw)"
+
+
+def rating_caveats(bearing) -> list:
+    """The caveats every output must repeat about the catalogue ratings of this bearing:
+    a line each where ISO 76's ``f_0`` is reduced or ISO 281's ``C_r`` refused (groove radii
+    above 0.52/0.53·D_w); empty otherwise."""
+    from .static_rating import static_rating_basis   # static_rating imports this module
+
+    try:
+        g = rating_geometry(bearing)
+    except LifeError:
+        return []
+    out = []
+    if g["f_inner"] > FC_TABLE_F_INNER or g["f_outer"] > FC_TABLE_F_OUTER:   # ISO 76's limits are the same
+        out.append(static_rating_basis(g["f_inner"], g["f_outer"]))
+        if not float(getattr(bearing, "dynamic_load_rating", 0.0) or 0.0) > 0.0:
+            out.append(fc_osculation_problem(g["f_inner"], g["f_outer"]))
+    return out
 
 
 def bearing_contact_ratings(bearing):
@@ -352,7 +390,8 @@ def duty_cycle_life(bearing, life_sums: dict) -> dict:
         ``rating_life_L10r_Mrev`` [10^6 rev], ``rating_life_cycles`` [cycles of the
         profile], ``fatigue_damage`` ((n_phases,) [1] per cycle), ``fatigue_damage_cycle``
         [1], ``revolutions_per_cycle`` [rev]. Lives are inf and damages 0 when nothing
-        loads the rotating bearing.
+        loads the rotating bearing; lives and damages are NaN where ``C_r`` is not rated
+        (:func:`geometry_load_rating` raises: groove radii above 0.52/0.53·D_w).
 
     Notes
     -----
@@ -384,7 +423,15 @@ def duty_cycle_life(bearing, life_sums: dict) -> dict:
         raise ValueError(f"life_sums has {inner.shape[1]} rows, the bearing {len(bearing.rows)}")
     if np.any(inner < 0) or np.any(outer < 0) or np.any(revs < 0):
         raise ValueError("life_sums must not be negative")
-    q_ci, q_ce = bearing_contact_ratings(bearing)
+    try:
+        q_ci, q_ce = bearing_contact_ratings(bearing)
+    except LifeError:
+        # not rated (rvcore.iso281.fc_osculation_problem): NaN, never a number from a
+        # table that does not hold; the caveat goes with the bearing (rating_caveats)
+        nan = math.nan
+        return {"rating_life_L10r": nan, "rating_life_L10r_Mrev": nan, "rating_life_cycles": nan,
+                "fatigue_damage": np.full(inner.shape[0] - 1, nan), "fatigue_damage_cycle": nan,
+                "revolutions_per_cycle": float(revs[-1])}
     scale = np.array([1e6 * q_ci ** LIFE_EXPONENT, 1e6 * q_ce ** LIFE_EXPONENT])
     damage = np.stack([inner, outer], axis=-1) / scale        # (n_phases + 1, n_rows, 2) [1]
     ring_cycle = damage[-1].ravel()

@@ -318,11 +318,13 @@ OUTPUTS = (
     Output("static_safety_factor_steady", STEADY, "1", "ISO 76 static safety factor s0 = (4200 MPa / p_max)^3 from "
            "the peak ball-race Hertz pressure of the statics at the steady operating point", group="rating"),
     Output("static_safety_factor_catalogue", STEADY, "1", "ISO 76 static safety factor s0 = C0r/P0r by the "
-           "catalogue formula at the steady loads: C0r = f0 i Z Dw^2 cos(alpha) (ISO 76 Table 1 f0), "
-           "P0r = max(X0 Fr + Y0 Fa, Fr) (NaN: not rated)", group="rating"),
+           "catalogue formula at the steady loads: C0r = f0 i Z Dw^2 cos(alpha) (ISO 76 Table 1 f0, reduced by "
+           "the 4200 MPa definition where the groove radii exceed 0.52/0.53 Dw), P0r = max(X0 Fr + Y0 Fa, Fr) "
+           "(NaN: not rated)", group="rating"),
     Output("friction_moment_palmgren", STEADY, "N m", "Palmgren's estimate of the bearing's friction moment at the "
-           "steady operating point, M = f1 F_beta d_m + M_v (Harris & Kotzalas; load and viscous terms; NaN where "
-           "it does not apply: pairs, four-point rows)", group="rating"),
+           "steady operating point, M = f1 F_beta d_m + M_v (Palmgren's constants as Harris & Kotzalas tabulate "
+           "them: the deep-groove row, or the angular-contact row for 30-40 deg at any angle; other published sets "
+           "differ by about +-35 %; load and viscous terms; NaN where it does not apply: pairs, four-point rows)", group="rating"),
     Output("friction_moment_palmgren_load", STEADY, "N m", "load term f1 F_beta d_m of Palmgren's friction moment "
            "at the steady operating point", group="rating"),
     Output("friction_moment_palmgren_viscous", STEADY, "N m", "viscous term M_v of Palmgren's friction moment at "
@@ -333,14 +335,17 @@ OUTPUTS = (
            group="stiffness"),
     Output("basic_rating_life_L10", STEADY, "1", "ISO 281 basic rating life L10 = (C_r/P_r)^3 at the steady "
            "operating point, in revolutions of the inner ring (90 % reliability, no life modification factor; NaN: "
-           "not rated or nothing loaded)", group="rating"),
+           "not rated or nothing loaded; not rated where the groove radii exceed ISO 281's 0.52/0.53 Dw and the "
+           "bearing file gives no C_r)", group="rating"),
     Output("reference_rating_life_L10r", STEADY, "1", "ISO/TS 16281 basic reference rating life L10r from the ball "
            "loads of the statics at the steady operating point, in revolutions of the inner ring (90 % reliability, "
-           "no life modification factor; NaN: not rated or nothing loaded)", group="rating"),
+           "no life modification factor; NaN: not rated or nothing loaded; not rated where the groove radii exceed "
+           "ISO 281's 0.52/0.53 Dw and the bearing file gives no C_r)", group="rating"),
 
     # ---- the duty cycle's life, from the integrator's life sums (rvcore.life)
     Output("rating_life_L10r", DUTY_CYCLE, "1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in "
-           "revolutions of the inner ring (Palmgren-Miner over the integrator steps)", group="rating"),
+           "revolutions of the inner ring (Palmgren-Miner over the integrator steps; NaN where the groove radii "
+           "exceed ISO 281's 0.52/0.53 Dw and the bearing file gives no C_r)", group="rating"),
     Output("rating_life_cycles", DUTY_CYCLE, "1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in "
            "cycles of the profile", group="rating"),
     Output("fatigue_damage_cycle", DUTY_CYCLE, "1", "Palmgren-Miner fatigue damage of one cycle of the profile "
@@ -351,17 +356,18 @@ OUTPUTS = (
            "without slip at the nominal contact angle): shaft, cage, outer and inner ball pass, ball spin, and "
            "twice each", group="spectrum", spectrum_dims=("kinematic",)),
     *(Output(f"{n}_spectrum", SPECTRUM, "m", f"single-sided amplitude spectrum of {w} over the steady phase (mean "
-             "removed, Hann window; a sinusoid of amplitude A reads A)", group="spectrum",
+             "removed, Hann window; a sinusoid of amplitude A at a bin centre reads A, between bins down to 0.85 A: read tone amplitudes from *_kinematic_amplitude)", group="spectrum",
              spectrum_dims=("frequency",)) for n, w in (("radial_displacement", "delta_r"),
                                                         ("axial_displacement", "delta_a"))),
-    *(Output(f"{n}_kinematic_amplitude", SPECTRUM, "m", f"largest spectral amplitude of {w} within one bin of each "
-             "kinematic frequency, steady phase", group="spectrum", spectrum_dims=("kinematic",))
+    *(Output(f"{n}_kinematic_amplitude", SPECTRUM, "m", f"amplitude of {w} at each kinematic frequency, steady "
+             "phase: a least-squares sinusoid fit at that frequency (Hann-weighted), exact for a clean tone between "
+             "bins", group="spectrum", spectrum_dims=("kinematic",))
       for n, w in (("radial_displacement", "delta_r"), ("axial_displacement", "delta_a"))),
     Output("sensor_displacement_spectrum", SPECTRUM, "m", "single-sided amplitude spectrum of each sensor's reading "
-           "over the steady phase (mean removed, Hann window; a sinusoid of amplitude A reads A)", over="sensor",
+           "over the steady phase (mean removed, Hann window; a sinusoid of amplitude A at a bin centre reads A, between bins down to 0.85 A: read tone amplitudes from *_kinematic_amplitude)", over="sensor",
            group="spectrum", spectrum_dims=("frequency",)),
-    Output("sensor_displacement_kinematic_amplitude", SPECTRUM, "m", "largest spectral amplitude of each sensor's "
-           "reading within one bin of each kinematic frequency, steady phase", over="sensor", group="spectrum",
+    Output("sensor_displacement_kinematic_amplitude", SPECTRUM, "m", "amplitude of each sensor's reading at each "
+           "kinematic frequency, steady phase: a least-squares sinusoid fit at that frequency (Hann-weighted)", over="sensor", group="spectrum",
            spectrum_dims=("kinematic",)),
 )
 

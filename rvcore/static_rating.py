@@ -26,6 +26,19 @@ loaded contact is 4200 MPa for radial ball bearings other than self-aligning), 3
 6.2 eq. (2) and (3) and Table 2 (``P_0r``, ``X_0``, ``Y_0``). The clause and table
 numbers were written from the standard's structure as we know it; the standard's text
 was not at hand. Check them against your copy before citing.
+
+Groove radii above the table's
+------------------------------
+Table 1's ``f_0`` holds for raceway groove radii ``r_i ≤ 0.52·D_w`` (inner ring) and
+``r_e ≤ 0.53·D_w`` (outer ring). A more open groove carries less at the same peak
+pressure, and ISO 76 asks for a correspondingly reduced ``f_0`` (ISO/TR 10657 explains the
+derivation; its text was not at hand). The reduction here follows from the rating's own
+definition (3.2: the load at which the peak pressure of the most heavily loaded contact
+is 4200 MPa): ``f_0`` is scaled by the ratio of the ball load that reaches 4200 MPa at the
+bearing's own groove radii to the one at 0.52/0.53 (Hertz, the smaller of the two
+raceways), the same derivation the table itself reproduces within 0.5 %
+(tests/core/test_static_rating.py). A smaller radius is not credited (taken at the
+limit). Every output says which basis it used (:func:`static_rating_basis`).
 """
 from __future__ import annotations
 
@@ -33,6 +46,7 @@ import math
 
 import numpy as np
 
+from .hertz import effective_modulus, race_contact
 from .life import LifeError, rating_geometry
 
 #: Contact pressure at the centre of the most heavily loaded ball–raceway contact under
@@ -77,6 +91,14 @@ X0_DEEP, Y0_DEEP = 0.6, 0.5
 Y0_ANGULAR = np.array([[15.0, 0.46], [20.0, 0.42], [25.0, 0.38], [30.0, 0.33],
                        [35.0, 0.29], [40.0, 0.26], [45.0, 0.22]])
 X0_ANGULAR_SINGLE, X0_ANGULAR_DOUBLE = 0.5, 1.0
+
+#: Largest groove radii, over the ball diameter, for which ISO 76 Table 1 holds
+#: (inner ring, outer ring) [-].
+F0_TABLE_F_INNER, F0_TABLE_F_OUTER = 0.52, 0.53
+
+#: Young's modulus and Poisson's ratio of the steel ISO 76's table was derived with
+#: (ISO/TR 10657) [Pa], [-]; they cancel in the reduction's ratio.
+_ISO76_E, _ISO76_NU = 207e9, 0.3
 
 
 class StaticRatingError(ValueError):
@@ -130,6 +152,63 @@ def static_safety_factor_from_pressure(p_max, pressure_limit: float = ISO76_BALL
     return float(s0) if s0.ndim == 0 else s0
 
 
+def _load_at_pressure(ball_diameter, pitch_diameter, contact_angle, f_inner, f_outer,
+                      pressure=ISO76_BALL_PRESSURE) -> float:
+    """Ball load [N] at which the more heavily stressed raceway reaches ``pressure``
+    (Hertz: ``p_max = 3Q/(2πab)``, ``a, b ∝ Q^(1/3)``, so ``Q = (2π a* b* p/3)^3``)."""
+    e_eff = effective_modulus(_ISO76_E, _ISO76_NU)
+    loads = []
+    for ring, f in (("inner", f_inner), ("outer", f_outer)):
+        c = race_contact(ball_diameter, pitch_diameter, f, contact_angle, ring, e_eff)
+        loads.append((2.0 * math.pi * c.a_coefficient * c.b_coefficient * pressure / 3.0) ** 3)
+    return min(loads)
+
+
+def f0_osculation_factor(ball_diameter: float, pitch_diameter: float, contact_angle: float,
+                         f_inner: float, f_outer: float) -> float:
+    """Reduction of ISO 76 Table 1's ``f_0`` for groove radii above 0.52/0.53·D_w [-].
+
+    Parameters
+    ----------
+    ball_diameter, pitch_diameter : float
+        ``D_w``, ``D_pw`` [m].
+    contact_angle : float
+        Nominal ``α`` [rad].
+    f_inner, f_outer : float
+        Groove radius over ball diameter, ``r_i/D_w`` and ``r_e/D_w`` [-].
+
+    Returns
+    -------
+    float
+        1 within the table's limits, less than 1 above them.
+
+    Notes
+    -----
+    From the definition of ``C_0`` (ISO 76 3.2, 4200 MPa at the centre of the most heavily
+    loaded contact), with each ring's ``f`` taken no smaller than its limit (a closer
+    groove is not credited):
+
+    .. math:: k = \\frac{Q_{4200}(γ, \\max(f_i, 0.52), \\max(f_e, 0.53))}{Q_{4200}(γ, 0.52, 0.53)}
+
+    ``Q_4200`` the smaller of the inner- and outer-raceway ball loads at 4200 MPa (Hertz).
+    """
+    fi, fe = max(float(f_inner), F0_TABLE_F_INNER), max(float(f_outer), F0_TABLE_F_OUTER)
+    if fi == F0_TABLE_F_INNER and fe == F0_TABLE_F_OUTER:
+        return 1.0
+    actual = _load_at_pressure(ball_diameter, pitch_diameter, contact_angle, fi, fe)
+    table = _load_at_pressure(ball_diameter, pitch_diameter, contact_angle, F0_TABLE_F_INNER, F0_TABLE_F_OUTER)
+    return actual / table
+
+
+def static_rating_basis(f_inner: float, f_outer: float) -> str:
+    """One line: which ``f_0`` the catalogue ``C_0r`` took, for every output to repeat."""
+    if f_inner <= F0_TABLE_F_INNER and f_outer <= F0_TABLE_F_OUTER:
+        return "ISO 76 Table 1 f0 (groove radii within 0.52/0.53 Dw)"
+    return (f"ISO 76 Table 1 f0 reduced for groove radii {f_inner:.4g}/{f_outer:.4g} Dw above 0.52/0.53 Dw: "
+            "scaled by the ball load that reaches 4200 MPa at these radii over that at 0.52/0.53 (Hertz, "
+            "the rating's definition, ISO 76 3.2)")
+
+
 def f0_factor(gamma: float) -> float:
     """``f_0`` of ISO 76:2006 Table 1, linearly interpolated as the standard allows.
 
@@ -148,7 +227,8 @@ def f0_factor(gamma: float) -> float:
     -----
     The table holds for raceway groove radii of at most 0.52·D_w (inner ring) and
     0.53·D_w (outer ring); ISO 76 asks for a correspondingly smaller ``f_0`` where the
-    grooves are more open (ISO/TR 10657 gives its calculation), which is not done here.
+    grooves are more open: :func:`static_load_rating` applies
+    :func:`f0_osculation_factor`.
     """
     if not F0_GAMMA[0] <= gamma <= F0_GAMMA[-1]:
         raise StaticRatingError(f"D_w cos(alpha)/D_pw = {gamma:.4g} lies outside ISO 76 Table 1 "
@@ -188,7 +268,8 @@ def static_load_factors(contact_angle: float, double_row: bool = False):
 
 
 def static_load_rating(ball_diameter: float, pitch_diameter: float, contact_angle: float,
-                       ball_count: int, rows: int = 1) -> float:
+                       ball_count: int, rows: int = 1, f_inner: float = F0_TABLE_F_INNER,
+                       f_outer: float = F0_TABLE_F_OUTER) -> float:
     """ISO 76 basic static radial load rating ``C_0r`` of a radial ball bearing [N].
 
     Parameters
@@ -209,13 +290,15 @@ def static_load_rating(ball_diameter: float, pitch_diameter: float, contact_angl
 
     .. math:: C_{0r} = f_0\\, i\\, Z\\, D_w^2 \\cos α
 
-    with ``f_0(γ)`` from Table 1 (:func:`f0_factor`), ``γ = D_w cos α / D_pw``.
+    with ``f_0(γ)`` from Table 1 (:func:`f0_factor`), ``γ = D_w cos α / D_pw``, times
+    :func:`f0_osculation_factor` where the grooves are more open than 0.52/0.53·D_w.
     """
     if not (ball_diameter > 0 and pitch_diameter > ball_diameter and ball_count >= 1 and rows >= 1):
         raise StaticRatingError(f"no static load rating for D_w = {ball_diameter!r} m, D_pw = {pitch_diameter!r} m, "
                                 f"Z = {ball_count!r}, i = {rows!r}: need 0 < D_w < D_pw, Z >= 1, i >= 1")
     cos_a = math.cos(contact_angle)
     f0 = f0_factor(ball_diameter * cos_a / pitch_diameter)
+    f0 *= f0_osculation_factor(ball_diameter, pitch_diameter, contact_angle, f_inner, f_outer)
     return f0 * rows * ball_count * (ball_diameter * 1e3) ** 2 * cos_a
 
 
@@ -261,7 +344,7 @@ def bearing_static_load_rating(bearing) -> float:
     except LifeError as exc:
         raise StaticRatingError(str(exc)) from None
     return static_load_rating(g["ball_diameter"], g["pitch_diameter"], g["contact_angle"],
-                              g["ball_count"], g["rows"])
+                              g["ball_count"], g["rows"], g["f_inner"], g["f_outer"])
 
 
 def static_safety_factor(bearing, radial_load: float, axial_load: float) -> dict:
@@ -277,7 +360,9 @@ def static_safety_factor(bearing, radial_load: float, axial_load: float) -> dict
     -------
     dict
         ``static_load_rating_N`` (``C_0r``), ``static_equivalent_load_N`` (``P_0r``) and
-        ``static_safety_factor`` (``s_0``, inf when nothing loads the bearing).
+        ``static_safety_factor`` (``s_0``, inf when nothing loads the bearing) and
+        ``rating_basis`` (one line: Table 1's ``f_0`` or the reduced one,
+        :func:`static_rating_basis`).
 
     Notes
     -----
@@ -292,4 +377,5 @@ def static_safety_factor(bearing, radial_load: float, axial_load: float) -> dict
     c0 = bearing_static_load_rating(bearing)
     p0 = static_equivalent_load(radial_load, axial_load, g["contact_angle"], g["double_row"])
     return {"static_load_rating_N": c0, "static_equivalent_load_N": p0,
-            "static_safety_factor": math.inf if p0 == 0.0 else c0 / p0}
+            "static_safety_factor": math.inf if p0 == 0.0 else c0 / p0,
+            "rating_basis": static_rating_basis(g["f_inner"], g["f_outer"])}

@@ -16,6 +16,9 @@ Sources, value by value (the standards' own texts were not at hand):
 - ``K_ia``, classes 6, 5, 4 up to d = 50 mm: the Chinese bearing maker YCTOO's
   reproduction of ISO 492 ("Tolerance of inner ring (ISO)"); above, the same makers'
   catalogue tables as remembered, class 6 at 315–400 mm (30 µm) as the issue read it.
+  Class 5 is tabulated here to d = 400 mm only: the 17 and 20 µm once carried for
+  400–630 mm had no source (the public reproductions stop class 5 at 400 mm; issue 39),
+  so a class-5 bearing of a larger bore is refused, naming the class and the bore.
   Class 4 is tabulated here to d = 250 mm only.
 - ``K_ea``, Normal: SRS's table (D 18–400 mm) and, converted from inches, Consolidated
   Bearings' ISO/ABMA table (D 6–630 mm; 0.0028 in = 71 µm at 315–400 mm).
@@ -24,6 +27,10 @@ Sources, value by value (the standards' own texts were not at hand):
   315–400 mm as the issue read them.
 - ``V_Dws``, ``V_DwL``: ISO 3290-1 Table 1 as catalogues of ball makers reproduce it;
   G10's 0.25 and 0.5 µm as the issue gives them.
+- the nominal ball diameters a grade is made up to (:data:`BALL_GRADE_MAX_DIAMETER`):
+  ISO 3290's grade table as the ball maker Mingzhu (en.mzzcgq.com, "ISO 3290" grade table
+  with nominal sizes) reproduces it: G3 and G5 up to 12.7 mm, G10 and G16 up to 25.4 mm,
+  G20 up to 38.1 mm; the coarser grades' limits were not at hand.
 
 Rows marked "as remembered" are the ones to check against a copy of the standard before a
 result is quoted against a tolerance class.
@@ -42,7 +49,7 @@ BORE_LIMITS = np.array([10, 18, 30, 50, 80, 120, 180, 250, 315, 400, 500, 630]) 
 K_IA = {
     "normal": np.array([10, 10, 13, 15, 20, 25, 30, 40, 50, 60, 65, 70]) * 1e-6,
     "6": np.array([6, 7, 8, 10, 10, 13, 18, 20, 25, 30, 35, 40]) * 1e-6,
-    "5": np.array([4, 4, 4, 5, 5, 6, 8, 10, 13, 15, 17, 20]) * 1e-6,
+    "5": np.array([4, 4, 4, 5, 5, 6, 8, 10, 13, 15, np.nan, np.nan]) * 1e-6,   # no source above 400 mm
     "4": np.array([2.5, 2.5, 3, 4, 4, 5, 6, 8, np.nan, np.nan, np.nan, np.nan]) * 1e-6,
 }
 
@@ -70,16 +77,25 @@ BALL_GRADES = {
 #: fit in each class, an assumption stated wherever it is used.
 DEFAULT_BALL_GRADE = {"normal": "G20", "6": "G16", "5": "G10", "4": "G5"}
 
+#: Largest nominal ball diameter each grade is made in [m], where a source gives it
+#: (module docstring): G3, G5 to 1/2 in, G10, G16 to 1 in, G20 to 1 1/2 in.
+BALL_GRADE_MAX_DIAMETER = {"G3": 12.7e-3, "G5": 12.7e-3, "G10": 25.4e-3, "G16": 25.4e-3, "G20": 38.1e-3}
+
+#: Why a class has no K_ia beyond its last row, for the refusal's line.
+_K_IA_END = {"5": "the public reproductions of ISO 492 stop class 5's K_ia at a bore of 400 mm",
+             "4": "class 4's K_ia is carried here to a bore of 250 mm"}
+
 
 class ToleranceError(ValueError):
     """The tables carry no value for this class and size (said why)."""
 
 
-def _lookup(limits, values, size: float, what: str, tolerance_class: str) -> float:
+def _lookup(limits, values, size: float, what: str, tolerance_class: str, why: str = "") -> float:
     k = int(np.searchsorted(limits, size - 1e-12))
     if k >= limits.size or not np.isfinite(values[k]):
         raise ToleranceError(f"ISO 492 {what} of class {tolerance_class} is not tabulated here for "
-                             f"{size * 1e3:.4g} mm")
+                             f"{size * 1e3:.4g} mm" + (f" ({why})" if why else "")
+                             + "; give the eccentricity itself")
     return float(values[k])
 
 
@@ -87,7 +103,8 @@ def inner_runout(bore: float, tolerance_class: str) -> float:
     """ISO 492 ``K_ia`` of an inner ring of bore ``bore`` [m] in ``tolerance_class`` [m]."""
     if tolerance_class not in K_IA:
         raise ToleranceError(f"tolerance class {tolerance_class!r} is not one of {', '.join(TOLERANCE_CLASSES)}")
-    return _lookup(BORE_LIMITS, K_IA[tolerance_class], bore, "K_ia", tolerance_class)
+    return _lookup(BORE_LIMITS, K_IA[tolerance_class], bore, "K_ia", tolerance_class,
+                   _K_IA_END.get(tolerance_class, "") if bore > 250e-3 else "")
 
 
 def outer_runout(outer_diameter: float, tolerance_class: str) -> float:
@@ -103,3 +120,65 @@ def ball_lot_variation(grade: str) -> float:
     if grade not in BALL_GRADES:
         raise ToleranceError(f"ball grade {grade!r} is not one of {', '.join(BALL_GRADES)}")
     return BALL_GRADES[grade][1]
+
+
+def default_ball_grade(tolerance_class: str, ball_diameter: float) -> str:
+    """The ball grade a tolerance class implies for balls of ``ball_diameter`` [m].
+
+    Parameters
+    ----------
+    tolerance_class : str
+        One of :data:`TOLERANCE_CLASSES`.
+    ball_diameter : float
+        Nominal ball diameter ``D_w`` [m].
+
+    Returns
+    -------
+    str
+        :data:`DEFAULT_BALL_GRADE`'s grade where ISO 3290 makes it in that size
+        (:data:`BALL_GRADE_MAX_DIAMETER`), else the next coarser grade that is made in it
+        (class 4's G5 is made to 12.7 mm only: a 23 mm ball takes G10).
+
+    Raises
+    ------
+    ToleranceError
+        No grade from the class's own onwards is known to be made in this size (one line:
+        name ``imperfections.ball_grade`` in the bearing file).
+    """
+    if tolerance_class not in DEFAULT_BALL_GRADE:
+        raise ToleranceError(f"tolerance class {tolerance_class!r} is not one of {', '.join(TOLERANCE_CLASSES)}")
+    grades = list(BALL_GRADES)
+    start = DEFAULT_BALL_GRADE[tolerance_class]
+    for grade in grades[grades.index(start):]:
+        limit = BALL_GRADE_MAX_DIAMETER.get(grade)
+        if limit is None:
+            break
+        if ball_diameter <= limit + 1e-12:
+            return grade
+    raise ToleranceError(f"class {tolerance_class}'s default ball grade {start} is made up to "
+                         f"{BALL_GRADE_MAX_DIAMETER[start] * 1e3:.4g} mm, and no coarser grade is known here to be "
+                         f"made in {ball_diameter * 1e3:.4g} mm balls (ISO 3290); name imperfections.ball_grade")
+
+
+def tolerance_problems(tolerance_class: str, bore: float, outer_diameter: float, ball_diameter: float, *,
+                       inner_given: bool = False, outer_given: bool = False, grade_given: bool = False) -> list:
+    """What a tolerance class cannot give this bearing, as ``(key, value, reason)`` before
+    any work starts: an ISO 492 runout without a sourced row for its size (unless the
+    eccentricity is given), a default ball grade not made in its ball size (unless a
+    grade is named). Empty for no class."""
+    if not tolerance_class:
+        return []
+    out = []
+    checks = []
+    if not inner_given:
+        checks.append(lambda: inner_runout(bore, tolerance_class))
+    if not outer_given:
+        checks.append(lambda: outer_runout(outer_diameter, tolerance_class))
+    if not grade_given:
+        checks.append(lambda: default_ball_grade(tolerance_class, ball_diameter))
+    for check in checks:
+        try:
+            check()
+        except ToleranceError as exc:
+            out.append(("imperfections.tolerance_class", tolerance_class, str(exc)))
+    return out

@@ -29,8 +29,8 @@ def add_arguments(parser):
                         help="also the quasi-static runout path: the pose at N ring angles over one revolution "
                              "(an imperfect bearing's; see [imperfections])")
     parser.add_argument("--seed", type=int, default=-1, metavar="S",
-                        help="the realization whose tolerance-class draws (high points, ball sizes) to use; "
-                             "default none (high points at 0)")
+                        help="the realization whose tolerance-class draws (high points, ball sizes) every "
+                             "number uses, as a sweep's case with that seed; default -1 (high points at 0)")
 
 
 def stiffness_units() -> list:
@@ -54,7 +54,8 @@ def _finite(x):
 
 
 def run(args):
-    from rvcore.life import LifeError, static_life
+    from rvcore.imperfections import realize
+    from rvcore.life import LifeError, dynamic_rating_basis, static_life
     from rvcore.preload import preload_force
     from rvcore.quasistatic import NoEquilibriumError, solve_statics
     from rvcore.contact import LOADED_BALL_LOAD
@@ -64,6 +65,10 @@ def run(args):
     sweep = one_case_sweep(args, profile=None)
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
+    # the realization of --seed (a tolerance class's high-point angles and ball sizes, as a
+    # sweep's case with that seed runs): the headline numbers, the lives and the runout
+    # path all come from this one bearing (issue 39 item 13)
+    bearing = realize(bearing, args.seed)
     mx, my = _moments(args)
     try:
         st = solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
@@ -149,6 +154,9 @@ def run(args):
             "dynamic_load_rating_N": _finite(life["dynamic_load_rating_N"]),
             "equivalent_load_N": _finite(life["equivalent_load_N"]),
             "dynamic_load_rating_source": ("catalogue" if bearing.dynamic_load_rating > 0 else "ISO 281 geometry"),
+            "dynamic_rating_basis": dynamic_rating_basis(bearing),
+            "static_rating_basis": ratings.pop("rating_basis"),
+            "seed": args.seed,
             "rating_life_note": ("10^6 revolutions of the inner ring, 90 % reliability, no life modification "
                                  "factor; L10r per ISO/TS 16281 from the ball loads, L10 per ISO 281 with "
                                  "P = X F_r + Y F_a; null: infinite (nothing loaded) or not rated"
@@ -159,11 +167,13 @@ def run(args):
                                           "this load distribution (ISO 76 3.2: 4200 MPa at C0; p_max ~ Q^(1/3)); "
                                           "static_safety_factor_catalogue = C0r/P0r, C0r = f0 i Z Dw^2 cos(alpha) "
                                           "(6.1.1, Table 1), P0r = max(X0 Fr + Y0 Fa, Fr) (6.2, Table 2): "
-                                          "Stribeck's idealised distribution, no tilt, no moment"),
-            "friction_moment_note": ("Palmgren's load term f1 F_beta d_m (Harris & Kotzalas) at these loads; its "
-                                     "viscous term needs a speed and is in each case file "
+                                          "Stribeck's idealised distribution, no tilt, no moment; f0 reduced where "
+                                          "the groove radii exceed 0.52/0.53 Dw (static_rating_basis)"),
+            "friction_moment_note": ("Palmgren's load term f1 F_beta d_m at these loads, f1 = z (P0r/C0r)^y with "
+                                     "the C0r above; its viscous term needs a speed and is in each case file "
                                      "(friction_moment_palmgren_viscous); null where it does not apply (pairs, "
-                                     "four-point rows)"),
+                                     "four-point rows). Constants: "
+                                     + _palmgren_basis(bearing) + "; " + _published_spread()),
             "warnings": list(bearing.warnings),
         }
         if path is not None:
@@ -205,8 +215,9 @@ def run(args):
     print(f"  static safety s0     {_num(ratings['static_safety_factor_pressure'])} = (4200 MPa/p_max)^3, "
           f"{_num(ratings['static_safety_factor_catalogue'])} = C0r/P0r (ISO 76; C0r "
           f"{_num(ratings['static_load_rating_N'] / 1e3)} kN, P0r {_num(ratings['static_equivalent_load_N'] / 1e3)} kN)")
-    print(f"  friction moment      {_num(ratings['friction_moment_load_term_Nm'])} N m (Palmgren's load term; the "
-          "model's own torque is in a simulation)")
+    print(f"  rating basis         C0r: {ratings['rating_basis']}")
+    print(f"  friction moment      {_num(ratings['friction_moment_load_term_Nm'])} N m (Palmgren's load term, f1 "
+          "from P0r/C0r above; the model's own torque is in a simulation)")
     # engineering units: N/m -> N/um, N m/rad -> N m/mrad
     # direct: every other coordinate held; compliant: every other coordinate free
     print(f"  radial stiffness     {k_radial * 1e-6:10.4g} N/um direct, {kc_radial * 1e-6:.4g} N/um compliant "
@@ -263,6 +274,18 @@ def _check_runout(args) -> None:
                         f"{360 / MAX_RUNOUT_POINTS:g} deg) a runout path takes; each is a full quasi-static solve")
 
 
+def _palmgren_basis(bearing) -> str:
+    from rvcore.friction_moment import palmgren_basis
+
+    return palmgren_basis(bearing.rows[0].nominal_contact_angle)
+
+
+def _published_spread() -> str:
+    from rvcore.friction_moment import published_spread_text
+
+    return published_spread_text()
+
+
 def _num(x) -> str:
     """``x`` to 4 significant digits, or '-' where not rated."""
     return f"{x:10.4g}" if x is not None and math.isfinite(x) else "         -"
@@ -278,8 +301,10 @@ def _ratings(bearing, st, fr: float, fa: float) -> dict:
     out = {"static_safety_factor_pressure": float(static_safety_factor_from_pressure(st.max_contact_pressure))}
     try:
         cat = static_safety_factor(bearing, fr, abs(fa))
-    except (LifeError, StaticRatingError):
+    except (LifeError, StaticRatingError) as exc:
         cat = dict.fromkeys(("static_safety_factor", "static_load_rating_N", "static_equivalent_load_N"), math.nan)
+        cat["rating_basis"] = f"not rated: {exc}"
+    out["rating_basis"] = cat["rating_basis"]
     out["static_safety_factor_catalogue"] = float(cat["static_safety_factor"])
     out["static_load_rating_N"] = float(cat["static_load_rating_N"])
     out["static_equivalent_load_N"] = float(cat["static_equivalent_load_N"])
@@ -296,7 +321,8 @@ def _print_life(life: dict, bearing, note: str) -> None:
         return "inf (unloaded)" if x == math.inf else ("-" if not math.isfinite(x) else f"{x:10.4g} Mrev")
 
     c = life["dynamic_load_rating_N"]
-    src = "catalogue" if bearing.dynamic_load_rating > 0 else "ISO 281 from the geometry"
+    src = ("catalogue" if bearing.dynamic_load_rating > 0 else
+           "ISO 281 from the geometry, Table 2 f_c within groove radii 0.52/0.53 Dw")
     print(f"  load rating C_r      {c / 1e3:10.4g} kN ({src})" if math.isfinite(c) else
           f"  load rating C_r      -  ({note})")
     print(f"  life L10r            {mrev(life['reference_rating_life_L10r_Mrev'])} (ISO/TS 16281, ball loads)")

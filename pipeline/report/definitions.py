@@ -2,7 +2,11 @@
 two stiffnesses, the loaded-ball rule and what each torque includes.
 
 Every number of this section is read from ``metrics.nc`` (the per-case scalars at the
-steady operating point and the phase metrics); nothing is recomputed here.
+steady operating point and the phase metrics); nothing is recomputed here. Which basis the
+catalogue ratings took (ISO 76's f0 reduced, ISO 281's C_r refused, where the grooves are
+more open than 0.52/0.53 D_w) and which of Palmgren's rows the friction moment used are read
+from the stored configuration's bearing (rvcore.life.rating_caveats,
+rvcore.friction_moment.palmgren_basis).
 """
 from __future__ import annotations
 
@@ -11,6 +15,8 @@ import math
 import numpy as np
 
 from rvcore.contact import LOADED_BALL_LOAD
+from rvcore.friction_moment import palmgren_basis, published_spread_text
+from rvcore.life import rating_caveats
 
 from .context import Context
 from .render import Bullets, Heading, Para, Table, Warning_, fmt_number
@@ -61,6 +67,28 @@ def _stability(ctx: Context) -> list:
                      "`inner_ring.tilt = \"held\"`.")]
 
 
+def _bearing(ctx: Context):
+    """The sweep's :class:`rvcore.geometry.Bearing` from its stored configuration, or None."""
+    conf = getattr(ctx, "configuration", None)
+    return None if conf is None else conf.bearing
+
+
+def _rating_basis(ctx: Context) -> list:
+    """A warning where a catalogue rating is reduced or refused for this bearing (groove radii
+    above ISO 76's and ISO 281's 0.52/0.53 D_w), naming which; nothing where the tables hold."""
+    b = _bearing(ctx)
+    caveats = rating_caveats(b) if b is not None else []
+    if not caveats:
+        return []
+    return [Warning_("**Catalogue ratings outside their tables.** " + " ".join(c.rstrip(".") + "." for c in caveats)
+                     + " The pressure route (4200 MPa / p_max)³ takes this bearing's own grooves and stands.")]
+
+
+def _palmgren_basis(ctx: Context) -> str:
+    b = _bearing(ctx)
+    return palmgren_basis(b.rows[0].nominal_contact_angle) if b is not None else "not known (no configuration)"
+
+
 def section_definitions(ctx: Context) -> list:
     """The "What the designer's numbers are" section (a list of blocks)."""
     tilt = str(ctx.sweep.attrs.get("inner_ring_tilt", "free"))
@@ -88,10 +116,12 @@ def section_definitions(ctx: Context) -> list:
         "**Static safety factor.** ISO 76 defines s₀ = C₀/P₀, a ratio of loads. The 4200 MPa of radial ball "
         "bearings is the contact pressure at C₀, and a Hertz pressure goes as the load^(1/3), so from a peak "
         "pressure s₀ = (4200 MPa / p_max)³. The catalogue formula takes Stribeck's idealised load distribution "
-        "(Q_max = 5 F_r / (Z cos α)), ISO 76's osculations 0.52/0.53, no tilt and no moment; the pressure route "
+        "(Q_max = 5 F_r / (Z cos α)), ISO 76's osculations 0.52/0.53 (f₀ reduced where the "
+        "grooves are more open), no tilt and no moment; the pressure route "
         "takes this bearing's own load distribution, so the two differ by how far that distribution departs from "
         "the idealisation."))
     blocks.append(Table(["s₀", "definition", "over the sweep"], rows))
+    blocks += _rating_basis(ctx)
     stiff = [(f"{k} stiffness", _span(ctx, f"{k}_stiffness", f), _span(ctx, f"{k}_stiffness_compliant", f), u)
              for k, f, u in (("radial", 1e-6, "N/µm"), ("axial", 1e-6, "N/µm"), ("tilting", 1e-3, "N m/mrad"))]
     blocks.append(Para(
@@ -116,7 +146,8 @@ def section_definitions(ctx: Context) -> list:
         f"steady mean of the model's drive torque: {_text(drive, 'N m')}",
         f"Palmgren's friction moment at the steady point: {_text(palm, 'N m')} (load term "
         f"{_text(_span(ctx, 'friction_moment_palmgren_load'), 'N m')}, viscous term "
-        f"{_text(_span(ctx, 'friction_moment_palmgren_viscous'), 'N m')})",
+        f"{_text(_span(ctx, 'friction_moment_palmgren_viscous'), 'N m')}); constants: {_palmgren_basis(ctx)}",
+        f"how uncertain Palmgren's moment is: {published_spread_text()}",
         "the two are different quantities: read the drive torque as this model's contact friction, not as the "
         "bearing's friction moment"]))
     blocks.append(Para(

@@ -150,14 +150,15 @@ def section_spectrum(ctx: Context) -> list:
     path = ctx.figure_path("steady_spectrum.png")
     save_figure(fig, path)
     blocks = [Heading(2, "Steady spectrum"),
-              Para(f"Amplitude spectrum of {what} over the steady phase (mean removed, Hann window, a sinusoid of "
-                   "amplitude A reads A) at the sweep's highest speed and radial load"
+              Para(f"Amplitude spectrum of {what} over the steady phase (mean removed, Hann window: a sinusoid "
+                   "of amplitude A reads A at a bin centre, down to 0.85 A between bins) at the sweep's highest speed and radial load"
                    + (", a line per tolerance class" if classes[0] is not None else "")
                    + ". Dashed: the bearing's kinematic frequencies at that speed (rolling without slip at the "
                    "nominal contact angle): shaft f_i, cage f_c, outer ball pass Z·f_c, inner ball pass "
                    "Z·(f_i − f_c), ball spin f_b. A perfect bearing under radial load shows the outer ball pass "
                    "(its varying compliance); an eccentric inner raceway adds f_i, waviness and ball sizes their "
-                   "own lines. The amplitudes at every kinematic frequency and its second harmonic are in "
+                   "own lines. The amplitudes at every kinematic frequency and its second harmonic, each a "
+                   "least-squares sinusoid fit at that frequency (not the peak read here), are in "
                    "`sweep.nc` (`*_kinematic_amplitude`)."),
               Image(f"figures/{path.name}", "steady spectrum with the kinematic frequencies")]
     return blocks

@@ -216,8 +216,17 @@ def extra_geometry_problems(bearing: Bearing):
       outer ring's envelope and above the outer groove's bottom (``d_m + D``), so that
       the outer ring has a land there at all.
     """
+    from rvcore.imperfections import Imperfections
+    from rvcore.tolerances import tolerance_problems
+
     out = []
     for i, row in enumerate(bearing.rows):
+        imp = row.imperfections
+        if isinstance(imp, Imperfections):   # a tolerance class without a sourced value (issue 39)
+            out += tolerance_problems(imp.tolerance_class, bearing.bore, bearing.outer_diameter, row.ball_diameter,
+                                      inner_given=imp.inner_eccentricity is not None,
+                                      outer_given=imp.outer_eccentricity is not None,
+                                      grade_given=bool(imp.ball_grade or imp.ball_diameter_deviation))
         c = row.cage
         if c.width > bearing.width:
             out.append((f"rows[{i}].cage.width", c.width,

@@ -113,7 +113,7 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 #: Version of the model's equations and numerics. Part of every case id: bump it when a
 #: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
 #: What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 12
+MODEL_VERSION = 13
 
 #: Most cases one sweep file may define: a grid is expanded, hashed and written to one
 #: combined file; beyond this, split the study into several sweeps.

@@ -95,3 +95,23 @@ def test_bad_input_is_one_clear_error():
     with pytest.raises(fm.FrictionMomentError) as err:
         fm.viscous_friction_factor(0.2, "oil-splash")
     assert "\n" not in str(err.value) and "oil-splash" in str(err.value)
+
+
+def test_palmgren_f1_takes_the_reduced_c0_of_open_grooves_and_says_which_row():
+    """f1 = z (P0/C0)^y with ISO 76's C0: on the 6010 (grooves 0.625 D_w) that C0 is the
+    reduced one, so f1 = z (P0/C0_reduced)^y, the deep-groove row z = 0.0005, y = 0.55
+    (Harris & Kotzalas, the middle of 0.0004-0.0006), P0 = F_r under pure radial load."""
+    from pipeline.schema.bearingfile import load_bearing
+    from rvcore.static_rating import static_safety_factor
+
+    b = load_bearing(ROOT / "sweeps" / "bearings" / "deep-groove-6010.toml")
+    c0 = static_safety_factor(b, 500.0, 0.0)["static_load_rating_N"]
+    m = fm.friction_moment(b, 500.0, 0.0, 0.0)
+    assert m["f1"] == pytest.approx(0.0005 * (500.0 / c0) ** 0.55, rel=1e-12)
+    assert "deep-groove row" in m["basis"]
+    study = fm.friction_moment(_study(), 30e3, 10e3, math.radians(660))
+    assert "30-40 deg" in study["basis"]
+    # the spread quoted beside the moment: KRW 5.2 and Koyo's top 10.1 N m against 7.8 N m
+    assert study["friction_moment_N_m"] == pytest.approx(fm.PUBLISHED_SPREAD_OURS, abs=0.05)
+    text = fm.published_spread_text()
+    assert f"{round(100 * (5.2 / 7.8 - 1)):+d} %" in text and f"{round(100 * (10.1 / 7.8 - 1)):+d} %" in text

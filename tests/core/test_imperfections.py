@@ -233,3 +233,59 @@ def test_study_startup_sensor_ranges_converge_with_the_step(tolerance_class):
     for name in ("radial_displacement_range", "axial_displacement_range", "sensor_displacement_range"):
         coarse, fine = (np.asarray(r.phase_metrics[name])[0] for r in runs)
         np.testing.assert_allclose(coarse, fine, rtol=0.02, err_msg=name)
+
+
+# --------------------------------------------------------------------------- sources (issue 39)
+
+#: ISO 3290's largest nominal ball diameter per grade, typed from a ball maker's
+#: reproduction (en.mzzcgq.com): G5 to 12.7 mm, G10 to 25.4 mm, G16 to 25.4 mm, G20 to 38.1 mm.
+GRADE_MAX_MM = {"G5": 12.7, "G10": 25.4, "G16": 25.4, "G20": 38.1}
+
+
+def test_every_default_ball_grade_is_made_in_the_study_balls_size():
+    """The study's 23 mm balls: class 4's own G5 is made only to 12.7 mm, so class 4 takes
+    a grade made at 23 mm; every class's default is made at 23 mm, and the realized
+    spread of a class-4 row's balls lies within that grade's V_DwL."""
+    from rvcore.tolerances import default_ball_grade
+
+    for cls in ("normal", "6", "5", "4"):
+        grade = default_ball_grade(cls, 23e-3)
+        assert GRADE_MAX_MM[grade] >= 23.0, (cls, grade)
+    assert default_ball_grade("4", 8.73e-3) == "G5"          # within G5's sizes it stays
+    b = imperfect(tolerance_class="4", inner_eccentricity=1e-6, outer_eccentricity=1e-6)
+    dd = np.array(realize(b, seed=5).rows[0].imperfections.ball_diameter_deviation)
+    assert 0 < dd.max() - dd.min() <= ball_lot_variation(default_ball_grade("4", STUDY_D))
+
+
+def test_unsourced_iso492_rows_are_refused_naming_class_and_bore():
+    """ISO 492 class 5 K_ia above a 400 mm bore has no public source: refused in one line
+    naming the class and the bore; at 315-400 mm class 5 still reads 15 um (K_ia/2 a
+    7.5 um eccentricity)."""
+    from rvcore.tolerances import ToleranceError, inner_runout, tolerance_problems
+
+    with pytest.raises(ToleranceError) as err:
+        inner_runout(450e-3, "5")
+    text = str(err.value)
+    assert "\n" not in text and "class 5" in text and "450 mm" in text and "400 mm" in text
+    assert inner_runout(380e-3, "5") == pytest.approx(15e-6)
+    problems = tolerance_problems("5", 450e-3, 560e-3, 30e-3)
+    assert problems and problems[0][0] == "imperfections.tolerance_class"
+    # an eccentricity given outright needs no K_ia
+    assert not [p for p in tolerance_problems("5", 450e-3, 560e-3, 30e-3, inner_given=True) if "K_ia" in p[2]]
+
+
+def test_a_tolerance_class_without_a_sourced_value_is_refused_before_any_work(tmp_path):
+    """Class 4 on the study bearing (bore 320 mm; class 4's K_ia is carried to 250 mm) is
+    refused when the bearing file is read: one line naming the file, the key and why."""
+    from pipeline.errors import ConfigError
+    from pipeline.schema.bearingfile import bearing_from_dict
+    from pipeline.schema.tomlfile import read_toml
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "sweeps" / "bearings" / "rv-main-study.toml"
+    raw = read_toml(path)
+    raw["imperfections"] = {"tolerance_class": "4"}
+    with pytest.raises(ConfigError) as err:
+        bearing_from_dict(raw, file="study-class4.toml")
+    text = str(err.value)
+    assert "\n" not in text and "study-class4.toml" in text and "tolerance_class" in text and "320 mm" in text

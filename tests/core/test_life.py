@@ -317,3 +317,46 @@ def test_table3_15_degree_interpolates_between_rows():
     a, z = math.radians(15.0), 51
     fa = (1.07 + 1.43) / 2 * z * 23.0 ** 2 * math.cos(a)
     assert iso281.xy_factors(fa, fa, a, z, 0.023) == pytest.approx((0.44, 1.21, 0.465), abs=1e-9)
+
+
+# --------------------------------------------------------------------------- open grooves (issue 39)
+
+
+def _bearing_6010():
+    from pipeline.schema.bearingfile import load_bearing
+
+    return load_bearing(ROOT / "sweeps" / "bearings" / "deep-groove-6010.toml")
+
+
+def test_open_grooves_refuse_iso281_cr_l10_and_l10r_with_one_line():
+    """ISO 281 Table 2's f_c holds for r_i <= 0.52 D_w, r_e <= 0.53 D_w; the 6010 file has
+    0.625 on both rings. The reduced f_c of ISO/TR 1281-1 is not implemented, so C_r, L10
+    and L10r (ISO/TS 16281 splits the same C_r) are refused: one line naming the radii."""
+    b = _bearing_6010()
+    with pytest.raises(iso281.LifeError) as err:
+        life.geometry_load_rating(b)
+    text = str(err.value)
+    assert "\n" not in text and "0.625" in text and "0.52/0.53" in text
+    assert life.dynamic_rating_basis(b) == text
+    st = solve_statics(b, 500.0, 0.0, gravity=False, tilt="held")
+    with pytest.raises(iso281.LifeError):
+        life.static_life(b, st)
+    # the duty cycle: NaN lives and damages, never a number from a table that does not hold
+    sums = life.life_sums_at(b, st, [10.0, 20.0])
+    out = life.duty_cycle_life(b, sums)
+    assert math.isnan(out["rating_life_L10r"]) and math.isnan(out["fatigue_damage_cycle"])
+    assert np.isnan(out["fatigue_damage"]).all() and out["fatigue_damage"].shape == (2,)
+    assert len(life.rating_caveats(b)) == 2
+
+
+def test_a_makers_cr_rates_the_open_groove_bearing():
+    """With the maker's C_r in the bearing file the lives use it (ISO 281's table is not
+    needed): L10 = (C_r/P_r)^3 with P_r = F_r under pure radial load (ISO 281 Table 3,
+    F_a = 0)."""
+    b = dataclasses.replace(_bearing_6010(), dynamic_load_rating=16.8e3)
+    st = solve_statics(b, 2000.0, 0.0, gravity=False, tilt="held")
+    out = life.static_life(b, st, 2000.0, 0.0)
+    assert out["basic_rating_life_L10_Mrev"] == pytest.approx((16.8e3 / 2000.0) ** 3, rel=1e-12)
+    assert math.isfinite(out["reference_rating_life_L10r_Mrev"])
+    assert "maker" in life.dynamic_rating_basis(b)
+    assert len(life.rating_caveats(b)) == 1          # only ISO 76's reduced f0 remains to say

@@ -199,3 +199,48 @@ def test_pressure_route_and_catalogue_route_agree_on_a_deep_groove_bearing():
     assert q_max_ratio == pytest.approx(4.37, rel=0.01)
     expected = 5.0 / q_max_ratio * (207.0 / 208.0) ** 2
     assert s_pressure / s_catalogue == pytest.approx(expected, rel=0.01)
+
+
+# --------------------------------------------------------------------------- open grooves (issue 39)
+
+#: The 6010 file's geometry, typed from sweeps/bearings/deep-groove-6010.toml: 14 balls of
+#: 8.73 mm on a 65 mm pitch, 0 deg, groove radii 0.625 D_w on both rings.
+D6010, DM6010, Z6010, F6010 = 8.73, 65.0, 14, 0.625
+
+
+def _load_6010():
+    from pipeline.schema.bearingfile import load_bearing
+
+    return load_bearing(ROOT / "sweeps" / "bearings" / "deep-groove-6010.toml")
+
+
+def test_open_grooves_reduce_f0_by_the_4200_mpa_definition():
+    """ISO 76 Table 1 holds for r_i <= 0.52 D_w and r_e <= 0.53 D_w; above, the rating's own
+    definition (3.2: the load at which the most heavily loaded contact reaches 4200 MPa)
+    gives the reduced f0. Expected, computed here: the table's f0 at γ = 8.73/65
+    (interpolated between the 0.13 and 0.14 rows typed below) times the ratio of this
+    file's Hertz theory of f0 at 0.625/0.625 to the same theory at 0.52/0.53; then
+    C0r = f0 Z D_w^2 and s0 = C0r/P0r with P0r = F_r (ISO 76 6.2, pure radial load)."""
+    gamma = D6010 / DM6010
+    f0_table = 15.6 + (15.4 - 15.6) * (gamma - 0.13) / 0.01      # ISO 76 Table 1 rows 0.13, 0.14
+    ratio = _f0_theory(gamma, F6010, F6010) / _f0_theory(gamma)
+    assert 0.2 < ratio < 0.5                                       # far more open: a third of the load
+    c0 = f0_table * ratio * Z6010 * D6010 ** 2
+    out = sr.static_safety_factor(_load_6010(), 500.0, 0.0)
+    assert out["static_load_rating_N"] == pytest.approx(c0, rel=2e-3)
+    assert out["static_safety_factor"] == pytest.approx(c0 / 500.0, rel=2e-3)
+    assert "reduced" in out["rating_basis"] and "0.625" in out["rating_basis"]
+
+
+def test_grooves_within_the_table_keep_table_f0_and_closer_ones_earn_nothing():
+    """At 0.52/0.53 the factor is 1 and the basis says Table 1; a closer groove (0.51) is
+    not credited (ISO 76: a smaller radius does not raise the rating); only the opening
+    ring's radius reduces it."""
+    d, dm = 23e-3, 351.5e-3
+    assert sr.f0_osculation_factor(d, dm, 0.0, 0.52, 0.53) == 1.0
+    assert sr.f0_osculation_factor(d, dm, 0.0, 0.51, 0.50) == 1.0
+    assert "Table 1" in sr.static_rating_basis(0.52, 0.53) and "reduced" not in sr.static_rating_basis(0.52, 0.53)
+    gamma = d / dm
+    expected = _f0_theory(gamma, 0.52, 0.56) / _f0_theory(gamma)
+    assert sr.f0_osculation_factor(d, dm, 0.0, 0.50, 0.56) == pytest.approx(expected, rel=2e-3)
+    assert expected < 1.0

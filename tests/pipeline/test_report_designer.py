@@ -292,3 +292,26 @@ def test_unloaded_life_is_infinite_and_undefined_safety_is_absent(tmp_path):
     with open(path, newline="") as fh:
         first = list(csv.reader(fh))[1]
     assert first[table.header.index("L10r of the duty cycle [Mrev]")] == "inf"
+
+
+def test_report_warns_where_catalogue_ratings_are_reduced_or_refused():
+    """The definitions section reads the stored bearing: the 6010 file (grooves 0.625 D_w)
+    gets a warning naming ISO 76's reduced f0 and ISO 281's refused C_r; the study bearing
+    (0.52/0.53) none; Palmgren's row is named for each."""
+    import types
+
+    from pipeline.report import definitions
+    from pipeline.schema.bearingfile import load_bearing
+
+    bearings = Path(__file__).resolve().parents[2] / "sweeps" / "bearings"
+    open_ = types.SimpleNamespace(configuration=types.SimpleNamespace(
+        bearing=load_bearing(bearings / "deep-groove-6010.toml")))
+    study = types.SimpleNamespace(configuration=types.SimpleNamespace(
+        bearing=load_bearing(bearings / "rv-main-study.toml")))
+    blocks = definitions._rating_basis(open_)
+    assert len(blocks) == 1
+    text = blocks[0].text
+    assert "reduced" in text and "not rated" in text and "0.625" in text
+    assert definitions._rating_basis(study) == []
+    assert "deep-groove row" in definitions._palmgren_basis(open_)
+    assert "30-40 deg" in definitions._palmgren_basis(study)

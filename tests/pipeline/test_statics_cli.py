@@ -164,3 +164,40 @@ def test_runout_path_of_an_eccentric_inner_raceway_spans_two_e(capsys):
     path = out["runout_path"]
     assert len(path["ring_angle_rad"]) == 12
     assert path["radial_displacement_range_m"] == pytest.approx(2 * e, rel=0.01)
+
+
+def test_seed_moves_the_headline_numbers_of_a_class_normal_bearing(capsys):
+    """``--seed S`` realizes the tolerance class's draws (the raceways' high-point angles,
+    the balls' sizes) for the headline numbers as for the runout path (issue 39): two
+    seeds of an ISO 492 Normal bearing put the eccentric raceways and the larger balls in
+    different places, so δ_r, the peak ball load and L10r differ; one seed twice gives the
+    same numbers to the bit."""
+    base = ["--bearing", BUILDABLE, "--radial-load", "20kN", "--axial-load", "5kN", "--no-gravity",
+            "--set", "imperfections.tolerance_class=normal"]
+    a = statics(capsys, *base, "--seed", "1")
+    b = statics(capsys, *base, "--seed", "2")
+    a2 = statics(capsys, *base, "--seed", "1")
+    keys = ("radial_displacement_m", "max_contact_load_N", "reference_rating_life_L10r_Mrev")
+    assert all(a[k] == a2[k] for k in keys)
+    assert a["seed"] == 1 and b["seed"] == 2
+    # the Normal class's K_ia/2 = 30 um eccentricity in another direction: the ring moves by
+    # micrometres, far beyond the solver's tolerance
+    assert abs(a["radial_displacement_m"] - b["radial_displacement_m"]) > 1e-7
+    assert a["max_contact_load_N"] != b["max_contact_load_N"]
+    assert a["reference_rating_life_L10r_Mrev"] != b["reference_rating_life_L10r_Mrev"]
+
+
+def test_open_groove_bearing_says_which_ratings_it_refused_and_reduced(capsys):
+    """The 6010 file (grooves 0.625 D_w): ISO 281's C_r, L10, L10r null with the reason in
+    ``dynamic_rating_basis`` and the life note; the catalogue s0 from the reduced f0 with
+    ``static_rating_basis`` saying so; the pressure route stays. s0 = C0r/P0r with
+    P0r = F_r (pure radial load, no gravity)."""
+    out = statics(capsys, "--bearing", str(ROOT / "sweeps" / "bearings" / "deep-groove-6010.toml"),
+                  "--radial-load", "500N", "--no-gravity", "--set", "inner_ring.tilt=held")
+    assert out["dynamic_load_rating_N"] is None and out["basic_rating_life_L10_Mrev"] is None
+    assert out["reference_rating_life_L10r_Mrev"] is None
+    assert "not rated" in out["dynamic_rating_basis"] and "0.625" in out["rating_life_note"]
+    assert "reduced" in out["static_rating_basis"]
+    assert out["static_safety_factor_catalogue"] == pytest.approx(out["static_load_rating_N"] / 500.0, rel=1e-9)
+    assert out["static_safety_factor_pressure"] > 0
+    assert "30-40 deg" not in out["friction_moment_note"] and "deep-groove row" in out["friction_moment_note"]
