@@ -159,17 +159,27 @@ def _worst(values: np.ndarray, how: str):
     return w, [tuple(int(k) for k in ij) for ij in tied]
 
 
-def location_text(s: Summary, points: list) -> str:
-    """Where the worst value occurs: '390 °/s, 40 kN', or 'every speed, 40 kN' when it is the
-    same (within :data:`TIE`) at every speed of one load, '(and k more points)' else."""
+def location_text(s: Summary, points: list, values=None) -> str:
+    """Where the worst value occurs: '390 °/s, 40 kN'; 'every speed, 40 kN' when it is the
+    same (within :data:`TIE`) at every speed of one load ('every speed with a result' when
+    some point of that load has none in ``values``), likewise 'every radial load';
+    '(and k more points)' for other ties."""
     if not points:
         return ABSENT
+    shape = (s.speeds.size, s.loads.size)
+    held = (np.isfinite(values) | np.isinf(values)) if values is not None else np.ones(shape, bool)
     loads = {j for _, j in points}
     speeds = {i for i, _ in points}
-    if len(loads) == 1 and len(speeds) == s.speeds.size > 1:
-        return f"every speed, {fmt_kn(s.loads[next(iter(loads))])}"
-    if len(speeds) == 1 and len(loads) == s.loads.size > 1:
-        return f"{fmt_speed(s.speeds[next(iter(speeds))])}, every radial load"
+    if len(loads) == 1 and len(speeds) > 1:
+        j = next(iter(loads))
+        if speeds == set(np.flatnonzero(held[:, j]).tolist()):
+            some = " with a result" if len(speeds) < s.speeds.size else ""
+            return f"every speed{some}, {fmt_kn(s.loads[j])}"
+    if len(speeds) == 1 and len(loads) > 1:
+        i = next(iter(speeds))
+        if loads == set(np.flatnonzero(held[i, :]).tolist()):
+            some = " with a result" if len(loads) < s.loads.size else ""
+            return f"{fmt_speed(s.speeds[i])}, every radial load{some}"
     i, j = points[0]
     text = f"{fmt_speed(s.speeds[i])}, {fmt_kn(s.loads[j])}"
     if len(points) > 1:
@@ -210,7 +220,8 @@ def headline_rows(s: Summary, targets: dict) -> list:
             if len(phases) > 1:
                 when += " (differs between the tied points)"
         unit = f" {t.unit}" if t.unit else ""
-        rows.append([t.name, _cell(w) + unit if points else ABSENT, location_text(s, points), when or ABSENT,
+        where = location_text(s, points, np.asarray(v, dtype=np.float64))
+        rows.append([t.name, _cell(w) + unit if points else ABSENT, where, when or ABSENT,
                      _target_text(t, targets.get(t.key)), verdict(t, w, targets.get(t.key))])
         if t.key == "life_mrev":
             rows.append(["modified rating life L_nm (ISO 281)", "not computed (needs ISO 281's a_ISO)", ABSENT, ABSENT, ABSENT, ABSENT])

@@ -89,7 +89,7 @@ def _inline_html(text: str) -> str:
 _CSS = """body{font-family:system-ui,sans-serif;max-width:76em;margin:2em auto;padding:0 1em;line-height:1.45;color:#222}
 h1{font-size:1.7em;border-bottom:2px solid #345}h2{font-size:1.3em;margin-top:2em;border-bottom:1px solid #ccd;color:#234}
 h3{font-size:1.1em;color:#345}.table{overflow-x:auto;margin:1em 0;max-width:100%}
-.table.wide{overflow:auto;max-height:34em;border:1px solid #9aa7b8;box-shadow:inset -12px 0 10px -10px #789}
+.table.wide{overflow-x:auto;border:1px solid #9aa7b8;box-shadow:inset -12px 0 10px -10px #789}
 .table.wide table{margin:0}.table.wide td:first-child,.table.wide th:first-child{position:sticky;left:0;z-index:1}
 .table.wide th:first-child{z-index:2}.table.wide td:first-child{background:#fff}
 .scrollnote{font-size:85%;color:#555;margin:.2em 0 -.6em}
