@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ConfigError
-from .context import Context, ensemble_text
+from .context import Context, ensemble_text, extra_dims
 from .figures import SAME_WITHIN
 from .render import Heading, Para, Table, Warning_, fmt_kn, fmt_number, fmt_speed
 from .summary import ABSENT, COLUMNS, Summary, _cell
@@ -154,7 +154,7 @@ def _worst(values: np.ndarray, how: str):
     filled = np.where(ok, v, np.inf if how == "min" else -np.inf)
     w = float(filled.min() if how == "min" else filled.max())
     if math.isinf(w):
-        return w, [tuple(int(k) for k in ij) for ij in np.argwhere(filled == w)]
+        return w, [tuple(int(k) for k in ij) for ij in np.argwhere(ok & (v == w))]
     tied = np.argwhere(ok & np.isclose(v, w, rtol=TIE, atol=0.0))
     return w, [tuple(int(k) for k in ij) for ij in tied]
 
@@ -304,6 +304,7 @@ def section_headline(ctx: Context) -> list:
     intro = (f"The worst value of each design number over the sweep's {total} operating points"
              + (f" ({finished} with a result)" if finished < total else "")
              + (f", each the ensemble mean of {ens}" if ens else "")
+             + (" (other sweep axes at their first value, as in the summary)" if extra_dims(ctx.metrics) else "")
              + ", where it occurs, and its verdict against the target set with `rvsweep report --target-…`.")
     blocks.append(Para(intro))
     set_rows = [r for r in rows if r[5] in (PASS, FAIL)]
