@@ -321,7 +321,7 @@ def section_summary(ctx: Context) -> list:
                            f"Every point is in `report/{csv_path.name}` (same columns)."))
     else:
         blocks.append(Para(f"Every grid point is shown; the same table is in `report/{csv_path.name}`."))
-    blocks.append(Table(summary_header(), summary_rows(s, points)))
+    blocks.append(Table(summary_header(), summary_rows(s, points), sticky=True))
     blocks.append(Para(f"{ABSENT} in a row where a column has data elsewhere: no finished case at that point "
                        "(see Cases), or the value is undefined there (no loaded contact: no safety factor)."))
     blocks.append(Para(text))   # the definitions below the numbers: the table is what the designer reads first
