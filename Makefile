@@ -7,6 +7,7 @@ STAMP  := $(VENV)/.installed
 SWEEP  ?= sweeps/study.toml
 OUT    ?= results
 TESTARGS ?=
+REPORTARGS ?=  # options of rvsweep report, e.g. REPORTARGS='--target-s0 2 --target-life 50'
 
 .DEFAULT_GOAL := help
 .PHONY: help venv sweep smoke report test test-all bench clean
@@ -24,13 +25,13 @@ venv: $(STAMP)  ## create .venv and install the package with its test extras
 
 sweep: $(STAMP)  ## run SWEEP (default sweeps/study.toml) into OUT/<name>, then its report
 	$(BIN)/rvsweep sweep $(SWEEP) --out $(OUT)
-	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP))
+	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP)) $(REPORTARGS)
 
 smoke:  ## the 3x3 smoke sweep (9 cases, about 20 s; a first run compiles numba first)
 	$(MAKE) sweep SWEEP=sweeps/smoke.toml
 
-report: $(STAMP)  ## the report for the last sweep of SWEEP
-	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP))
+report: $(STAMP)  ## the report for the last sweep of SWEEP (REPORTARGS: e.g. '--target-s0 2')
+	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP)) $(REPORTARGS)
 
 test: $(STAMP)  ## the default test run (slow tests excluded)
 	$(BIN)/python -m pytest -q $(TESTARGS)

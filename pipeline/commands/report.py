@@ -12,6 +12,13 @@ def add_arguments(parser):
                         help="the sweep's output folder (holds sweep.nc or cases/, status.json)")
     parser.add_argument("--reference", metavar="FILE", type=Path, default=None,
                         help="reference-fit TOML to compare with (default: sweeps/reference/study-fits.toml)")
+    from ..report.headline import TARGETS
+
+    for t in TARGETS:
+        bound = "at least" if t.worst == "min" else "at most"
+        parser.add_argument(t.flag, dest=f"target_{t.key}", metavar="VALUE", default=None,
+                            help=f"target of the headline's {t.name}: {bound} this, e.g. {t.example}; the "
+                                 "headline marks it pass or fail (default: no target)")
 
 
 def _check_folder(directory: Path) -> None:
@@ -33,9 +40,13 @@ def _check_folder(directory: Path) -> None:
 def run(args) -> int:
     from ..report import build_report
 
+    from ..report.headline import TARGETS, parse_targets
+
+    # the targets are checked before any work starts: a bad one is one line, nothing written
+    targets = parse_targets({t.key: getattr(args, f"target_{t.key}", None) for t in TARGETS})
     _check_folder(args.directory)
     start = time.perf_counter()
-    files = build_report(args.directory, reference=args.reference)
+    files = build_report(args.directory, reference=args.reference, targets=targets)
     elapsed = time.perf_counter() - start
     print(f"wrote {files.metrics}")
     print(f"wrote {files.fits}")

@@ -6,7 +6,9 @@ beside them and ``report/report.md``, ``report/report.html``, ``report/summary.c
 ``report/figures/*.png``,
 each file atomically.
 
-The report is written for a bearing designer, in this order: the summary per
+The report is written for a bearing designer, in this order: the headline (the worst
+design numbers over the sweep, where they occur and their pass/fail against the user's
+targets; :mod:`.headline`), the summary per
 operating point (:mod:`.summary`: safety factor, lives, start-up torque, cage forces,
 sliding, displacements, stiffness; also ``report/summary.csv``) and the cases; the
 figures (the designer outputs, time histories, the study's metrics, cage slip,
@@ -45,6 +47,7 @@ from ..io import read_status, write_text_atomic
 from ..io.statics import STATICS_FILE
 from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
 from .definitions import section_definitions
+from .headline import section_headline
 from .imperfect import extra_axes_note, section_classes, section_spectrum
 from .loads import section_load_distribution, stored_statics
 from .parameters import section_parameters
@@ -141,17 +144,18 @@ def section_files(ctx: Context) -> list:
 
 
 #: The report's sections in their order: each ``section(ctx) -> list of blocks``. The
-#: designer's summary comes first, then the cases and the figures, the study comparison,
+#: headline comes first (:mod:`.headline`: the worst design numbers, where they occur and
+#: their verdicts, and how the run differs from the study's), then the designer's summary, then the cases and the figures, the study comparison,
 #: the files and the configuration as an appendix.
 SECTIONS = (
-    section_title, extra_axes_note, section_summary, section_definitions, section_cases,
+    section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
     section_stiffness, section_load_distribution, section_window_edges, section_comparison, section_classes,
     section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 
 
-def load_context(directory: Path, reference=None) -> Context:
+def load_context(directory: Path, reference=None, targets=None) -> Context:
     """The results folder read for the report: the sweep, its metrics and fits (written as
     ``metrics.nc`` and ``fits.nc``), the status, the references, the stored configuration
     and statics, and what the sections share (phase windows, the study comparison, the
@@ -165,7 +169,7 @@ def load_context(directory: Path, reference=None) -> Context:
     ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
                   status=read_status(directory), references=load_reference_fits(reference),
                   reference_path=Path(reference) if reference else default_reference_path(),
-                  configuration=configuration, config_error=err)
+                  configuration=configuration, config_error=err, targets=dict(targets or {}))
     if sensors(metrics):
         ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
     ctx.windows, ctx.windows_source = phase_windows(ctx)
@@ -175,7 +179,7 @@ def load_context(directory: Path, reference=None) -> Context:
     return ctx
 
 
-def build_report(directory, reference=None) -> ReportFiles:
+def build_report(directory, reference=None, targets=None) -> ReportFiles:
     """Metrics, fits and the report of a finished or partial sweep.
 
     Parameters
@@ -184,6 +188,10 @@ def build_report(directory, reference=None) -> ReportFiles:
         The sweep folder (``results/<name>/``).
     reference : path-like, optional
         A reference-fit TOML file; default ``sweeps/reference/study-fits.toml``.
+    targets : dict, optional
+        The headline's targets, key -> value in its summary column's unit (s₀ [1], L10r
+        [Mrev], start-up torque [N m], k_r and k_a [N/µm], k_θ [N m/mrad]), as
+        :func:`.headline.parse_targets` returns them; default none (no pass/fail mark).
 
     Returns
     -------
@@ -195,7 +203,7 @@ def build_report(directory, reference=None) -> ReportFiles:
         When the folder holds no sweep, or the reference file is invalid.
     """
     directory = Path(directory)
-    ctx = load_context(directory, reference)
+    ctx = load_context(directory, reference, targets)
     (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
     blocks = [block for section in SECTIONS for block in section(ctx)]
     title = f"Sweep report: {directory.name}"

@@ -60,6 +60,8 @@ class Context:
     #: The summary values (:func:`.summary.summary_values`) and the CSV written of them.
     summary: object = None
     summary_path: Path | None = None
+    #: The headline's targets, key -> value in its column's unit (:func:`.headline.parse_targets`).
+    targets: dict = field(default_factory=dict)
 
     @property
     def report_dir(self) -> Path:

@@ -59,22 +59,165 @@ def trace_style(k: int, n: int) -> dict:
     return {"lw": 1.0 + 1.6 * (n - 1 - k) / max(n - 1, 1), "ls": dashes[k % len(dashes)], "color": f"C{k}"}
 
 
-def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
+#: Lines of a panel closer than this (relative to their values) are drawn as one line,
+#: labelled as identical: drawn each, they lie on top of each other and read as missing data.
+SAME_WITHIN = 1e-3
+
+#: Markers of the lines of one panel, so that lines drawn close together stay distinct.
+MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "*")
+
+
+def spread_of(lines) -> float:
+    """The largest relative spread between ``lines`` at any abscissa [1].
+
+    Parameters
+    ----------
+    lines : sequence of array_like
+        Equally long y arrays [any one unit]; NaN entries are ignored.
+
+    Returns
+    -------
+    float
+        ``max_x (max_k y_k(x) − min_k y_k(x)) / max_k |y_k(x)|`` over the abscissae where at
+        least two lines are finite; 0 where every value is 0; NaN with no such abscissa.
+    """
+    a = np.asarray([np.asarray(y, dtype=np.float64) for y in lines])
+    if a.ndim != 2 or a.shape[0] < 2:
+        return math.nan
+    ok = np.isfinite(a)
+    cols = ok.sum(axis=0) >= 2
+    if not cols.any():
+        return math.nan
+    hi = np.where(ok, a, -np.inf).max(axis=0)[cols]
+    lo = np.where(ok, a, np.inf).min(axis=0)[cols]
+    mag = np.where(ok, np.abs(a), 0.0).max(axis=0)[cols]
+    rel = np.where(mag > 0, (hi - lo) / np.where(mag > 0, mag, 1.0), 0.0)
+    return float(rel.max())
+
+
+#: Lines of a panel that differ by less than this fraction of the panel's y-span lie on top
+#: of each other on screen: they are drawn in distinct dash patterns and widths and the
+#: legend says they overlap.
+OVERLAP_WITHIN = 0.02
+
+
+def overlap_of(lines) -> float:
+    """The largest gap between ``lines`` at any abscissa, as a fraction of their joint span [1]
+    (NaN without two finite values at one abscissa; 0 for a zero span)."""
+    a = np.asarray([np.asarray(y, dtype=np.float64) for y in lines])
+    if a.ndim != 2 or a.shape[0] < 2:
+        return math.nan
+    ok = np.isfinite(a)
+    cols = ok.sum(axis=0) >= 2
+    if not cols.any():
+        return math.nan
+    gap = (np.where(ok, a, -np.inf).max(axis=0) - np.where(ok, a, np.inf).min(axis=0))[cols]
+    span = float(np.nanmax(a[ok]) - np.nanmin(a[ok]))
+    return float(gap.max() / span) if span > 0 else 0.0
+
+
+def identical_label(what: str, n: int, spread: float) -> str:
+    """'all 3 speeds (identical within 0.02 %)': the label of lines drawn as one."""
+    if spread <= 0.0:
+        return f"all {n} {what} (identical)"
+    return f"all {n} {what} (identical within {fmt_number(spread * 100.0, 1)} %)"
+
+
+def phase_ylim(t, ys, windows, pad: float = 0.08):
+    """The y-limits of a time history fitted to the phase windows, and what lies beyond them.
+
+    The ring settles onto its balls from t = 0 while the loads ramp up, and unloads after the
+    last phase: those transients can be far larger than the phases' motion and, scaled to,
+    flatten it. The limits are fitted to the samples inside the phase windows only.
+
+    Parameters
+    ----------
+    t : array_like
+        Sample times [s].
+    ys : sequence of array_like
+        The traces drawn [any one unit], each sampled at ``t``.
+    windows : dict
+        ``{phase: (start, end)}`` [s]; empty: no limits.
+    pad : float
+        Margin added on each side [fraction of the span in the windows].
+
+    Returns
+    -------
+    tuple or None
+        ``(lower, upper, outside_min, outside_max)`` [unit of ``ys``]: the limits, and the
+        extremes of the samples outside the windows (NaN without any); None without windows
+        or finite samples inside them.
+    """
+    if not windows:
+        return None
+    t = np.asarray(t, dtype=np.float64)
+    inside = np.zeros(t.shape, bool)
+    for a, b in windows.values():
+        inside |= (t >= a) & (t <= b)
+    a = np.asarray([np.asarray(y, dtype=np.float64) for y in ys]) if len(ys) else np.empty((0, t.size))
+    ins = a[:, inside]
+    ins = ins[np.isfinite(ins)]
+    if not ins.size:
+        return None
+    lo, hi = float(ins.min()), float(ins.max())
+    margin = pad * (hi - lo) if hi > lo else max(abs(hi) * 0.05, 1e-3)
+    out = a[:, ~inside]
+    out = out[np.isfinite(out)]
+    omin, omax = (float(out.min()), float(out.max())) if out.size else (math.nan, math.nan)
+    return lo - margin, hi + margin, omin, omax
+
+
+def _settling_marks(ax, t, windows, lim) -> str:
+    """Grey out the times outside the phase windows, set the y-limits ``lim`` of
+    :func:`phase_ylim` and say, on the panel, how far the trace runs off them; returns the
+    off-scale text ('' when nothing runs off)."""
+    lo, hi, omin, omax = lim
+    starts = [a for a, _ in windows.values()]
+    ends = [b for _, b in windows.values()]
+    t0, t1 = float(np.nanmin(t)), float(np.nanmax(t))
+    ax.axvspan(t0, min(starts), color="0.55", alpha=0.18, lw=0, hatch="//", label="load ramps, settling: not scaled to")
+    if max(ends) < t1:
+        ax.axvspan(max(ends), t1, color="0.55", alpha=0.18, lw=0, hatch="//")
+    ax.set_ylim(lo, hi)
+    off = []
+    if math.isfinite(omin) and omin < lo:
+        off.append(f"down to {fmt_number(omin, 3)}")
+    if math.isfinite(omax) and omax > hi:
+        off.append(f"up to {fmt_number(omax, 3)}")
+    if off:
+        text = "off scale outside the phases: " + ", ".join(off)
+        ax.text(0.005, 0.02, text + " µm", transform=ax.transAxes, fontsize=7.5, color="0.25", va="bottom",
+                bbox={"facecolor": "white", "alpha": 0.8, "lw": 0, "pad": 1.5})
+        return text
+    return ""
+
+
+def figure_time_histories(ctx: Context, windows, path: Path, cases) -> list:
     """δ_r and δ_a at the ring centre of ``cases`` [(speed °/s, load N)] against time, in µm.
 
-    The first realization of an ensemble; the phase ``windows`` [s] shaded.
+    The first realization of an ensemble; the phase ``windows`` [s] shaded. The y-limits fit
+    the phase windows (:func:`phase_ylim`): the settling from t = 0 and the load ramps are
+    drawn, greyed, and not scaled to. Returns the off-scale notes, one per panel that has one.
     """
     sw = on_base_grid(ctx.sweep)
     fig, axes = new_figure(2, 1, (10.0, 6.0))
     t = sw["elapsed_time"].values
+    notes = []
     for k, (name, label) in enumerate((("radial_displacement", "δ_r at the ring centre [µm]"),
                                        ("axial_displacement", "δ_a at the ring centre [µm]"))):
         ax = axes[k, 0]
         _shade(ax, windows)
+        ys = []
         if name in sw:
             for k_case, (s, l) in enumerate(cases):
                 y = sw[name].sel(speed=s, radial_load=l).values * 1e6
+                ys.append(y)
                 ax.plot(t, y, label=f"{fmt_speed(s)}, {fmt_kn(l)}", **trace_style(k_case, len(cases)))
+        lim = phase_ylim(t, ys, windows)
+        if lim is not None:
+            off = _settling_marks(ax, t, windows, lim)
+            if off:
+                notes.append(f"{label.split(' [')[0]}: {off} µm")
         ax.set_ylabel(label)
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
@@ -83,6 +226,7 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> None:
     axes[0, 0].set_title("Inner-ring displacements at the ring centre of the extreme cases, phase windows shaded"
                          + (f"\n{first}" if first else ""), fontsize=10)
     save_figure(fig, path)
+    return notes
 
 
 def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> None:
@@ -97,9 +241,14 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
     for k, sn in enumerate(sens):
         ax = axes[k, 0]
         _shade(ax, windows)
+        ys = []
         for k_case, (s, l) in enumerate(cases):
             y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
+            ys.append(y)
             ax.plot(t, y, label=f"{fmt_speed(s)}, {fmt_kn(l)}", **trace_style(k_case, len(cases)))
+        lim = phase_ylim(t, ys, windows)
+        if lim is not None:
+            _settling_marks(ax, t, windows, lim)
         ax.set_title(sn.label(code=False), fontsize=8)
         ax.set_ylabel(f"{sn.name} [µm]")
         ax.grid(True, lw=0.3)
@@ -177,19 +326,65 @@ def _metric_panel(ax, ctx: Context, name: str, axis: str, fixed_axis: str, fixed
     return int(fl.sum())
 
 
+#: Suffixes of the phase metrics that cannot be negative (a range max − min, a standard deviation).
+NON_NEGATIVE = ("_range", "_std")
+
+
+def is_non_negative(variable: str) -> bool:
+    """Whether metric ``variable`` cannot be negative (:data:`NON_NEGATIVE`)."""
+    return variable.endswith(NON_NEGATIVE)
+
+
+def plotted_band(fit: dict, grid, non_negative: bool):
+    """The fitted line and its 95 % band at ``grid`` as drawn [the fit's units].
+
+    Parameters
+    ----------
+    fit : dict
+        A line fit's statistics (:func:`pipeline.analysis.line_band`).
+    grid : array_like
+        Abscissae [the fit's x unit].
+    non_negative : bool
+        The metric cannot be negative (a range, a standard deviation).
+
+    Returns
+    -------
+    y, lower, upper : ndarray
+
+    Notes
+    -----
+    For a quantity that cannot be negative, the line and both band edges are clipped at
+    zero: ``max(0, ŷ ∓ t·s(ŷ))``. The band is a confidence set for the mean response, and
+    the mean of a non-negative quantity lies in [0, ∞), so intersecting the set with it
+    loses no coverage. The fit itself stays linear in the metric, as the study's published
+    fits (Tables 3 and 4) are, so that its slope remains comparable with theirs; a fit in
+    log space would keep the band positive too, but its slope would no longer be the
+    study's quantity.
+    """
+    yl, lo, hi = line_band(fit, grid)
+    if non_negative:
+        yl, lo, hi = (np.clip(a, 0.0, None) for a in (yl, lo, hi))
+    return yl, lo, hi
+
+
 def _fit_line(ax, ctx: Context, variable: str, axis: str, fixed_axis: str, fixed: float, phase: str,
               sensor=None) -> None:
-    """Our fitted line of ``variable`` and its 95 % band on ``ax`` [µm against °/s or kN]."""
+    """Our fitted line of ``variable`` and its 95 % band on ``ax`` [µm against °/s or kN]; the
+    band of a non-negative metric clipped at zero (:func:`plotted_band`), and its axis too."""
     fit = fit_at(ctx, variable, axis, fixed_axis, fixed, phase, sensor)
+    non_negative = is_non_negative(variable)
     if fit and math.isfinite(fit["slope"]):
         x = ctx.metrics[axis].values.astype(float)
         grid = np.linspace(np.nanmin(x), np.nanmax(x), 50)
-        yl, lo, hi = line_band(fit, grid)
+        yl, lo, hi = plotted_band(fit, grid, non_negative)
         gs = grid / 1e3 if axis == "radial_load" else grid
         seeds = realizations(ctx.metrics)
         kind = "WLS" if seeds is not None and seeds.size >= 2 else "OLS"
         ax.plot(gs, yl * 1e6, "-", color="C0", lw=1.2, label=f"{kind} fit (R² = {fmt_number(fit['rsquared'])})")
-        ax.fill_between(gs, lo * 1e6, hi * 1e6, color="C0", alpha=0.2, lw=0, label="95 % band")
+        ax.fill_between(gs, lo * 1e6, hi * 1e6, color="C0", alpha=0.2, lw=0,
+                        label="95 % band" + (", cut at 0" if non_negative and bool((lo <= 0).any()) else ""))
+    if non_negative and ax.get_ylim()[0] < 0:
+        ax.set_ylim(bottom=0.0)
 
 
 def _finish_panel(ax, axis: str, ylabel: str, title: str, hollow: int) -> None:

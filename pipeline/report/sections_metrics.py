@@ -38,6 +38,9 @@ def _metric_caption(ctx: Context, what: str, notes, hollow: int, is_range: bool,
         text = f"{what}. Cases (points), {_fit_text(ctx)}, "
     text += "; ".join(notes) + "."
     if is_range:
+        text += (" A range cannot be negative: where the 95 % band (or the line) would go below zero it is cut "
+                 "at zero. The fit stays a straight line in the range itself, as the study's fits are, so that "
+                 "its slope compares with theirs; a fit in log space would stay positive but change that slope.")
         if hollow:
             text += (f" Hollow markers ({hollow} {'realization' if ens else 'case'}{'s' if hollow != 1 else ''}"
                      f"{(' and the mean it belongs to' if hollow == 1 else ' and the means they belong to') if ens else ''}"
@@ -67,10 +70,17 @@ def section_time_histories(ctx: Context) -> list:
     first = first_realization_text(ctx)
     which = "; ".join(f"{fmt_speed(s)}, {fmt_kn(load)}" for s, load in cases)
     p = ctx.figure_path("time_histories.png")
-    figure_time_histories(ctx, ctx.windows, p, cases)
+    off = figure_time_histories(ctx, ctx.windows, p, cases)
+    scaled = ""
+    if ctx.windows:
+        scaled = (" The y-axes are fitted to the phase windows: before the first window the ring settles onto its "
+                  "balls from its initial position while the loads ramp up, and after the last it unloads; those "
+                  "times are drawn, hatched grey, but not scaled to"
+                  + (" (" + "; ".join(off) + ")" if off else "") + ".")
     blocks.append(Para(f"δ_r and δ_a at the ring centre of the extreme cases ({which})"
                        + (f", {first} (the other realizations are in `sweep.nc`)" if first else "")
-                       + ". " + _windows_text(ctx.windows, ctx.windows_source) + window_coverage(ctx, ctx.windows)))
+                       + ". " + _windows_text(ctx.windows, ctx.windows_source) + window_coverage(ctx, ctx.windows)
+                       + scaled))
     blocks.append(Image(f"figures/{p.name}", "time histories of the extreme cases"))
     sens = sensors(ctx.metrics)
     if sens and "sensor_displacement" in ctx.sweep:

@@ -18,7 +18,7 @@ from rvcore.geometry import ball_mass, epicyclic_cage_ratio
 
 from ..analysis import REALIZATION, STIFFNESS
 from .context import SENSOR, Context
-from .figures import new_figure, save_figure
+from .figures import MARKERS, SAME_WITHIN, identical_label, new_figure, save_figure, spread_of
 from .loads import stored_statics
 from .render import Heading, Image, Para, fmt_number
 
@@ -82,13 +82,27 @@ def _lines_axis(axes: list, axis: str):
     return rest[0] if rest else None
 
 
+def _line(ctx: Context, name: str, held: dict, axis: str, other, p: int) -> np.ndarray:
+    """Stiffness ``name`` along ``axis`` at index ``p`` of ``other`` (and ``held``), as floats [SI];
+    a row or sensor dimension, which would not belong here, at its first entry."""
+    da = ctx.metrics[name].isel({d: k for d, k in held.items() if d in ctx.metrics[name].dims})
+    line = da.isel({other: p}) if other is not None else da
+    extra = [d for d in line.dims if d != axis]
+    if extra:
+        line = line.isel({d: 0 for d in extra})
+    return np.asarray(line.values, dtype=np.float64)
+
+
 def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
     """A row per stiffness, a column per sweep axis, a line per value of another axis.
 
-    Returns the notes on where each column's other axes are held.
+    Where a column's lines are identical within :data:`.figures.SAME_WITHIN` (the quasi-static
+    stiffness is the same at every speed), they are drawn as one line labelled so; other
+    lines differ in marker and colour. Returns the notes on where each column's other axes
+    are held (and which lines were merged).
     """
     present = [n for n in STIFFNESS if n in ctx.metrics]
-    fig, grid = new_figure(len(present), len(axes), (4.4 * len(axes), 0.6 + 2.8 * len(present)))
+    fig, grid = new_figure(len(present), len(axes), (4.6 * len(axes), 0.9 + 2.8 * len(present)))
     notes = []
     for j, axis in enumerate(axes):
         other = _lines_axis(axes, axis)
@@ -103,40 +117,41 @@ def figure_stiffness(ctx: Context, axes: list, path: Path) -> list:
             picks = sorted(set(np.linspace(0, n - 1, min(n, _MAX_LINES)).round().astype(int).tolist()))
         olabel = _axis_display(ctx, other)[1] if other is not None else ""
         held_text = [f"{_axis_name(ctx, d)} {_value_text(ctx, d, 0)}" for d in held if d in axes]
+        # one line for all values of the other axis where they are identical, in every stiffness
+        names = present + [f"{n}{COMPLIANT}" for n in present if f"{n}{COMPLIANT}" in ctx.metrics]
+        spread = max((spread_of([_line(ctx, n, held, axis, other, p) for p in picks]) for n in names),
+                     default=math.nan) if other is not None and len(picks) > 1 else math.nan
+        merged = math.isfinite(spread) and spread <= SAME_WITHIN
+        other_name = _axis_name(ctx, other) if other is not None else ""
+        what = other_name + ("s" if not other_name.endswith("s") else "es") if other is not None else ""
+        merged_label = identical_label(what, len(picks), spread) if merged else ""
         notes.append(f"against {_axis_name(ctx, axis)}"
-                     + (f", a line per {_axis_name(ctx, other)}" if other is not None else "")
+                     + (f", a line per {other_name}" if other is not None and not merged else "")
+                     + (f", one line for {merged_label}" if merged else "")
                      + (f", at {', '.join(held_text)}" if held_text else ""))
         x = np.asarray(ctx.metrics[axis].values, dtype=np.float64) * fx
         for i, name in enumerate(present):
             ax = grid[i, j]
             scale, unit, sym = STIFFNESS_DISPLAY[name]
-            da = ctx.metrics[name].isel({d: k for d, k in held.items() if d in ctx.metrics[name].dims})
-            for m, p in enumerate(picks):
-                line = da.isel({other: p}) if other is not None else da
-                extra = [d for d in line.dims if d != axis]
-                if extra:   # a row or sensor dimension would not belong here; take the first
-                    line = line.isel({d: 0 for d in extra})
-                y = np.asarray(line.values, dtype=np.float64) * scale
-                label = _value_text(ctx, other, p) if other is not None else None
+            for m, p in enumerate(picks[:1] if merged else picks):
+                y = _line(ctx, name, held, axis, other, p) * scale
+                label = merged_label if merged else (_value_text(ctx, other, p) if other is not None else None)
                 ok = np.isfinite(y)
-                ax.plot(x[ok], y[ok], marker="o", ms=4, lw=1.0, color=f"C{m}", label=label)
+                ax.plot(x[ok], y[ok], marker=MARKERS[m % len(MARKERS)], ms=4, lw=1.0, color=f"C{m}", label=label)
                 compliant = f"{name}{COMPLIANT}"
                 if compliant in ctx.metrics:   # the same line with the other coordinates free, dashed
-                    cl = ctx.metrics[compliant].isel({d: k for d, k in held.items()
-                                                      if d in ctx.metrics[compliant].dims})
-                    cl = cl.isel({other: p}) if other is not None else cl
-                    cl = cl.isel({d: 0 for d in cl.dims if d != axis})
-                    yc = np.asarray(cl.values, dtype=np.float64) * scale
+                    yc = _line(ctx, compliant, held, axis, other, p) * scale
                     okc = np.isfinite(yc)
-                    ax.plot(x[okc], yc[okc], marker="s", ms=3, lw=1.0, ls="--", color=f"C{m}")
+                    ax.plot(x[okc], yc[okc], marker=MARKERS[m % len(MARKERS)], ms=3, lw=1.0, ls="--",
+                            mfc="none", color=f"C{m}")
             ax.set_xlabel(xlabel)
             ax.set_ylabel(f"{sym} [{unit}]")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, lw=0.3)
             if other is not None and i == 0:
-                ax.legend(fontsize=8, title=olabel, title_fontsize=8)
-    fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness): solid, direct "
-                 "(the other coordinates held); dashed, compliant (the others free)", fontsize=10)
+                ax.legend(fontsize=8, title=olabel if not merged else None, title_fontsize=8)
+    fig.suptitle("Stiffness at the steady operating point (quasi-static tangent stiffness)\n"
+                 "solid: direct (the other coordinates held); dashed: compliant (the others free)", fontsize=10)
     save_figure(fig, path)
     return notes
 

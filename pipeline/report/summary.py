@@ -30,7 +30,8 @@ from ..analysis import REALIZATION
 from ..io import write_text_atomic
 from ..schema.parameters import readable_number
 from .context import ROW, Context, on_base_grid, ensemble_text, extra_dims, realizations
-from .figures import new_figure, save_figure
+from .figures import (MARKERS, OVERLAP_WITHIN, SAME_WITHIN, identical_label, new_figure, overlap_of,
+                      save_figure, spread_of, trace_style)
 from .stiffness import STIFFNESS_DISPLAY
 from .render import PHASE_TITLE, Heading, Image, Para, Table, fmt_speed, fmt_number, fmt_kn
 
@@ -62,7 +63,10 @@ class Column:
     scale : float
         Multiplies the SI value into the header's unit.
     figure : str or None
-        The y-axis label of its designer figure; None: no figure.
+        The title of its designer figure; None: no figure.
+    short : str
+        The y-axis label of its designer figure (a symbol and the unit: a long label
+        overlaps the neighbouring panel and the title).
     """
 
     key: str
@@ -72,20 +76,22 @@ class Column:
     over: str | None = None
     scale: float = 1.0
     figure: str | None = None
+    short: str = ""
 
 
 #: The quantities of the summary table, in column order (after speed and radial load).
 COLUMNS = (
     Column("safety", "min static safety factor s₀ = (4200 MPa/p_max)³ (ISO 76) [1]", "static_safety_factor_min",
-           over="min", figure="smallest static safety factor s₀ = (4200 MPa/p_max)³ over the cycle [1]"),
+           over="min", figure="smallest static safety factor s₀ = (4200 MPa/p_max)³ over the cycle [1]",
+           short="smallest s₀ [1]"),
     Column("life_mrev", "L10r of the duty cycle [Mrev]", "rating_life_L10r", scale=1e-6,
-           figure="rating life L10r of the duty cycle [Mrev]"),
+           figure="rating life L10r of the duty cycle [Mrev]", short="L10r of the cycle [Mrev]"),
     Column("life_cycles", "L10r of the duty cycle [cycles]", "rating_life_cycles"),
     Column("static_life", "L10r at the steady point (statics) [Mrev]", "reference_rating_life_L10r", scale=1e-6,
-           figure="reference rating life L10r at the steady point [Mrev]"),
+           figure="reference rating life L10r at the steady point [Mrev]", short="L10r, steady point [Mrev]"),
     Column("basic_life", "L10 (ISO 281) at the steady point [Mrev]", "basic_rating_life_L10", scale=1e-6),
     Column("startup_torque", "peak start-up drive torque [N m]", "inner_ring_drive_torque_peak", phase="startup",
-           figure="peak start-up drive torque [N m]"),
+           figure="peak start-up drive torque [N m]", short="start-up torque [N m]"),
     Column("pocket_force", "peak ball-pocket force [N]", "max_pocket_force_peak", over="max"),
     Column("land_force", "peak cage-land force [N]", "cage_land_force_peak", over="max"),
     Column("sliding", "peak race sliding speed [m/s]", "max_race_sliding_speed_peak", over="max"),
@@ -290,7 +296,7 @@ def section_summary(ctx: Context) -> list:
     total = s.speeds.size * s.loads.size
     ens = ensemble_text(ctx)
     blocks = [Heading(2, "Summary per operating point")]
-    text = ("What a bearing designer reads, one row per operating point (steady speed and radial load of the "
+    text = ("**What the columns are.** One row per operating point (steady speed and radial load of the "
             "profile)" + (f"; each value the ensemble mean over the finished realizations of {ens}" if ens else "")
             + ". s₀ = (4200 MPa / largest Hertz pressure)³, ISO 76's load ratio C₀/P₀ (ball bearings), its smallest value over "
             "the whole cycle and the phase it falls in; L10r of the duty cycle: ISO/TS 16281 reference rating "
@@ -304,7 +310,6 @@ def section_summary(ctx: Context) -> list:
     if extra:
         text += (" Other sweep dimensions are held at their first value ("
                  + ", ".join(f"{d} index 0" for d in extra) + "), as in the figures.")
-    blocks.append(Para(text))
     lacking = s.lacking()
     if lacking:
         blocks.append(Para("This sweep lacks " + ", ".join(f"`{n}`" for n in lacking)
@@ -316,36 +321,66 @@ def section_summary(ctx: Context) -> list:
                            f"Every point is in `report/{csv_path.name}` (same columns)."))
     else:
         blocks.append(Para(f"Every grid point is shown; the same table is in `report/{csv_path.name}`."))
-    blocks.append(Table(summary_header(), summary_rows(s, points)))
+    blocks.append(Table(summary_header(), summary_rows(s, points), sticky=True))
     blocks.append(Para(f"{ABSENT} in a row where a column has data elsewhere: no finished case at that point "
                        "(see Cases), or the value is undefined there (no loaded contact: no safety factor)."))
+    blocks.append(Para(text))   # the definitions below the numbers: the table is what the designer reads first
     return blocks
 
 
-def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> None:
-    """``col`` against speed (a line per radial load) and against radial load (a line per speed)."""
+def figure_designer(s: Summary, col: Column, path: Path, ens: bool) -> list:
+    """``col`` against speed (a line per radial load) and against radial load (a line per speed).
+
+    Lines of one panel identical within :data:`.figures.SAME_WITHIN` (the same at every
+    speed, as a quasi-static quantity is) are drawn as one line labelled so; other lines
+    differ in marker and colour. Returns the notes on the panels whose lines were merged.
+    """
+    import textwrap
+
     import matplotlib
 
     v = s.values[col.key]
-    fig, axes = new_figure(1, 2, (10.0, 3.8))
+    fig, axes = new_figure(1, 2, (10.0, 4.0))
     # a sequential map for many lines, its pale end cut off (yellow on white is unreadable);
     # distinct colours for up to ten
     cmap = matplotlib.colormaps["viridis"]
+    notes = []
     for ax, axis in zip(axes[0], ("speed", "radial_load")):
         x = s.speeds if axis == "speed" else s.loads / 1e3
         others = s.loads if axis == "speed" else s.speeds
-        for k, o in enumerate(others):
-            y = v[:, k] if axis == "speed" else v[k, :]
-            colour = f"C{k}" if len(others) <= 10 else cmap(0.85 * k / max(len(others) - 1, 1))
-            ax.plot(x, y, "-o", ms=3.5, lw=1.0, color=colour, label=fmt_kn(o) if axis == "speed" else fmt_speed(o))
+        ys = [v[:, k] if axis == "speed" else v[k, :] for k in range(len(others))]
+        spread = spread_of(ys)
+        what = "radial loads" if axis == "speed" else "speeds"
+        if len(others) > 1 and math.isfinite(spread) and spread <= SAME_WITHIN:
+            label = identical_label(what, len(others), spread)
+            ax.plot(x, ys[0], "-o", ms=4, lw=1.4, color="C0", label=label)
+            notes.append(f"against {'speed' if axis == 'speed' else 'radial load'}: {label}, drawn as one line")
+        else:
+            overlap = overlap_of(ys)
+            close = len(others) > 1 and math.isfinite(overlap) and overlap <= OVERLAP_WITHIN
+            for k, o in enumerate(others):
+                colour = f"C{k}" if len(others) <= 10 else cmap(0.85 * k / max(len(others) - 1, 1))
+                style = trace_style(k, len(others)) if close else {"lw": 1.0, "ls": "-"}
+                style["color"] = colour
+                ax.plot(x, ys[k], marker=MARKERS[k % len(MARKERS)], ms=4, mfc="none" if close and k else colour,
+                        label=fmt_kn(o) if axis == "speed" else fmt_speed(o), **style)
+            if close:
+                label = (f"the {len(others)} {what}' lines overlap (within {fmt_number(spread * 100, 1)} %)")
+                notes.append(f"against {'speed' if axis == 'speed' else 'radial load'}: {label}; drawn in "
+                             "distinct dashes and markers")
         if col.key == "safety":   # ISO 76's reference: s₀ = 1 is the peak pressure of 4200 MPa
             ax.axhline(1.0, color="C3", lw=0.8, ls="--", label="s₀ = 1 (4200 MPa)")
         ax.set_xlabel("steady speed [°/s]" if axis == "speed" else "radial load [kN]")
-        ax.set_ylabel(col.figure, fontsize=8)
+        ax.set_ylabel(col.short or col.header, fontsize=9)
         ax.grid(True, lw=0.3)
-        ax.legend(fontsize=8, title="radial load" if axis == "speed" else "speed", title_fontsize=8)
-    fig.suptitle(col.figure + (" (ensemble means)" if ens else ""), fontsize=10)
+        title = "radial load" if axis == "speed" else "speed"
+        if notes and notes[-1].startswith("against " + ("speed" if axis == "speed" else "radial load") + ": the "):
+            title += f": lines overlap\n(within {fmt_number(spread * 100, 1)} %)"
+        ax.legend(fontsize=8, title=title, title_fontsize=8)
+    title = col.figure + (" (ensemble means)" if ens else "")
+    fig.suptitle("\n".join(textwrap.wrap(title, 95)), fontsize=10)
     save_figure(fig, path)
+    return notes
 
 
 def section_designer_figures(ctx: Context) -> list:
@@ -363,7 +398,9 @@ def section_designer_figures(ctx: Context) -> list:
                    "speed" + ("; ensemble means over the finished realizations" if ens else "") + ".")]
     for col in cols:
         p = ctx.figure_path(f"designer_{col.key}.png")
-        figure_designer(s, col, p, ens)
+        notes = figure_designer(s, col, p, ens)
         blocks.append(Heading(3, col.header))
+        if notes:
+            blocks.append(Para("; ".join(n[0].upper() + n[1:] for n in notes) + "."))
         blocks.append(Image(f"figures/{p.name}", col.figure))
     return blocks

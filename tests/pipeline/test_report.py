@@ -84,9 +84,9 @@ def synthetic_sweep(directory, windows: bool = True, **kw):
         store_statics(d, **{k: kw[k] for k in ("speeds_deg", "loads", "missing") if k in kw})
     return d
 
-#: The report's sections in their order: the designer's summary first, then the cases and the
-#: figures, the study comparison, the files and the configuration as an appendix.
-SECTIONS = ("# Sweep report", "## Summary per operating point", "## Cases", "## Time histories",
+#: The report's sections in their order: the headline first, the designer's summary, then the
+#: cases and the figures, the study comparison, the files and the configuration as an appendix.
+SECTIONS = ("# Sweep report", "## Headline", "## Summary per operating point", "## Cases", "## Time histories",
             "## Metrics against speed and load", "## Cage slip", "## Fits beside the study's (Tables 3 and 4)",
             "## Where our physics agrees with the study and where it does not", "## Files",
             "## Appendix: bearing, profile and parameters")
@@ -107,7 +107,7 @@ def test_every_section_and_figure(built):
     at = [next(k for k, h in enumerate(headings) if h.startswith(s)) for s in SECTIONS]
     assert at == sorted(at)   # in this order
     sections = [h for h in headings if h.startswith("## ")]
-    assert sections[0] == "## Summary per operating point"
+    assert sections[:2] == ["## Headline", "## Summary per operating point"]
     assert sections[-1] == "## Appendix: bearing, profile and parameters"
     assert (d / "metrics.nc").exists() and (d / "fits.nc").exists()
     names = sorted(p.name for p in (d / "report" / "figures").glob("*.png"))

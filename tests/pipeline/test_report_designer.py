@@ -96,9 +96,10 @@ def _g3(x: float) -> str:
     return f"{mantissa}×10" + "".join(digits[c] for c in str(int(exponent)))
 
 
-def test_first_section_is_the_summary_table(designer):
+def test_the_summary_table_follows_the_headline(designer):
     _, _, _, md, html = designer
-    assert [ln for ln in md.splitlines() if ln.startswith("## ")][0] == "## Summary per operating point"
+    assert [ln for ln in md.splitlines() if ln.startswith("## ")][:2] == ["## Headline",
+                                                                        "## Summary per operating point"]
     assert html.index("<h2>Summary per operating point</h2>") < html.index("<h2>Cases</h2>")
     text = section_of(md, "## Summary per operating point")
     assert "This sweep lacks" not in text            # every output present
