@@ -24,7 +24,7 @@ from rvcore.profile import Profile
 from ..errors import ConfigError
 from . import fields
 from .reader import check_value
-from .sweepfile import MODEL_VERSION, SOLVER_UNHASHED_DEFAULTS
+from .sweepfile import MODEL_VERSION
 
 #: Where the configuration comes from, in error messages.
 WHERE = "configuration"
@@ -162,9 +162,7 @@ def stored_configuration(text: str) -> StoredConfiguration:
     name = doc.get("name")
     if not isinstance(name, str):
         raise ConfigError(WHERE, "name", name, "must be a string")
-    # A setting left out of the stored configuration has the value it is left out at
-    # (SOLVER_UNHASHED_DEFAULTS: method "rk4"), whatever SolverSettings' own default.
-    solver = {**SOLVER_UNHASHED_DEFAULTS, **_table(doc, "solver")}
+    solver = _table(doc, "solver")
     settings = rebuild(SolverSettings, solver, "solver")
     for k, f in fields.solver_fields().items():
         if f.kind == "choice":

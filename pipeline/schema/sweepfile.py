@@ -74,9 +74,8 @@ keys, no spaces, ``repr`` floats) of everything that determines its result: the
 resolved bearing, profile, solver settings and operating point, all in SI, and
 :data:`MODEL_VERSION`. The same values written in other units give the same id; a
 changed value gives new ids to exactly the cases it changes. A few values are hashed
-only where they differ from their defaults (:data:`SOLVER_UNHASHED_DEFAULTS`,
-:data:`BEARING_UNHASHED_DEFAULTS`, a perfect row's imperfections): today's ids were made
-without them.
+every time, defaults included (MODEL_VERSION 13 retired the exceptions that had kept
+older ids: a configuration of another model version is refused anyway).
 """
 from __future__ import annotations
 
@@ -89,8 +88,7 @@ from pathlib import Path
 import tomli_w
 
 from rvcore.settings import SolverSettings
-from rvcore.geometry import Bearing, Lubricant
-from rvcore.imperfections import PERFECT
+from rvcore.geometry import Bearing
 from rvcore.profile import OperatingPoint, Profile
 
 from ..errors import ConfigError
@@ -106,7 +104,7 @@ from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_P
 from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
-           "SOLVER_UNHASHED_DEFAULTS", "BEARING_UNHASHED_DEFAULTS", "Axis", "CaseSpec", "Setting",
+           "Axis", "CaseSpec", "Setting",
            "Sweep", "case_configuration", "plain", "canonical_json", "hash_id", "read_sweep_file",
            "sweep_from_dict"]
 
@@ -126,36 +124,14 @@ TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solve
 _BEARING_METADATA = ("description", "source", "extra")
 _PROFILE_METADATA = ("description",)
 
-#: Solver settings left out of the hashed and stored configuration where a case has
-#: exactly these values: the case ids of today's configurations (pinned in
-#: tests/pipeline/test_regression.py) were made without them, and hashing them would move
-#: every id. A stored configuration without them has these values
-#: (:func:`pipeline.schema.stored.stored_configuration`).
-SOLVER_UNHASHED_DEFAULTS = {"method": "rk4"}
-
-#: Bearing values left out of the hashed and stored configuration where a bearing has
-#: exactly these, for the same reason. The lubricant enters only the friction-moment
-#: estimate (rvcore.friction_moment), not the dynamics.
-BEARING_UNHASHED_DEFAULTS = {"lubricant": plain(Lubricant())}
-
-
 def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
-    """The bearing's plain form as hashed and stored: ``drop`` left out, and the values of
-    :data:`BEARING_UNHASHED_DEFAULTS` left out where a bearing has them."""
-    out = {k: v for k, v in plain(bearing).items()
-           if k not in drop and not (k in BEARING_UNHASHED_DEFAULTS and v == BEARING_UNHASHED_DEFAULTS[k])}
-    # a perfect row's imperfections (docs/model.md §12) are left out likewise: today's ids of
-    # perfect bearings were made without them
-    for row, plain_row in zip(bearing.rows, out.get("rows", [])):
-        if row.imperfections == PERFECT:
-            plain_row.pop("imperfections", None)
-    return out
+    """The bearing's plain form as hashed and stored, ``drop`` left out."""
+    return {k: v for k, v in plain(bearing).items() if k not in drop}
 
 
 def _solver_plain(settings: SolverSettings) -> dict:
-    """The solver settings' plain form as hashed and stored (see the module docstring)."""
-    return {k: v for k, v in plain(settings).items()
-            if not (k in SOLVER_UNHASHED_DEFAULTS and v == SOLVER_UNHASHED_DEFAULTS[k])}
+    """The solver settings' plain form as hashed and stored: every setting."""
+    return plain(settings)
 
 
 @dataclass(frozen=True)
@@ -228,7 +204,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
     """Everything that determines a case's result, as plain SI data (hashed for the id).
 
     The solver settings carry the seed of the random start, so each realization of an
-    ensemble has its own id, and the integrator when it is not RK4 (:data:`SOLVER_UNHASHED_DEFAULTS`).
+    ensemble has its own id, and the integrator.
     """
     b = _bearing_plain(bearing, _BEARING_METADATA)
     p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}

@@ -46,7 +46,9 @@ held within its 1e-4 (at most 2.5e-5). MODEL_VERSION 13 (issue 39: the kinematic
 amplitudes by a least-squares fit at each known frequency instead of the Hann FFT's peak
 within a bin; ISO 76's f0 reduced and ISO 281's C_r refused for groove radii above
 0.52/0.53 D_w, which the smoke bearing's 0.52/0.53 do not reach) moved no pinned metric:
-only the case ids, re-pinned.
+only the case ids, re-pinned; in the same version the hashed configuration holds every
+setting, defaults included (the solver's method, the lubricant, a perfect row's
+imperfections), and the ids were pinned again.
 """
 from __future__ import annotations
 
@@ -66,15 +68,15 @@ PINNED_MODEL_VERSION = 13
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
 #: with its 3 x 3 grid (the corners' ids did not move: an id hashes its own case only).
 PINNED_CASE_IDS = {
-    (120, 20): "e904431db348cb8b",
-    (120, 30): "f2b878a2909ccd49",
-    (120, 40): "412e1a9294c75144",
-    (390, 20): "7d042e6c2c257557",
-    (390, 30): "7fb83f6e15314d1b",
-    (390, 40): "46be7ce261226672",
-    (660, 20): "72594affc92c6563",
-    (660, 30): "599146eb948091f1",
-    (660, 40): "16a609411690bef6",
+    (120, 20): "019e480e0e341817",
+    (120, 30): "dd84a665bcddbb07",
+    (120, 40): "b18c04dc58e7429c",
+    (390, 20): "00c220a880ef81ad",
+    (390, 30): "403632e6fd2e77e6",
+    (390, 40): "169e551d2625510e",
+    (660, 20): "a863fbfa10eb4113",
+    (660, 30): "1d0b75bf28259beb",
+    (660, 40): "0501ad7470fb9e93",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,

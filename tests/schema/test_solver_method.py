@@ -136,9 +136,9 @@ def test_stored_configuration_rejects_an_unknown_method(tmp_path):
     assert e.value.key == "solver.method" and e.value.value == "rk5"
 
 
-def test_a_stored_rk4_configuration_without_the_key_is_rk4_whatever_the_default(tmp_path, monkeypatch):
+def test_a_stored_rk4_configuration_names_its_method_and_is_rk4_whatever_the_default(tmp_path, monkeypatch):
     s = read_sweep_file(make_sweep(tmp_path, '[solver]\nmethod = "rk4"\n' + GRID))
-    assert "method" not in s.configuration   # rk4: left out, as in every case file before IMEX
+    assert 'method = "rk4"' in s.configuration   # every setting is stored, defaults included
     for default in METHODS:
         monkeypatch.setattr(SolverSettings, "__init__", _with_default_method(SolverSettings.__init__, default))
         assert stored_configuration(s.configuration).settings.method == "rk4"
