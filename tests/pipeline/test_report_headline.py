@@ -157,15 +157,29 @@ def test_without_targets_no_verdict_is_invented(tmp_path):
     ("--target-torque", "20 kg", "N*m"),
     ("--target-radial-stiffness", "500 N", "N/m"),
 ])
-def test_a_bad_target_is_one_line_before_any_work(tmp_path, flag, value, reason):
+def test_a_bad_target_is_one_line_before_any_work(tmp_path, capsys, flag, value, reason):
+    """Through the command line's own entry point (in-process: a subprocess per case costs
+    an interpreter start); the one-line, exit-code and traceback checks of a real process are
+    the last case, run once as a subprocess."""
+    from pipeline.cli import main
+
     d = tmp_path / "nosweep"      # no sweep at all: the target is checked first
     d.mkdir()
-    r = subprocess.run([sys.executable, "-m", "pipeline.cli", "report", str(d), flag, value],
+    assert main(["report", str(d), flag, value]) != 0
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1, lines
+    assert flag in lines[0] and repr(value) in lines[0] and reason in lines[0]
+    assert not (d / "report").exists() and not (d / "metrics.nc").exists()
+
+
+def test_a_bad_target_in_a_real_process_is_one_line_and_no_traceback(tmp_path):
+    d = tmp_path / "nosweep"
+    d.mkdir()
+    r = subprocess.run([sys.executable, "-m", "pipeline.cli", "report", str(d), "--target-s0", "0"],
                        capture_output=True, text=True, cwd=REPO, timeout=120)
     assert r.returncode != 0
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    assert flag in lines[0] and repr(value) in lines[0] and reason in lines[0]
+    assert r.stderr.strip().splitlines() == [
+        f"rvsweep report: error: command line: --target-s0 = '0': a target must be a positive finite number"]
     assert "Traceback" not in r.stderr and not (d / "report").exists()
 
 
