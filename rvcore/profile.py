@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from .contact import unit_step, unit_step_slope
+from .contact.laws import unit_step, unit_step_slope
 
 LINEAR = 0
 SMOOTHSTEP = 1

@@ -26,7 +26,7 @@ import json
 import math
 import sys
 
-from rvcore import geometry as geo
+from rvcore.bearing import geometry as geo
 from rvcore.profile import PHASES
 
 from ..errors import ConfigError, UserError
@@ -60,7 +60,7 @@ def add_arguments(parser):
 
 def _hertz(row: geo.Row, bearing: geo.Bearing):
     """Hertz K [N m^-1.5] of the first inner and outer arc at the row's nominal angle."""
-    from rvcore.hertz import effective_modulus, race_contact
+    from rvcore.bearing.hertz import effective_modulus, race_contact
 
     rm, bm = bearing.ring_material, bearing.ball_material
     if rm == bm:
@@ -117,7 +117,7 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
             "cage_mass_kg": cage_mass,
             "cage_guidance": row.cage.guidance,
         })
-    from rvcore.preload import preload_force
+    from rvcore.statics.preload import preload_force
 
     inner_mass, _, _ = geo.inner_ring_mass_properties(bearing)
     out = {"kind": "bearing", "name": bearing.name}

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from rvcore.contact import LOADED_BALL_LOAD
+from rvcore.contact.laws import LOADED_BALL_LOAD
 
 from .context import Context
 from .render import Bullets, Heading, Para, Table, Warning_, fmt_number

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcore.geometry import ball_mass, epicyclic_cage_ratio
+from rvcore.bearing.geometry import ball_mass, epicyclic_cage_ratio
 
 from ..analysis import REALIZATION, STIFFNESS
 from .context import SENSOR, Context

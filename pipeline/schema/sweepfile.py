@@ -20,7 +20,7 @@ A sweep file is TOML::
     axial_load = "10 kN"
     "contact.damping" = "300 N s/m"
 
-    [solver]                                # fields of rvcore.driver.SolverSettings
+    [solver]                                # fields of rvcore.simulation.run.SolverSettings
     output_rate = "1000 Hz"
     method = "rk4"                          # the integrator: "rk4" or "imex"
     time_step = "0 s"                       # 0: derived from the stiffest contact
@@ -52,7 +52,7 @@ Keys
 ----
 - operating point: ``speed``, ``radial_load``, ``axial_load`` (all three required, as
   an axis or a fixed value), ``moment``, ``load_angle`` (default 0);
-- ``solver.<field>``: a :class:`rvcore.driver.SolverSettings` field;
+- ``solver.<field>``: a :class:`rvcore.simulation.run.SolverSettings` field;
 - ``profile.<key path>``: a value of the profile file;
 - ``bearing.<key path>``, or the key path alone when it has a ``.`` or ``[i]``
   (``friction.mu_static``, ``rows[0].cage.pocket_clearance``): a value of the bearing
@@ -88,9 +88,9 @@ from pathlib import Path
 
 import tomli_w
 
-from rvcore.settings import SolverSettings
-from rvcore.geometry import Bearing, Lubricant
-from rvcore.imperfections import PERFECT
+from rvcore.simulation.settings import SolverSettings
+from rvcore.bearing.geometry import Bearing, Lubricant
+from rvcore.bearing.imperfections import PERFECT
 from rvcore.profile import OperatingPoint, Profile
 
 from ..errors import ConfigError
@@ -134,7 +134,7 @@ SOLVER_UNHASHED_DEFAULTS = {"method": "rk4"}
 
 #: Bearing values left out of the hashed and stored configuration where a bearing has
 #: exactly these, for the same reason. The lubricant enters only the friction-moment
-#: estimate (rvcore.friction_moment), not the dynamics.
+#: estimate (rvcore.standards.palmgren), not the dynamics.
 BEARING_UNHASHED_DEFAULTS = {"lubricant": plain(Lubricant())}
 
 
@@ -168,14 +168,14 @@ class CaseSpec:
     point : dict
         Axis key -> coordinate value (SI float, bool or str) of this case, plus the
         three required operating-point values whether they are axes or fixed.
-    bearing : rvcore.geometry.Bearing
+    bearing : rvcore.bearing.geometry.Bearing
     profile : rvcore.profile.Profile
     operating_point : rvcore.profile.OperatingPoint
         [rad s^-1, N, N, N m, rad]
-    settings : rvcore.driver.SolverSettings
+    settings : rvcore.simulation.run.SolverSettings
     configuration : str
         The resolved case as TOML (SI), stored in the case file.
-    sensors : tuple of rvcore.driver.Sensor
+    sensors : tuple of rvcore.simulation.settings.Sensor
         The sweep's virtual sensors.
     """
 

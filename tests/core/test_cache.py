@@ -1,9 +1,9 @@
-"""rvcore caches its numba kernels in a directory of their sources' own (rvcore.numba_cache)."""
+"""rvcore caches its numba kernels in a directory of their sources' own (rvcore._numba)."""
 from __future__ import annotations
 
 import numba
 
-from rvcore import numba_cache
+from rvcore import _numba as numba_cache
 
 
 def test_each_version_of_the_sources_has_its_own_cache_directory(tmp_path, monkeypatch):

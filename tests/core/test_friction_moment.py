@@ -1,4 +1,4 @@
-"""Palmgren's friction moment (rvcore.friction_moment) against a worked example computed
+"""Palmgren's friction moment (rvcore.standards.palmgren) against a worked example computed
 here from the source's formulas, and the regimes the formulas set.
 
 Source (Harris & Kotzalas, *Rolling Bearing Analysis*, the chapter on friction; Palmgren
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from rvcore import friction_moment as fm
+from rvcore.standards import palmgren as fm
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -1,4 +1,4 @@
-"""Hertz point contact (rvcore.hertz) against independent computations (docs/model.md §9.1).
+"""Hertz point contact (rvcore.bearing.hertz) against independent computations (docs/model.md §9.1).
 
 The reference solution here does not use the elliptic integrals or the module's solver.
 It is the classical Hertz compliance-integral form (Johnson, *Contact Mechanics*, §3.7).
@@ -23,8 +23,8 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from rvcore import hertz
-from rvcore.geometry import INNER, OUTER
+from rvcore.bearing import hertz
+from rvcore.bearing.geometry import INNER, OUTER
 
 STEEL_E, STEEL_NU = 208e9, 0.3
 SPEC_TOL = 1e-3  # docs/model.md §9.1: K and semi-axes to 0.1 %

@@ -13,12 +13,12 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.settings import Sensor, SolverSettings
-from rvcore.imperfections import Imperfections, Waviness, realize
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import Sensor, SolverSettings
+from rvcore.bearing.imperfections import Imperfections, Waviness, realize
 from rvcore.profile import CH_SPEED, OperatingPoint, channel_integral
-from rvcore.quasistatic import solve_statics
-from rvcore.tolerances import ball_lot_variation
+from rvcore.statics.equilibrium import solve_statics
+from rvcore.standards.iso492 import ball_lot_variation
 
 from .physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
 

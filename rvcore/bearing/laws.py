@@ -1,0 +1,45 @@
+"""The friction law as data: its name and its record of parameters. SI throughout.
+
+A law is one record of :data:`FRICTION_LAW_SIZE` floats (:func:`pack_friction_law`): its
+kind, whether friction is on, and its parameters, packed once per case
+(:func:`rvcore.bearing.layout.compile_bearing`) and passed whole to the law's functions in
+:mod:`rvcore.contact.laws` (``friction_coefficient``, ``friction_slope`` and what derives
+from them); nothing else reads a law's parameters. A second law is a name in
+:data:`FRICTION_LAWS` and its branch in ``rvcore.contact.laws.friction_coefficient``,
+``friction_slope`` and ``friction_falling_slope``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: The laws by name; ``coulomb_step`` is the study's Coulomb law with STEP transitions
+#: (docs/model.md §4).
+FRICTION_LAWS = ("coulomb_step",)
+COULOMB_STEP = 0
+#: Columns of the record: the law's index in FRICTION_LAWS, friction on (1) or off (0),
+#: μ_s [-], v_s [m s^-1], μ_d [-], v_d [m s^-1], 1/v_s [s m^-1].
+LAW_KIND, LAW_ON, LAW_MU_S, LAW_V_S, LAW_MU_D, LAW_V_D, LAW_INV_VS = range(7)
+FRICTION_LAW_SIZE = 7
+
+
+def pack_friction_law(mu_s: float, v_s: float, mu_d: float, v_d: float, *, on: bool = True,
+                      kind: str = "coulomb_step") -> np.ndarray:
+    """The record of a friction law (layout above).
+
+    Parameters
+    ----------
+    mu_s, mu_d : float
+        Static and dynamic coefficients [-].
+    v_s, v_d : float
+        Their slip speeds, ``0 < v_s < v_d`` [m s^-1].
+    on : bool
+        False switches every friction force off (the conservation checks).
+    kind : str
+        One of :data:`FRICTION_LAWS`.
+    """
+    law = np.zeros(FRICTION_LAW_SIZE)
+    law[LAW_KIND] = FRICTION_LAWS.index(kind)
+    law[LAW_ON] = 1.0 if on else 0.0
+    law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D] = mu_s, v_s, mu_d, v_d
+    law[LAW_INV_VS] = 1.0 / v_s
+    return law
