@@ -169,3 +169,24 @@ def test_every_module_named_in_the_map_exists_and_every_module_is_named():
     named = _map_entries()
     assert named - on_disk == set(), "named in rvcore/__init__.py but not there"
     assert on_disk - named == set(), "there but not named in rvcore/__init__.py"
+
+
+def test_every_kernel_is_compiled_by_the_one_decorator():
+    """No module of rvcore calls numba's ``njit``/``jit`` itself: every kernel goes
+    through ``rvcore._numba.kernel``, which sets the flags and the error model once."""
+    found = [f"{p.relative_to(REPO)}:{n}" for p in sorted(RVCORE.rglob("*.py"))
+             if "__pycache__" not in p.parts and p.name != "_numba.py"
+             for n, line in enumerate(p.read_text().splitlines(), 1)
+             if re.search(r"\b(njit|jit|vectorize|generated_jit)\s*\(|@(njit|jit)\b|from numba import", line)]
+    assert not found, "\n".join(found)
+
+
+def test_the_kernel_decorator_sets_the_error_model_and_no_fast_math():
+    from rvcore.contact.laws import hertz_load
+    from rvcore.dynamics.rhs import rhs
+
+    for fn in (rhs, hertz_load):
+        options = fn.targetoptions
+        assert options["error_model"] == "numpy" and options["fastmath"] is False
+        assert options["nogil"] is True
+    assert hertz_load.targetoptions["inline"] == "always" and rhs.targetoptions["inline"] == "never"

@@ -2,7 +2,7 @@
 friction law and its slopes, and the penetrations of every contact type. SI throughout.
 (The inner ring's pose: :mod:`rvcore.contact.pose`.)
 
-Every function is ``@njit(cache=True, nogil=True)`` on scalars, inlined into its callers,
+Every function is a kernel (``@kernel(inline=True)``, rvcore._numba) on scalars, inlined into its callers,
 and allocates nothing. The right-hand side (:func:`rvcore.dynamics.rhs.rhs`), the potential
 energy (:func:`rvcore.dynamics.energy.potential_energy`), the statics
 (:mod:`rvcore.statics.equilibrium`), the step size (:mod:`rvcore.integrate.step_size`)
@@ -31,35 +31,10 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 from ..bearing.laws import LAW_INV_VS, LAW_MU_D, LAW_MU_S, LAW_ON, LAW_V_D, LAW_V_S
 from ..bearing.layout import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
-
-# Floating-point flags of every kernel (``fastmath=FAST``): none. Results must be
-# bit-identical for the same inputs on any scheduler, i.e. on whatever CPU model a worker
-# runs, and numba compiles each kernel for the host CPU (its cache is keyed by it).
-# - 'contract' lets LLVM fuse a·b + c into one FMA where the CPU has FMA (one rounding
-#   instead of two): an FMA machine and an older one round differently.
-# - 'reassoc' lets it reorder sums, and the order it picks follows the vector width
-#   (SSE, AVX2, AVX-512): same source, different sums.
-# - 'arcp' allows x/y → x·(1/y), and with AVX-512 LLVM may use the approximate vrcp14pd
-#   refined by Newton steps: not the correctly rounded quotient.
-# - 'afn' allows approximate sqrt/sin/cos, chosen per target.
-# - 'nsz' only forgets the sign of zero, harmless to our values, but it lets the backend
-#   pick min/max instructions whose ±0 handling differs by target, so an output's bits
-#   (a −0.0 written to a file) could differ; alone it would save next to nothing.
-# - 'nnan'/'ninf' were never used: a blow-up must show as NaN/Inf.
-# Every operation is then IEEE-754 rounded in source order on every x86-64/AArch64 CPU.
-# Still CPU-dependent: the system libm's sin/cos (glibc picks an FMA variant at run time),
-# used only for the ring tilt and the cage angle. What it costs: docs/performance.md.
-FAST = False
-# Every kernel compiles with ``error_model="numpy"``: a division by zero gives ±inf or NaN,
-# as IEEE-754 says, instead of raising. A step that blows up (a state gone to inf, then
-# 1/inf = 0 as a divisor) then reaches the NaN/Inf check of
-# :func:`rvcore.integrate.loop.integrate`, which names the time and the body; under numba's
-# default "python" model it escaped as a bare ZeroDivisionError (IMEX at a step 20× its
-# own, 2026-11-27). Quotients that do not fault are the same bits under either model.
 
 #: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
 #: more than this normal load on the inner race *and* on the outer race [N]: it passes
@@ -71,7 +46,7 @@ FAST = False
 LOADED_BALL_LOAD = 1.0
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def unit_step(d):
     """The cubic STEP on the unit interval, ``STEP(d, 0, 0, 1, 1)`` [-].
 
@@ -96,7 +71,7 @@ def unit_step(d):
     return 0.0 if d <= 0.0 else (1.0 if d >= 1.0 else d * d * (3.0 - 2.0 * d))
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def unit_step_slope(d):
     """``d/dΔ`` of :func:`unit_step`: ``6·Δ·(1 − Δ)`` inside (0, 1), 0 outside [-]."""
     if d <= 0.0 or d >= 1.0:
@@ -104,7 +79,7 @@ def unit_step_slope(d):
     return 6.0 * d * (1.0 - d)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def step(x, x0, h0, x1, h1):
     """The cubic ``STEP(x, x0, h0, x1, h1)`` of docs/model.md §3 [units of h].
 
@@ -121,14 +96,14 @@ def step(x, x0, h0, x1, h1):
     return h0 if x <= x0 else (h1 if x >= x1 else inside)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def step_slope(x, x0, h0, x1, h1):
     """``dSTEP/dx`` of :func:`step` [units of h per unit of x]."""
     w = x1 - x0
     return (h1 - h0) * unit_step_slope((x - x0) / w) / w
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def damping_coefficient(delta, c_max, inv_dmax):
     """IMPACT damping ``STEP(δ, 0, 0, d_max, c_max)`` [N s m^-1].
 
@@ -144,7 +119,7 @@ def damping_coefficient(delta, c_max, inv_dmax):
     return c_max * unit_step(delta * inv_dmax)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def hertz_load(k, delta):
     """Hertz load ``K·δ^1.5`` [N] for ``δ ≥ 0`` [m], ``K`` [N m^-1.5].
 
@@ -155,7 +130,7 @@ def hertz_load(k, delta):
     return k * delta * math.sqrt(abs(delta))
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def hertz_energy(k, delta):
     """Elastic energy ``⅖·K·δ^2.5`` [J] of a Hertz contact, 0 for ``δ ≤ 0`` [m]."""
     if delta <= 0.0:
@@ -163,7 +138,7 @@ def hertz_energy(k, delta):
     return 0.4 * hertz_load(k, delta) * delta
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def normal_force(delta, delta_rate, k, c_max, inv_dmax):
     """Hertz force with the IMPACT damper, clipped at zero [N].
 
@@ -182,7 +157,7 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
     return q if q > 0.0 else 0.0
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_coefficient(s, law):
     """μ(s) of docs/model.md §4 [-] at the slip speed ``s`` ≥ 0 [m s^-1].
 
@@ -195,7 +170,7 @@ def friction_coefficient(s, law):
     return rising if s < v_s else (falling if s <= v_d else mu_d)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_slope(s, law):
     """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
     mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
@@ -206,7 +181,7 @@ def friction_slope(s, law):
     return 0.0
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_slope_at_zero_slip(law):
     """dμ/ds at s = 0 [s m^-1] (the study's law: 1.5·μ_s/v_s).
 
@@ -225,7 +200,7 @@ def friction_falling_slope(law) -> float:
     return -min(friction_slope(0.5 * (v_s + v_d), law), 0.0) if mu_d < mu_s else 0.0
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_per_slip(s2, law):
     """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2].
 
@@ -243,7 +218,7 @@ def friction_per_slip(s2, law):
     return mu_s * (1.5 - 0.5 * x2) * inv_vs if x2 < 1.0 else sliding
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_tangent_curvature(s2, law):
     """``(max(μ', 0) − μ/s)/s²`` [s^3 m^-3] at ``s2 = s²``: the coefficient of
     ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`).
@@ -259,7 +234,7 @@ def friction_tangent_curvature(s2, law):
     return (max(friction_slope(s, law), 0.0) - friction_coefficient(s, law) / s) / s2
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def friction_force(ux, uy, uz, nx, ny, nz, q, law):
     """Coulomb friction on the ball at a contact of unit normal ``n`` [N].
 
@@ -275,7 +250,7 @@ def friction_force(ux, uy, uz, nx, ny, nz, q, law):
     return g * tx, g * ty, g * tz
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
     """Force [N] and moment about the ball centre [N m] of one contact on a ball.
 
@@ -294,7 +269,7 @@ def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
             ax * fty - ay * ftx if on else 0.0)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
     """Penetration of a ball into one groove arc, in the ring's own frame.
 
@@ -334,7 +309,7 @@ def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
     return delta, nx, ny, nz
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
     """Ball–pocket contact: a cylindrical pocket with its axis radial through the cage centre.
 
@@ -383,7 +358,7 @@ def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
             a_sec if near else h)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
     """Ball–pocket contact of a ball-guided cage: a spherical pocket of radius ``pocket_r``
     centred on the cage's pitch circle (radius ``pitch_r`` [m]) at the pocket's azimuth.
@@ -408,7 +383,7 @@ def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
     return delta if touch else -1.0, ex * s if touch else 0.0, ey * s if touch else 0.0, dzp * s if touch else 0.0, h
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def cage_pocket_penetration(guide, dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h, cage_ri, cage_ro):
     """The pocket contact of a cage of guidance ``guide`` (rvcore.bearing.layout.GUIDE_*): spherical
     pockets for a ball-guided cage (:func:`spherical_pocket_penetration`), cylindrical ones
@@ -419,7 +394,7 @@ def cage_pocket_penetration(guide, dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h
     return (sd if ball else cd, sx if ball else cx, sy if ball else cy, sz if ball else cz, ss if ball else cs)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def land_penetration(xc, yc, land_clearance):
     """Cage–land contact of an outer-land-guided cage centred at ``(xc, yc)`` [m].
 
@@ -433,7 +408,7 @@ def land_penetration(xc, yc, land_clearance):
     return delta, xc / ecc, yc / ecc
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
                          half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer):
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).

@@ -2,7 +2,7 @@
 its frame and the bearing's. SI throughout.
 
 The pose is ``R = Ry(θy)·Rx(θx)`` and the ring spins at the prescribed ω about its own
-(tilted) axis ``R·ẑ`` (docs/model.md §1). Every function is ``@njit`` on scalars,
+(tilted) axis ``R·ẑ`` (docs/model.md §1). Every function is a kernel (rvcore._numba) on scalars,
 inlined into its callers (:mod:`rvcore.dynamics.rhs`, :mod:`rvcore.dynamics.energy`,
 :mod:`rvcore.statics.equilibrium`), and allocates nothing.
 """
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def ring_rotation(tilt_x, tilt_y):
     """Rotation matrix ``R = Ry(θy)·Rx(θx)`` of the inner ring, row by row [-].
 
@@ -32,7 +32,7 @@ def ring_rotation(tilt_x, tilt_y):
     return cb, sb * sa, sb * ca, 0.0, ca, -sa, -sb, cb * sa, cb * ca
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def ring_angular_velocity(w_ring, tilt_rate_x, tilt_rate_y, r00, r20, r02, r12, r22):
     """Inertial angular velocity Ω of the inner ring [rad s^-1] (rvcore.dynamics.rhs notes).
 
@@ -44,7 +44,7 @@ def ring_angular_velocity(w_ring, tilt_rate_x, tilt_rate_y, r00, r20, r02, r12, 
             tilt_rate_x * r20 + w_ring * r22)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow):
     """A point P [m] in the inner ring's frame, ``Rᵀ·(P − r_ring)``, axial coordinate
     measured from the row plane ``zrow`` [m]; returns ``(x, y, z, √(x² + y²))`` [m]."""
@@ -55,7 +55,7 @@ def to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21
     return plx, ply, plz, math.sqrt(plx * plx + ply * ply)
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def ring_to_global(x, y, z, r00, r01, r02, r10, r11, r12, r20, r21, r22):
     """A vector given in the inner ring's frame, in the fixed frame: ``R·v`` [as v]."""
     return (r00 * x + r01 * y + r02 * z, r10 * x + r11 * y + r12 * z,

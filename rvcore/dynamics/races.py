@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 from ..contact.laws import ball_contact_force, cage_pocket_penetration, hertz_load, normal_force, race_arc_penetration
 from ..bearing.layout import A_K, A_RING, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
@@ -72,19 +72,19 @@ POCKET = (N_BALL_FIELDS + MAX_ROW_ARCS * N_ARC_FIELDS) * W
 SCRATCH_SIZE = POCKET + N_POCKET_FIELDS * W
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def scratch(diag):
     """The scratch at the end of ``diag`` (:func:`rvcore.dynamics.rhs.new_diagnostics`)."""
     return diag[diag.size - SCRATCH_SIZE:]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def arc(slot):
     """Where arc number ``slot`` of the row starts in the scratch (add ``C_*·W + j``)."""
     return (N_BALL_FIELDS + slot * N_ARC_FIELDS) * W
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def gather_balls(y, buf, rows, r, pockets):
     """Copy row ``r``'s ball states from ``y``, and its pockets' angles (cosine and sine)
     from ``pockets``, into the scratch, a quantity a row."""
@@ -97,7 +97,7 @@ def gather_balls(y, buf, rows, r, pockets):
         buf[G_SN0 * W + j] = pockets[k0 + j, 1]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def ball_geometry(buf, nz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow):
     """Every ball's distance from the axis and its centre in the inner ring's frame
     (:func:`rvcore.contact.pose.to_ring_frame`), with the inverses of both distances."""
@@ -115,7 +115,7 @@ def ball_geometry(buf, nz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r
         buf[G_INV_RHO_L * W + j] = 1.0 / rho_l
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
     """Every ball's offsets of an imperfect row's raceways (:func:`rvcore.dynamics.raceway.ball_offsets`),
     0 for a perfect row."""
@@ -135,7 +135,7 @@ def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
         buf[G_SL_O * W + j] = sl_o
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
                  r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law):
     """Every ball's contact with arc ``a`` into ``out``, the arc's part of the scratch
@@ -192,7 +192,7 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
         out[C_MZ * W + j] = dmz
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
                     xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law):
     """Every ball's contact with its pocket (:func:`rvcore.contact.laws.cage_pocket_penetration`)

@@ -10,14 +10,14 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 from ..bearing.imperfections import MAX_WAVINESS_TERMS
 from ..bearing.layout import R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_IMPERFECT, R_NWAVE_I, R_NWAVE_O, R_WAVE0
 from ..profile import CH_SPEED, channel_integral
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def raceway_offset(rows, r, outer, ux, uy):
     """Radial shift of row ``r``'s inner (``outer`` False) or outer raceway [m] at the unit
     direction ``(ux, uy)`` given in that ring's own frame, and its slope ``dΔr/dφ`` [m].
@@ -45,7 +45,7 @@ def raceway_offset(rows, r, outer, ux, uy):
     return dr, slope
 
 
-@njit(cache=True, nogil=True, inline="always", error_model="numpy")
+@kernel(inline=True)
 def ball_offsets(rows, r, pockets, j, plx, ply, inv_rho_l, cos_spin, sin_spin, erx, ery):
     """``(Δr_inner, Δr_outer, ΔD/2, dΔr_inner/dφ, dΔr_outer/dφ)`` of ball ``j`` (global
     index) of row ``r`` [m].
@@ -62,7 +62,7 @@ def ball_offsets(rows, r, pockets, j, plx, ply, inv_rho_l, cos_spin, sin_spin, e
     return dr_i, dr_o, 0.5 * pockets[j, 2], slope_i, slope_o
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def spin_of(rows, table, meta, t):
     """Cosine and sine of the angle the inner ring has turned through by ``t`` (the
     integral of the prescribed speed), which an imperfect inner raceway turns with;

@@ -1,6 +1,6 @@
 """Numba kernels: the equations of motion (rhs). SI throughout.
 
-Every function here is ``@njit`` on flat arrays (layouts in :mod:`rvcore.bearing.layout`); none
+Every function here is a kernel (``rvcore._numba.kernel``) on flat arrays (layouts in :mod:`rvcore.bearing.layout`); none
 allocates. The right-hand side :func:`rhs` is the whole model; it, the energy
 (:mod:`rvcore.dynamics.energy`) and the quasi-static solver take every contact law (the STEP, the
 normal force with its damper, the friction law) and penetration from
@@ -35,9 +35,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba import kernel
 
-from ..contact.laws import (FAST, LOADED_BALL_LOAD, damping_coefficient, friction_force, hertz_load, land_penetration,
+from ..contact.laws import (LOADED_BALL_LOAD, damping_coefficient, friction_force, hertz_load, land_penetration,
                       normal_force)
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
@@ -91,7 +91,7 @@ def new_diagnostics(n_rows: int, n_balls: int, n_sensors: int = 0):
     return np.zeros(signal_count(n_rows, n_sensors) + SCRATCH_SIZE), np.zeros((n_balls, N_BDIAG))
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """dy/dt of the whole bearing at time ``t``; also fills ``diag`` and ``bdiag``.
 
@@ -118,7 +118,7 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_FULL, 0.0, bdiag, bdiag)
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     """:func:`rhs` without the designer's diagnostics (the slots from D_FRICTION_POWER
     on): the integrator's intermediate stages, whose diagnostics nobody reads: the same
@@ -126,7 +126,7 @@ def rhs_stage(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
     _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_STAGE, 0.0, bdiag, bdiag)
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg, jwork, schur):
     """:func:`rhs`, and the stiff damping of every contact for the IMEX integrator.
 
@@ -138,7 +138,7 @@ def rhs_jac(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, hg,
     _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_JAC, hg, jwork, schur)
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, hg, jwork, schur):
     """The body of :func:`rhs` (``mode`` MODE_FULL), :func:`rhs_stage` (MODE_STAGE) and
     :func:`rhs_jac` (MODE_JAC).

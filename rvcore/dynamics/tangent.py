@@ -43,7 +43,7 @@ the 0.47 kg cage give ≲ 3e4 1/s, c·h ≲ 0.6; but they act on a 0.05 kg ball 
 cage's velocity taken as given over the stage, a W-method approximation of the
 Jacobian). The cage–land contact (≲ 50 N on the cage) stays explicit.
 
-Every function is ``@njit`` on scalars and preallocated arrays; none allocates.
+Every function is a kernel (``rvcore._numba.kernel``) on scalars and preallocated arrays; none allocates.
 
 Notes
 -----
@@ -64,9 +64,9 @@ small) is left explicit.
 """
 from __future__ import annotations
 
-from numba import njit
+from .._numba import kernel
 
-from ..contact.laws import FAST, friction_per_slip, friction_tangent_curvature
+from ..contact.laws import friction_per_slip, friction_tangent_curvature
 from ..bearing.laws import LAW_ON
 
 #: Columns of the per-ball Jacobian row ``jwork[k]``: the blocks of ``M + h·γ·D + (h·γ)²·K``
@@ -81,7 +81,7 @@ S_K = 6
 N_SCHUR = 11
 
 
-@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+@kernel(inline=True)
 def friction_tangent(q, tx, ty, tz, law):
     """``(α, β)`` of the friction tangent ``q·φ·P + β·v_t·v_tᵀ`` (module Notes).
 
@@ -107,7 +107,7 @@ def friction_tangent(q, tx, ty, tz, law):
     return q * friction_per_slip(s2, law), q * friction_tangent_curvature(s2, law)
 
 
-@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+@kernel(inline=True)
 def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x, p2y, p2z,
                    w3, p3x, p3y, p3z, ax, ay, az, qx, qy, qz, e1x, e1z):
     """Add one ball contact's ``h·γ·GᵀCG``: its blocks of ``M + h·γ·D``.
@@ -221,7 +221,7 @@ def contact_blocks(jwork, k, schur, ring, hg, alpha, w1, p1x, p1y, p1z, w2, p2x,
     schur[4, 4] += hg * (r2x * s2x + r2y * s2y + r2z * s2z)
 
 
-@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+@kernel(inline=True)
 def stiffness_blocks(jwork, k, schur, ring, hk, nx, ny, nz, qx, qy, qz, e1x, e1z):
     """Add one race contact's ``h·γ·K = h·γ·k_n·∇δ·∇δᵀ`` on the positions.
 
@@ -278,7 +278,7 @@ def stiffness_blocks(jwork, k, schur, ring, hk, nx, ny, nz, qx, qy, qz, e1x, e1z
     schur[S_K + 4, 4] += hk * g4 * g4
 
 
-@njit(cache=True, nogil=True, inline="always", fastmath=FAST, error_model="numpy")
+@kernel(inline=True)
 def groove_blocks(jwork, k, schur, ring, hg, hk, tx, ty, tz, bx, by, bz, e1x, e1z):
     """Add a race contact's geometric stiffness ``q·∂²δ/∂p²``: ``h·γ·K`` and the stage
     matrix's ``(h·γ)²·K``.

@@ -12,14 +12,14 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 from ..dynamics.tangent import J_A, J_B, J_COUPLED, J_KA, J_KB, S_K
 from ..dynamics.races import W
 from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def factor(jwork, schur, rows, mass):
     """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.dynamics.rhs.rhs_jac`
     accumulated.
@@ -133,7 +133,7 @@ F_X, F_KA, F_KB, F_COUPLED, F_M, F_EX, F_V = 21, 51, 57, 72, 73, 79, 82
 N_SOLVE_FIELDS = 88
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def pack(jwork, rows, mass, sf):
     """Copy the factors :func:`factor` left in ``jwork`` and the balls' masses into ``sf``,
     row ``r`` from ``r·N_SOLVE_FIELDS·WS``, for :func:`solve`."""
@@ -155,7 +155,7 @@ def pack(jwork, rows, mass, sf):
             sf[o + F_COUPLED * WS + j] = jwork[k, J_COUPLED]
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _forward(s, nz, x0, x1, x2, x3, x4):
     """Every ball of a row: ``w = U⁻ᵀ·(M_b·v_b − h·γ·K·ê_x)`` in place of its velocities."""
     for j in range(nz):
@@ -187,7 +187,7 @@ def _forward(s, nz, x0, x1, x2, x3, x4):
         s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = w0, w1, w2, w3, w4, w5
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _backward(s, nz, z0, z1, z2, z3, z4):
     """Every ball of a row: ``U⁻¹·(w − X·Z)`` in place of its w."""
     for j in range(nz):
@@ -219,7 +219,7 @@ def _backward(s, nz, z0, z1, z2, z3, z4):
         s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = x0, x1, x2, x3, x4, x5
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def solve(v, schur, rows, mass, sf):
     """Overwrite the velocities of the balls and the ring in the increment ``v`` with
     ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its

@@ -140,7 +140,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba import kernel
 
 from .arrowhead import N_SOLVE_FIELDS, WS, factor, pack, solve
 from ..dynamics.tangent import N_JWORK, N_SCHUR
@@ -245,7 +245,7 @@ def new_work(model, pocket_tolerance, load_tolerance):
     return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
                     a1, a2, a3, i1, i2, i3, c):
     """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring). ``i1``
@@ -312,7 +312,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     return diag[D_DRIVE_TORQUE]
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _orbit_rotations(y, dt, rows, rot):
     """Per ball, from its state in ``y``, into ``rot[b:b + 9]`` (b the ball's first state):
     its orbital speed Ω = (x·v_y − y·v_x)/ρ², the Cayley rotation's (cos − 1, sin) through
@@ -338,7 +338,7 @@ def _orbit_rotations(y, dt, rows, rot):
             rot[b + 7], rot[b + 8] = 1.0 - 0.5 * phi * phi * d, phi * d
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _pocket_power(work, bdiag, weight):
     """Add ``weight·P`` of the stage just evaluated to each ball's Σ b_i·P_i, and mark
     the balls whose pocket it touched."""
@@ -349,7 +349,7 @@ def _pocket_power(work, bdiag, weight):
 
 
 # compiled once, not inlined: imex_step calls it for the step and for each substep
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
     """The three implicit stages and the update ``y_{n+1} = y_n + h·Σ b_i·F_i`` (b̂ = b:
     the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
@@ -373,7 +373,7 @@ def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wor
     return torque, power
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _tangents_stale(work, bdiag):
     """Whether a ball's inner- or outer-race load in ``bdiag`` has moved from the one the
     tangents were taken at (``work[W_QREF]``, ``work[W_QREF + 1]``) by more than the
@@ -386,7 +386,7 @@ def _tangents_stale(work, bdiag):
     return False
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
               inner):
     """Advance ``y`` by one IMEX step of ``dt``.

@@ -13,13 +13,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._numba import kernel
 
 from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, add_substep_integrals,
                          fill_state_signals,
                          reduce_step,
                          write_series)
-from ..contact.laws import FAST
 from ..dynamics.energy import kinetic_energy
 from .imex import GAMMA, SUBSTEPS, TANGENT_MAX_STEPS, imex_step
 from ..dynamics.rhs import D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
@@ -46,16 +45,16 @@ METHODS = ("rk4", "imex")
 RK4, IMEX = 0, 1
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _in_window(phases, k, n_ph, t):
     """Whether accumulator line ``k`` takes a step from ``t``: its phase's window holds
     ``t``, or it is the whole cycle's line (``k == n_ph``)."""
     return k == n_ph or phases[k, 0] <= t < phases[k, 1]
 
 
-# FAST (rvcore.contact.laws: no fast-math flags) keeps IEEE semantics, so the non-finite check
+# FAST (rvcore._numba: no fast-math flags) keeps IEEE semantics, so the non-finite check
 # below works and the state sums are rounded in the same order on every CPU.
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
               cos_nominal, method, jwork, schur, inner):

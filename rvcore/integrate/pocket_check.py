@@ -25,13 +25,13 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from .._numba import kernel
 
 from ..dynamics.energy import pocket_energy
 from ..bearing.layout import R_CAGE0, R_POCKET0, R_Z
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def pocket_energy_kept(y, dt, rows, pockets, start_energy, power_sum, touched, tolerance):
     """Whether every pocket a step of ``dt`` [s] touched kept its energy at the step's end
     state ``y``: ``|ε| ≤ tolerance`` [J], ``ε = V_{n+1} − V_n − h·Σ b_i·P_i``.

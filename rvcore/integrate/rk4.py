@@ -6,9 +6,8 @@ the loop (:func:`rvcore.integrate.loop.integrate`) for the diagnostics and hande
 """
 from __future__ import annotations
 
-from numba import njit
+from .._numba import kernel
 
-from ..contact.laws import FAST
 from ..dynamics.rhs import D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_stage
 
 #: The weights b, by which both integrators weigh the stages' drive torques (their nodes
@@ -18,7 +17,7 @@ B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
 N_WORK = 5
 
 
-@njit(cache=True, nogil=True, fastmath=FAST, error_model="numpy")
+@kernel
 def rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work):
     """Advance ``y`` by one RK4 step of ``dt``; ``work[0]`` holds ``F(t, y)`` on entry.
 

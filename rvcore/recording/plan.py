@@ -20,7 +20,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from .._numba import kernel
 
 from ..contact.pose import ring_rotation
 from ..dynamics.rhs import B_QI, B_QO
@@ -152,7 +152,7 @@ def new_accumulators(plan: Plan, n_phases: int) -> np.ndarray:
 
 # ---- the numba side ---------------------------------------------------------------
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def transform(code, x):
     """An output's value from its signal (or from the signal's phase extreme)."""
     if code == CUBE_ROOT:
@@ -171,7 +171,7 @@ def transform(code, x):
     return x
 
 
-@njit(cache=True, nogil=True, inline="always", fastmath=False)
+@kernel(inline=True)
 def sensor_reading(y, sensor):
     """Displacement of the inner ring at a fixed sensor, along its direction [m].
 
@@ -189,7 +189,7 @@ def sensor_reading(y, sensor):
     return sensor[3] * ux + sensor[4] * uy + sensor[5] * uz
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal):
     """Write the signals of the state ``y`` at ``t`` that the right-hand side does not
     (rvcore.output_table: ``written = "state"``), for a step of ``dt`` from it."""
@@ -233,7 +233,7 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
         diag[s0 + s] = sensor_reading(y, sensors[s])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def reduce_step(line, plan, diag, t, when, half):
     """Add the step from ``t`` to one accumulator line: every reduction of ``plan`` whose
     signal is known at ``when`` (0 the step's state, 1 after the step). ``half`` is half
@@ -278,7 +278,7 @@ def reduce_step(line, plan, diag, t, when, half):
             line[c + S_M2] += d * (x - line[c + S_MEAN])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def add_integral_end(line, plan, diag, half):
     """Add the end half of the previous step's trapezoid (``diag`` at its end state) to
     the integrals of states' signals."""
@@ -287,7 +287,7 @@ def add_integral_end(line, plan, diag, half):
             line[plan[m, PL_COL]] += diag[plan[m, PL_SLOT]] * half
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def add_substep_integrals(line, plan, inner, h):
     """A step taken again in substeps of ``h`` [s] (rvcore.integrate.imex): turn its trapezoid into
     the substeps' own. ``inner`` holds ``Σ_{s≥1} x_s − (S − 1)/2·x_0`` of each signal at the
@@ -301,7 +301,7 @@ def add_substep_integrals(line, plan, inner, h):
             line[plan[m, PL_COL]] += inner[plan[m, PL_SLOT]] * h
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def write_series(o, series, diag):
     """One line of the output series: every column's signal through its transform."""
     for c in range(series.shape[0]):

@@ -26,7 +26,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
+from .._numba import kernel
 from scipy import optimize
 
 from ..bearing.geometry import Bearing
@@ -43,12 +43,12 @@ class NoEquilibriumError(ValueError):
     """The load cannot be carried: every ball is unloaded or the ring runs away."""
 
 
-@njit(cache=True, nogil=True, inline="always")
+@kernel(inline=True)
 def _ring_transform(u):
     return ring_rotation(u[3], u[4])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j):
     """Forces of every arc on a ball at P; fills q_out[j, k] and n_out[j, k, :] (global normal).
     ``spin`` holds the cosine and sine of the inner ring's turn (an imperfect raceway's
@@ -79,7 +79,7 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     return energy
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
     """Equilibrate every ball for ring pose ``u``; return the balls' force/moment on the ring.
 
