@@ -93,6 +93,8 @@ from rvcore.bearing.geometry import Bearing, Lubricant
 from rvcore.bearing.imperfections import PERFECT
 from rvcore.profile import OperatingPoint, Profile
 
+from rvcore import MODEL_VERSION
+
 from ..errors import ConfigError
 from . import fields
 from .caseids import canonical_json, hash_id, plain
@@ -109,10 +111,6 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
            "Sweep", "case_configuration", "plain", "canonical_json", "hash_id", "read_sweep_file",
            "sweep_from_dict"]
 
-#: Version of the model's equations and numerics. Part of every case id: bump it when a
-#: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-#: What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 12
 
 #: Most cases one sweep file may define: a grid is expanded, hashed and written to one
 #: combined file; beyond this, split the study into several sweeps.

@@ -384,6 +384,26 @@ def epicyclic_cage_ratio(row: Row, contact_angle: float | None = None) -> float:
     return 0.5 * (1.0 - row.ball_diameter * math.cos(a) / row.pitch_diameter)
 
 
+def centrifugal_ball_load(ball_mass, pitch_radius, orbit_speed):
+    """The centrifugal force of a ball on its orbit, pressing it on the outer race [N].
+
+    Parameters
+    ----------
+    ball_mass : float or ndarray
+        Mass of the ball [kg].
+    pitch_radius : float or ndarray
+        Radius of the ball centres' orbit [m].
+    orbit_speed : float or ndarray
+        Angular speed of the orbit, the cage's [rad s^-1]: ``ω·epicyclic_cage_ratio(row)``
+        for rolling without slip at the inner ring's ω (:func:`epicyclic_cage_ratio`).
+
+    Notes
+    -----
+    ``F_c = m_b·(d_m/2)·ω_c²``: the one place it is written.
+    """
+    return ball_mass * pitch_radius * orbit_speed ** 2
+
+
 def geometry_problems(bearing: Bearing):
     """Everything that makes the bearing unbuildable, as ``(key, value, reason)`` tuples.
 

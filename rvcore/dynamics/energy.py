@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+import numpy as np
+
+from .._numba import kernel
 
 from ..contact.laws import cage_pocket_penetration, hertz_energy, land_penetration, race_arc_penetration
 from ..contact.pose import ring_rotation, to_ring_frame
@@ -16,7 +18,41 @@ from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, channel_valu
 from .raceway import ball_offsets, spin_of
 
 
-@njit(cache=True, nogil=True, inline="always")
+def kinetic_energy_limit(model, resolved, outer_diameter: float) -> float:
+    """The kinetic energy a case may not exceed: beyond it the integration has blown up [J].
+
+    Parameters
+    ----------
+    model : rvcore.bearing.layout.CompiledBearing
+        The compiled bearing (its masses and inertias).
+    resolved : rvcore.profile.Profile
+        The case's profile resolved at its operating point (its peak speed and loads).
+    outer_diameter : float
+        The bearing's outer diameter [m].
+
+    Notes
+    -----
+    A hundred times the energy of every body moving at the outer rim's peak speed
+    ``v = max(|ω|, 1 rad/s)·D/2``, the balls rolling::
+
+        E_ref = ½·v²·(m_ring + Σ m_cage + Σ Z·(m_b + I_b/(D_w/2)²))
+        E_max = 100·E_ref + F_max·D_w,max
+
+    plus the work of the peak load ``F_max`` (radial, axial, or the moment as a force
+    pair at the smallest pitch radius; at least 1 N) over a ball diameter.
+    """
+    rows = model.rows
+    w_max = max(float(np.max(np.abs(resolved.speed[1]))), 1.0)
+    v_ref = w_max * outer_diameter / 2
+    e_ref = 0.5 * v_ref**2 * (model.params[P_RING_M] + float(np.sum(rows[:, R_CAGE_M]))
+                              + float(np.sum(rows[:, R_Z] * (rows[:, R_MB] + rows[:, R_IB] / rows[:, R_HALF_D]**2))))
+    # a tilting moment does work like a force pair at the balls (its peak over the pitch radius)
+    f_moment = float(np.max(np.abs(resolved.moment[1]))) / float(np.min(rows[:, R_PITCH_R]))
+    f_max = float(max(np.max(np.abs(resolved.radial[1])), np.max(np.abs(resolved.axial[1])), f_moment, 1.0))
+    return 100.0 * e_ref + f_max * 2 * float(rows[:, R_HALF_D].max())
+
+
+@kernel(inline=True)
 def pocket_energy(y, rows, pockets, r, j, cphi, sphi):
     """Elastic energy ``⅖·K_p·δ^2.5`` [J] of ball ``j`` of row ``r`` against its cage pocket
     at the state ``y``; ``cphi``, ``sphi`` the cosine and sine of the row's cage angle."""
@@ -31,7 +67,7 @@ def pocket_energy(y, rows, pockets, r, j, cphi, sphi):
     return hertz_energy(rows[r, R_POCKET_K], d)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def kinetic_energy(y, params, rows):
     """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded)."""
     e = 0.5 * params[P_RING_M] * (y[5] ** 2 + y[6] ** 2 + y[7] ** 2)
@@ -48,7 +84,7 @@ def kinetic_energy(y, params, rows):
     return e
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     """Elastic energy of every contact minus the work potential of the applied loads [J].
 

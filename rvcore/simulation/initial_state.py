@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from ..bearing.geometry import centrifugal_ball_load
 from ..contact.laws import arc_penetration
 from ..contact.pose import ring_angular_velocity, ring_rotation
 from ..bearing.layout import (A_CR, A_CZ, A_RING, A_RMH, A_SIDE, BALL_STATES, R_ARC0, R_BALL0, R_CAGE0, R_HALF_D, R_MB,
@@ -192,5 +193,7 @@ def peak_contact_load(model, resolved) -> float:
             # from the model), and so does a preload or an interference with no load at all
             for psi in directions:
                 q = max(q, solve_statics(model, fr, fa, moment, psi, stiffness=False).max_contact_load)
-    centrifugal = float(np.max(model.rows[:, R_MB] * model.rows[:, R_PITCH_R] * (0.5 * w) ** 2))
+    # the cage at half the ring's speed: a bound on the epicyclic ratio, which is below ½
+    # for an inner ring that turns (epicyclic_cage_ratio)
+    centrifugal = float(np.max(centrifugal_ball_load(model.rows[:, R_MB], model.rows[:, R_PITCH_R], 0.5 * w)))
     return q + centrifugal

@@ -20,6 +20,7 @@ from ..bearing.imperfections import realize
 from .initial_state import initial_state, peak_contact_load
 from ..integrate.imex import SUBSTEPS
 from ..integrate.loop import ENERGY, METHODS, NONFINITE, OK, PENETRATION, advance
+from ..dynamics.energy import kinetic_energy_limit
 from ..dynamics.rhs import new_diagnostics
 from ..bearing.layout import (BALL_STATES, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z,
                     body_name, compile_bearing)
@@ -94,15 +95,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     acc = new_accumulators(plan, resolved.phases.shape[0])
     diag, bdiag = new_diagnostics(n_rows, model.n_balls, n_sensors)
     pen_limit = 0.1 * 2 * float(model.rows[:, R_HALF_D].min())
-    w_max = max(float(np.max(np.abs(resolved.speed[1]))), 1.0)
-    v_ref = w_max * bearing.outer_diameter / 2
-    rows = model.rows
-    e_ref = 0.5 * v_ref**2 * (model.params[0] + float(np.sum(rows[:, R_CAGE_M]))
-                              + float(np.sum(rows[:, R_Z] * (rows[:, R_MB] + rows[:, R_IB] / rows[:, R_HALF_D]**2))))
-    # a tilting moment does work like a force pair at the balls (its peak over the pitch radius)
-    f_moment = float(np.max(np.abs(resolved.moment[1]))) / float(np.min(rows[:, R_PITCH_R]))
-    f_max = float(max(np.max(np.abs(resolved.radial[1])), np.max(np.abs(resolved.axial[1])), f_moment, 1.0))
-    ke_limit = 100.0 * e_ref + f_max * 2 * float(rows[:, R_HALF_D].max())
+    ke_limit = kinetic_energy_limit(model, resolved, bearing.outer_diameter)
 
     t0 = time_module.perf_counter()
     status, t_fail, where, n_out, substepped, refreshes = advance(
