@@ -5,7 +5,7 @@ asserts a time (these machines are noisy).
 
 - ``full_cycle``: the study bearing (51 balls) through the whole 4.6 s cycle at
   660 deg/s, 30 kN radial and 10 kN axial, on one core, with each integrator of
-  :data:`rvcore.integrate.loop.METHODS` in turn (``rk4_full_cycle_wall_s``,
+  :data:`rvcore.integrate.methods.METHODS` in turn (``rk4_full_cycle_wall_s``,
   ``imex_full_cycle_wall_s``, ``rk4_steps``, ...; ``speedup_vs_rk4`` = RK4's wall over
   IMEX's). The unprefixed figures (``full_cycle_wall_s``, ``steps``, ...) are those of
   the default method, ``method`` (``SolverSettings().method``).
@@ -92,7 +92,7 @@ def full_cycle(methods=None) -> dict:
     IMEX, ``speedup_vs_rk4`` = RK4's full-cycle wall time over IMEX's [-].
     """
     from rvcore.simulation.settings import SolverSettings
-    from rvcore.integrate.loop import METHODS
+    from rvcore.integrate.methods import NAMES as METHODS
 
     default = SolverSettings().method
     methods = tuple(methods or METHODS)

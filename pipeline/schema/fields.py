@@ -360,7 +360,7 @@ def _solver_field(f) -> Field:
     if isinstance(f.default, bool):
         return Field(path, "boolean", "solver", default=f.default, doc=doc, source=f.name)
     if isinstance(f.default, str):
-        from rvcore.integrate.loop import METHODS
+        from rvcore.integrate.methods import NAMES as METHODS
         return Field(path, "choice", "solver", default=f.default, choices=METHODS, doc=doc, source=f.name)
     if isinstance(f.default, int):
         return Field(path, "integer", "solver", default=f.default, minimum=-1, doc=doc, source=f.name)

@@ -148,6 +148,11 @@ from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE
 from ..bearing.layout import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
                     R_MB, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_kept
+from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
+from .protocol import new_state as new_counters
+from .rk4 import stage_weighted_inertia
+from ..dynamics.rhs import rhs
+from ..recording.plan import add_substep_integrals, in_window
 
 # ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
 A21, A32, A43 = 0.5, 0.5, 1.0
@@ -449,3 +454,77 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         total += B1 * diag_torque + later
         total_power += B1 * diag_power + later_power
     return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True, True
+
+
+# ---- the method's protocol (rvcore.integrate.protocol)
+#: Right-hand sides a step evaluates (and each of its substeps, when taken again).
+STAGES = 4
+#: The method's own counters in ``state``: steps since the tangents were evaluated, whether
+#: they no longer fit the contacts' loads (1), and whether this step evaluates them (1).
+S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
+
+
+def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
+    """IMEX's fixed step [s] (:func:`rvcore.integrate.step_size.imex_time_step`)."""
+    from .step_size import imex_time_step
+
+    return imex_time_step(model, peak_contact_load, safety=safety)
+
+
+def new_state():
+    """The counters of a run: no tangents yet, so the first step evaluates them."""
+    state = new_counters()
+    state[S_SINCE] = TANGENT_MAX_STEPS
+    state[S_STALE] = 1
+    return state
+
+
+def rhs_evaluations(n_steps: int, substepped: int) -> int:
+    """Right-hand sides of a run: four a step and the last step's end, and four a
+    substep of each step taken again."""
+    return STAGES * n_steps + 1 + STAGES * SUBSTEPS * substepped
+
+
+@kernel(inline=True)
+def evaluate(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state):
+    """The right-hand side at the step's start into ``work[W_F]``, and with it the
+    tangents (:func:`rvcore.dynamics.rhs.rhs_jac`, ``h·γ = dt·GAMMA``) where the contacts'
+    loads have moved from those they were taken at, after :data:`TANGENT_MAX_STEPS` steps,
+    and after a step taken in substeps (module docstring, "Step"); they stay frozen in
+    between."""
+    refresh = state[S_STALE] != 0 or state[S_SINCE] >= TANGENT_MAX_STEPS
+    if refresh:
+        state[S_SINCE] = 0
+        state[S_REFRESHES] += 1
+        state[S_REFRESH] = 1
+        rhs_jac(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
+    else:
+        state[S_REFRESH] = 0
+        rhs(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag)
+
+
+@kernel(inline=True)
+def step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state, inner,
+         acc, reductions, phases):
+    """One step (:func:`imex_step`) after :func:`evaluate`; a step taken again adds its
+    substeps' integrals to the accumulator lines whose window holds ``t``
+    (:func:`rvcore.recording.plan.add_substep_integrals`). Returns as
+    :func:`rvcore.integrate.rk4.step`, the end weight's divisor :data:`SUBSTEPS` after a
+    step taken again."""
+    torque = B1 * diag[D_DRIVE_TORQUE]
+    power = B1 * diag[D_DRIVE_POWER]
+    later, later_power, again, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+                                                 bdiag, work, jwork, schur, state[S_REFRESH] != 0, inner)
+    torque += later
+    power += later_power
+    state[S_STALE] = 1 if stale else 0
+    state[S_SINCE] += 1
+    divisor = 1.0
+    if again:
+        state[S_SUBSTEPPED] += 1
+        divisor = float(SUBSTEPS)
+        n_ph = phases.shape[0]
+        for k in range(n_ph + 1):
+            if in_window(phases, k, n_ph, t):
+                add_substep_integrals(acc[k], reductions, inner, dt / SUBSTEPS)
+    return torque, power, stage_weighted_inertia(t, dt, params, table, meta), divisor

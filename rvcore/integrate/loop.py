@@ -4,28 +4,25 @@ blow-up checks. SI throughout.
 The loop owns what every method shares: the right-hand side at each step's state (its
 diagnostics are the outputs' signals, :mod:`rvcore.output_table`), the blow-up checks, the
 output lines, the per-phase reductions (:mod:`rvcore.recording.plan`) and the drive torque's
-filter. A step is one call of the method's step function: :func:`rvcore.integrate.rk4.rk4_step`
-(the reference) or :func:`rvcore.integrate.imex.imex_step`; the step's size comes from
-:mod:`rvcore.integrate.step_size`.
+filter. It knows no method by name: a step is the method's ``evaluate`` and ``step``
+(:mod:`rvcore.integrate.methods`, :mod:`rvcore.integrate.protocol`), its size the
+method's ``time_step``.
 """
 from __future__ import annotations
 
 import math
 
 import numpy as np
+
 from .._numba import kernel
 
-from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, add_substep_integrals,
-                         fill_state_signals,
-                         reduce_step,
-                         write_series)
 from ..dynamics.energy import kinetic_energy
-from .imex import GAMMA, SUBSTEPS, TANGENT_MAX_STEPS, imex_step
-from ..dynamics.rhs import D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_PEN, D_PEN_BALL, rhs, rhs_jac
-from ..bearing.layout import P_RING_IP
-from ..profile import CH_SPEED, channel_rate
 from ..dynamics.races import SCRATCH_SIZE
-from .rk4 import B1, B2, B3, B4, rk4_step
+from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
+from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_state_signals,
+                              in_window, reduce_step, write_series)
+from .methods import NAMES, evaluate, method, step
+from .protocol import S_REFRESHES, S_SUBSTEPPED
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 
@@ -40,26 +37,15 @@ OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 #: chatter down 300×.
 TORQUE_BANDWIDTH = 1.0e3
 
-#: The integrators, by their ``solver.method`` names; the loop takes the index.
-METHODS = ("rk4", "imex")
-RK4, IMEX = 0, 1
-
-
-@kernel(inline=True)
-def _in_window(phases, k, n_ph, t):
-    """Whether accumulator line ``k`` takes a step from ``t``: its phase's window holds
-    ``t``, or it is the whole cycle's line (``k == n_ph``)."""
-    return k == n_ph or phases[k, 0] <= t < phases[k, 1]
-
-
 # FAST (rvcore._numba: no fast-math flags) keeps IEEE semantics, so the non-finite check
 # below works and the state sums are rounded in the same order on every CPU.
 @kernel
 def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
-              cos_nominal, method, jwork, schur, inner):
-    """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of ``method`` (``RK4`` or
-    ``IMEX``; :func:`advance` allocates the scratch for it).
+              cos_nominal, code, jwork, schur, inner, state):
+    """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of the method of ``code``
+    (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance` allocates its
+    scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
 
     Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
     written, the columns of the series plan ``series``. At every step the state at the
@@ -80,10 +66,10 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     n_out : int
         Lines written to ``out``.
     substepped : int
-        IMEX steps taken again in substeps (:func:`rvcore.integrate.imex.imex_step`); 0 for RK4.
+        Steps the method took again in substeps (IMEX: :func:`rvcore.integrate.imex.imex_step`).
     refreshes : int
-        Steps that evaluated and factored the IMEX tangents (substeps not counted); 0 for
-        RK4.
+        Steps at which the method evaluated and factored its tangents (substeps not
+        counted).
     """
     n = y.size
     k1 = work[0]
@@ -94,26 +80,12 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     # a torque held over each step, started at the first step's torque
     decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
     torque_f1, torque_f2 = 0.0, 0.0
-    since = TANGENT_MAX_STEPS  # steps since the IMEX tangents were evaluated
-    stale = True               # the IMEX tangents no longer fit the contacts' loads
-    refreshes = 0
-    substepped = 0
     end_half = half        # the trapezoid's end weight of the step just taken
     for i in range(n_steps + 1):
         t = t_start + i * dt
-        # the outputs' signals at the step's state (the stages skip the costly ones); the
-        # IMEX scheme's tangents from the same evaluation where the contacts' loads have
-        # moved from those they were taken at, after TANGENT_MAX_STEPS steps, and after a
-        # step taken in substeps (they stay frozen in between: rvcore.integrate.imex, "Step")
-        refresh = stale or since >= TANGENT_MAX_STEPS
-        if refresh:
-            since = 0
-            if method == IMEX:
-                refreshes += 1
-        if method == IMEX and refresh:
-            rhs_jac(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
-        else:
-            rhs(t, y, k1, params, rows, arcs, pockets, table, meta, diag, bdiag)
+        # the outputs' signals at the step's state (the stages skip the costly ones), and
+        # whatever else the method takes from that evaluation (IMEX: its tangents)
+        evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state)
         # blow-up checks on the state at t
         total = 0.0
         for m in range(n):
@@ -121,55 +93,38 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         if not math.isfinite(total):
             for m in range(n):
                 if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
-                    return NONFINITE, t, m, n_out, substepped, refreshes
+                    return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
         if diag[D_MAX_PEN] > pen_limit:
-            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, substepped, refreshes
+            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
         fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal)
         if i > 0:
             tp = t - dt
             for k in range(n_ph + 1):
-                if _in_window(phases, k, n_ph, tp):
+                if in_window(phases, k, n_ph, tp):
                     add_integral_end(acc[k], reductions, diag, end_half)
         if i < n_steps:
             for k in range(n_ph + 1):
-                if _in_window(phases, k, n_ph, t):
+                if in_window(phases, k, n_ph, t):
                     reduce_step(acc[k], reductions, diag, t, 0, half)
         if i % out_every == 0 or i == n_steps:
             if kinetic_energy(y, params, rows) > ke_limit:
-                return ENERGY, t, -1, n_out, substepped, refreshes
+                return ENERGY, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
             write_series(out[n_out], series, diag)
             n_out += 1
         if i == n_steps:
             break
         # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
-        # the balls (both methods weigh the stages' forces by the same b), and its power
-        # Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the drive's energy)
-        torque = B1 * diag[D_DRIVE_TORQUE]
-        power = B1 * diag[D_DRIVE_POWER]
-        if method == IMEX:
-            later, later_power, again, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
-                                                         bdiag, work, jwork, schur, refresh, inner)
-            torque += later
-            power += later_power
-            since = since + 1
-            end_half = half
-            if again:      # the integrals over its substeps (rvcore.recording.plan.add_substep_integrals)
-                substepped += 1
-                end_half = half / SUBSTEPS
-                for k in range(n_ph + 1):
-                    if _in_window(phases, k, n_ph, t):
-                        add_substep_integrals(acc[k], reductions, inner, dt / SUBSTEPS)
-        else:
-            later, later_power = rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work)
-            torque += later
-            power += later_power
+        # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
+        # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
+        # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
+        # and ends on a substep's weight
+        torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+                                                bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
+        end_half = half / divisor
         # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
         # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
-        # would only lag. It is weighed over the stages as the step's torque is (both
-        # methods' nodes are 0, ½, ½, 1), so that the filter sees the contacts' part alone
-        inertial = params[P_RING_IP] * (B1 * channel_rate(table, meta, CH_SPEED, t)
-                                        + (B2 + B3) * channel_rate(table, meta, CH_SPEED, t + half)
-                                        + B4 * channel_rate(table, meta, CH_SPEED, t + dt))
+        # would only lag; it is weighed over the stages as the step's torque is, so that
+        # the filter sees the contacts' part alone
         if i == 0:
             torque_f1 = torque_f2 = torque - inertial
         # the band-limited torque at t, the time whose phase it goes to: the filter's
@@ -183,38 +138,26 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         diag[SL_TORQUE_STEP] = torque
         diag[SL_POWER_STEP] = power
         for k in range(n_ph + 1):
-            if _in_window(phases, k, n_ph, t):
+            if in_window(phases, k, n_ph, t):
                 reduce_step(acc[k], reductions, diag, t, 1, half)
-    return OK, t_start + n_steps * dt, -1, n_out, substepped, refreshes
+    return OK, t_start + n_steps * dt, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
 
 
-def new_work(model, method: str, pocket_tolerance: float, load_tolerance: float):
-    """The scratch arrays ``(work, jwork, schur)`` that :func:`integrate` needs for ``method``
-    (``pocket_tolerance`` [J] and ``load_tolerance`` [N]: the IMEX pocket check's and
-    tangents', :func:`rvcore.integrate.imex.imex_step`)."""
-    if method == "rk4":
-        from .rk4 import N_WORK
-
-        return np.zeros((N_WORK, model.n_states)), np.zeros((1, 1)), np.zeros((1, 1))
-    from . import imex
-
-    return imex.new_work(model, pocket_tolerance, load_tolerance)
-
-
-def advance(method: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
+def advance(method_name: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
             acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance, load_tolerance):
-    """:func:`integrate` with ``method`` by name (:data:`METHODS`), the plan's arrays and
-    the method's scratch.
+    """:func:`integrate` with the method named ``method_name``
+    (:data:`rvcore.integrate.methods.METHODS`), the plan's arrays and the method's scratch.
 
     ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
     tangents' (:func:`rvcore.integrate.step_size.pocket_energy_tolerance`,
     :func:`rvcore.integrate.step_size.tangent_load_tolerance`). Returns ``(status, t_fail, where,
     n_out, substepped, refreshes)`` as :func:`integrate`.
     """
-    if method not in METHODS:
-        raise ValueError(f"unknown integrator {method!r}: use one of {', '.join(METHODS)}")
-    work, jwork, schur = new_work(model, method, pocket_tolerance, load_tolerance)
-    return integrate(y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
-                     table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
-                     pen_limit, ke_limit, cos_nominal, METHODS.index(method), jwork, schur,
-                     np.zeros(diag.size - SCRATCH_SIZE))
+    m = method(method_name)
+    work, jwork, schur = m.new_work(model, pocket_tolerance, load_tolerance)
+    status, t_fail, where, n_out, substepped, refreshes = integrate(
+        y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
+        table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
+        pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), jwork, schur,
+        np.zeros(diag.size - SCRATCH_SIZE), m.new_state())
+    return status, t_fail, where, n_out, int(substepped), int(refreshes)

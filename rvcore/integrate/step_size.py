@@ -46,13 +46,11 @@ RK4_REAL_LIMIT = 2.785
 
 
 def time_step(model, peak_contact_load: float, method: str, *, safety: float = 0.8) -> float:
-    """The fixed step [s] of ``method`` ("rk4": :func:`rk4_time_step`, "imex":
-    :func:`imex_time_step`)."""
-    if method == "rk4":
-        return rk4_time_step(model, peak_contact_load, safety=safety)
-    if method == "imex":
-        return imex_time_step(model, peak_contact_load, safety=safety)
-    raise ValueError(f"unknown integrator {method!r}: use rk4 or imex")
+    """The fixed step [s] of the method named ``method``: its module's ``time_step``
+    (:data:`rvcore.integrate.methods.METHODS`)."""
+    from .methods import method as method_module
+
+    return method_module(method).time_step(model, peak_contact_load, safety=safety)
 
 
 def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,

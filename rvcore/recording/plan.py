@@ -233,6 +233,13 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
         diag[s0 + s] = sensor_reading(y, sensors[s])
 
 
+@kernel(inline=True)
+def in_window(phases, k, n_ph, t):
+    """Whether accumulator line ``k`` takes a step from ``t``: its phase's window holds
+    ``t``, or it is the whole cycle's line (``k == n_ph``)."""
+    return k == n_ph or phases[k, 0] <= t < phases[k, 1]
+
+
 @kernel
 def reduce_step(line, plan, diag, t, when, half):
     """Add the step from ``t`` to one accumulator line: every reduction of ``plan`` whose

@@ -26,7 +26,7 @@ milliseconds, and compares with a value derived here:
 - blow-up reporting and the per-step phase accumulators.
 
 The statics, kinematics, conservation and centrifugal checks run for every integrator of
-``rvcore.integrate.loop.METHODS`` (RK4 and IMEX), with the same tolerances: they
+``rvcore.integrate.methods.METHODS`` (RK4 and IMEX), with the same tolerances: they
 are physical facts, not properties of one scheme.
 """
 from __future__ import annotations
@@ -40,7 +40,7 @@ import pytest
 from rvcore.simulation.run import run_case
 from rvcore.recording.results import SimulationError
 from rvcore.simulation.settings import SolverSettings
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.energy import kinetic_energy, potential_energy
 from rvcore.bearing.layout import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile

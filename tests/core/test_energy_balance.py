@@ -38,7 +38,7 @@ rectangle rule left an O(dt) error of 10 % of the drive's work after the start
 transient: the tests do resolve the quadrature.)
 
 The balance is the equations of motion's, whatever integrates them: the tests run for
-every integrator of ``rvcore.integrate.loop.METHODS``, each at its default step.
+every integrator of ``rvcore.integrate.methods.METHODS``, each at its default step.
 """
 from __future__ import annotations
 
@@ -50,7 +50,7 @@ import pytest
 from rvcore.simulation.run import run_case
 from rvcore.simulation.initial_state import initial_state
 from rvcore.simulation.settings import SolverSettings
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.energy import kinetic_energy, potential_energy
 from rvcore.bearing.layout import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
 from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile

@@ -36,7 +36,7 @@ import pytest
 from rvcore.integrate import imex
 from rvcore.dynamics.energy import kinetic_energy, potential_energy
 from rvcore.simulation.initial_state import initial_state, peak_contact_load
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.rhs import B_PP, B_PV, B_QI, B_QO, B_QP, new_diagnostics, rhs
 from rvcore.dynamics.energy import pocket_energy
 from rvcore.bearing.layout import R_CAGE0

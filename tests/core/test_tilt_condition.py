@@ -16,7 +16,7 @@ import pytest
 
 from rvcore.simulation.run import run_case
 from rvcore.simulation.settings import SolverSettings
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.standards.iso16281 import static_life
 from rvcore.profile import OperatingPoint
 from rvcore.statics.equilibrium import solve_statics

@@ -32,7 +32,7 @@ from rvcore.simulation.run import run_case
 from rvcore.simulation.initial_state import initial_state, set_rolling_velocities
 from rvcore.simulation.settings import Sensor, SolverSettings
 from rvcore.bearing.geometry import ball_mass, cage_mass_properties, inner_ring_mass_properties
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.rhs import new_diagnostics, rhs
 from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import OperatingPoint, scaled_study_profile, study_profile

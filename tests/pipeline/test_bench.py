@@ -19,7 +19,7 @@ import pipeline.bench as bench
 from pipeline.bench import CYCLE_FIGURES, scipy_comparison
 from pipeline.cli import main
 from rvcore.simulation.settings import SolverSettings
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 
 _NO_IMEX = importlib.util.find_spec("rvcore.integrate.imex") is None
 

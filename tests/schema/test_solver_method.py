@@ -1,6 +1,6 @@
 """``solver.method``: the integrator as an input field.
 
-It is a choice of :data:`rvcore.integrate.loop.METHODS`, written in ``[solver]``, ``[fixed]``,
+It is a choice of :data:`rvcore.integrate.methods.METHODS`, written in ``[solver]``, ``[fixed]``,
 ``[[cases]]``, as a categorical sweep axis or with ``rvsweep simulate --method``; it reaches
 the case's :class:`rvcore.simulation.run.SolverSettings` and its id, and survives the stored
 configuration. A bad value is one ConfigError naming file, key, value and the choices.
@@ -20,7 +20,7 @@ from pipeline.run.cluster import estimated_cost
 from pipeline.schema import read_sweep_file, stored_configuration
 from pipeline.schema import fields as schema
 from rvcore.simulation.settings import SolverSettings
-from rvcore.integrate.loop import METHODS
+from rvcore.integrate.methods import NAMES as METHODS
 from tests.schema.test_sweepfile import GRID, make_sweep
 
 ONE_POINT = """
