@@ -24,7 +24,9 @@ Shared
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
 
 ``contact``: the contact laws
-- ``contact.laws``             every contact law once: STEP, Hertz with its damper, friction, penetrations
+- ``contact.step``             the cubic STEP, the one smooth transition of the laws and the profiles
+- ``contact.laws``             every contact law once: Hertz with its damper, friction dispatched on the law's kind, penetrations
+- ``contact.coulomb_step``     the study's friction law (Coulomb with STEP transitions), its slopes and IMEX tangent
 - ``contact.pose``             the inner ring's rotation, angular velocity and frame
 
 ``dynamics``: the equations of motion
@@ -47,7 +49,9 @@ Shared
 - ``recording.spectra``        the steady phase's spectra and kinematic frequencies
 
 ``integrate``: time integration
-- ``integrate.loop``           the loop: steps, blow-up checks, output lines, reductions
+- ``integrate.loop``           the loop: steps, blow-up checks, output lines, reductions; it knows no method
+- ``integrate.methods``        ``METHODS``: the methods by name, and the kernels the loop calls them through
+- ``integrate.protocol``       what a method module supplies; the counters it shares with the loop
 - ``integrate.step_size``      each integrator's fixed step from the bearing's rates
 - ``integrate.rk4``            one step of classical RK4 (the reference)
 - ``integrate.imex``           one step of the implicit–explicit scheme

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from ._numba import kernel
 
-from .contact.laws import unit_step, unit_step_slope
+from .contact.step import unit_step, unit_step_slope
 
 LINEAR = 0
 SMOOTHSTEP = 1

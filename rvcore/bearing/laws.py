@@ -2,11 +2,11 @@
 
 A law is one record of :data:`FRICTION_LAW_SIZE` floats (:func:`pack_friction_law`): its
 kind, whether friction is on, and its parameters, packed once per case
-(:func:`rvcore.bearing.layout.compile_bearing`) and passed whole to the law's functions in
-:mod:`rvcore.contact.laws` (``friction_coefficient``, ``friction_slope`` and what derives
-from them); nothing else reads a law's parameters. A second law is a name in
-:data:`FRICTION_LAWS` and its branch in ``rvcore.contact.laws.friction_coefficient``,
-``friction_slope`` and ``friction_falling_slope``.
+(:func:`rvcore.bearing.layout.compile_bearing`) and passed whole to the law functions of
+:mod:`rvcore.contact.laws`, which dispatch on the kind to the law's module
+(``coulomb_step``: :mod:`rvcore.contact.coulomb_step`); nothing else reads a law's
+parameters. A second law is a name in :data:`FRICTION_LAWS`, its module beside
+``coulomb_step`` and its select in each dispatcher of :mod:`rvcore.contact.laws`.
 """
 from __future__ import annotations
 

@@ -1,5 +1,7 @@
-"""Contact laws, written once: the cubic STEP, Hertz force with the IMPACT damper, the
-friction law and its slopes, and the penetrations of every contact type. SI throughout.
+"""Contact laws, written once: Hertz force with the IMPACT damper, the friction law's
+functions dispatched on the record's kind (the study's law: :mod:`rvcore.contact.coulomb_step`),
+and the penetrations of every contact type. SI throughout. (The cubic STEP:
+:mod:`rvcore.contact.step`.)
 (The inner ring's pose: :mod:`rvcore.contact.pose`.)
 
 Every function is a kernel (``@kernel(inline=True)``, rvcore._numba) on scalars, inlined into its callers,
@@ -33,7 +35,9 @@ import math
 
 from .._numba import kernel
 
-from ..bearing.laws import LAW_INV_VS, LAW_MU_D, LAW_MU_S, LAW_ON, LAW_V_D, LAW_V_S
+from ..bearing.laws import COULOMB_STEP, LAW_KIND, LAW_ON
+from . import coulomb_step
+from .step import step, step_slope, unit_step, unit_step_slope  # noqa: F401 (STEP, with the laws)
 from ..bearing.layout import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 
 #: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
@@ -44,63 +48,6 @@ from ..bearing.layout import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 #: (1e-16 N); a ball of the load zone carries hundreds to thousands of newtons. A steel
 #: ball heavier than 1 N (D > 31 mm) resting on the inner race in gravity would count.
 LOADED_BALL_LOAD = 1.0
-
-
-@kernel(inline=True)
-def unit_step(d):
-    """The cubic STEP on the unit interval, ``STEP(d, 0, 0, 1, 1)`` [-].
-
-    The one place the cubic ``d²·(3 − 2d)`` is written; every STEP is this, scaled.
-
-    Parameters
-    ----------
-    d : float
-        Normalised argument ``Δ = (x − x0)/(x1 − x0)`` [-].
-
-    Returns
-    -------
-    float
-        0 for ``d ≤ 0``, 1 for ``d ≥ 1``, ``d²·(3 − 2d)`` between [-].
-
-    Notes
-    -----
-    One expression of selects, as every law here that the ball–race contacts call: several
-    ``return`` statements become a switch that keeps LLVM from vectorising the loops of
-    :mod:`rvcore.dynamics.races`.
-    """
-    return 0.0 if d <= 0.0 else (1.0 if d >= 1.0 else d * d * (3.0 - 2.0 * d))
-
-
-@kernel(inline=True)
-def unit_step_slope(d):
-    """``d/dΔ`` of :func:`unit_step`: ``6·Δ·(1 − Δ)`` inside (0, 1), 0 outside [-]."""
-    if d <= 0.0 or d >= 1.0:
-        return 0.0
-    return 6.0 * d * (1.0 - d)
-
-
-@kernel(inline=True)
-def step(x, x0, h0, x1, h1):
-    """The cubic ``STEP(x, x0, h0, x1, h1)`` of docs/model.md §3 [units of h].
-
-    Parameters
-    ----------
-    x : float
-        Argument [units of x].
-    x0, x1 : float
-        Start and end of the transition, ``x0 < x1`` [units of x].
-    h0, h1 : float
-        Values below ``x0`` and above ``x1`` [units of h].
-    """
-    inside = h0 + (h1 - h0) * unit_step((x - x0) / (x1 - x0))
-    return h0 if x <= x0 else (h1 if x >= x1 else inside)
-
-
-@kernel(inline=True)
-def step_slope(x, x0, h0, x1, h1):
-    """``dSTEP/dx`` of :func:`step` [units of h per unit of x]."""
-    w = x1 - x0
-    return (h1 - h0) * unit_step_slope((x - x0) / w) / w
 
 
 @kernel(inline=True)
@@ -159,79 +106,57 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
 
 @kernel(inline=True)
 def friction_coefficient(s, law):
-    """μ(s) of docs/model.md §4 [-] at the slip speed ``s`` ≥ 0 [m s^-1].
+    """μ(s) of the record's law [-] at the slip speed ``s`` ≥ 0 [m s^-1]
+    (``coulomb_step``: :func:`rvcore.contact.coulomb_step.coefficient`).
 
-    The study's law (``coulomb_step``): ``STEP(s, −v_s, −μ_s, v_s, μ_s)`` below v_s,
-    ``STEP(s, v_s, μ_s, v_d, μ_d)`` up to v_d, μ_d beyond.
+    Each law function here dispatches on the record's kind ``law[LAW_KIND]``: its law's
+    value is computed and selected (a select, not a branch, keeps the contact loops of
+    :mod:`rvcore.dynamics.races` vectorised); a kind no law has gives NaN, which the
+    integrator's blow-up check reports.
     """
-    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
-    rising = step(s, -v_s, -mu_s, v_s, mu_s)
-    falling = step(s, v_s, mu_s, v_d, mu_d)
-    return rising if s < v_s else (falling if s <= v_d else mu_d)
+    mu = coulomb_step.coefficient(s, law)
+    return mu if law[LAW_KIND] == COULOMB_STEP else math.nan
 
 
 @kernel(inline=True)
 def friction_slope(s, law):
     """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
-    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
-    if s < v_s:
-        return step_slope(s, -v_s, -mu_s, v_s, mu_s)
-    if s <= v_d:
-        return step_slope(s, v_s, mu_s, v_d, mu_d)
-    return 0.0
+    d = coulomb_step.slope(s, law)
+    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
 
 
 @kernel(inline=True)
 def friction_slope_at_zero_slip(law):
-    """dμ/ds at s = 0 [s m^-1] (the study's law: 1.5·μ_s/v_s).
-
-    The law acts as a viscous damper ``c_f = Q·dμ/ds`` at small slip; the explicit step
-    is sized from it (:func:`rvcore.integrate.step_size.rk4_time_step`).
-    """
-    return friction_slope(0.0, law)
+    """dμ/ds at s = 0 [s m^-1]: the law acts as a viscous damper ``c_f = Q·dμ/ds`` at
+    small slip; the explicit step is sized from it
+    (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
+    d = coulomb_step.slope_at_zero_slip(law)
+    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
 
 
 def friction_falling_slope(law) -> float:
     """The steepest fall of μ with the slip, ``|min dμ/ds|`` [s m^-1] (0 for a law that
-    never falls): an explicit stage's rate where the law falls (:mod:`rvcore.integrate.step_size`).
-    The study's law falls from μ_s to μ_d along a cubic STEP, steepest at its middle:
-    ``1.5·(μ_s − μ_d)/(v_d − v_s)``."""
-    mu_s, v_s, mu_d, v_d = law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D]
-    return -min(friction_slope(0.5 * (v_s + v_d), law), 0.0) if mu_d < mu_s else 0.0
+    never falls): an explicit stage's rate where the law falls (:mod:`rvcore.integrate.step_size`)."""
+    if law[LAW_KIND] == COULOMB_STEP:
+        return coulomb_step.falling_slope(law)
+    raise ValueError(f"no friction law of kind {law[LAW_KIND]!r}")
 
 
 @kernel(inline=True)
 def friction_per_slip(s2, law):
-    """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2].
-
-    Below ``v_s`` the study's law is odd in s: with ``x = s/v_s``,
-    ``STEP(s, −v_s, −μ_s, v_s, μ_s) = μ_s·(1.5·x − 0.5·x³)`` (Δ = (1 + x)/2 in the cubic),
-    so ``μ/s = μ_s·(1.5 − 0.5·x²)/v_s`` needs no division by a small slip.
-    tests/core/test_contact.py checks that this form and :func:`friction_coefficient` agree
-    over the whole range. Both forms are evaluated and one selected (:func:`unit_step`,
-    Notes): in the vector loops of :mod:`rvcore.dynamics.races` the root costs next to nothing.
-    """
-    inv_vs, mu_s = law[LAW_INV_VS], law[LAW_MU_S]
-    x2 = s2 * inv_vs * inv_vs
-    s = math.sqrt(s2)
-    sliding = friction_coefficient(s, law) / s
-    return mu_s * (1.5 - 0.5 * x2) * inv_vs if x2 < 1.0 else sliding
+    """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2], without
+    dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`)."""
+    g = coulomb_step.per_slip(s2, law)
+    return g if law[LAW_KIND] == COULOMB_STEP else math.nan
 
 
 @kernel(inline=True)
 def friction_tangent_curvature(s2, law):
     """``(max(μ', 0) − μ/s)/s²`` [s^3 m^-3] at ``s2 = s²``: the coefficient of
-    ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`).
-
-    Below v_s the study's law is a cubic, where it is ``−μ_s/v_s³`` exactly: nothing is
-    divided by a small slip. Where the law falls, its slope is left out (the falling part
-    stays explicit), so that the tangent is positive semi-definite.
-    """
-    inv_vs = law[LAW_INV_VS]
-    if s2 * inv_vs * inv_vs < 1.0:
-        return -law[LAW_MU_S] * inv_vs * inv_vs * inv_vs
-    s = s2 ** 0.5
-    return (max(friction_slope(s, law), 0.0) - friction_coefficient(s, law) / s) / s2
+    ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`;
+    :func:`rvcore.contact.coulomb_step.tangent_curvature`)."""
+    c = coulomb_step.tangent_curvature(s2, law)
+    return c if law[LAW_KIND] == COULOMB_STEP else math.nan
 
 
 @kernel(inline=True)
