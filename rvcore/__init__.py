@@ -1,8 +1,10 @@
 """rvcore: contact dynamics of RV-reducer main bearings. SI in, SI out; no I/O, no dask.
 
 The map of the code: one sub-package a concept, one job a module (docs/model.md describes
-the model they implement). A sub-package imports only from those listed above it
-(``tests/test_structure.py`` holds this); the two top modules and ``profile`` are shared.
+the model they implement). The layers, lowest first: ``_numba``, ``standards``,
+``output_table``, ``bearing``, ``contact``, ``profile``, ``dynamics``, ``statics``,
+``recording``, ``integrate``, ``simulation``. A module imports only from its own layer
+and those below it, and ``standards`` only from ``_numba`` (``tests/test_structure.py``).
 
 Shared
 - ``_numba``                   the one kernel decorator (flags, error model) and numba's cache, one directory per version of the sources

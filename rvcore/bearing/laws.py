@@ -7,6 +7,10 @@ kind, whether friction is on, and its parameters, packed once per case
 (``coulomb_step``: :mod:`rvcore.contact.coulomb_step`); nothing else reads a law's
 parameters. A second law is a name in :data:`FRICTION_LAWS`, its module beside
 ``coulomb_step`` and its select in each dispatcher of :mod:`rvcore.contact.laws`.
+A bearing file cannot name its law yet: that takes a ``friction.law`` key
+(``pipeline/schema/fields.py``), a field of :class:`rvcore.bearing.geometry.ContactLaw`,
+and :func:`rvcore.bearing.layout.compile_bearing` passing it as ``kind`` (the study's law
+is the only one, and adding the field would change the hashed configuration).
 """
 from __future__ import annotations
 
