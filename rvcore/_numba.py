@@ -3,12 +3,12 @@ and error model), and numba's on-disk cache of them kept consistent with rvcore'
 
 numba validates a cached function against the modification time of the file that
 defines it, not of the files its callees live in (numba's documented caching
-limitation). rvcore's kernels call across modules (``integrator`` → ``kernels`` →
-``contact``), so a change to ``contact.py`` alone would leave a stale compiled
-``integrate`` in the cache.
+limitation). rvcore's kernels call across modules and sub-packages (``integrate.loop`` →
+``dynamics.rhs`` → ``contact.laws``), so a change to ``contact/laws.py`` alone would leave
+a stale compiled ``integrate`` in the cache.
 
 Hence every version of rvcore's sources gets a cache directory of its own, named by the
-SHA-256 of all of them (:func:`cache_dir`), and numba is pointed there before any kernel
+SHA-256 of all of them, sub-packages included (:func:`cache_dir`), and numba is pointed there before any kernel
 is defined (:func:`use_source_keyed_cache`). A stamp beside one shared cache would not
 do: a process started from the old sources, still running (a sweep's workers, a test),
 can write kernels compiled from them after a process of the new sources has dropped the
