@@ -5,7 +5,7 @@ asserts a time (these machines are noisy).
 
 - ``full_cycle``: the study bearing (51 balls) through the whole 4.6 s cycle at
   660 deg/s, 30 kN radial and 10 kN axial, on one core, with each integrator of
-  :data:`rvcore.integrator.METHODS` in turn (``rk4_full_cycle_wall_s``,
+  :data:`rvcore.integrate.methods.METHODS` in turn (``rk4_full_cycle_wall_s``,
   ``imex_full_cycle_wall_s``, ``rk4_steps``, ...; ``speedup_vs_rk4`` = RK4's wall over
   IMEX's). The unprefixed figures (``full_cycle_wall_s``, ``steps``, ...) are those of
   the default method, ``method`` (``SolverSettings().method``).
@@ -61,8 +61,8 @@ def full_cycle_of(method: str) -> dict:
     A short run of the same case first loads every kernel the method calls, so that the
     timed run holds no compilation or cache loading.
     """
-    from rvcore.driver import run_case, warm_up
-    from rvcore.settings import SolverSettings
+    from rvcore.simulation.run import run_case, warm_up
+    from rvcore.simulation.settings import SolverSettings
 
     warm_up()
     bearing, profile, op = _study()
@@ -91,8 +91,8 @@ def full_cycle(methods=None) -> dict:
     default method's also unprefixed, ``method`` (the default) and, with both RK4 and
     IMEX, ``speedup_vs_rk4`` = RK4's full-cycle wall time over IMEX's [-].
     """
-    from rvcore.settings import SolverSettings
-    from rvcore.integrator import METHODS
+    from rvcore.simulation.settings import SolverSettings
+    from rvcore.integrate.methods import NAMES as METHODS
 
     default = SolverSettings().method
     methods = tuple(methods or METHODS)
@@ -114,17 +114,17 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
 
     The accuracy both must reach is measured against our RK4 at a step 8x smaller than
     RK4's own, whatever ``method`` is. ``ours_window_rhs_evaluations`` counts 4 per step
-    (+1) for either method, and 4 per substep of an IMEX step taken again (rvcore.imex).
+    (+1) for either method, and 4 per substep of an IMEX step taken again (rvcore.integrate.imex).
     """
     from scipy.integrate import solve_ivp
 
-    from rvcore import integrator as ig
-    from rvcore.accumulate import build_plan, new_accumulators
-    from rvcore.imex import SUBSTEPS
-    from rvcore.timestep import pocket_energy_tolerance, tangent_load_tolerance, time_step
-    from rvcore.initial_state import initial_state, peak_contact_load
-    from rvcore.kernels import new_diagnostics, rhs
-    from rvcore.model import R_BALL0, compile_bearing
+    from rvcore.integrate import loop as ig
+    from rvcore.recording.plan import build_plan, new_accumulators
+    from rvcore.integrate.imex import SUBSTEPS
+    from rvcore.integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance, time_step
+    from rvcore.simulation.initial_state import initial_state, peak_contact_load
+    from rvcore.dynamics.rhs import new_diagnostics, rhs
+    from rvcore.bearing.layout import R_BALL0, compile_bearing
 
     bearing, profile, op = _study()
     model = compile_bearing(bearing)
@@ -154,7 +154,7 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
                                                     tangent_load_tolerance(q_peak))
         wall = time.perf_counter() - t0
         assert status == ig.OK
-        # a step taken again in substeps (rvcore.imex) evaluates 4 per substep besides its own
+        # a step taken again in substeps (rvcore.integrate.imex) evaluates 4 per substep besides its own
         counts.append(4 * n + 1 + 4 * SUBSTEPS * substepped)
         return y, wall
 
@@ -255,9 +255,9 @@ def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
     """Wall time of the Normal-class study case over the perfect one (module docstring)."""
     import dataclasses
 
-    from rvcore.driver import run_case
-    from rvcore.settings import SolverSettings
-    from rvcore.imperfections import Imperfections
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
+    from rvcore.bearing.imperfections import Imperfections
 
     bearing, profile, op = _study()
     normal = dataclasses.replace(bearing, rows=tuple(

@@ -80,7 +80,10 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipkm1, elliprd
 
-from rvcore.geometry import INNER, OUTER
+#: The two raceways' labels, shared by every module that names a ring (rvcore.bearing.geometry
+#: re-exports them).
+INNER = 0
+OUTER = 1
 
 __all__ = [
     "HertzContact",
@@ -341,7 +344,7 @@ def _race_curvatures(ball_diameter, pitch_diameter, curvature_ratio, contact_ang
     else:
         key = None
     if key not in ("inner", "outer"):
-        raise ValueError(f"ring must be 'inner' or 'outer' (or rvcore.geometry.INNER={INNER} / "
+        raise ValueError(f"ring must be 'inner' or 'outer' (or rvcore.hertz.INNER={INNER} / "
                          f"OUTER={OUTER}), got {ring!r}")
     gamma = d * max(math.cos(alpha), 0.0) / dm
     if gamma >= 1.0:
@@ -371,7 +374,7 @@ def race_contact(ball_diameter, pitch_diameter, curvature_ratio, contact_angle, 
     contact_angle : float
         ``α`` [rad], in [−π/2, π/2].
     ring : {"inner", "outer"} or int
-        Which raceway; ``rvcore.geometry.INNER`` / ``OUTER`` are accepted too.
+        Which raceway; ``rvcore.hertz.INNER`` / ``OUTER`` are accepted too.
     e_eff : float
         Effective modulus ``E'`` [Pa].
 

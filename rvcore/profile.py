@@ -39,9 +39,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from ._numba import kernel
 
-from .contact import unit_step, unit_step_slope
+from .contact.step import unit_step, unit_step_slope
 
 LINEAR = 0
 SMOOTHSTEP = 1
@@ -222,7 +222,7 @@ class ResolvedProfile:
         return channel_value(table, meta, channel, t)
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _segment(table, meta, c, t):
     n = meta[c, 0]
     times = table[c, 0]
@@ -236,7 +236,7 @@ def _segment(table, meta, c, t):
     return k
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def channel_value(table, meta, c, t):
     """Value of channel ``c`` at time ``t`` (SI)."""
     n = meta[c, 0]
@@ -253,7 +253,7 @@ def channel_value(table, meta, c, t):
     return v0 + (v1 - v0) * s
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def channel_rate(table, meta, c, t):
     """Time derivative of channel ``c`` at time ``t`` (SI per second)."""
     n = meta[c, 0]
@@ -268,7 +268,7 @@ def channel_rate(table, meta, c, t):
     return (v1 - v0) / h
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def _antiderivative(table, meta, c, t):
     """``∫`` of channel ``c`` from its first breakpoint to ``t`` (negative before it)."""
     n = meta[c, 0]
@@ -289,7 +289,7 @@ def _antiderivative(table, meta, c, t):
     return total + values[n - 1] * (t - times[n - 1])
 
 
-@njit(cache=True, nogil=True, error_model="numpy")
+@kernel
 def channel_integral(table, meta, c, t):
     """``∫₀ᵗ`` of channel ``c`` (SI times seconds): for the speed channel, the angle the
     inner ring has turned through since t = 0 [rad], exact for either interpolation."""

@@ -1,5 +1,6 @@
-"""The code's structure, as the project keeps it: modules under 500 lines, no private
-name imported from another module, every project import resolvable, and every design
+"""The code's structure, as the project keeps it: rvcore's layers (which sub-package may
+import which), its map (the package docstring names every module), no private name
+imported from another module, every project import resolvable, and every design
 reference pointing into docs/ (the project stands alone)."""
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 PACKAGES = ("rvcore", "pipeline")
 SOURCES = sorted(p for pkg in PACKAGES + ("tests",) for p in (REPO / pkg).rglob("*.py") if "__pycache__" not in p.parts)
-MAX_LINES = 500
+#: rvcore's own shared module (the kernel decorator and the cache): private to the
+#: project, not to one module.
+SHARED_PRIVATE = "rvcore._numba"
 
 
 def _module_name(path: Path) -> str:
@@ -40,12 +43,6 @@ def _imports(path: Path):
                 yield node.lineno, a.name, []
 
 
-@pytest.mark.parametrize("path", [p for p in SOURCES if p.parts[len(REPO.parts)] in PACKAGES],
-                         ids=lambda p: str(p.relative_to(REPO)))
-def test_module_is_at_most_500_lines(path):
-    assert len(path.read_text().splitlines()) <= MAX_LINES
-
-
 def _project_imports():
     """``(where, module, names)`` of every import of the project's own modules."""
     for path in SOURCES:
@@ -57,7 +54,12 @@ def _project_imports():
 def test_no_private_name_is_imported_from_another_module():
     found = []
     for where, module, names in _project_imports():
-        private = [n for n in names + module.split(".") if n.startswith("_") and not n.startswith("__")]
+        parts = names + module.split(".")
+        if module == SHARED_PRIVATE:
+            parts = names
+        elif module == "rvcore":
+            parts = [n for n in parts if n != "_numba"]
+        private = [n for n in parts if n.startswith("_") and not n.startswith("__")]
         if private:
             found.append(f"{where}: {module} {private}")
     assert not found, "\n".join(found)
@@ -95,3 +97,96 @@ def test_design_references_point_into_docs():
                 bad.append(f"{path.relative_to(REPO)}: {m.group(0)}")
         bad += [f"{path.relative_to(REPO)}: pipeline.md" for _ in re.finditer(r"\bpipeline\.md", text)]
     assert not bad, "\n".join(bad)
+
+
+#: rvcore's layers, lowest first: a module may import from its own layer and the layers
+#: below it, never from one above (docs: the map in rvcore/__init__.py).
+LAYERS = ("_numba", "hertz", "standards", "output_table", "bearing", "contact", "profile", "dynamics", "statics",
+          "recording", "integrate", "simulation")
+#: What a layer may import besides itself, where the rule is tighter than "any layer below".
+ONLY = {"hertz": {"_numba"}, "standards": {"_numba", "hertz"}}
+RVCORE = REPO / "rvcore"
+
+
+def _layer(module: str) -> str:
+    """The layer of ``rvcore.<layer>[.<module>]``."""
+    return module.split(".")[1]
+
+
+def _rvcore_imports():
+    """``(where, importing layer, imported layer)`` of every import between rvcore's layers."""
+    for path in sorted(RVCORE.rglob("*.py")):
+        if "__pycache__" in path.parts or path == RVCORE / "__init__.py":
+            continue
+        here = _layer(_module_name(path))
+        for line, module, names in _imports(path):
+            if module.split(".")[0] != "rvcore":
+                continue
+            targets = [module] if module != "rvcore" else [f"rvcore.{n}" for n in names]
+            for target in targets:
+                if target.count(".") == 1 and target.split(".")[1] in LAYERS and _layer(target) == here:
+                    continue
+                yield f"{path.relative_to(REPO)}:{line}", here, _layer(target)
+
+
+def test_every_rvcore_module_sits_in_a_layer():
+    layers = {_layer(_module_name(p)) for p in RVCORE.rglob("*.py")
+              if "__pycache__" not in p.parts and p != RVCORE / "__init__.py"}
+    assert layers == set(LAYERS)
+
+
+def _upward(edges) -> list:
+    """The ``(where, layer, imported layer)`` edges that break the layer rule."""
+    return [f"{where}: {here} imports {there}" for where, here, there in edges
+            if there != here and (there not in LAYERS or LAYERS.index(there) > LAYERS.index(here)
+                                  or (here in ONLY and there not in ONLY[here]))]
+
+
+def test_no_rvcore_module_imports_from_a_layer_above_its_own():
+    edges = list(_rvcore_imports())
+    assert ("x", "dynamics", "contact") in [("x", h, t) for _, h, t in edges]  # the walk sees imports
+    upward = _upward(edges)
+    assert not upward, "\n".join(upward)
+
+
+def test_the_layer_rule_flags_an_upward_import_and_passes_a_downward_one():
+    assert _upward([("a.py:1", "standards", "bearing")]) == ["a.py:1: standards imports bearing"]
+    assert _upward([("a.py:1", "standards", "output_table")])   # below it, yet not _numba
+    assert _upward([("a.py:1", "contact", "statics")])
+    assert _upward([("a.py:1", "simulation", "integrate"), ("a.py:2", "standards", "_numba")]) == []
+
+
+def _map_entries() -> set:
+    """The modules named in rvcore's map (its docstring's ``- ``name`` `` lines)."""
+    import rvcore
+
+    return set(re.findall(r"^- ``([a-z_0-9.]+)``", rvcore.__doc__, flags=re.M))
+
+
+def test_every_module_named_in_the_map_exists_and_every_module_is_named():
+    on_disk = {_module_name(p).removeprefix("rvcore.") for p in RVCORE.rglob("*.py")
+               if "__pycache__" not in p.parts and p.name != "__init__.py"}
+    named = _map_entries()
+    assert named - on_disk == set(), "named in rvcore/__init__.py but not there"
+    assert on_disk - named == set(), "there but not named in rvcore/__init__.py"
+
+
+def test_every_kernel_is_compiled_by_the_one_decorator():
+    """No module of rvcore calls numba's ``njit``/``jit`` itself: every kernel goes
+    through ``rvcore._numba.kernel``, which sets the flags and the error model once."""
+    found = [f"{p.relative_to(REPO)}:{n}" for p in sorted(RVCORE.rglob("*.py"))
+             if "__pycache__" not in p.parts and p.name != "_numba.py"
+             for n, line in enumerate(p.read_text().splitlines(), 1)
+             if re.search(r"\b(njit|jit|vectorize|generated_jit)\s*\(|@(njit|jit)\b|from numba import", line)]
+    assert not found, "\n".join(found)
+
+
+def test_the_kernel_decorator_sets_the_error_model_and_no_fast_math():
+    from rvcore.contact.laws import hertz_load
+    from rvcore.dynamics.rhs import rhs
+
+    for fn in (rhs, hertz_load):
+        options = fn.targetoptions
+        assert options["error_model"] == "numpy" and options["fastmath"] is False
+        assert options["nogil"] is True
+    assert hertz_load.targetoptions["inline"] == "always" and rhs.targetoptions["inline"] == "never"

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rvcore.outputs import PHASE, STEADY, outputs_of
+from rvcore.output_table import PHASE, STEADY, outputs_of
 from rvcore.profile import PHASES
 
 from ..io.netcdf import CASE_STATUS, case_status_variable
@@ -39,7 +39,7 @@ _DISPLACEMENT_METRICS = tuple(f"{s}_displacement_{k}" for s in ("radial", "axial
 # whose case files lack these variables is reported without them.
 
 #: Stiffness at the steady operating point, one scalar per case (no ``phase``):
-#: name -> (units, long_name), from the output table (rvcore.outputs).
+#: name -> (units, long_name), from the output table (rvcore.output_table).
 STIFFNESS = {o.name: (o.units, o.long_name) for o in outputs_of(STEADY, group="stiffness")
              if o.name.endswith("_stiffness")}
 #: The same with every other coordinate free (1/C_ii of the compliance), beside each.

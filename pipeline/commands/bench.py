@@ -24,7 +24,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from rvcore.integrator import METHODS
+    from rvcore.integrate.methods import NAMES as METHODS
 
     from ..bench import run_all
 

@@ -26,7 +26,7 @@ import json
 import math
 import sys
 
-from rvcore import geometry as geo
+from rvcore.bearing import geometry as geo
 from rvcore.profile import PHASES
 
 from ..errors import ConfigError, UserError
@@ -117,7 +117,7 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
             "cage_mass_kg": cage_mass,
             "cage_guidance": row.cage.guidance,
         })
-    from rvcore.preload import preload_force
+    from rvcore.statics.preload import preload_force
 
     inner_mass, _, _ = geo.inner_ring_mass_properties(bearing)
     out = {"kind": "bearing", "name": bearing.name}

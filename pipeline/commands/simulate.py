@@ -19,7 +19,7 @@ def add_arguments(parser):
 
 
 def run(args):
-    from rvcore.results import SimulationError
+    from rvcore.recording.results import SimulationError
     from ..io import write_atomic
     from ..run import run_one_case
     from ..run.estimate import say_if_compiling

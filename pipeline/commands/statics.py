@@ -35,7 +35,7 @@ def add_arguments(parser):
 
 def stiffness_units() -> list:
     """Units of each entry of the stiffness matrix, as nested lists like the matrix."""
-    from rvcore.stiffness import COORDINATE_UNITS
+    from rvcore.statics.stiffness import COORDINATE_UNITS
 
     return [[f"{_LOAD_UNITS[i]}/{COORDINATE_UNITS[j]}" for j in range(5)] for i in range(5)]
 
@@ -54,12 +54,12 @@ def _finite(x):
 
 
 def run(args):
-    from rvcore.imperfections import realize
-    from rvcore.life import LifeError, dynamic_rating_basis, static_life
-    from rvcore.preload import preload_force
-    from rvcore.quasistatic import NoEquilibriumError, solve_statics
-    from rvcore.contact import LOADED_BALL_LOAD
-    from rvcore.stiffness import COORDINATES, stiffness_scalars
+    from rvcore.bearing.imperfections import realize
+    from rvcore.standards.iso16281 import LifeError, dynamic_rating_basis, static_life
+    from rvcore.statics.preload import preload_force
+    from rvcore.statics.equilibrium import NoEquilibriumError, solve_statics
+    from rvcore.contact.laws import LOADED_BALL_LOAD
+    from rvcore.statics.stiffness import COORDINATES, stiffness_scalars
 
     _check_runout(args)   # before any work
     sweep = one_case_sweep(args, profile=None)
@@ -136,7 +136,7 @@ def run(args):
             "stiffness_matrix_note": ("K[i][j] = -dF_i/du_j at the equilibrium: rows the ring's force "
                                       "and moment (Fx, Fy, Fz [N], Mx, My [N m]), columns its pose "
                                       "(x, y, z [m], tilt_x, tilt_y [rad]); SI"),
-            # max|K(h/2) - K(h)|/max|K| of the plain central difference (rvcore.stiffness):
+            # max|K(h/2) - K(h)|/max|K| of the plain central difference (rvcore.statics.stiffness):
             # how converged the difference is before its Richardson extrapolation
             "stiffness_matrix_step_change": st.stiffness_change,
             "radial_stiffness_N_per_m": k_radial,
@@ -249,8 +249,8 @@ def _runout(args, bearing, op, mx: float, my: float):
     if mx or my:
         raise UserError("--runout takes --moment only (about the axis normal to the radial load), "
                         "not --moment-x/--moment-y")
-    from rvcore.quasistatic import NoEquilibriumError
-    from rvcore.runout import runout_path
+    from rvcore.statics.equilibrium import NoEquilibriumError
+    from rvcore.statics.runout import runout_path
 
     try:
         return runout_path(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
@@ -275,13 +275,13 @@ def _check_runout(args) -> None:
 
 
 def _palmgren_basis(bearing) -> str:
-    from rvcore.friction_moment import palmgren_basis
+    from rvcore.standards.palmgren import palmgren_basis
 
     return palmgren_basis(bearing.rows[0].nominal_contact_angle)
 
 
 def _published_spread() -> str:
-    from rvcore.friction_moment import published_spread_text
+    from rvcore.standards.palmgren import published_spread_text
 
     return published_spread_text()
 
@@ -293,9 +293,9 @@ def _num(x) -> str:
 
 def _ratings(bearing, st, fr: float, fa: float) -> dict:
     """ISO 76's s0 both ways and Palmgren's load term at these loads [SI]; NaN where not rated."""
-    from rvcore.friction_moment import FrictionMomentError, friction_moment
-    from rvcore.life import LifeError
-    from rvcore.static_rating import (StaticRatingError, static_safety_factor,
+    from rvcore.standards.palmgren import FrictionMomentError, friction_moment
+    from rvcore.standards.iso16281 import LifeError
+    from rvcore.standards.iso76 import (StaticRatingError, static_safety_factor,
                                       static_safety_factor_from_pressure)
 
     out = {"static_safety_factor_pressure": float(static_safety_factor_from_pressure(st.max_contact_pressure))}

@@ -6,7 +6,7 @@ The case dataset (one per ``cases/<id>.nc``) is the public interface of a case:
 - dimension ``phase`` (int8 flags 0 startup, 1 steady, 2 deceleration);
 - scalar coordinates ``speed`` [degree s-1], ``radial_load`` [N], ``axial_load`` [N];
 - every output of the case, with the dimensions, units and long_name the output table
-  gives it (:mod:`rvcore.outputs`; listed in docs/outputs.md): time series over
+  gives it (:mod:`rvcore.output_table`; listed in docs/outputs.md): time series over
   ``elapsed_time``, phase metrics over ``phase``, scalars, the steady phase's spectra over
   ``frequency`` or ``kinematic``; a bearing of several rows adds ``row`` to its cage
   variables;
@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rvcore.outputs import (DUTY_CYCLE as OUT_DUTY_CYCLE, OUTPUTS, PHASE as OUT_PHASE, SERIES as OUT_SERIES,
+from rvcore.output_table import (DUTY_CYCLE as OUT_DUTY_CYCLE, OUTPUTS, PHASE as OUT_PHASE, SERIES as OUT_SERIES,
                             SPECTRUM as OUT_SPECTRUM, STEADY as OUT_STEADY, outputs_of, units_and_long_names)
 from rvcore.profile import PHASES
 
@@ -40,7 +40,7 @@ REFERENCES = (
     "service conditions (multibody study; speed 120-660 deg/s, radial load 20-40 kN)."
 )
 
-#: name -> (units, long_name) of every time series (the output table, rvcore.outputs).
+#: name -> (units, long_name) of every time series (the output table, rvcore.output_table).
 SERIES = units_and_long_names(OUT_SERIES, over="")
 SERIES.update(units_and_long_names(OUT_SERIES, over="row"))
 #: name -> (units, long_name) of every phase metric.
@@ -49,7 +49,7 @@ PHASE_METRICS = {**units_and_long_names(OUT_PHASE, over=""), **units_and_long_na
 SENSOR_SERIES = units_and_long_names(OUT_SERIES, over="sensor")
 #: Sensor phase metrics over (phase, sensor).
 SENSOR_METRICS = units_and_long_names(OUT_PHASE, over="sensor")
-#: The steady phase's spectra (rvcore.spectra): name -> (dims, units, long_name).
+#: The steady phase's spectra (rvcore.recording.spectra): name -> (dims, units, long_name).
 SPECTRA = {o.name: (o.dims, o.units, o.long_name) for o in outputs_of(OUT_SPECTRUM)}
 #: Variables of a bearing with several rows of balls gain a trailing ``row`` dimension
 #: (one value per row); a single row keeps the dims of :data:`VARIABLES`.
@@ -86,7 +86,7 @@ def phase_coordinate() -> xr.DataArray:
 
 def kinematic_coordinate() -> xr.DataArray:
     """The int8 ``kinematic`` coordinate (which kinematic frequency) with CF flag attributes."""
-    from rvcore.spectra import KINEMATIC_NAMES
+    from rvcore.recording.spectra import KINEMATIC_NAMES
 
     return xr.DataArray(np.arange(len(KINEMATIC_NAMES), dtype=np.int8), dims="kinematic",
                         attrs={"long_name": "kinematic frequency of the bearing",
@@ -95,7 +95,7 @@ def kinematic_coordinate() -> xr.DataArray:
 
 
 def sensor_coordinates(sensors) -> dict:
-    """The ``sensor`` dimension's coordinates for a sequence of ``rvcore.driver.Sensor``."""
+    """The ``sensor`` dimension's coordinates for a sequence of ``rvcore.simulation.settings.Sensor``."""
     names = [s.name.replace(" ", "_") for s in sensors]
     rows = np.array([s.as_row() for s in sensors], dtype=np.float64).reshape(-1, 6)
     coords = {"sensor": ("sensor", np.arange(len(names), dtype=np.int8),
@@ -115,11 +115,11 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
                  bearing_name: str = "", profile_name: str = "",
                  caveats=(), assumptions=(), history: str | None = None,
                  sensors=(), realization: int = -1) -> xr.Dataset:
-    """Label one :class:`rvcore.driver.CaseResult`.
+    """Label one :class:`rvcore.simulation.run.CaseResult`.
 
     Parameters
     ----------
-    result : rvcore.driver.CaseResult
+    result : rvcore.simulation.run.CaseResult
     speed : float
         Operating speed [rad s^-1]; stored as the ``speed`` coordinate in degree s-1.
     radial_load, axial_load : float
@@ -128,7 +128,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         The resolved configuration as TOML and its hash.
     caveats, assumptions : sequence of str
         Geometry caveats (e.g. accepted ball overlap) and assumed parameter names.
-    sensors : sequence of rvcore.driver.Sensor
+    sensors : sequence of rvcore.simulation.settings.Sensor
         The sensors the case was run with (labels the ``sensor`` dimension).
     realization : int
         Seed of the random start (−1: balls at their pocket centres).
@@ -173,7 +173,7 @@ def case_dataset(result, *, speed: float, radial_load: float, axial_load: float,
         "title": f"RV main-bearing dynamics: {bearing_name}, {profile_name} cycle, "
                  f"{math.degrees(speed):.6g} deg/s, {radial_load / 1e3:.6g} kN radial, {axial_load / 1e3:.6g} kN axial",
         "source": f"rv-bearing-sweep {__version__} (rvcore numba contact dynamics)",
-        "history": history or history_line("rvcore.driver.run_case"),
+        "history": history or history_line("rvcore.simulation.run.run_case"),
         "references": REFERENCES,
         "configuration": configuration,
         "configuration_hash": configuration_hash,
@@ -203,7 +203,7 @@ def variables_markdown() -> str:
     kind (series, phase metrics, steady scalars, duty cycle, spectra), one line a row with
     its name, units, dimensions and long_name (tests/pipeline/test_output_table.py holds
     the docs to it)."""
-    from rvcore.outputs import DUTY_CYCLE, PHASE, SERIES, SPECTRUM, STEADY
+    from rvcore.output_table import DUTY_CYCLE, PHASE, SERIES, SPECTRUM, STEADY
 
     titles = ((SERIES, "Time series, sampled at the output rate"),
               (PHASE, "Phase metrics, reduced at every integrator step"),

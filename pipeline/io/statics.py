@@ -120,7 +120,7 @@ def statics_dataset(corners: list, *, gravity: bool, tilt: str, sweep_name: str 
     ds.attrs = {
         "Conventions": "CF-1.8",
         "title": f"Quasi-static load distribution at the extreme operating points of sweep '{sweep_name}'",
-        "source": f"rv-bearing-sweep {__version__}: rvcore.operating.steady_statics at each case's steady "
+        "source": f"rv-bearing-sweep {__version__}: rvcore.statics.operating.steady_statics at each case's steady "
                   "operating point (rigid rings, Hertz at every contact, balls in equilibrium)",
         "history": history_line(f"pipeline.run.corners: statics of {len(corners)} extreme case"
                                 f"{'s' if len(corners) != 1 else ''}"),

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rvcore.geometry import ball_mass
+from rvcore.bearing.geometry import ball_mass
 from rvcore.profile import PHASES
 
 from ..analysis import DISPLACEMENT_COORD, REALIZATION
@@ -268,7 +268,7 @@ def sensors(ds) -> list:
 def bearing_numbers(ctx: Context) -> dict:
     """The first row's ball diameter ``D`` [m], ball density ``rho`` [kg m-3], ball mass
     ``m_b`` [kg], pitch diameter ``d_m`` [m] and nominal (outer) contact angle ``alpha``
-    [rad], read from the stored configuration's :class:`rvcore.geometry.Bearing`; NaN each
+    [rad], read from the stored configuration's :class:`rvcore.bearing.geometry.Bearing`; NaN each
     without a readable configuration."""
     conf = ctx.configuration
     if conf is None:

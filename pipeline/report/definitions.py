@@ -5,8 +5,8 @@ Every number of this section is read from ``metrics.nc`` (the per-case scalars a
 steady operating point and the phase metrics); nothing is recomputed here. Which basis the
 catalogue ratings took (ISO 76's f0 reduced, ISO 281's C_r refused, where the grooves are
 more open than 0.52/0.53 D_w) and which of Palmgren's rows the friction moment used are read
-from the stored configuration's bearing (rvcore.life.rating_caveats,
-rvcore.friction_moment.palmgren_basis).
+from the stored configuration's bearing (rvcore.standards.iso16281.rating_caveats,
+rvcore.standards.palmgren.palmgren_basis).
 """
 from __future__ import annotations
 
@@ -14,9 +14,9 @@ import math
 
 import numpy as np
 
-from rvcore.contact import LOADED_BALL_LOAD
-from rvcore.friction_moment import palmgren_basis, published_spread_text
-from rvcore.life import rating_caveats
+from rvcore.contact.laws import LOADED_BALL_LOAD
+from rvcore.standards.palmgren import palmgren_basis, published_spread_text
+from rvcore.standards.iso16281 import rating_caveats
 
 from .context import Context
 from .render import Bullets, Heading, Para, Table, Warning_, fmt_number
@@ -68,7 +68,7 @@ def _stability(ctx: Context) -> list:
 
 
 def _bearing(ctx: Context):
-    """The sweep's :class:`rvcore.geometry.Bearing` from its stored configuration, or None."""
+    """The sweep's :class:`rvcore.bearing.geometry.Bearing` from its stored configuration, or None."""
     conf = getattr(ctx, "configuration", None)
     return None if conf is None else conf.bearing
 

@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from rvcore.spectra import KINEMATIC_NAMES
+from rvcore.recording.spectra import KINEMATIC_NAMES
 
 from .context import SENSOR, Context, extra_dims
 from .figures import new_figure, save_figure

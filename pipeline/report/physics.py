@@ -13,6 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from rvcore.bearing.geometry import centrifugal_ball_load
+
 from ..analysis import nearest
 from .context import SENSOR, Context, bearing_numbers, on_base_grid, realizations, sensors
 from .render import Heading, Para, fmt_kn, fmt_number, fmt_sci, fmt_speed, fmt_unit
@@ -86,7 +88,7 @@ def centrifugal_paragraph(ctx: Context, span: Span) -> str:
     s, load = span.fastest, span.load
     w_c, w_c_src = _cage_speed(ctx, s, load, bn)
     r = bn["d_m"] / 2.0
-    f_c = bn["m_b"] * r * w_c**2
+    f_c = centrifugal_ball_load(bn["m_b"], r, w_c)
     q = _steady_contact_load(ctx, s, load)
     if not (math.isfinite(f_c) and math.isfinite(q) and q > 0):
         missing = [k for k, v in (("ball diameter", bn["D"]), ("ball density", bn["rho"]),

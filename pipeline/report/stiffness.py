@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcore.geometry import ball_mass, epicyclic_cage_ratio
+from rvcore.bearing.geometry import ball_mass, epicyclic_cage_ratio
+from rvcore.bearing.geometry import centrifugal_ball_load as centrifugal_force
 
 from ..analysis import REALIZATION, STIFFNESS
 from .context import SENSOR, Context
@@ -169,7 +170,7 @@ def centrifugal_ball_load(ctx: Context):
         return math.nan, w_deg
     b = conf.bearing
     w_i = math.radians(w_deg)
-    forces = [ball_mass(r, b.ball_material) * r.pitch_diameter / 2.0 * (w_i * epicyclic_cage_ratio(r)) ** 2
+    forces = [centrifugal_force(ball_mass(r, b.ball_material), r.pitch_diameter / 2.0, w_i * epicyclic_cage_ratio(r))
               for r in b.rows]
     return max(forces), w_deg
 

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcore.outputs import OUTPUT, SERIES, SPECTRUM
+from rvcore.output_table import OUTPUT, SERIES, SPECTRUM
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION
@@ -104,13 +104,13 @@ COLUMNS = (
 
 
 def _check_columns() -> None:
-    """Every column reads an output of the output table (rvcore.outputs), a per-case one
+    """Every column reads an output of the output table (rvcore.output_table), a per-case one
     (metrics.nc holds no series): a renamed output fails at import, not in a report."""
     for col in COLUMNS:
         row = OUTPUT.get(col.variable)
         if row is None or row.kind in (SERIES, SPECTRUM):
             raise ValueError(f"pipeline.report.summary: column {col.key!r} reads {col.variable!r}, "
-                             "which is no per-case output of rvcore.outputs")
+                             "which is no per-case output of rvcore.output_table")
 
 
 _check_columns()

@@ -1,6 +1,6 @@
 """One case of a sweep: compute it (on any worker) and label it (in the parent).
 
-Workers only compute: :func:`compute_case` returns the :class:`rvcore.driver.CaseResult`
+Workers only compute: :func:`compute_case` returns the :class:`rvcore.simulation.run.CaseResult`
 (or the reason it failed) as a :class:`CaseOutcome`, and the parent labels it with
 :func:`label_case`, so that the files do not depend on where a case ran.
 """
@@ -29,7 +29,7 @@ class CaseOutcome:
     ----------
     case_id : str
     ok : bool
-    result : rvcore.driver.CaseResult or None
+    result : rvcore.simulation.run.CaseResult or None
         The arrays when ``ok``.
     reason : str
         One line: why it failed.
@@ -49,7 +49,7 @@ class CaseOutcome:
 
 def _default_case_fn():
     # Looked up at call time so that the core (or a test's monkeypatch) is current.
-    from rvcore import driver
+    from rvcore.simulation import run as driver
 
     return driver.run_case
 
@@ -69,7 +69,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
         The resolved case (SI).
     case_fn : callable, optional
         ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
-        ``rvcore.driver.run_case``.
+        ``rvcore.simulation.run.run_case``.
     """
     t0 = time.perf_counter()
     fn = case_fn if case_fn is not None else _default_case_fn()
@@ -81,7 +81,7 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
     return CaseOutcome(spec.case_id, True, result, seconds=time.perf_counter() - t0)
 
 
-def label_case(spec: CaseSpec, result, *, source: str = "rvcore.driver.run_case",
+def label_case(spec: CaseSpec, result, *, source: str = "rvcore.simulation.run.run_case",
                sweep_name: str = "") -> xr.Dataset:
     """The case file's dataset: :func:`pipeline.io.case.case_dataset` with the case's id.
 
@@ -115,7 +115,7 @@ def _with_info(result, info):
 
 def source_name(case_fn) -> str:
     if case_fn is None:
-        return "rvcore.driver.run_case"
+        return "rvcore.simulation.run.run_case"
     return f"{getattr(case_fn, '__module__', '?')}.{getattr(case_fn, '__qualname__', repr(case_fn))}"
 
 

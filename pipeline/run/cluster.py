@@ -31,7 +31,7 @@ def warm_up(case_fn) -> float:
     """Compile the numba kernels here, before any worker starts (real core only)."""
     if case_fn is not None:
         return 0.0
-    from rvcore.driver import warm_up as compile_kernels
+    from rvcore.simulation.run import warm_up as compile_kernels
 
     from .estimate import say_if_compiling
 
@@ -43,7 +43,7 @@ def warm_up(case_fn) -> float:
 
 def load_kernels_on_worker() -> None:
     """Import the core and load its numba cache in a worker, once, before any case."""
-    from rvcore.driver import warm_up
+    from rvcore.simulation.run import warm_up
 
     warm_up()
 
@@ -59,7 +59,7 @@ def estimated_cost(spec: CaseSpec) -> float:
     """A relative cost of a case, to start the longest ones first [-].
 
     The integrator's fixed step is inversely proportional to the peak contact load (the
-    friction-mode limit, ``rvcore.timestep.rk4_time_step``), and each step costs in
+    friction-mode limit, ``rvcore.integrate.step_size.rk4_time_step``), and each step costs in
     proportion to the number of balls, so the cost scales as
     ``balls × simulated time × peak load``, divided by the method's relative step length
     (:data:`_STEP_LENGTH`). The peak load is taken as the larger of the radial and axial

@@ -4,7 +4,7 @@ A designer reads the load distribution "at the operating point": the loads the p
 applies in the middle of its steady phase. Of the finished cases, those at the corners of
 the load-like quantities that vary over the sweep (radial load, axial load, tilting
 moment, the pair's preload) are solved once more with
-:func:`rvcore.operating.steady_statics` (rigid rings, Hertz at every contact, balls in
+:func:`rvcore.statics.operating.steady_statics` (rigid rings, Hertz at every contact, balls in
 equilibrium, the ring's weight when the sweep has gravity on), on the very bearing,
 profile and operating point the case ran with, and stored in ``statics.nc``
 (:mod:`pipeline.io.statics`) for the report to read.
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from rvcore.operating import steady_loads, steady_statics
+from rvcore.statics.operating import steady_loads, steady_statics
 
 from ..io.statics import STATICS_FILE, CornerStatics, statics_dataset, write_statics
 

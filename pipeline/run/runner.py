@@ -17,11 +17,11 @@ How a run goes
    without a record, it names the case in ``configuration_hash`` and every variable
    reads). Any other file is set aside as ``<name>.damaged`` with one line saying why;
    those cases and the rest are computed.
-3. The numba kernels are compiled in this process (``rvcore.driver.warm_up``) so that
+3. The numba kernels are compiled in this process (``rvcore.simulation.run.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
    process per core, one thread each), or on an existing cluster. Workers only
-   compute: each returns its :class:`rvcore.driver.CaseResult` (or the reason it
+   compute: each returns its :class:`rvcore.simulation.run.CaseResult` (or the reason it
    failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
    it, so the files do not depend on where a case ran and workers need no access to
    the output folder.
@@ -170,7 +170,7 @@ def run_sweep(sweep, out_dir=None, *, workers: int | None = None, scheduler: str
         Run the cases one after the other in this process, without dask.
     case_fn : callable, optional
         ``case_fn(bearing, profile, op, settings) -> CaseResult`` in place of
-        ``rvcore.driver.run_case`` (tests use synthetic results). It must be picklable
+        ``rvcore.simulation.run.run_case`` (tests use synthetic results). It must be picklable
         by reference or by value (cloudpickle) to run on a cluster.
     progress : bool
         Show a tqdm progress bar on stderr.

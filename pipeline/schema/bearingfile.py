@@ -1,22 +1,22 @@
-"""Bearing files: TOML in, a validated :class:`rvcore.geometry.Bearing` (SI) out.
+"""Bearing files: TOML in, a validated :class:`rvcore.bearing.geometry.Bearing` (SI) out.
 
 Which keys each table allows, every value's kind, bounds and default come from the
 schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.reader.Table`).
 This module adds what one field cannot say: the material's two forms, the cage's land
 values required when it is outer-land guided, two arcs at ±α, the friction speeds'
 order, gravity by mounting or vector, the assumptions list, a ``[pair]``'s two mirrored
-rows and their preload (:mod:`rvcore.preload`), and the geometry checks
-(``rvcore.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
+rows and their preload (:mod:`rvcore.statics.preload`), and the geometry checks
+(``rvcore.bearing.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
 format is described in :mod:`pipeline.schema.config`.
 """
 from __future__ import annotations
 
 import dataclasses
 
-from rvcore.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
+from rvcore.bearing.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
                              geometry_problems)
 
-from rvcore.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
+from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
 
 from ..errors import ConfigError
 from .reader import Table, short, top_table
@@ -119,11 +119,11 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
     [N], preload_offset [m]).
 
     The file gives one ``[[rows]]`` entry, the design of both rows; the rows are built by
-    :func:`rvcore.preload.mirrored_rows` at ∓row_spacing/2, their contact angles mirrored
+    :func:`rvcore.statics.preload.mirrored_rows` at ∓row_spacing/2, their contact angles mirrored
     as the arrangement says. The preload is applied later (:func:`_preload`), once the
     bearing has passed the geometry checks.
     """
-    from rvcore.preload import mirrored_rows
+    from rvcore.statics.preload import mirrored_rows
 
     file = top.file
     pair = top.table("pair")
@@ -194,8 +194,8 @@ def _pair_problems(bearing: Bearing):
 
 
 def _preload(bearing: Bearing, top: Table) -> Bearing:
-    """The pair with its preload applied (:func:`rvcore.preload.apply_preload`)."""
-    from rvcore.preload import apply_preload
+    """The pair with its preload applied (:func:`rvcore.statics.preload.apply_preload`)."""
+    from rvcore.statics.preload import apply_preload
 
     if not (bearing.preload > 0.0 or bearing.preload_offset != 0.0):
         return bearing
@@ -208,7 +208,7 @@ def _preload(bearing: Bearing, top: Table) -> Bearing:
 
 
 def extra_geometry_problems(bearing: Bearing):
-    """Checks beyond ``rvcore.geometry.geometry_problems``, as ``(key, value, reason)``.
+    """Checks beyond ``rvcore.bearing.geometry.geometry_problems``, as ``(key, value, reason)``.
 
     - the cage is no wider than the bearing, and wider than its pockets (``D + c_p``),
       or the pockets would cut the cage ring in two;
@@ -216,8 +216,8 @@ def extra_geometry_problems(bearing: Bearing):
       outer ring's envelope and above the outer groove's bottom (``d_m + D``), so that
       the outer ring has a land there at all.
     """
-    from rvcore.imperfections import Imperfections
-    from rvcore.tolerances import tolerance_problems
+    from rvcore.bearing.imperfections import Imperfections
+    from rvcore.standards.iso492 import tolerance_problems
 
     out = []
     for i, row in enumerate(bearing.rows):
@@ -325,7 +325,7 @@ def _lubricant(top: Table) -> Lubricant:
 
 
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
-    """Validate a bearing file's contents and build the :class:`rvcore.geometry.Bearing`.
+    """Validate a bearing file's contents and build the :class:`rvcore.bearing.geometry.Bearing`.
 
     Parameters
     ----------
@@ -336,7 +336,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
 
     Returns
     -------
-    rvcore.geometry.Bearing
+    rvcore.bearing.geometry.Bearing
         In SI, with ``warnings`` (accepted ball overlap) and ``assumptions``.
 
     Raises
@@ -364,7 +364,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       assumptions=_assumptions(top, raw), gravity=_gravity(top),
                       arrangement=arrangement, preload=preload, preload_offset=offset,
                       source=top.get("source"), description=top.get("description"),
-                      # left out: 0, "from the geometry" (rvcore.life)
+                      # left out: 0, "from the geometry" (rvcore.standards.iso16281)
                       dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
                       lubricant=_lubricant(top))
 

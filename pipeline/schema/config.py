@@ -9,7 +9,7 @@ Every quantity goes through :func:`pipeline.schema.units.parse_quantity`, so a f
 ``"23 mm"``, ``"15 deg"``, ``"250 N s/m"`` or a plain SI number. Every problem is a
 :class:`pipeline.errors.ConfigError` naming the file, the dotted key, the value as
 written and the reason: unknown keys (anywhere, nested too), missing required keys,
-wrong units, non-positive sizes, impossible geometry (``rvcore.geometry.geometry_problems``
+wrong units, non-positive sizes, impossible geometry (``rvcore.bearing.geometry.geometry_problems``
 plus the checks of :func:`extra_geometry_problems`).
 
 Key paths
@@ -51,8 +51,8 @@ design of both, and a ``[pair]`` table::
                    preload = 0 (a force) or preload_offset = 0 (the inner raceways' offset),
                    not both; a tandem pair takes neither
 
-The loader builds the rows at ∓row_spacing/2 with ``rvcore.preload.mirrored_rows`` and,
-when preloaded, solves the offset with ``rvcore.preload.apply_preload``.
+The loader builds the rows at ∓row_spacing/2 with ``rvcore.statics.preload.mirrored_rows`` and,
+when preloaded, solves the offset with ``rvcore.statics.preload.apply_preload``.
 ``rows[].radial_clearance`` may be negative: an interference (a radially preloaded row).
 
 Assumptions: TOML comments are not readable by ``tomllib``, so each assumed value

@@ -31,14 +31,14 @@ import math
 import re
 from dataclasses import dataclass
 
-from rvcore.settings import SolverSettings
-from rvcore.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
-from rvcore.model import MAX_ROW_BALLS
-from rvcore.tolerances import BALL_GRADES, TOLERANCE_CLASSES
-from rvcore.preload import ARRANGEMENTS
+from rvcore.simulation.settings import SolverSettings
+from rvcore.bearing.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
+from rvcore.bearing.layout import MAX_ROW_BALLS
+from rvcore.standards.iso492 import BALL_GRADES, TOLERANCE_CLASSES
+from rvcore.statics.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
-from rvcore.friction_moment import LUBRICATIONS
-from rvcore.geometry import Lubricant
+from rvcore.standards.palmgren import LUBRICATIONS
+from rvcore.bearing.geometry import Lubricant
 
 from ..errors import ConfigError
 
@@ -308,7 +308,7 @@ _PAIR = [
        bounds="nonnegative", default=0.0, source="preload",
        why="must not be negative: a preload force presses the rows against each other"),
     _q("pair.preload_offset", "length", "um",
-       "total axial offset of the rows' inner raceways that preloads the pair (rvcore.preload), instead of preload",
+       "total axial offset of the rows' inner raceways that preloads the pair (rvcore.statics.preload), instead of preload",
        bounds=None, default=0.0, source="preload_offset"),
 ]
 
@@ -373,7 +373,7 @@ def _solver_field(f) -> Field:
     if isinstance(f.default, bool):
         return Field(path, "boolean", "solver", default=f.default, doc=doc, source=f.name)
     if isinstance(f.default, str):
-        from rvcore.integrator import METHODS
+        from rvcore.integrate.methods import NAMES as METHODS
         return Field(path, "choice", "solver", default=f.default, choices=METHODS, doc=doc, source=f.name)
     if isinstance(f.default, int):
         return Field(path, "integer", "solver", default=f.default, minimum=-1, maximum=MAX_SEED, doc=doc,

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from rvcore.geometry import MOUNTINGS
+from rvcore.bearing.geometry import MOUNTINGS
 
 from . import fields as schema
 from .units import format_quantity
@@ -164,9 +164,9 @@ def parameter_table(bearing, profile=None, settings=None, symbols: bool = False)
 
     Parameters
     ----------
-    bearing : rvcore.geometry.Bearing
+    bearing : rvcore.bearing.geometry.Bearing
     profile : rvcore.profile.Profile, optional
-    settings : rvcore.driver.SolverSettings, optional
+    settings : rvcore.simulation.run.SolverSettings, optional
     symbols : bool
         Units as a reader writes them (``°/s``, ``µm``; :func:`display_unit`) rather than as
         the files spell them (``deg/s``, ``um``).

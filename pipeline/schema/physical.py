@@ -1,6 +1,6 @@
 """Physical bounds of a bearing's values, computed from the bearing itself.
 
-The geometry checks (:func:`rvcore.geometry.geometry_problems`,
+The geometry checks (:func:`rvcore.bearing.geometry.geometry_problems`,
 :func:`pipeline.schema.bearingfile.extra_geometry_problems`) refuse what cannot be built.
 These refuse what can be written but makes no bearing: a clearance, a ball, a raceway
 offset or waviness so large that the balls are crushed at rest or leave their groove, and
@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import math
 
-from rvcore import geometry as geo
+from rvcore.bearing import geometry as geo
 from rvcore.hertz import effective_modulus, race_contact
-from rvcore.static_rating import ISO76_BALL_PRESSURE
+from rvcore.standards.iso76 import ISO76_BALL_PRESSURE
 
 __all__ = ["static_limit", "physical_problems", "load_problems", "record_problems", "refuse_beyond_bounds", "MAX_RECORD_BYTES",
            "MAX_RUNOUT_POINTS"]
@@ -57,9 +57,9 @@ def static_limit(bearing: geo.Bearing, row: geo.Row) -> tuple:
 
     Parameters
     ----------
-    bearing : rvcore.geometry.Bearing
+    bearing : rvcore.bearing.geometry.Bearing
         For the materials [-].
-    row : rvcore.geometry.Row
+    row : rvcore.bearing.geometry.Row
         The row [-].
 
     Returns
@@ -216,10 +216,10 @@ def record_problems(settings, profile, bearing, sensors=()) -> list:
     - a fixed ``time_step`` computes one state a step: a stored sample more often than
       that repeats a state, so ``output_rate ≤ 1/time_step``;
     - the record holds ``output_rate × window`` samples of
-      :func:`rvcore.outputs.signal_count` signals of 8 bytes: at most
+      :func:`rvcore.output_table.signal_count` signals of 8 bytes: at most
       :data:`MAX_RECORD_BYTES`.
     """
-    from rvcore.outputs import signal_count
+    from rvcore.output_table import signal_count
 
     rate = settings.output_rate
     out = []

@@ -5,7 +5,7 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
-from rvcore.geometry import Bearing
+from rvcore.bearing.geometry import Bearing
 from rvcore.profile import Profile
 
 from ..errors import ConfigError

@@ -2,9 +2,9 @@
 
 :func:`pipeline.schema.read_sweep_file` writes the sweep's resolved configuration as the TOML
 global attribute ``configuration`` of ``sweep.nc`` (and of every case file): the plain
-form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.geometry.Bearing`,
-:class:`rvcore.profile.Profile`, :class:`rvcore.driver.SolverSettings` and
-:class:`rvcore.driver.Sensor`, plus ``name``, ``axes``, ``fixed``, ``case_ids`` and
+form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.bearing.geometry.Bearing`,
+:class:`rvcore.profile.Profile`, :class:`rvcore.simulation.run.SolverSettings` and
+:class:`rvcore.simulation.settings.Sensor`, plus ``name``, ``axes``, ``fixed``, ``case_ids`` and
 ``model_version``. :func:`stored_configuration` rebuilds those dataclasses field by field:
 nothing is guessed, and a text this version did not write is a
 :class:`pipeline.errors.ConfigError` naming the key and the reason.
@@ -16,9 +16,9 @@ import tomllib
 import typing
 from dataclasses import dataclass
 
-from rvcore.settings import Sensor, SolverSettings
-from rvcore.geometry import Arc, Bearing, Row
-from rvcore.imperfections import Imperfections, Waviness
+from rvcore.simulation.settings import Sensor, SolverSettings
+from rvcore.bearing.geometry import Arc, Bearing, Row
+from rvcore.bearing.imperfections import Imperfections, Waviness
 from rvcore.profile import Profile
 
 from ..errors import ConfigError
@@ -47,10 +47,10 @@ class StoredConfiguration:
         The sweep's name.
     model_version : int
         :data:`pipeline.schema.MODEL_VERSION` of the version that wrote it.
-    bearing : rvcore.geometry.Bearing
+    bearing : rvcore.bearing.geometry.Bearing
     profile : rvcore.profile.Profile
-    settings : rvcore.driver.SolverSettings
-    sensors : tuple of rvcore.driver.Sensor
+    settings : rvcore.simulation.run.SolverSettings
+    sensors : tuple of rvcore.simulation.settings.Sensor
     axes : dict
         Axis key -> list of coordinate values (SI).
     fixed : dict

@@ -11,7 +11,7 @@ import re
 from dataclasses import dataclass
 from typing import NamedTuple
 
-from rvcore.settings import SolverSettings
+from rvcore.simulation.settings import SolverSettings
 
 from ..errors import ConfigError
 from ..io.netcdf import cf_name
@@ -79,7 +79,7 @@ class Axis:
 
 def parse_sensors(raw, file) -> tuple:
     """``[[sensors]]``: name, position (three lengths) and direction (three numbers)."""
-    from rvcore.settings import Sensor
+    from rvcore.simulation.settings import Sensor
 
     if raw is None:
         return ()

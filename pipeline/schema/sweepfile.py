@@ -20,7 +20,7 @@ A sweep file is TOML::
     axial_load = "10 kN"
     "contact.damping" = "300 N s/m"
 
-    [solver]                                # fields of rvcore.driver.SolverSettings
+    [solver]                                # fields of rvcore.simulation.run.SolverSettings
     output_rate = "1000 Hz"
     method = "rk4"                          # the integrator: "rk4" or "imex"
     time_step = "0 s"                       # 0: derived from the stiffest contact
@@ -52,7 +52,7 @@ Keys
 ----
 - operating point: ``speed``, ``radial_load``, ``axial_load`` (all three required, as
   an axis or a fixed value), ``moment``, ``load_angle`` (default 0);
-- ``solver.<field>``: a :class:`rvcore.driver.SolverSettings` field;
+- ``solver.<field>``: a :class:`rvcore.simulation.run.SolverSettings` field;
 - ``profile.<key path>``: a value of the profile file;
 - ``bearing.<key path>``, or the key path alone when it has a ``.`` or ``[i]``
   (``friction.mu_static``, ``rows[0].cage.pocket_clearance``): a value of the bearing
@@ -87,9 +87,11 @@ from pathlib import Path
 
 import tomli_w
 
-from rvcore.settings import SolverSettings
-from rvcore.geometry import Bearing
+from rvcore.simulation.settings import SolverSettings
+from rvcore.bearing.geometry import Bearing
 from rvcore.profile import OperatingPoint, Profile
+
+from rvcore import MODEL_VERSION
 
 from ..errors import ConfigError
 from . import fields
@@ -108,10 +110,6 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
            "Sweep", "case_configuration", "plain", "canonical_json", "hash_id", "read_sweep_file",
            "sweep_from_dict"]
 
-#: Version of the model's equations and numerics. Part of every case id: bump it when a
-#: change to ``rvcore`` changes results, so that resumed sweeps recompute every case.
-#: What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 13
 
 #: Most cases one sweep file may define: a grid is expanded, hashed and written to one
 #: combined file; beyond this, split the study into several sweeps.
@@ -145,14 +143,14 @@ class CaseSpec:
     point : dict
         Axis key -> coordinate value (SI float, bool or str) of this case, plus the
         three required operating-point values whether they are axes or fixed.
-    bearing : rvcore.geometry.Bearing
+    bearing : rvcore.bearing.geometry.Bearing
     profile : rvcore.profile.Profile
     operating_point : rvcore.profile.OperatingPoint
         [rad s^-1, N, N, N m, rad]
-    settings : rvcore.driver.SolverSettings
+    settings : rvcore.simulation.run.SolverSettings
     configuration : str
         The resolved case as TOML (SI), stored in the case file.
-    sensors : tuple of rvcore.driver.Sensor
+    sensors : tuple of rvcore.simulation.settings.Sensor
         The sweep's virtual sensors.
     """
 

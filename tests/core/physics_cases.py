@@ -1,7 +1,7 @@
 """Reduced bearings and constant-load profiles, built in code, for the physics tests.
 
 Nothing here computes an expected value: the tests derive those themselves. This module
-only assembles :class:`rvcore.geometry.Bearing` and :class:`rvcore.profile.Profile`
+only assembles :class:`rvcore.bearing.geometry.Bearing` and :class:`rvcore.profile.Profile`
 objects small enough that a dynamic case runs in a few seconds, plus the textbook
 relations the tests share (Hertz stiffness of a ball between two races in series).
 
@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from rvcore.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row
+from rvcore.bearing.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row
 from rvcore.profile import Channel, Profile
 
 STEEL = Material(7800.0, 208e9, 0.3)
@@ -52,7 +52,7 @@ def section_bearing(z: int = 12, *, alpha: float = math.radians(15.0), fi: float
 
     Returns
     -------
-    rvcore.geometry.Bearing
+    rvcore.bearing.geometry.Bearing
     """
     if four_point:
         inner = (Arc(fi, alpha), Arc(fi, -alpha))
@@ -142,9 +142,9 @@ def ramp_profile(t_load: float, t_speed0: float, t_speed1: float, t_end: float, 
 def ball_states(model, y):
     """Per-ball state rows of row 0, shape (Z, 9): x, y, z, vx, vy, vz, wx, wy, wz (SI).
 
-    The layout is rvcore.model's: ball j of row r starts at ``rows[r, R_BALL0] + 9·j``.
+    The layout is rvcore.bearing.layout's: ball j of row r starts at ``rows[r, R_BALL0] + 9·j``.
     """
-    from rvcore.model import BALL_STATES, R_BALL0, R_Z
+    from rvcore.bearing.layout import BALL_STATES, R_BALL0, R_Z
 
     b0, z = int(model.rows[0, R_BALL0]), int(model.rows[0, R_Z])
     return y[b0:b0 + BALL_STATES * z].reshape(z, BALL_STATES)
@@ -152,7 +152,7 @@ def ball_states(model, y):
 
 def cage_state(model, y):
     """Cage state of row 0: x, y, z, angle, vx, vy, vz, angular speed (SI)."""
-    from rvcore.model import CAGE_STATES, R_CAGE0
+    from rvcore.bearing.layout import CAGE_STATES, R_CAGE0
 
     c0 = int(model.rows[0, R_CAGE0])
     return y[c0:c0 + CAGE_STATES]
@@ -160,17 +160,17 @@ def cage_state(model, y):
 
 def run_in_chunks(method, model, y, resolved, dt, per, chunks):
     """Advance ``y`` in place by ``chunks`` × ``per`` steps of ``dt`` [s] with
-    :func:`rvcore.integrator.advance` (no sensors, no output kept), yielding the time [s]
+    :func:`rvcore.integrate.loop.advance` (no sensors, no output kept), yielding the time [s]
     and the per-ball diagnostics after each chunk. A status other than OK raises. The IMEX
     pocket check and tangents have the case's own tolerances
-    (:func:`rvcore.timestep.pocket_energy_tolerance` at the loads' peak contact load and
-    the step, :func:`rvcore.timestep.tangent_load_tolerance`)."""
+    (:func:`rvcore.integrate.step_size.pocket_energy_tolerance` at the loads' peak contact load and
+    the step, :func:`rvcore.integrate.step_size.tangent_load_tolerance`)."""
 
-    from rvcore import integrator as ig
-    from rvcore.accumulate import build_plan, new_accumulators
-    from rvcore.initial_state import peak_contact_load
-    from rvcore.kernels import new_diagnostics
-    from rvcore.timestep import pocket_energy_tolerance, tangent_load_tolerance
+    from rvcore.integrate import loop as ig
+    from rvcore.recording.plan import build_plan, new_accumulators
+    from rvcore.simulation.initial_state import peak_contact_load
+    from rvcore.dynamics.rhs import new_diagnostics
+    from rvcore.integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance
 
     table, meta = resolved.arrays()
     plan = build_plan(model.rows.shape[0], 0)

@@ -13,7 +13,7 @@ Checks, each against a reference derived here:
   gradient is the moment ``M·(−sin ψ, cos ψ, 0)`` rhs applies to the ring;
 - a moment channel (no radial load) tilts the ring about (−sin ψ, cos ψ, 0) in the sense
   of the moment, and the damped response settles on the quasi-static tilt
-  (``rvcore.quasistatic.solve_statics(..., moment=M, load_angle=ψ)``).
+  (``rvcore.statics.equilibrium.solve_statics(..., moment=M, load_angle=ψ)``).
 """
 from __future__ import annotations
 
@@ -24,15 +24,15 @@ import numpy as np
 import pytest
 
 from pipeline.schema import load_bearing
-from rvcore.driver import run_case
-from rvcore.initial_state import initial_state
-from rvcore.settings import SolverSettings
-from rvcore.energy import potential_energy
-from rvcore.kernels import new_diagnostics, rhs
-from rvcore.model import compile_bearing
+from rvcore.simulation.run import run_case
+from rvcore.simulation.initial_state import initial_state
+from rvcore.simulation.settings import SolverSettings
+from rvcore.dynamics.energy import potential_energy
+from rvcore.dynamics.rhs import new_diagnostics, rhs
+from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import (CH_DIRECTION, CH_MOMENT, CH_RADIAL, N_CHANNELS, Channel, OperatingPoint,
                             Profile, scaled_study_profile, study_profile)
-from rvcore.quasistatic import solve_statics
+from rvcore.statics.equilibrium import solve_statics
 from tests.core.physics_cases import constant_profile, section_bearing
 
 REDUCED = Path(__file__).resolve().parents[2] / "sweeps" / "bearings" / "reduced-test.toml"
@@ -159,7 +159,7 @@ def test_moment_and_direction_in_rhs_are_minus_the_energy_gradient():
     """At rest, frictionless and undamped, the ring's tilt accelerations in rhs times I_t
     are −∂V/∂θ of potential_energy with the channels' M and ψ: both apply the moment
     M·(−sin ψ, cos ψ, 0), one as a force, one as its work potential."""
-    from rvcore.model import P_RING_IT
+    from rvcore.bearing.layout import P_RING_IT
 
     bearing = section_bearing(8)
     model = compile_bearing(bearing, friction=False, damping=False, gravity=False)

@@ -1,4 +1,4 @@
-"""The contact laws of rvcore.contact, the profile tables, step sizing and run continuation.
+"""The contact laws of rvcore.contact.laws, the profile tables, step sizing and run continuation.
 
 Every expected value is derived here from docs/model.md, never copied from the code's output:
 the cubic STEP is written out below (``spec_step``), the friction law of §4 is built from
@@ -12,15 +12,16 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from rvcore import contact, ring_pose
-from rvcore.friction_law import pack_friction_law
-from rvcore.timestep import rk4_time_step
-from rvcore.driver import run_case
-from rvcore.initial_state import peak_contact_load
-from rvcore.settings import SolverSettings
-from rvcore.model import compile_bearing
+from rvcore.contact import laws as contact
+from rvcore.contact import pose as ring_pose
+from rvcore.bearing.laws import pack_friction_law
+from rvcore.integrate.step_size import rk4_time_step
+from rvcore.simulation.run import run_case
+from rvcore.simulation.initial_state import peak_contact_load
+from rvcore.simulation.settings import SolverSettings
+from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import Channel, OperatingPoint, Profile, channel_rate
-from rvcore.quasistatic import solve_statics
+from rvcore.statics.equilibrium import solve_statics
 from tests.core.physics_cases import constant_profile, section_bearing
 
 MU_S, V_S, MU_D, V_D = 0.1, 0.1, 0.02, 1.0   # the study's friction law (docs/model.md §4)
@@ -283,10 +284,10 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_pocket_contact():
     """Without friction and damping, at rest, the contact force on a ball in rhs is
     −∂V/∂P of potential_energy: both take the race and pocket penetrations from one
     place. Ball 0 is pushed into its pocket wall and ball 1 into its races."""
-    from rvcore.initial_state import initial_state
-    from rvcore.energy import potential_energy
-    from rvcore.kernels import new_diagnostics, rhs
-    from rvcore.model import BALL_STATES, R_BALL0, R_MB
+    from rvcore.simulation.initial_state import initial_state
+    from rvcore.dynamics.energy import potential_energy
+    from rvcore.dynamics.rhs import new_diagnostics, rhs
+    from rvcore.bearing.layout import BALL_STATES, R_BALL0, R_MB
 
     bearing = section_bearing(8)
     model = compile_bearing(bearing, friction=False, damping=False, gravity=False)

@@ -28,13 +28,13 @@ import numpy as np
 import pytest
 
 from pipeline.schema.bearingfile import load_bearing
-from rvcore.driver import run_case
-from rvcore.settings import SolverSettings
-from rvcore.kernels import new_diagnostics, rhs
-from rvcore.model import (P_RING_IT, P_RING_M, R_BALL0, R_CAGE0, R_CAGE_M, R_MB, compile_bearing,
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
+from rvcore.dynamics.rhs import new_diagnostics, rhs
+from rvcore.bearing.layout import (P_RING_IT, P_RING_M, R_BALL0, R_CAGE0, R_CAGE_M, R_MB, compile_bearing,
                           nominal_state)
 from rvcore.profile import OperatingPoint
-from rvcore.quasistatic import solve_statics
+from rvcore.statics.equilibrium import solve_statics
 
 from .physics_cases import constant_profile
 from .test_energy_balance import energy_balance_of
@@ -154,7 +154,7 @@ def test_energy_balance_with_friction_in_gravity():
     """§9.4 on this family: loads held and the ring at 720 °/s from a rolling start at the
     statics, 20 ms, friction and damping on, gravity on: the drive's work plus the work of
     the loads and gravity equals the change of kinetic and elastic energy plus friction and
-    damping (rvcore.kernels.rhs Notes), within 1 % of what was supplied. (With cylindrical pockets
+    damping (rvcore.dynamics.rhs.rhs Notes), within 1 % of what was supplied. (With cylindrical pockets
     the rolling start gave these balls radial speeds up to 1.3 m/s, 0.016 J that the
     damper took in the first 0.2 ms, and the balance missed by 2.4 % of it.)"""
     supplied, balance, e, _ = energy_balance_of(BEARING, constant_profile(0.0, 0.02), OP, SolverSettings(output_rate=1e3))
@@ -181,7 +181,7 @@ def _growth_rate(res, t0=0.2, t1=0.45):
 def test_rocking_instability_rate_from_the_statics():
     """The deep-groove ring's tilt growth is the model's physics. At zero clearance and 0° the ring's
     tilt and axial stiffness come only from the load's geometry, and the statics' own
-    tangent stiffness (rvcore.stiffness, no dynamics) of the free-tilting ring at 500 N has
+    tangent stiffness (rvcore.statics.stiffness, no dynamics) of the free-tilting ring at 500 N has
     one negative eigenvalue λ of M⁻¹K (M: the ring's mass and transverse inertia): the ring
     rocks about its most loaded ball (the mode's z/θy is the inner contact's radius
     (d_m − D)/2 = 28.1 mm, 5 %). The centred equilibrium is a saddle and the tilt grows as

@@ -5,7 +5,7 @@ load, the contact angle and the peak pressure follow from textbook relations wit
 load-distribution integral:
 
 - both grooves' centres lie on the load line through the centred ball, ``A = (f_i + f_o − 1)·D``
-  apart (zero clearance, rvcore.geometry's arc layout). A ring moved axially keeps their
+  apart (zero clearance, rvcore.bearing.geometry's arc layout). A ring moved axially keeps their
   radial distance ``A·cos α₀``, so under the total approach ``δ`` of a ball
   ``cos α = A·cos α₀ / (A + δ)`` (Harris, Rolling Bearing Analysis, §7 "thrust load");
 - the two Hertz contacts act in series: ``Q = K_n·δ^1.5`` with
@@ -26,8 +26,8 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.settings import SolverSettings
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
 from rvcore.hertz import effective_modulus, race_contact
 from rvcore.profile import OperatingPoint
 
@@ -92,7 +92,7 @@ def test_static_safety_factor_is_the_load_ratio():
 def test_life_sums_of_equal_ball_loads():
     """Turning slowly (30 °/s) under the same pure axial load: every ball carries Q on both
     races, so per revolution A_i = (1/Z)·ΣQ³ = Q³ and A_o = ((1/Z)·ΣQ^(10/3))^(9/10) = Q³,
-    and the revolutions are ω·t/2π (the contract of rvcore.life)."""
+    and the revolutions are ω·t/2π (the contract of rvcore.standards.iso16281)."""
     bearing = section_bearing(8, alpha=math.radians(25.0))
     f_a, q, _ = _axial_point(bearing, ISO76 / 2.0)
     omega, t_end = math.radians(30.0), 0.006
@@ -145,7 +145,7 @@ def test_duty_cycle_life_reaches_the_case_file():
     the scalars, the cycle's damage as the test computes it from the run's accumulated
     sums, and the damage per phase, whose sum over phases that cover the cycle is the
     cycle's damage."""
-    pytest.importorskip("rvcore.life")
+    pytest.importorskip("rvcore.standards.iso16281")
     from pipeline.io.case import case_dataset
 
     bearing = section_bearing(6)
@@ -157,7 +157,7 @@ def test_duty_cycle_life_reaches_the_case_file():
     assert ds["fatigue_damage"].dims == ("phase",)
     # the cycle's damage written here from the run's accumulated sums (Palmgren–Miner per
     # ring, D_k = Σ dN·Q_e^3 / (10^6·Q_c^3), rings combined as ISO/TS 16281 eq. (29))
-    from rvcore.life import bearing_contact_ratings
+    from rvcore.standards.iso16281 import bearing_contact_ratings
 
     q_ci, q_ce = bearing_contact_ratings(bearing)
     d_i = res.life_sums["inner"][-1, 0] / (1e6 * q_ci ** 3)

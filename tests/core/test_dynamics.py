@@ -1,4 +1,4 @@
-"""The contact-dynamics core (rvcore.kernels/integrator/driver) on reduced bearings (docs/model.md §9).
+"""The contact-dynamics core (rvcore.dynamics.rhs/integrator/driver) on reduced bearings (docs/model.md §9).
 
 Most checks here run weightless (``gravity=False``, docs/model.md §1): their references
 (statics without the balls' and cage's weights, conserved energy, symmetric responses,
@@ -26,7 +26,7 @@ milliseconds, and compares with a value derived here:
 - blow-up reporting and the per-step phase accumulators.
 
 The statics, kinematics, conservation and centrifugal checks run for every integrator of
-``rvcore.integrator.METHODS`` (RK4 and IMEX), with the same tolerances: they
+``rvcore.integrate.methods.METHODS`` (RK4 and IMEX), with the same tolerances: they
 are physical facts, not properties of one scheme.
 """
 from __future__ import annotations
@@ -37,14 +37,14 @@ import re
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.results import SimulationError
-from rvcore.settings import SolverSettings
-from rvcore.integrator import METHODS
-from rvcore.energy import kinetic_energy, potential_energy
-from rvcore.model import compile_bearing, nominal_state
+from rvcore.simulation.run import run_case
+from rvcore.recording.results import SimulationError
+from rvcore.simulation.settings import SolverSettings
+from rvcore.integrate.methods import NAMES as METHODS
+from rvcore.dynamics.energy import kinetic_energy, potential_energy
+from rvcore.bearing.layout import compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
-from rvcore.quasistatic import solve_statics
+from rvcore.statics.equilibrium import solve_statics
 from tests.core.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
                                       phase_metric_changes, ramp_profile, run_in_chunks, section_bearing)
 

@@ -1,18 +1,18 @@
 """Energy balance of a dynamic case: the drive's work against dissipation.
 
-The balance, derived from the model's equations of motion (rvcore.kernels.rhs)
+The balance, derived from the model's equations of motion (rvcore.dynamics.rhs.rhs)
 -------------------------------------------------------------------------------
-Let ``E_kin`` be the kinetic energy of the free motion (:func:`rvcore.energy.kinetic_energy`:
+Let ``E_kin`` be the kinetic energy of the free motion (:func:`rvcore.dynamics.energy.kinetic_energy`:
 ring translation and tilt rates, every ball and cage), ``½·I_p·ω²`` that of the ring's
 prescribed spin, and ``V_el = Σ ⅖·K·δ^2.5`` the elastic energy of every contact
-(:func:`rvcore.energy.potential_energy` with no load and no gravity).
+(:func:`rvcore.dynamics.energy.potential_energy` with no load and no gravity).
 
 1. Every contact applies equal and opposite forces at one point, so the power of a
    contact's forces on the two bodies is ``F·u`` with ``u`` the slip velocity of the
    ball's (or cage's) material point against the other body's. Its normal part is
    ``−q·δ̇ = −K·δ^1.5·δ̇ − (q − K·δ^1.5)·δ̇`` = ``−dV_el/dt − P_damp``; its tangential
    part ``F_t·u = −P_fric ≤ 0``. Summed over all contacts, with the ring moving as the
-   rigid body it is (angular velocity ``Ω``, :func:`rvcore.ring_pose.ring_angular_velocity`):
+   rigid body it is (angular velocity ``Ω``, :func:`rvcore.contact.pose.ring_angular_velocity`):
    ``P_contacts = −dV_el/dt − P_damp − P_fric``.
 2. The ring's share of it is ``F_c·v + M_c·Ω``, ``M_c`` the contact moment about the ring
    centre. With ``Ω = θ̇x·Ry·x̂ + θ̇y·ŷ + ω·e`` (``e = R·ẑ``, the spin axis):
@@ -31,14 +31,14 @@ prescribed spin, and ``V_el = Σ ⅖·K·δ^2.5`` the elastic energy of every co
 
 So T·ω is the whole drive power only up to ``E_tilt``, which the core reports; it is
 checked here to be negligible (it is second order in the tilt). The core integrates
-the powers by the trapezoid rule over the steps' states (rvcore.integrator), while the
+the powers by the trapezoid rule over the steps' states (rvcore.integrate.loop), while the
 state advances by RK4: the two agree to O(dt²) (measured: 0.03 % of the drive's work at
 constant speed, 0.1 % of the dissipation over the study cycle), well inside the 1 %. (A
 rectangle rule left an O(dt) error of 10 % of the drive's work after the start
 transient: the tests do resolve the quadrature.)
 
 The balance is the equations of motion's, whatever integrates them: the tests run for
-every integrator of ``rvcore.integrator.METHODS``, each at its default step.
+every integrator of ``rvcore.integrate.methods.METHODS``, each at its default step.
 """
 from __future__ import annotations
 
@@ -47,12 +47,12 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.initial_state import initial_state
-from rvcore.settings import SolverSettings
-from rvcore.integrator import METHODS
-from rvcore.energy import kinetic_energy, potential_energy
-from rvcore.model import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
+from rvcore.simulation.run import run_case
+from rvcore.simulation.initial_state import initial_state
+from rvcore.simulation.settings import SolverSettings
+from rvcore.integrate.methods import NAMES as METHODS
+from rvcore.dynamics.energy import kinetic_energy, potential_energy
+from rvcore.bearing.layout import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
 from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile
 
 from .physics_cases import constant_profile, section_bearing

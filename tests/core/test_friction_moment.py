@@ -1,4 +1,4 @@
-"""Palmgren's friction moment (rvcore.friction_moment) against a worked example computed
+"""Palmgren's friction moment (rvcore.standards.palmgren) against a worked example computed
 here from the source's formulas, and the regimes the formulas set.
 
 Source (Harris & Kotzalas, *Rolling Bearing Analysis*, the chapter on friction; Palmgren
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from rvcore import friction_moment as fm
+from rvcore.standards import palmgren as fm
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -102,7 +102,7 @@ def test_palmgren_f1_takes_the_reduced_c0_of_open_grooves_and_says_which_row():
     reduced one, so f1 = z (P0/C0_reduced)^y, the deep-groove row z = 0.0005, y = 0.55
     (Harris & Kotzalas, the middle of 0.0004-0.0006), P0 = F_r under pure radial load."""
     from pipeline.schema.bearingfile import load_bearing
-    from rvcore.static_rating import static_safety_factor
+    from rvcore.standards.iso76 import static_safety_factor
 
     b = load_bearing(ROOT / "sweeps" / "bearings" / "deep-groove-6010.toml")
     c0 = static_safety_factor(b, 500.0, 0.0)["static_load_rating_N"]

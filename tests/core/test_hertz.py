@@ -23,8 +23,8 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from rvcore import hertz
-from rvcore.geometry import INNER, OUTER
+from rvcore.bearing import hertz
+from rvcore.bearing.geometry import INNER, OUTER
 
 STEEL_E, STEEL_NU = 208e9, 0.3
 SPEC_TOL = 1e-3  # docs/model.md §9.1: K and semi-axes to 0.1 %

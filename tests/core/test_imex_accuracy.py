@@ -33,7 +33,7 @@ centred start (seed −1); the candidate is IMEX at its default settings
   the cage slip by 2e-8 absolute, the steady peak drive torque by 0.013 %). (Before
   MODEL_VERSION 5 the peak drive torque was the largest sampled ``|T|``, which carries
   the contact oscillation's chatter: RK4 moved it 5 %, 1.46 to 1.54 N m; it is now
-  band-limited, rvcore.integrator.TORQUE_BANDWIDTH. Before MODEL_VERSION 6 the filter
+  band-limited, rvcore.integrate.loop.TORQUE_BANDWIDTH. Before MODEL_VERSION 6 the filter
   took the inertial part ``I_p·ω̇`` at the step's start while the step's torque weighs it
   over the stages, which put a step's worth of the jump of ω̇ at the start of the steady
   phase into the filter: RK4 moved the steady peak 0.1 % and IMEX's ran 0.05 % low per
@@ -75,8 +75,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.settings import SolverSettings
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
 from rvcore.profile import OperatingPoint
 from tests.core.physics_cases import phase_metric_changes
 

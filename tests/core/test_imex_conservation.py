@@ -19,10 +19,10 @@ Two layers:
   and fall at least at second order when the step is halved. Under both loads every race
   contact stays closed; under the combined load the balls also move along their orbit and
   strike their cage pockets, impacts of about three IMEX steps whose Hertz stiffness the
-  explicit stages carry (the pocket is explicit in rvcore.implicit): that was where most
-  of IMEX's drift came from, until the pocket check (rvcore.pocket_check) took those steps
+  explicit stages carry (the pocket is explicit in rvcore.dynamics.tangent): that was where most
+  of IMEX's drift came from, until the pocket check (rvcore.integrate.pocket_check) took those steps
   in substeps (the diagnosis tests and the check's at the end); the race contacts' part
-  needs tangents that follow their loads (rvcore.imex, "Step");
+  needs tangents that follow their loads (rvcore.integrate.imex, "Step");
 - the pocket check itself: the energy and power it compares, and what it does to the drift.
 """
 from __future__ import annotations
@@ -33,16 +33,16 @@ import math
 import numpy as np
 import pytest
 
-from rvcore import imex
-from rvcore.energy import kinetic_energy, potential_energy
-from rvcore.initial_state import initial_state, peak_contact_load
-from rvcore.integrator import METHODS
-from rvcore.kernels import B_PP, B_PV, B_QI, B_QO, B_QP, new_diagnostics, rhs
-from rvcore.energy import pocket_energy
-from rvcore.model import R_CAGE0
-from rvcore.model import compile_bearing
+from rvcore.integrate import imex
+from rvcore.dynamics.energy import kinetic_energy, potential_energy
+from rvcore.simulation.initial_state import initial_state, peak_contact_load
+from rvcore.integrate.methods import NAMES as METHODS
+from rvcore.dynamics.rhs import B_PP, B_PV, B_QI, B_QO, B_QP, new_diagnostics, rhs
+from rvcore.dynamics.energy import pocket_energy
+from rvcore.bearing.layout import R_CAGE0
+from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import OperatingPoint
-from rvcore.timestep import time_step
+from rvcore.integrate.step_size import time_step
 
 from .physics_cases import constant_profile, run_in_chunks, section_bearing
 
@@ -98,7 +98,7 @@ def test_implicit_tableau_is_stiffly_accurate_with_stage_values_at_most_twice_th
 
 def oscillator_step_matrix(omega_h, tangent_fraction):
     """The pair's step on ``x'' = −x`` at step ``omega_h``, the implicit part taking the
-    stiffness ``tangent_fraction`` of the true one (rvcore.imex's stage equations:
+    stiffness ``tangent_fraction`` of the true one (rvcore.integrate.imex's stage equations:
     ``Y_i = y_n + h·Σ a_ij·F_j + h·Σ (â_ij − a_ij)·g_j + h·γ·g_i``, ``g = J·(Y − y_n)``,
     ``y_{n+1} = y_n + h·Σ b_i·F_i``)."""
     h = omega_h
@@ -149,7 +149,7 @@ def hertz_impact_energy_errors(omega_h, implicit):
     K = μ = 1), struck at the speed that reaches ``u = 1``, where the linearised rate is
     ``ω_p = √1.5``; ``omega_h`` is ``ω_p·h``. The impact starts at 10 fractions of a step
     (where in a step the contact closes). ``implicit`` False: the contact force in the
-    explicit stages (as the pocket is in rvcore.imex). True: in the implicit stages,
+    explicit stages (as the pocket is in rvcore.integrate.imex). True: in the implicit stages,
     each solved to convergence by Newton (the most an implicit pocket could do).
     Returns ``(E_after − E_before)/E_before`` per onset.
     """
@@ -290,7 +290,7 @@ def test_rk4_conserves_energy_at_its_default_step():
 
 
 def test_stale_tangents_cost_the_combined_case_energy(monkeypatch):
-    """The IMEX tangents follow the race loads (rvcore.imex, "Step"): in the combined
+    """The IMEX tangents follow the race loads (rvcore.integrate.imex, "Step"): in the combined
     case's ring-down the loads move by more than the tolerance at nearly every step, so
     the tangents are taken at nearly every step. Held instead for TANGENT_MAX_STEPS steps
     whatever the loads (an infinite load tolerance), they leave more than twice the drift."""
@@ -305,8 +305,8 @@ def test_a_running_bearing_keeps_its_tangents_for_the_most_steps():
     move by a fraction of the tolerance per step (its orbit advances a few hundredths of a
     degree a step), so the tangents are taken every TANGENT_MAX_STEPS steps: the
     refreshes of a second window of the same case are within 2 % of steps/TANGENT_MAX_STEPS."""
-    from rvcore.driver import run_case
-    from rvcore.settings import SolverSettings
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
 
     bearing = section_bearing(12)
     op = OperatingPoint(math.radians(360.0), 10e3, 5e3)
@@ -334,7 +334,7 @@ def test_combined_case_keeps_every_race_contact_loaded_and_strikes_the_pockets()
 
 
 def test_imex_drift_under_the_combined_load_comes_from_the_pocket_impacts(monkeypatch):
-    """Without the pocket check (rvcore.pocket_check: off with an infinite tolerance), and
+    """Without the pocket check (rvcore.integrate.pocket_check: off with an infinite tolerance), and
     with the cage's pockets out of the balls' reach (5 mm clearance), IMEX's drift at its
     default step falls more than tenfold: the pocket impacts, explicit in the scheme, carry
     it. The rest is the race contacts' (the frozen-tangent mechanism above)."""
@@ -365,7 +365,7 @@ def combined_case_in_an_impact(min_pocket_load=50.0):
 
 
 def test_pocket_energy_and_its_rate_agree_with_the_motion():
-    """What rvcore.pocket_check compares: the right-hand side's ``B_PV`` is the pocket's
+    """What rvcore.integrate.pocket_check compares: the right-hand side's ``B_PV`` is the pocket's
     elastic energy ``pocket_energy`` at the same state, and its ``B_PP`` is that energy's
     rate along the motion, d/dt V(y + t·ẏ) by central differences (to 1e-6 relative),
     at every ball of a state in an impact."""
@@ -390,7 +390,7 @@ def test_pocket_energy_and_its_rate_agree_with_the_motion():
 
 
 def test_imex_takes_the_pocket_impacts_in_substeps(monkeypatch):
-    """With the pocket check (rvcore.pocket_check) the combined case's drift at the
+    """With the pocket check (rvcore.integrate.pocket_check) the combined case's drift at the
     default step falls more than tenfold against the same scheme without it (the check
     off: an infinite tolerance); under the thrust no ball touches its pocket, no step is
     taken again, and the drift is the same to the last bit."""

@@ -13,12 +13,12 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.settings import Sensor, SolverSettings
-from rvcore.imperfections import Imperfections, Waviness, realize
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import Sensor, SolverSettings
+from rvcore.bearing.imperfections import Imperfections, Waviness, realize
 from rvcore.profile import CH_SPEED, OperatingPoint, channel_integral
-from rvcore.quasistatic import solve_statics
-from rvcore.tolerances import ball_lot_variation
+from rvcore.statics.equilibrium import solve_statics
+from rvcore.standards.iso492 import ball_lot_variation
 
 from .physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
 
@@ -246,7 +246,7 @@ def test_every_default_ball_grade_is_made_in_the_study_balls_size():
     """The study's 23 mm balls: class 4's own G5 is made only to 12.7 mm, so class 4 takes
     a grade made at 23 mm; every class's default is made at 23 mm, and the realized
     spread of a class-4 row's balls lies within that grade's V_DwL."""
-    from rvcore.tolerances import default_ball_grade
+    from rvcore.standards.iso492 import default_ball_grade
 
     for cls in ("normal", "6", "5", "4"):
         grade = default_ball_grade(cls, 23e-3)
@@ -261,7 +261,7 @@ def test_unsourced_iso492_rows_are_refused_naming_class_and_bore():
     """ISO 492 class 5 K_ia above a 400 mm bore has no public source: refused in one line
     naming the class and the bore; at 315-400 mm class 5 still reads 15 um (K_ia/2 a
     7.5 um eccentricity)."""
-    from rvcore.tolerances import ToleranceError, inner_runout, tolerance_problems
+    from rvcore.standards.iso492 import ToleranceError, inner_runout, tolerance_problems
 
     with pytest.raises(ToleranceError) as err:
         inner_runout(450e-3, "5")

@@ -2,7 +2,7 @@
 catalogue load rating, and the duty-cycle life of a profile held at one point.
 
 The standards' formulas are written out again here, from the standards, not imported
-from rvcore.life: ISO 281:2007 eq. (1) with Table 1's b_m and the two Table 2 rows that
+from rvcore.standards.iso16281: ISO 281:2007 eq. (1) with Table 1's b_m and the two Table 2 rows that
 bracket the γ used, ISO/TS 16281:2008 eq. (19), (20), (25), (26), (29). The zero-clearance
 deep-groove load distribution is Stribeck's, Q_j = Q_max·cos^1.5 ψ_j, from Hertz's law
 and the ring's rigid radial shift alone.
@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore import iso281, life
-from rvcore.quasistatic import solve_statics
+from rvcore.standards import iso281, iso16281 as life
+from rvcore.statics.equilibrium import solve_statics
 
 from .physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
 
@@ -189,8 +189,8 @@ def test_no_rotation_no_load_no_damage():
 
 
 def test_steady_outputs_carry_the_lives_in_revolutions():
-    from rvcore.operating import steady_outputs, steady_statics
-    from rvcore.outputs import OUTPUT
+    from rvcore.statics.operating import steady_outputs, steady_statics
+    from rvcore.output_table import OUTPUT
     from rvcore.profile import OperatingPoint
 
     b = section_bearing(12)
@@ -252,12 +252,12 @@ def test_statics_json_has_the_lives(capsys):
 def _has_life_sums() -> bool:
     import dataclasses as dc
 
-    from rvcore.results import CaseResult
+    from rvcore.recording.results import CaseResult
     return any(f.name == "life_sums" for f in dc.fields(CaseResult))
 
 
 @pytest.mark.skipif(not _has_life_sums(), reason="the integrator's life accumulation "
-                                                 "is not in rvcore.driver yet")
+                                                 "is not in rvcore.simulation.run yet")
 def test_dynamic_constant_point_life_equals_static_l10r():
     """A reduced case rolling at constant speed under constant loads; the life of
     its steady phase (a profile held there) equals the static L10r there within 1 %.
@@ -265,8 +265,8 @@ def test_dynamic_constant_point_life_equals_static_l10r():
     The integrator accumulates dN·Q_e^3 with the balls' dynamic loads at every step, while
     they roll through the load zone; the statics see one ball position.
     """
-    from rvcore.driver import run_case
-    from rvcore.settings import SolverSettings
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
     from rvcore.profile import OperatingPoint
 
     z, fr, fa, omega = 12, 12e3, 6e3, 2.0 * math.pi   # one revolution a second

@@ -15,7 +15,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rvcore import film, hertz, iso281_modified as iso, lubricant as lub, traction_ehl as tr
+from rvcore import hertz
+from rvcore.bearing import lubricant as lub
+from rvcore.contact import film, traction_ehl as tr
+from rvcore.standards import iso281_modified as iso
 
 STEEL_E, STEEL_NU = 208e9, 0.3
 E_EFF = STEEL_E / (1.0 - STEEL_NU ** 2)          # two equal solids, E' = E/(1 − ν²)

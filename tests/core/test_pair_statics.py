@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from scipy import optimize
 
-from rvcore import hertz
-from rvcore.preload import apply_preload, mirrored_rows
-from rvcore.quasistatic import solve_statics
-from rvcore.stiffness import load_frame
+from rvcore.bearing import hertz
+from rvcore.statics.preload import apply_preload, mirrored_rows
+from rvcore.statics.equilibrium import solve_statics
+from rvcore.statics.stiffness import load_frame
 
 from .physics_cases import section_bearing
 

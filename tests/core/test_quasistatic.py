@@ -1,4 +1,4 @@
-"""The quasi-static solver (rvcore.quasistatic) against hand cases (docs/model.md §9.2).
+"""The quasi-static solver (rvcore.statics.equilibrium) against hand cases (docs/model.md §9.2).
 
 Every expected value is derived here from textbook relations, independently of the
 solver:
@@ -8,7 +8,7 @@ solver:
 - pure radial load on a zero-clearance deep-groove bearing: Stribeck's rigid-ring sum;
 - radial load at any angle on that bearing: a 2-D rigid-ring Newton solve written here;
 - force and moment balance: recomputed from the returned ball positions and loads with
-  the groove geometry of ``rvcore.geometry`` (arc centres, normals) written out again;
+  the groove geometry of ``rvcore.bearing.geometry`` (arc centres, normals) written out again;
 - four-point grooves: which arcs must carry load, from symmetry and the clearance.
 
 The only inputs shared with the code are the Hertz constants ``K`` of each contact
@@ -25,9 +25,9 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from rvcore import hertz
-from rvcore.geometry import Arc
-from rvcore.quasistatic import NoEquilibriumError, solve_statics
+from rvcore.bearing import hertz
+from rvcore.bearing.geometry import Arc
+from rvcore.statics.equilibrium import NoEquilibriumError, solve_statics
 from tests.core.physics_cases import STEEL, section_bearing, series_stiffness
 
 REPO = Path(__file__).resolve().parents[2]
@@ -46,7 +46,7 @@ def race_stiffnesses(row, inner_arc=0, outer_arc=0):
 
 
 def rotation(tilt_x, tilt_y):
-    """Inner-ring attitude ``R = Ry(θy)·Rx(θx)`` (the convention of rvcore.kernels)."""
+    """Inner-ring attitude ``R = Ry(θy)·Rx(θx)`` (the convention of rvcore.dynamics.rhs)."""
     ca, sa, cb, sb = math.cos(tilt_x), math.sin(tilt_x), math.cos(tilt_y), math.sin(tilt_y)
     rx = np.array([[1.0, 0.0, 0.0], [0.0, ca, -sa], [0.0, sa, ca]])
     ry = np.array([[cb, 0.0, sb], [0.0, 1.0, 0.0], [-sb, 0.0, cb]])
@@ -272,7 +272,7 @@ def ring_reactions(bearing, res):
 
     Notes
     -----
-    From ``rvcore.geometry`` (module doc): an inner arc at contact angle α sits at
+    From ``rvcore.bearing.geometry`` (module doc): an inner arc at contact angle α sits at
     ``C = (d_m/2 + r·cos α, r·sin α)`` in the ring's meridian plane through the ball,
     ``r = (f − ½)·D − P_d/4``. The ball centre ``P`` (returned) is taken into the ring
     frame ``p = Rᵀ·(P − c)``; the contact normal is ``n = R·(p − C)/|p − C|`` and the
@@ -469,7 +469,7 @@ def test_open_groove_cannot_carry_reverse_thrust():
     """A genuinely impossible case: grooves with flanks on one side only.
 
     With two arcs per ring, each exists only on its own side of the groove mid-plane
-    (rvcore.geometry). Putting both arcs on the +z side (at 15° and 40°) leaves the
+    (rvcore.bearing.geometry). Putting both arcs on the +z side (at 15° and 40°) leaves the
     grooves open towards −z, like a separable (magneto) bearing: a thrust towards +z is
     carried, a thrust towards −z has nothing to push against.
     (A single arc is a closed torus: an angular-contact bearing under reverse thrust

@@ -1,5 +1,5 @@
-"""The vector passes of the right-hand side (rvcore.races) hold, for every ball, what the
-contact laws of rvcore.contact give that ball taken alone, bit for bit.
+"""The vector passes of the right-hand side (rvcore.dynamics.races) hold, for every ball, what the
+contact laws of rvcore.contact.laws give that ball taken alone, bit for bit.
 
 The test recomputes each contact ball by ball from the state, with the laws called one at
 a time from Python (the way the ball loop of the right-hand side computed them before the
@@ -18,18 +18,19 @@ import pytest
 
 from pipeline.schema import load_bearing, load_profile
 from pipeline.schema.shipped import shipped_file
-from rvcore import contact, races
-from rvcore.driver import run_case
-from rvcore.imperfections import Imperfections, realize
-from rvcore.kernels import new_diagnostics, rhs
-from rvcore.model import (A_K, A_RING, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_LAW,
+from rvcore.contact import laws as contact
+from rvcore.dynamics import races
+from rvcore.simulation.run import run_case
+from rvcore.bearing.imperfections import Imperfections, realize
+from rvcore.dynamics.rhs import new_diagnostics, rhs
+from rvcore.bearing.layout import (A_K, A_RING, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_LAW,
                           P_POCKET_C, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_RI, R_CAGE_RO, R_GUIDE, R_HALF_D, R_NARC,
                           R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_R, R_Z, R_ZROW, compile_bearing)
-from rvcore.friction_law import FRICTION_LAW_SIZE
+from rvcore.bearing.laws import FRICTION_LAW_SIZE
 from rvcore.profile import CH_SPEED, OperatingPoint, channel_value
-from rvcore.raceway import ball_offsets, spin_of
-from rvcore.ring_pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
-from rvcore.settings import SolverSettings
+from rvcore.dynamics.raceway import ball_offsets, spin_of
+from rvcore.contact.pose import ring_angular_velocity, ring_rotation, ring_to_global, to_ring_frame
+from rvcore.simulation.settings import SolverSettings
 
 SEED = 3
 

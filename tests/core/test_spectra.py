@@ -1,9 +1,9 @@
-"""Tone amplitudes at known frequencies (rvcore.spectra, issue 39 item 14).
+"""Tone amplitudes at known frequencies (rvcore.recording.spectra, issue 39 item 14).
 
 Facts asserted, each from a signal built here whose amplitude is known by construction:
 
 - a sinusoid between FFT bins, and at exactly half a bin, reads its amplitude within 1 %
-  from :func:`rvcore.spectra.tone_amplitudes` (a least-squares fit at the known frequency),
+  from :func:`rvcore.recording.spectra.tone_amplitudes` (a least-squares fit at the known frequency),
   where the Hann FFT's peak reads it 7-15 % low (the window's scalloping loss, which the
   test computes from the Hann window's transform);
 - two tones together, each read within 1 % at its own frequency;
@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from rvcore import spectra
+from rvcore.recording import spectra
 
 DT = 1e-3          # 1 kHz sampling
 N = 2000           # 2 s: bins 0.5 Hz apart

@@ -1,4 +1,4 @@
-"""ISO 76 static load rating and static safety factor (rvcore.static_rating).
+"""ISO 76 static load rating and static safety factor (rvcore.standards.iso76).
 
 Facts asserted, each computed here independently of the module:
 
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 from scipy import optimize, special
 
-from rvcore import static_rating as sr
-from rvcore.quasistatic import solve_statics
+from rvcore.standards import iso76 as sr
+from rvcore.statics.equilibrium import solve_statics
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -15,9 +15,9 @@ import math
 import numpy as np
 import pytest
 
-from rvcore import hertz
-from rvcore.quasistatic import solve_statics
-from rvcore.stiffness import load_frame
+from rvcore.bearing import hertz
+from rvcore.statics.equilibrium import solve_statics
+from rvcore.statics.stiffness import load_frame
 
 from .physics_cases import STUDY_D, STUDY_DM, section_bearing, series_stiffness
 

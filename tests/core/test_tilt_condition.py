@@ -14,12 +14,12 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.driver import run_case
-from rvcore.settings import SolverSettings
-from rvcore.integrator import METHODS
-from rvcore.life import static_life
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
+from rvcore.integrate.methods import NAMES as METHODS
+from rvcore.standards.iso16281 import static_life
 from rvcore.profile import OperatingPoint
-from rvcore.quasistatic import solve_statics
+from rvcore.statics.equilibrium import solve_statics
 
 from .physics_cases import constant_profile, section_bearing
 
@@ -123,7 +123,7 @@ def test_a_free_deep_groove_row_is_statically_unstable_and_held_it_is_not():
     translations are stiff. A 15° row under radial and axial load is stable either way."""
     from pipeline.schema.bearingfile import load_bearing
     from pipeline.schema.shipped import shipped_file
-    from rvcore.operating import positive_definite
+    from rvcore.statics.operating import positive_definite
 
     dg = load_bearing(shipped_file("bearings/deep-groove-6010.toml"))
     assert not positive_definite(solve_statics(dg, 500.0, 0.0).stiffness_matrix)

@@ -15,7 +15,7 @@ theory, and not read from the code's output:
   and seed −1 is the centred start;
 - (slow) the study's start-up ranges converge with the step.
 
-The only inputs shared with the code are the masses of ``rvcore.geometry``, the Hertz
+The only inputs shared with the code are the masses of ``rvcore.bearing.geometry``, the Hertz
 constants ``K`` of ``rvcore.hertz`` (checked in test_hertz.py) and, at rest, the pocket
 loads of the kernel's per-ball diagnostics.
 """
@@ -27,21 +27,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore import hertz
-from rvcore.driver import run_case
-from rvcore.initial_state import initial_state, set_rolling_velocities
-from rvcore.settings import Sensor, SolverSettings
-from rvcore.geometry import ball_mass, cage_mass_properties, inner_ring_mass_properties
-from rvcore.integrator import METHODS
-from rvcore.kernels import new_diagnostics, rhs
-from rvcore.model import compile_bearing
+from rvcore.bearing import hertz
+from rvcore.simulation.run import run_case
+from rvcore.simulation.initial_state import initial_state, set_rolling_velocities
+from rvcore.simulation.settings import Sensor, SolverSettings
+from rvcore.bearing.geometry import ball_mass, cage_mass_properties, inner_ring_mass_properties
+from rvcore.integrate.methods import NAMES as METHODS
+from rvcore.dynamics.rhs import new_diagnostics, rhs
+from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import OperatingPoint, scaled_study_profile, study_profile
 from tests.core.physics_cases import ball_states, cage_state, constant_profile, section_bearing
 
 REPO = Path(__file__).resolve().parents[2]
 STUDY_SPEED = math.radians(660.0)  # the study's top speed [rad/s]
 EZ = np.array([0.0, 0.0, 1.0])
-B_QP = 4  # per-ball diagnostic column: pocket load [N] (rvcore.kernels.B_QP)
+B_QP = 4  # per-ball diagnostic column: pocket load [N] (rvcore.dynamics.rhs.B_QP)
 
 
 # --------------------------------------------------------------------------- helpers
@@ -72,7 +72,7 @@ def groove_arcs(bearing):
 
     Notes
     -----
-    The groove convention of rvcore.geometry, written out again: an outer arc at α
+    The groove convention of rvcore.bearing.geometry, written out again: an outer arc at α
     touches the centred ball along ``u = (cos α, sin α)`` (radial, axial), an inner arc
     along ``−u``; its centre lies on that line at ``(f − ½)·D − P_d/4`` from the centred
     ball, away from the contact. ``K`` is the Hertz constant at the nominal angle.

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from rvcore.results import CaseResult
+from rvcore.recording.results import CaseResult
 from rvcore.profile import PHASES, study_profile
 
 

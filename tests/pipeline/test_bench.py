@@ -18,14 +18,14 @@ import pytest
 import pipeline.bench as bench
 from pipeline.bench import CYCLE_FIGURES, scipy_comparison
 from pipeline.cli import main
-from rvcore.settings import SolverSettings
-from rvcore.integrator import METHODS
+from rvcore.simulation.settings import SolverSettings
+from rvcore.integrate.methods import NAMES as METHODS
 
-_NO_IMEX = importlib.util.find_spec("rvcore.imex") is None
+_NO_IMEX = importlib.util.find_spec("rvcore.integrate.imex") is None
 
 
 @pytest.mark.parametrize("method", [
-    "rk4", pytest.param("imex", marks=pytest.mark.skipif(_NO_IMEX, reason="rvcore.imex not there yet"))])
+    "rk4", pytest.param("imex", marks=pytest.mark.skipif(_NO_IMEX, reason="rvcore.integrate.imex not there yet"))])
 def test_scipy_comparison_runs_and_matches_accuracy(method):
     figures = scipy_comparison(method, window=1e-3, repeats=1)
     assert figures["scipy_method"] == method

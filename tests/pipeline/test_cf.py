@@ -105,7 +105,7 @@ axial_load = "10 kN"
 
 
 def test_real_smoke_sweep_end_to_end_is_cf(suite, smoke_run, capsys):
-    """``rvsweep sweep sweeps/smoke.toml`` with ``rvcore.driver.run_case`` (the session's
+    """``rvsweep sweep sweeps/smoke.toml`` with ``rvcore.simulation.run.run_case`` (the session's
     serial smoke run, ``conftest.smoke_run``)."""
     smoke = REPO / "sweeps" / "smoke.toml"
     assert smoke_run.sweep_code == 0, smoke_run.sweep_printed

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import pipeline.run
-import rvcore.numba_cache
+import rvcore._numba
 from pipeline.cli import main
 from pipeline.run.estimate import (CONFIRM_CASES, case_seconds, duration_text, kernels_need_compiling,
                                    say_if_compiling)
@@ -88,7 +88,7 @@ def test_compiling_is_announced_only_when_it_happens(smoke_run, monkeypatch, cap
     assert not kernels_need_compiling()
     assert say_if_compiling() is False and capsys.readouterr().err == ""
     # other sources than those the cache was built from: compiling
-    monkeypatch.setattr(rvcore.numba_cache, "sources_hash", lambda: "0" * 64)
+    monkeypatch.setattr(rvcore._numba, "sources_hash", lambda: "0" * 64)
     assert kernels_need_compiling()
     assert say_if_compiling() is True
     assert capsys.readouterr().err.startswith("compiling the numba kernels")

@@ -24,7 +24,7 @@ from rvcore.profile import PHASES
 from tests.pipeline.synthetic import synthetic_result
 
 #: A resolved configuration as the sweep stores it (pipeline.schema.sweepfile: SI numbers, the
-#: dataclass field names of rvcore.geometry, the profile's phases as [name, start, end]).
+#: dataclass field names of rvcore.bearing.geometry, the profile's phases as [name, start, end]).
 SYNTHETIC_CONFIG = """\
 model_version = 1
 name = "synthetic"
@@ -196,9 +196,9 @@ def _series(speed_deg: float, load: float, t: np.ndarray, rng) -> tuple:
 
 def _core_phase_metrics(t, dr, da) -> dict:
     """The core's own phase accumulators fed the series sample by sample, then read out."""
-    from rvcore.accumulate import SL_DA, SL_DR, build_plan, new_accumulators, reduce_step
-    from rvcore.kernels import new_diagnostics
-    from rvcore.results import read_phase_metrics
+    from rvcore.recording.plan import SL_DA, SL_DR, build_plan, new_accumulators, reduce_step
+    from rvcore.dynamics.rhs import new_diagnostics
+    from rvcore.recording.results import read_phase_metrics
 
     plan = build_plan(1, 0)
     acc = new_accumulators(plan, len(WINDOWS))
@@ -216,7 +216,7 @@ def test_metrics_match_values_computed_here_from_the_time_series(tmp_path):
     """metrics.nc (through the core's accumulators, the case files, the combiner and
     phase_metrics) holds the range, mean, std and extreme times of δ_r and δ_a computed
     here with numpy over each phase window of series built in this test."""
-    from rvcore.results import CaseResult
+    from rvcore.recording.results import CaseResult
 
     rng = np.random.default_rng(11)
     t = np.round(np.arange(0.0, 4.6 + 1e-9, 0.01), 10)

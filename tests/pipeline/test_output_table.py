@@ -1,4 +1,4 @@
-"""The output table (rvcore.outputs) is the one home of every output: each of its rows
+"""The output table (rvcore.output_table) is the one home of every output: each of its rows
 appears in a case file and, where it is a per-case quantity, in metrics.nc, with the
 table's units and long_name; no data variable appears that the table lacks; and
 docs/outputs.md lists exactly the table's rows."""
@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import xarray as xr
 
-from rvcore.outputs import OUTPUTS, PHASE, SERIES, SPECTRUM
+from rvcore.output_table import OUTPUTS, PHASE, SERIES, SPECTRUM
 
 REPO = Path(__file__).resolve().parents[2]
 

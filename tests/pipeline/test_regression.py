@@ -4,7 +4,7 @@ These numbers were copied from the code's own output (MODEL_VERSION 12, IMEX the
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
-``pipeline/schema/sweepfile.py``, which changes every case id, and re-pin the tables
+``rvcore/__init__.py``, which changes every case id, and re-pin the tables
 below from a fresh run).
 
 The case: the smoke sweep's corner at 660 deg/s and 40 kN, 10 kN axial (the reduced

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import rvcore.driver
+import rvcore.simulation.run
 import tests.pipeline.test_metrics as synthetic_sweeps
 from pipeline.cli import main
 from pipeline.analysis import default_reference_path, load_reference_fits
@@ -310,7 +310,7 @@ def ensemble_case(bearing, profile, op, settings, sensors=()):
     """
     seed = int(settings.seed)
     if seed == 1 and abs(op.speed - math.radians(390.0)) < 1e-6 and op.radial_load == 20e3:
-        raise rvcore.driver.SimulationError(ENSEMBLE_FAILED.removeprefix("SimulationError: "))
+        raise rvcore.simulation.run.SimulationError(ENSEMBLE_FAILED.removeprefix("SimulationError: "))
     r = synthetic_result(op.speed, op.radial_load, op.axial_load, n=47)
     t = r.time
     windows = [(a, b) for _, a, b in study_profile().phases]

@@ -13,9 +13,9 @@ import math
 import numpy as np
 
 from pipeline.io import case_dataset
-from rvcore.driver import run_case
-from rvcore.settings import SolverSettings
-from rvcore.geometry import Arc
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
+from rvcore.bearing.geometry import Arc
 from rvcore.profile import OperatingPoint
 from tests.core.physics_cases import STUDY_D, STUDY_DM, constant_profile, section_bearing
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import rvcore.driver
+import rvcore.simulation.run
 from pipeline.cli import main
 from pipeline.io import read_status, status_counts
 from pipeline.run import run_sweep
@@ -41,7 +41,7 @@ def synthetic_case(bearing, profile, op, settings, sensors=()):
 def failing_case(bearing, profile, op, settings, sensors=()):
     """Like synthetic_case, but the 660 deg/s, 40 kN case blows up."""
     if op.speed > 10 and op.radial_load > 30e3:
-        raise rvcore.driver.SimulationError("simulation blew up at t = 0.1 s (test)")
+        raise rvcore.simulation.run.SimulationError("simulation blew up at t = 0.1 s (test)")
     return synthetic_case(bearing, profile, op, settings)
 
 
@@ -274,7 +274,7 @@ radial_load = "20 kN"
 
 
 def test_a_failing_case_is_recorded_and_the_others_finish(grid_sweep, tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(rvcore.driver, "run_case", failing_case)
+    monkeypatch.setattr(rvcore.simulation.run, "run_case", failing_case)
     code = main(["sweep", str(grid_sweep), "--out", str(tmp_path / "res"), "--serial", "--no-progress"])
     assert code != 0
     out = tmp_path / "res" / "s"
@@ -299,7 +299,7 @@ def test_a_failing_case_is_recorded_and_the_others_finish(grid_sweep, tmp_path, 
 
 def _spy_run_case(monkeypatch):
     calls = []
-    monkeypatch.setattr(rvcore.driver, "run_case", lambda *a, **k: calls.append(a))
+    monkeypatch.setattr(rvcore.simulation.run, "run_case", lambda *a, **k: calls.append(a))
     return calls
 
 

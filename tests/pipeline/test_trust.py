@@ -152,9 +152,9 @@ def test_the_combine_names_a_file_it_cannot_read(finished, capsys):
 
 def _synthetic_cli(monkeypatch):
     """The command line on synthetic cases: no kernels compiled, no dynamics run."""
-    import rvcore.driver
+    import rvcore.simulation.run
 
-    monkeypatch.setattr(rvcore.driver, "run_case", synthetic_case)
+    monkeypatch.setattr(rvcore.simulation.run, "run_case", synthetic_case)
     monkeypatch.setattr("pipeline.run.cluster.warm_up", lambda case_fn: 0.0)
 
 

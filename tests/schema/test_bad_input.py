@@ -125,7 +125,7 @@ axial_load = "10 kN"
 
 
 def test_more_balls_in_a_row_than_the_dynamics_hold_is_refused_in_one_line(capsys, tmp_path):
-    from rvcore.model import MAX_ROW_BALLS
+    from rvcore.bearing.layout import MAX_ROW_BALLS
 
     text = (REPO / "sweeps" / "bearings" / "rv-main-study.toml").read_text()
     assert "\ncount = 51\n" in text

@@ -377,7 +377,7 @@ def test_fifteen_degrees_carries_the_nominal_load_without_lift_off():
     """The 15 deg choice: the largest standard angle with F_a >= 1.22 F_r tan(alpha), and
     the quasi-static solution at the study's 30 kN + 10 kN keeps every ball loaded, while
     the next standard angle lets balls lift off."""
-    from rvcore.quasistatic import solve_statics
+    from rvcore.statics.equilibrium import solve_statics
 
     fr, fa = 30e3, 10e3
     alpha_max = math.degrees(math.atan(fa / (1.22 * fr)))

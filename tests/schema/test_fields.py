@@ -184,7 +184,7 @@ def test_every_field_has_a_kind_a_doc_and_a_unit_kind_when_it_is_a_quantity():
 
 
 def test_solver_fields_are_exactly_those_of_solver_settings():
-    from rvcore.settings import SolverSettings
+    from rvcore.simulation.settings import SolverSettings
 
     assert set(schema.solver_fields()) == set(SolverSettings.__dataclass_fields__)
 

@@ -35,7 +35,7 @@ def pressure_centre(row) -> float:
     """Where the row's line of contact meets the bearing axis [m].
 
     The line runs through the centred ball (r = d_m/2, z = z_row) along the contact
-    direction (cos α, sin α) of rvcore.geometry's convention; it reaches r = 0 after
+    direction (cos α, sin α) of rvcore.bearing.geometry's convention; it reaches r = 0 after
     travelling d_m/2 / cos α back along it, i.e. at z_row − (d_m/2)·tan α.
     """
     alpha = row.outer_arcs[0].contact_angle
@@ -192,7 +192,7 @@ def test_negative_radial_clearance_is_an_interference():
     """A single row with P_d < 0 is accepted and its arcs reach into the centred ball:
     each arc centre is (f − ½)·D − P_d/4 from the ball centre, so the penetration of the
     centred ball is −P_d/4 at every arc."""
-    from rvcore.geometry import INNER, OUTER, arc_geometry
+    from rvcore.bearing.geometry import INNER, OUTER, arc_geometry
 
     raw = apply_override(read_toml(BUILDABLE), "rows[0].radial_clearance", "-0.01 mm")
     b = bearing_from_dict(raw, file=FILE)

@@ -153,7 +153,7 @@ def test_a_ball_deviation_is_bounded_by_the_static_limit(capsys, tmp_path, facto
 
 
 def test_an_eccentricity_of_5_mm_is_refused_and_a_tolerance_class_one_is_not(capsys, tmp_path):
-    from rvcore.tolerances import inner_runout
+    from rvcore.standards.iso492 import inner_runout
 
     p = _bearing(tmp_path, append='\n[imperfections]\ninner_eccentricity = "5 mm"\n')
     err = _one_line(capsys, _check(capsys, p))
@@ -250,8 +250,8 @@ def _sweep(tmp_path, body, name="s.toml", top="") -> Path:
 
 def test_an_output_rate_whose_record_would_not_fit_is_refused(capsys, tmp_path):
     """1e9 Hz over the short cycle's 0.46 s is 4.6e8 samples of 44 signals of 8 bytes
-    (rvcore.outputs.signal_count for one row): 151 GiB, against a 1 GiB cap."""
-    from rvcore.outputs import signal_count
+    (rvcore.output_table.signal_count for one row): 151 GiB, against a 1 GiB cap."""
+    from rvcore.output_table import signal_count
 
     p = _sweep(tmp_path, '[fixed]\naxial_load = "10 kN"\n[solver]\noutput_rate = "1e9 Hz"\n')
     err = _one_line(capsys, main(["check", str(p)]))

@@ -1,10 +1,10 @@
 """``solver.method``: the integrator as an input field.
 
-It is a choice of :data:`rvcore.integrator.METHODS`, written in ``[solver]``, ``[fixed]``,
+It is a choice of :data:`rvcore.integrate.methods.METHODS`, written in ``[solver]``, ``[fixed]``,
 ``[[cases]]``, as a categorical sweep axis or with ``rvsweep simulate --method``; it reaches
-the case's :class:`rvcore.driver.SolverSettings` and its id, and survives the stored
+the case's :class:`rvcore.simulation.run.SolverSettings` and its id, and survives the stored
 configuration. A bad value is one ConfigError naming file, key, value and the choices.
-No case is run (rvcore.imex may not exist yet): only what the loader builds is checked.
+No case is run (rvcore.integrate.imex may not exist yet): only what the loader builds is checked.
 """
 from __future__ import annotations
 
@@ -19,8 +19,8 @@ from pipeline.errors import ConfigError
 from pipeline.run.cluster import estimated_cost
 from pipeline.schema import read_sweep_file, stored_configuration
 from pipeline.schema import fields as schema
-from rvcore.settings import SolverSettings
-from rvcore.integrator import METHODS
+from rvcore.simulation.settings import SolverSettings
+from rvcore.integrate.methods import NAMES as METHODS
 from tests.schema.test_sweepfile import GRID, make_sweep
 
 ONE_POINT = """

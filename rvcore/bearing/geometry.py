@@ -1,0 +1,462 @@
+"""Bearing geometry and materials, SI in and SI out.
+
+A bearing is one or more rows sharing one inner ring and one fixed outer ring. Each row
+has its own balls, cage, pitch diameter, axial position and groove arcs (docs/model.md §2).
+
+Groove arcs
+-----------
+Each groove cross-section is a list of circular arcs of radius ``f·D``. An arc is given by
+its curvature ratio ``f`` and its *contact angle* ``α``: the direction, in the row's
+cross-section plane (radial r, axial z), of the line through the centred ball along
+which that arc touches it.
+
+- outer-ring arc at ``α`` touches the centred ball in the direction ``u = (cos α, sin α)``
+- inner-ring arc at ``α`` touches it in the direction ``−u``
+
+so an (inner ``α``, outer ``α``) pair is one load line, and a positive ``α`` carries an
+axial load that pushes the inner ring towards ``+z``. The arc centre sits on that line,
+
+    C = P₀ − ((f − ½)·D − g)·u_contact ,    g = P_d / 4 ,
+
+where ``P₀ = (d_m/2, z_row)`` is the centred ball and ``P_d`` the radial internal
+clearance (free radial play of one ring against the other), so that each arc is ``g``
+away from touching the centred ball. The penetration of a ball whose centre is ``P`` is
+
+    δ = |P − C| − (f − ½)·D
+
+for inner and outer arcs alike, with the normal along C→P.
+
+- one arc per ring, α = 0: deep-groove raceway;
+- one arc per ring, α ≠ 0: angular-contact raceway;
+- two arcs per ring at ±α: four-point (gothic-arch) raceway. Each arc of a multi-arc
+  ring is only real on its own side of the groove's mid-plane, recorded as ``side``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from ..hertz import INNER, OUTER  # noqa: F401 (the ring labels live with Hertz theory)
+from .imperfections import PERFECT, Imperfections
+
+#: Standard acceleration of gravity [m s^-2] (CGPM 1901).
+STANDARD_GRAVITY = 9.80665
+
+#: Gravity vectors of the named mountings, in the bearing frame (z along the axis) [m s^-2].
+#: A horizontal axis has gravity along −y; a vertical one along −z.
+MOUNTINGS = {"horizontal": (0.0, -STANDARD_GRAVITY, 0.0),
+             "vertical": (0.0, 0.0, -STANDARD_GRAVITY)}
+
+
+@dataclass(frozen=True)
+class Material:
+    """An isotropic elastic solid.
+
+    Parameters
+    ----------
+    density : float
+        [kg m^-3]
+    youngs_modulus : float
+        [Pa]
+    poisson_ratio : float
+        [-]
+    """
+
+    density: float
+    youngs_modulus: float
+    poisson_ratio: float
+
+
+@dataclass(frozen=True)
+class Arc:
+    """One circular arc of a groove cross-section.
+
+    Parameters
+    ----------
+    curvature_ratio : float
+        ``f``: arc radius divided by ball diameter [-], > 0.5.
+    contact_angle : float
+        Direction of the arc's contact line with the centred ball [rad] (see module doc).
+    """
+
+    curvature_ratio: float
+    contact_angle: float
+
+
+@dataclass(frozen=True)
+class Cage:
+    """A rigid cage ring with cylindrical radial pockets at 2πj/Z.
+
+    Parameters
+    ----------
+    inner_diameter, outer_diameter, width : float
+        Envelope of the cage ring [m].
+    pocket_clearance : float
+        Pocket diameter minus ball diameter [m].
+    land_clearance : float
+        Radial gap between the cage and its guiding land at the centred cage [m].
+    guidance : str
+        ``"outer-land"`` (guided by the outer-ring land; cylindrical pockets with a radial
+        axis) or ``"ball"`` (no land contact: spherical pockets on the pitch circle centre
+        the cage on its balls, :func:`rvcore.contact.laws.spherical_pocket_penetration`).
+    material : Material
+    land_stiffness : float
+        Cage–land normal stiffness in ``Q = K·δ^1.5`` [N m^-1.5]. The land contact is a
+        line contact, so Hertz point theory does not give it; it is a stated assumption.
+    """
+
+    inner_diameter: float
+    outer_diameter: float
+    width: float
+    pocket_clearance: float
+    land_clearance: float
+    guidance: str
+    material: Material
+    land_stiffness: float
+
+
+@dataclass(frozen=True)
+class Row:
+    """One row of balls with its grooves and cage.
+
+    Parameters
+    ----------
+    ball_count : int
+    ball_diameter : float
+        [m]
+    pitch_diameter : float
+        [m]
+    axial_position : float
+        Axial coordinate of the row's centre plane [m].
+    inner_arcs, outer_arcs : tuple of Arc
+    cage : Cage
+    radial_clearance : float
+        Radial internal clearance P_d (free radial play) [m]; negative for an
+        interference (a radially preloaded row).
+    inner_offset : float
+        Axial shift of the row's inner raceway from its nominal place [m]: a pair's share
+        of the preload offset (:mod:`rvcore.statics.preload`), 0 for a free row.
+    imperfections : rvcore.bearing.imperfections.Imperfections or RealizedImperfections
+        Raceway eccentricity and waviness, ball size variation (docs/model.md §12); perfect
+        by default.
+    """
+
+    ball_count: int
+    ball_diameter: float
+    pitch_diameter: float
+    axial_position: float
+    inner_arcs: tuple
+    outer_arcs: tuple
+    cage: Cage
+    radial_clearance: float = 0.0
+    inner_offset: float = 0.0
+    imperfections: Imperfections = PERFECT
+
+    @property
+    def nominal_contact_angle(self) -> float:
+        """Contact angle of the first outer arc [rad] (the row's nominal angle)."""
+        return self.outer_arcs[0].contact_angle
+
+
+#: How the inner ring may tilt (:attr:`InnerRing.tilt`).
+TILT_CONDITIONS = ("free", "held")
+
+
+@dataclass(frozen=True)
+class InnerRing:
+    """Mass properties of the inner ring.
+
+    Parameters
+    ----------
+    shoulder_diameter : float
+        Outer diameter of the inner ring's shoulders [m]; with the bore and width it sets
+        the ring's mass (the groove is neglected).
+    attached_mass : float
+        Mass of reducer parts bolted to the inner ring [kg].
+    attached_inertia : float
+        Their transverse moment of inertia about the bearing centre [kg m^2].
+    tilt : str
+        How the ring is held about its two tilt axes (docs/model.md §11): ``"free"`` (zero
+        moment: a single row under a radial load tilts and loads fewer balls harder) or
+        ``"held"`` (kept square, as a shaft on a second support holds it; the statics,
+        the stiffness and the dynamics fix both tilts at 0 and report the reaction
+        moment that holds them).
+    """
+
+    shoulder_diameter: float
+    attached_mass: float = 0.0
+    attached_inertia: float = 0.0
+    tilt: str = "free"
+
+    def __post_init__(self):
+        if self.tilt not in TILT_CONDITIONS:
+            raise ValueError(f"inner ring tilt {self.tilt!r} is not one of {', '.join(TILT_CONDITIONS)}")
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Normal-contact damping (IMPACT type) and the friction law of docs/model.md §3–4.
+
+    Parameters
+    ----------
+    damping : float
+        ``c_max`` of ball–race contacts [N s m^-1].
+    damping_depth : float
+        ``d_max``: penetration over which the damping ramps in [m].
+    pocket_damping, land_damping : float
+        ``c_max`` of ball–pocket and cage–land contacts [N s m^-1].
+    mu_static, mu_dynamic : float
+        Friction coefficients [-].
+    v_static, v_dynamic : float
+        Slip speeds of the static and dynamic regimes [m s^-1].
+    """
+
+    damping: float
+    damping_depth: float
+    pocket_damping: float
+    land_damping: float
+    mu_static: float = 0.1
+    v_static: float = 0.1
+    mu_dynamic: float = 0.02
+    v_dynamic: float = 1.0
+
+
+@dataclass(frozen=True)
+class Lubricant:
+    """The lubricant, as the friction-moment estimate needs it (:mod:`rvcore.standards.palmgren`).
+
+    Parameters
+    ----------
+    kinematic_viscosity : float
+        Kinematic viscosity of the oil (of a grease: its base oil) at the operating
+        temperature [m^2 s^-1]. Default 68 mm²/s: ISO VG 68 at 40 °C, an assumption (the
+        study names no lubricant).
+    method : str
+        How the bearing is lubricated: ``"grease"`` (the default, an assumption),
+        ``"oil-mist"``, ``"oil-bath"`` or ``"oil-jet"`` (Palmgren's ``f_0`` table).
+
+    Neither value enters the dynamics: the model's contact friction law does not depend
+    on the lubricant.
+    """
+
+    kinematic_viscosity: float = 68e-6
+    method: str = "grease"
+
+
+@dataclass(frozen=True)
+class Bearing:
+    """A whole bearing: envelope, rows, rings, materials and contact law.
+
+    ``arrangement`` names how a pair's rows are mirrored (``"back-to-back"``,
+    ``"face-to-face"``, ``"tandem"``; ``""`` for a single row or rows given one by one),
+    ``preload`` the axial preload force asked for [N] (0 when none or when the pair is
+    preloaded by an offset) and ``preload_offset`` the total axial offset of the rows'
+    inner raceways that sets it [m] (see :mod:`rvcore.statics.preload`).
+
+    ``gravity`` is the gravitational acceleration in the bearing frame [m s^-2], set by
+    the mounting (:data:`MOUNTINGS`; horizontal axis by default).
+    ``dynamic_load_rating`` is the catalogue basic dynamic radial load rating C_r [N]
+    (ISO 281); 0 means "from the geometry" (:mod:`rvcore.standards.iso16281`). ``lubricant`` is what
+    the friction-moment estimate takes (:class:`Lubricant`; not used by the dynamics). ``warnings`` carries caveats that every output of a run must repeat (for example a
+    ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
+    dotted keys whose values the source does not give.
+    """
+
+    name: str
+    bore: float
+    outer_diameter: float
+    width: float
+    rows: tuple
+    ring_material: Material
+    ball_material: Material
+    inner_ring: InnerRing
+    contact: ContactLaw
+    allow_ball_overlap: bool = False
+    gravity: tuple = (0.0, -STANDARD_GRAVITY, 0.0)
+    warnings: tuple = ()
+    assumptions: tuple = ()
+    arrangement: str = ""
+    preload: float = 0.0
+    preload_offset: float = 0.0
+    dynamic_load_rating: float = 0.0
+    lubricant: Lubricant = Lubricant()
+    source: str = ""
+    description: str = ""
+    extra: dict = field(default_factory=dict, compare=False, hash=False)
+
+
+# --------------------------------------------------------------------------- derived
+
+
+def ball_mass(row: Row, material: Material) -> float:
+    """Mass of one ball [kg]: ``ρ·π·D³/6``."""
+    return material.density * math.pi * row.ball_diameter**3 / 6.0
+
+
+def ball_inertia(row: Row, material: Material) -> float:
+    """Moment of inertia of one homogeneous ball about its centre [kg m^2]: ``m·D²/10``."""
+    return ball_mass(row, material) * row.ball_diameter**2 / 10.0
+
+
+def min_pitch_diameter(ball_count: int, ball_diameter: float) -> float:
+    """Smallest pitch diameter on which ``ball_count`` balls fit without overlap [m].
+
+    Neighbouring centres are ``d_m·sin(π/Z)`` apart, so ``d_m ≥ D / sin(π/Z)``.
+    """
+    return ball_diameter / math.sin(math.pi / ball_count)
+
+
+def max_ball_count(pitch_diameter: float, ball_diameter: float, web: float = 0.0) -> int:
+    """Largest Z whose balls, plus a cage web of ``web`` [m] between them, fit on the pitch circle."""
+    z = int(math.pi / math.asin(min(1.0, (ball_diameter + web) / pitch_diameter)))
+    while z > 1 and pitch_diameter * math.sin(math.pi / z) < ball_diameter + web:
+        z -= 1
+    return z
+
+
+def arc_geometry(row: Row, arc: Arc, ring: int):
+    """Centre and size of one groove arc in the row's cross-section.
+
+    Returns
+    -------
+    centre_radial : float
+        Distance of the arc centre from the bearing axis [m].
+    centre_axial : float
+        Axial coordinate of the arc centre, relative to the row plane [m]; an inner arc
+        is moved by the row's ``inner_offset``.
+    radius_minus_half : float
+        ``(f − ½)·D`` [m]; the penetration is ``|P − C| − radius_minus_half``.
+    side : int
+        +1 or −1 when the arc is one of several on its ring (it exists only where its
+        contact point lies on that side of the groove mid-plane), else 0.
+    """
+    d = row.ball_diameter
+    g = row.radial_clearance / 4.0
+    ux, uz = math.cos(arc.contact_angle), math.sin(arc.contact_angle)
+    if ring == INNER:
+        ux, uz = -ux, -uz
+    reach = (arc.curvature_ratio - 0.5) * d - g
+    cr = row.pitch_diameter / 2.0 - reach * ux
+    cz = -reach * uz + (row.inner_offset if ring == INNER else 0.0)
+    arcs = row.inner_arcs if ring == INNER else row.outer_arcs
+    side = 0
+    if len(arcs) > 1 and abs(uz) > 1e-12:
+        side = 1 if uz > 0 else -1
+    return cr, cz, (arc.curvature_ratio - 0.5) * d, side
+
+
+def inner_ring_mass_properties(bearing: Bearing):
+    """Mass [kg], polar and transverse inertia [kg m^2] of the inner ring with attachments.
+
+    The ring is an annulus from the bore to the shoulder diameter over the width:
+    ``m = ρ·π/4·(d_s² − d_b²)·B``, ``I_p = m·(r_s² + r_b²)/2``,
+    ``I_t = m·(3·(r_s² + r_b²) + B²)/12``.
+    """
+    rs, rb, b = bearing.inner_ring.shoulder_diameter / 2, bearing.bore / 2, bearing.width
+    m = bearing.ring_material.density * math.pi * (rs**2 - rb**2) * b
+    ip = m * (rs**2 + rb**2) / 2.0
+    it = m * (3.0 * (rs**2 + rb**2) + b**2) / 12.0
+    return (m + bearing.inner_ring.attached_mass, ip, it + bearing.inner_ring.attached_inertia)
+
+
+def cage_mass_properties(row: Row):
+    """Mass [kg] and polar inertia [kg m^2] of a cage ring with Z cylindrical pockets.
+
+    The pockets (diameter ``D + c_p`` through the radial wall) are subtracted from the
+    annulus; the polar inertia is that of the remaining annulus, ``m·(r_o² + r_i²)/2``.
+    """
+    c = row.cage
+    ro, ri = c.outer_diameter / 2, c.inner_diameter / 2
+    pocket = math.pi / 4 * (row.ball_diameter + c.pocket_clearance) ** 2 * (ro - ri)
+    volume = math.pi * (ro**2 - ri**2) * c.width - row.ball_count * pocket
+    m = c.material.density * max(volume, 0.0)
+    return m, m * (ro**2 + ri**2) / 2.0
+
+
+def epicyclic_cage_ratio(row: Row, contact_angle: float | None = None) -> float:
+    """Cage speed over inner-ring speed for rolling without slip, outer ring fixed.
+
+    ``ω_c/ω_i = ½·(1 − D·cos α / d_m)``.
+    """
+    a = row.nominal_contact_angle if contact_angle is None else contact_angle
+    return 0.5 * (1.0 - row.ball_diameter * math.cos(a) / row.pitch_diameter)
+
+
+def centrifugal_ball_load(ball_mass, pitch_radius, orbit_speed):
+    """The centrifugal force of a ball on its orbit, pressing it on the outer race [N].
+
+    Parameters
+    ----------
+    ball_mass : float or ndarray
+        Mass of the ball [kg].
+    pitch_radius : float or ndarray
+        Radius of the ball centres' orbit [m].
+    orbit_speed : float or ndarray
+        Angular speed of the orbit, the cage's [rad s^-1]: ``ω·epicyclic_cage_ratio(row)``
+        for rolling without slip at the inner ring's ω (:func:`epicyclic_cage_ratio`).
+
+    Notes
+    -----
+    ``F_c = m_b·(d_m/2)·ω_c²``: the one place it is written.
+    """
+    return ball_mass * pitch_radius * orbit_speed ** 2
+
+
+def geometry_problems(bearing: Bearing):
+    """Everything that makes the bearing unbuildable, as ``(key, value, reason)`` tuples.
+
+    ``key`` is the dotted path a bearing file would use. Ball overlap is reported with
+    the numbers; whether it is an error or a warning is the caller's decision
+    (``allow_ball_overlap``), so it is tagged with the key ``"rows[i].balls.count"``.
+    """
+    out = []
+    if bearing.outer_diameter <= bearing.bore:
+        out.append(("envelope.outer_diameter", bearing.outer_diameter,
+                    f"must exceed the bore ({bearing.bore * 1e3:.4g} mm)"))
+    if bearing.inner_ring.shoulder_diameter <= bearing.bore:
+        out.append(("inner_ring.shoulder_diameter", bearing.inner_ring.shoulder_diameter,
+                    f"must exceed the bore ({bearing.bore * 1e3:.4g} mm)"))
+    for i, row in enumerate(bearing.rows):
+        d, dm, z = row.ball_diameter, row.pitch_diameter, row.ball_count
+        need = min_pitch_diameter(z, d)
+        if dm < need:
+            out.append((f"rows[{i}].balls.count", z,
+                        f"{z} balls of {d * 1e3:.4g} mm need a pitch diameter of at least "
+                        f"{need * 1e3:.1f} mm; this bearing's is {dm * 1e3:.1f} mm"))
+        if dm - d <= bearing.bore:
+            out.append((f"rows[{i}].pitch_diameter", dm,
+                        f"balls of {d * 1e3:.4g} mm on this pitch reach the bore "
+                        f"({(dm - d) * 1e3:.1f} mm ≤ {bearing.bore * 1e3:.1f} mm)"))
+        if dm + d >= bearing.outer_diameter:
+            out.append((f"rows[{i}].pitch_diameter", dm,
+                        f"balls of {d * 1e3:.4g} mm on this pitch reach the outer diameter "
+                        f"({(dm + d) * 1e3:.1f} mm ≥ {bearing.outer_diameter * 1e3:.1f} mm)"))
+        for ring, arcs in (("inner", row.inner_arcs), ("outer", row.outer_arcs)):
+            if not arcs:
+                out.append((f"rows[{i}].{ring}_groove.arcs", [], "needs at least one arc"))
+            for k, arc in enumerate(arcs):
+                if arc.curvature_ratio <= 0.5:
+                    out.append((f"rows[{i}].{ring}_groove.arcs[{k}].curvature_ratio",
+                                arc.curvature_ratio,
+                                f"groove radius {arc.curvature_ratio * d * 1e3:.4g} mm is not larger "
+                                f"than the ball radius {d / 2 * 1e3:.4g} mm (f must exceed 0.5)"))
+        c = row.cage
+        if c.inner_diameter >= c.outer_diameter:
+            out.append((f"rows[{i}].cage.inner_diameter", c.inner_diameter,
+                        "must be smaller than the cage outer diameter"))
+        if c.inner_diameter <= bearing.inner_ring.shoulder_diameter:
+            out.append((f"rows[{i}].cage.inner_diameter", c.inner_diameter,
+                        f"the cage ({c.inner_diameter * 1e3:.4g} mm) does not clear the inner-ring "
+                        f"shoulder ({bearing.inner_ring.shoulder_diameter * 1e3:.4g} mm)"))
+        if c.outer_diameter >= bearing.outer_diameter:
+            out.append((f"rows[{i}].cage.outer_diameter", c.outer_diameter,
+                        f"the cage ({c.outer_diameter * 1e3:.4g} mm) does not fit inside the outer "
+                        f"ring ({bearing.outer_diameter * 1e3:.4g} mm)"))
+        if not (c.inner_diameter < dm + d and c.outer_diameter > dm - d):
+            out.append((f"rows[{i}].cage", (c.inner_diameter, c.outer_diameter),
+                        f"the cage ring ({c.inner_diameter * 1e3:.4g}–{c.outer_diameter * 1e3:.4g} mm) "
+                        f"does not reach the balls ({(dm - d) * 1e3:.4g}–{(dm + d) * 1e3:.4g} mm)"))
+        if c.guidance not in ("outer-land", "ball"):
+            out.append((f"rows[{i}].cage.guidance", c.guidance,
+                        "must be 'outer-land' or 'ball'"))
+    return out

@@ -1,0 +1,1 @@
+"""The contact laws, written once: STEP, Hertz with its damper, friction, penetrations; the inner ring's pose."""

@@ -1,0 +1,235 @@
+"""Elastohydrodynamic film thickness of a ball–raceway contact (Hamrock–Dowson) and the
+film parameter λ. Pure functions, SI in and out. The contact's geometry comes from
+:mod:`rvcore.hertz` (its curvature sums and its exact ellipticity), not from a second
+Hertz solution.
+
+Not wired into the model yet (issue 40).
+
+Notes
+-----
+Hamrock & Dowson (1977), fully flooded, isothermal, elliptical contact, the entrainment
+(rolling) direction ``x`` along the ellipse's minor axis::
+
+    U = η0·u / (E'·R_x)        G = α·E'        W = w / (E'·R_x²)
+    H_c   = h_c/R_x   = 2.69·U^0.67·G^0.53·W^−0.067·(1 − 0.61·e^(−0.73·k))
+    H_min = h_min/R_x = 3.63·U^0.68·G^0.49·W^−0.073·(1 − e^(−0.68·k))
+
+with ``η0`` the lubricant's dynamic viscosity at the inlet's temperature and ambient
+pressure [Pa s], ``u = (u1 + u2)/2`` the entrainment speed [m s⁻¹], ``α`` the
+pressure–viscosity coefficient [Pa⁻¹], ``w`` the contact's normal load [N], ``E'`` the
+effective modulus of :func:`rvcore.hertz.effective_modulus` [Pa], ``R_x = 1/ρ_x`` the
+effective radius in the rolling direction [m] and ``k = a/b`` the ellipticity [-]
+(:attr:`rvcore.hertz.HertzContact.ellipticity`; Hamrock & Dowson used their fit
+``k ≈ 1.03·(R_y/R_x)^0.64``, the exact value is used here).
+
+The film parameter ``λ = h_min/σ``, ``σ`` the composite rms roughness
+(:func:`rvcore.bearing.lubricant.composite_roughness`).
+
+Validity (Hamrock & Dowson 1977, Part III): fitted on 34 numerical solutions with the
+ellipticity from 1 (ball on plate) to 8, the speed parameter over about two decades and
+the load parameter over one, for steel, bronze and silicon nitride with paraffinic and
+naphthenic mineral oils; Newtonian lubricant, Barus viscosity, smooth surfaces, isothermal
+inlet, fully flooded. Outside ``1 ≤ k ≤ 8`` the formula is extrapolated (flagged here). A
+grease-lubricated bearing runs starved: the formula is then an upper bound. Measured
+films scatter about the formula: Koye & Winer (1981) found their 57 optical
+measurements of the minimum film 30 % above it on average.
+
+References
+----------
+B. J. Hamrock, D. Dowson, "Isothermal elastohydrodynamic lubrication of point contacts,
+Part III — Fully flooded results", *J. Lubr. Technol.* 99(2) 264–276, 1977.
+B. J. Hamrock, S. R. Schmid, B. O. Jacobson, *Fundamentals of Machine Elements*, the
+rolling-element bearing chapter (the same two formulas).
+K. A. Koye, W. O. Winer, "An experimental evaluation of the Hamrock and Dowson minimum
+film thickness equation for fully flooded EHD point contacts", *J. Lubr. Technol.*
+103(2) 284–294, 1981.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ..hertz import HertzContact
+
+__all__ = [
+    "ELLIPTICITY_RANGE",
+    "FilmThickness",
+    "effective_radii",
+    "hamrock_dowson",
+    "hamrock_dowson_contact",
+    "film_parameter",
+    "entrainment_speed_pure_rolling",
+]
+
+#: The ellipticities Hamrock & Dowson (1977) fitted their formulas on [-].
+ELLIPTICITY_RANGE = (1.0, 8.0)
+
+
+@dataclass(frozen=True)
+class FilmThickness:
+    """Hamrock–Dowson film of one contact.
+
+    Parameters
+    ----------
+    central, minimum : float
+        ``h_c``, ``h_min`` [m].
+    speed_parameter, materials_parameter, load_parameter : float
+        ``U``, ``G``, ``W`` [-].
+    ellipticity : float
+        ``k`` [-].
+    extrapolated : bool
+        True where ``k`` lies outside :data:`ELLIPTICITY_RANGE`.
+    """
+
+    central: float
+    minimum: float
+    speed_parameter: float
+    materials_parameter: float
+    load_parameter: float
+    ellipticity: float
+    extrapolated: bool
+
+
+def _positive(name, value, unit):
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {value!r}") from None
+    if not (math.isfinite(x) and x > 0.0):
+        raise ValueError(f"{name} must be a finite number > 0 {unit}, got {value!r}")
+    return x
+
+
+def hamrock_dowson(load, entrainment_speed, viscosity, pressure_viscosity, e_eff, r_x,
+                   ellipticity) -> FilmThickness:
+    """Hamrock–Dowson central and minimum film thickness (module Notes).
+
+    Parameters
+    ----------
+    load : float
+        Normal load of the contact ``w`` [N], > 0.
+    entrainment_speed : float
+        ``u = (u1 + u2)/2`` [m s⁻¹], > 0 (its sign does not matter: ``|u|`` is used).
+    viscosity : float
+        ``η0`` [Pa s] at the inlet's temperature, ambient pressure.
+    pressure_viscosity : float
+        ``α`` [Pa⁻¹].
+    e_eff : float
+        ``E'`` [Pa].
+    r_x : float
+        Effective radius in the rolling direction [m].
+    ellipticity : float
+        ``k = a/b ≥ 1`` with ``a`` across the rolling direction [-].
+
+    Returns
+    -------
+    FilmThickness
+    """
+    w = _positive("load", load, "N")
+    u = _positive("entrainment speed |u|", abs(float(entrainment_speed)), "m/s")
+    eta = _positive("viscosity", viscosity, "Pa s")
+    alpha = _positive("pressure_viscosity", pressure_viscosity, "1/Pa")
+    e = _positive("e_eff", e_eff, "Pa")
+    rx = _positive("r_x", r_x, "m")
+    k = _positive("ellipticity", ellipticity, "")
+    if k < 1.0:
+        raise ValueError(f"ellipticity k = {k:.6g} < 1: Hamrock-Dowson's formulas take the rolling "
+                         "direction along the ellipse's minor axis (k >= 1)")
+    big_u = eta * u / (e * rx)
+    big_g = alpha * e
+    big_w = w / (e * rx * rx)
+    h_c = 2.69 * big_u ** 0.67 * big_g ** 0.53 * big_w ** -0.067 * (1.0 - 0.61 * math.exp(-0.73 * k))
+    h_m = 3.63 * big_u ** 0.68 * big_g ** 0.49 * big_w ** -0.073 * (1.0 - math.exp(-0.68 * k))
+    lo, hi = ELLIPTICITY_RANGE
+    return FilmThickness(h_c * rx, h_m * rx, big_u, big_g, big_w, k, not lo <= k <= hi)
+
+
+def effective_radii(contact: HertzContact):
+    """``(R_x, R_y)`` [m] of a Hertz contact, x the rolling direction.
+
+    Parameters
+    ----------
+    contact : rvcore.hertz.HertzContact
+
+    Notes
+    -----
+    From the contact's ``Σρ`` and ``F(ρ)``: the curvature sums are ``Σρ·(1 ± F)/2``; the
+    larger one lies across the ellipse's minor axis. :mod:`rvcore.hertz` records which
+    direction the major axis takes (``major_axis``): for a ball on a raceway it is ``y``,
+    so ``ρ_x`` is the larger sum.
+    """
+    big = 0.5 * contact.curvature_sum * (1.0 + contact.curvature_difference)
+    small = 0.5 * contact.curvature_sum * (1.0 - contact.curvature_difference)
+    rho_x, rho_y = (big, small) if contact.major_axis == "y" else (small, big)
+    return 1.0 / rho_x, 1.0 / rho_y
+
+
+def hamrock_dowson_contact(contact: HertzContact, load, entrainment_speed, viscosity,
+                           pressure_viscosity) -> FilmThickness:
+    """Hamrock–Dowson film of a contact built by :mod:`rvcore.hertz` [m].
+
+    Parameters
+    ----------
+    contact : rvcore.hertz.HertzContact
+        Its ``x`` must be the rolling direction and its major axis across it
+        (``major_axis == "y"``: every ball–raceway contact of :func:`rvcore.hertz.race_contact`).
+    load, entrainment_speed, viscosity, pressure_viscosity
+        As :func:`hamrock_dowson`.
+    """
+    if contact.major_axis != "y":
+        raise ValueError("the contact's major axis lies along the rolling direction (k < 1 in "
+                         "Hamrock-Dowson's terms); their formulas do not cover it")
+    r_x, _ = effective_radii(contact)
+    return hamrock_dowson(load, entrainment_speed, viscosity, pressure_viscosity,
+                          contact.effective_modulus, r_x, contact.ellipticity)
+
+
+def film_parameter(minimum_film, composite_roughness) -> float:
+    """Film parameter ``λ = h_min/σ`` [-].
+
+    Parameters
+    ----------
+    minimum_film : float
+        ``h_min`` [m], ≥ 0.
+    composite_roughness : float
+        ``σ`` [m], > 0 (:func:`rvcore.bearing.lubricant.composite_roughness`).
+    """
+    h = float(minimum_film)
+    if not (math.isfinite(h) and h >= 0.0):
+        raise ValueError(f"minimum film must be a finite thickness >= 0 m, got {minimum_film!r}")
+    return h / _positive("composite roughness", composite_roughness, "m")
+
+
+def entrainment_speed_pure_rolling(relative_speed, pitch_diameter, ball_diameter,
+                                   contact_angle=0.0) -> float:
+    """Entrainment speed of a ball–raceway contact in pure rolling [m s⁻¹].
+
+    Parameters
+    ----------
+    relative_speed : float
+        ``ω_i − ω_o``, the inner ring's speed relative to the outer [rad s⁻¹].
+    pitch_diameter, ball_diameter : float
+        ``d_m``, ``D`` [m].
+    contact_angle : float
+        ``α`` [rad].
+
+    Returns
+    -------
+    float
+        ``u = |ω_i − ω_o|·d_m·(1 − γ²)/4``, ``γ = D·cos α/d_m``, the same at the inner and
+        the outer contact [m s⁻¹].
+
+    Notes
+    -----
+    In pure rolling the cage turns at ``ω_o + (ω_i − ω_o)(1 − γ)/2``; in the cage's frame
+    the inner race's surface passes the inner contact at ``(ω_i − ω_c)·d_m(1 − γ)/2`` and
+    the ball's surface at the same speed, which gives the formula (Harris & Kotzalas,
+    *Essential Concepts of Bearing Technology*, the kinematics chapter; Hamrock & Dowson,
+    *Ball Bearing Lubrication*, 1981).
+    """
+    dm = _positive("pitch_diameter", pitch_diameter, "m")
+    d = _positive("ball_diameter", ball_diameter, "m")
+    gamma = d * math.cos(float(contact_angle)) / dm
+    if not gamma < 1.0:
+        raise ValueError(f"D cos(alpha)/d_m = {gamma:.6g} must be < 1")
+    return abs(float(relative_speed)) * dm * (1.0 - gamma * gamma) / 4.0

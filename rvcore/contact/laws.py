@@ -1,0 +1,376 @@
+"""Contact laws, written once: Hertz force with the IMPACT damper, the friction law's
+functions dispatched on the record's kind (the study's law: :mod:`rvcore.contact.coulomb_step`),
+and the penetrations of every contact type. SI throughout. (The cubic STEP:
+:mod:`rvcore.contact.step`.)
+(The inner ring's pose: :mod:`rvcore.contact.pose`.)
+
+Every function is a kernel (``@kernel(inline=True)``, rvcore._numba) on scalars, inlined into its callers,
+and allocates nothing. The right-hand side (:func:`rvcore.dynamics.rhs.rhs`), the potential
+energy (:func:`rvcore.dynamics.energy.potential_energy`), the statics
+(:mod:`rvcore.statics.equilibrium`), the step size (:mod:`rvcore.integrate.step_size`)
+and the profiles' smooth-step interpolation (:mod:`rvcore.profile`) all call these, so a
+law changed here changes everywhere.
+
+Notes
+-----
+Cubic step (docs/model.md §3)::
+
+    STEP(x, x0, h0, x1, h1) = h0                          x ≤ x0
+                            = h0 + (h1−h0)·Δ²·(3 − 2Δ)    Δ = (x−x0)/(x1−x0)
+                            = h1                          x ≥ x1
+
+Normal force (Hertz with the IMPACT damper)::
+
+    Q = K·δ^1.5 + STEP(δ, 0, 0, d_max, c_max)·dδ/dt,   then Q ← max(Q, 0)
+
+Friction (docs/model.md §4), slip speed ``s = |v_t|``::
+
+    μ(s) = STEP(s, −v_s, −μ_s, v_s, μ_s)      s < v_s
+         = STEP(s, v_s, μ_s, v_d, μ_d)        v_s ≤ s ≤ v_d
+         = μ_d                                 s > v_d
+"""
+from __future__ import annotations
+
+import math
+
+from .._numba import kernel
+
+from ..bearing.laws import COULOMB_STEP, LAW_KIND, LAW_ON
+from . import coulomb_step
+from .step import step, step_slope, unit_step, unit_step_slope  # noqa: F401 (STEP, with the laws)
+from ..bearing.layout import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
+
+#: A ball counts as loaded (``loaded_ball_count``, statics and dynamics) when it carries
+#: more than this normal load on the inner race *and* on the outer race [N]: it passes
+#: load from ring to ring. Why 1 N: a ball out of the load zone is still pressed on one
+#: race by its weight and its centrifugal force (0.49 N and 0.25 N for the study's 23 mm
+#: ball at 660 °/s), and a statically unloaded contact is the solver's round-off
+#: (1e-16 N); a ball of the load zone carries hundreds to thousands of newtons. A steel
+#: ball heavier than 1 N (D > 31 mm) resting on the inner race in gravity would count.
+LOADED_BALL_LOAD = 1.0
+
+
+@kernel(inline=True)
+def damping_coefficient(delta, c_max, inv_dmax):
+    """IMPACT damping ``STEP(δ, 0, 0, d_max, c_max)`` [N s m^-1].
+
+    Parameters
+    ----------
+    delta : float
+        Penetration δ [m].
+    c_max : float
+        Full damping, reached at ``δ = d_max`` [N s m^-1].
+    inv_dmax : float
+        ``1/d_max`` [m^-1] (a product, so no division is left in the contact loop).
+    """
+    return c_max * unit_step(delta * inv_dmax)
+
+
+@kernel(inline=True)
+def hertz_load(k, delta):
+    """Hertz load ``K·δ^1.5`` [N] for ``δ ≥ 0`` [m], ``K`` [N m^-1.5].
+
+    The root is of ``|δ|``, the same number for δ ≥ 0: an argument LLVM cannot prove
+    non-negative keeps the C library's ``sqrt`` (it may set errno), a call that stops the
+    loops of :mod:`rvcore.dynamics.races` from being vectorised.
+    """
+    return k * delta * math.sqrt(abs(delta))
+
+
+@kernel(inline=True)
+def hertz_energy(k, delta):
+    """Elastic energy ``⅖·K·δ^2.5`` [J] of a Hertz contact, 0 for ``δ ≤ 0`` [m]."""
+    if delta <= 0.0:
+        return 0.0
+    return 0.4 * hertz_load(k, delta) * delta
+
+
+@kernel(inline=True)
+def normal_force(delta, delta_rate, k, c_max, inv_dmax):
+    """Hertz force with the IMPACT damper, clipped at zero [N].
+
+    Parameters
+    ----------
+    delta : float
+        Penetration δ > 0 [m].
+    delta_rate : float
+        dδ/dt [m s^-1].
+    k : float
+        Hertz constant K [N m^-1.5].
+    c_max, inv_dmax : float
+        See :func:`damping_coefficient` [N s m^-1], [m^-1].
+    """
+    q = hertz_load(k, delta) + damping_coefficient(delta, c_max, inv_dmax) * delta_rate
+    return q if q > 0.0 else 0.0
+
+
+@kernel(inline=True)
+def friction_coefficient(s, law):
+    """μ(s) of the record's law [-] at the slip speed ``s`` ≥ 0 [m s^-1]
+    (``coulomb_step``: :func:`rvcore.contact.coulomb_step.coefficient`).
+
+    Each law function here dispatches on the record's kind ``law[LAW_KIND]``: its law's
+    value is computed and selected (a select, not a branch, keeps the contact loops of
+    :mod:`rvcore.dynamics.races` vectorised); a kind no law has gives NaN, which the
+    integrator's blow-up check reports.
+    """
+    mu = coulomb_step.coefficient(s, law)
+    return mu if law[LAW_KIND] == COULOMB_STEP else math.nan
+
+
+@kernel(inline=True)
+def friction_slope(s, law):
+    """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
+    d = coulomb_step.slope(s, law)
+    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
+
+
+@kernel(inline=True)
+def friction_slope_at_zero_slip(law):
+    """dμ/ds at s = 0 [s m^-1]: the law acts as a viscous damper ``c_f = Q·dμ/ds`` at
+    small slip; the explicit step is sized from it
+    (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
+    d = coulomb_step.slope_at_zero_slip(law)
+    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
+
+
+def friction_falling_slope(law) -> float:
+    """The steepest fall of μ with the slip, ``|min dμ/ds|`` [s m^-1] (0 for a law that
+    never falls): an explicit stage's rate where the law falls (:mod:`rvcore.integrate.step_size`)."""
+    if law[LAW_KIND] == COULOMB_STEP:
+        return coulomb_step.falling_slope(law)
+    raise ValueError(f"no friction law of kind {law[LAW_KIND]!r}")
+
+
+@kernel(inline=True)
+def friction_per_slip(s2, law):
+    """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2], without
+    dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`)."""
+    g = coulomb_step.per_slip(s2, law)
+    return g if law[LAW_KIND] == COULOMB_STEP else math.nan
+
+
+@kernel(inline=True)
+def friction_tangent_curvature(s2, law):
+    """``(max(μ', 0) − μ/s)/s²`` [s^3 m^-3] at ``s2 = s²``: the coefficient of
+    ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`;
+    :func:`rvcore.contact.coulomb_step.tangent_curvature`)."""
+    c = coulomb_step.tangent_curvature(s2, law)
+    return c if law[LAW_KIND] == COULOMB_STEP else math.nan
+
+
+@kernel(inline=True)
+def friction_force(ux, uy, uz, nx, ny, nz, q, law):
+    """Coulomb friction on the ball at a contact of unit normal ``n`` [N].
+
+    ``u`` is the slip velocity of the ball's material point against the other body's
+    [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
+    (zero at zero slip). ``q`` is the normal load [N].
+    """
+    un = ux * nx + uy * ny + uz * nz
+    tx = ux - un * nx
+    ty = uy - un * ny
+    tz = uz - un * nz
+    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, law)
+    return g * tx, g * ty, g * tz
+
+
+@kernel(inline=True)
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
+    """Force [N] and moment about the ball centre [N m] of one contact on a ball.
+
+    Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction by
+    ``law`` (when it is on) from the slip ``u`` [m s^-1] tangential to the surface normal
+    ``n`` (unit), acting at the arm ``a`` from the ball centre [m]. Returns
+    ``(fx, fy, fz, mx, my, mz)``.
+    """
+    # the friction computed either way and selected (unit_step, Notes): its loads of the law
+    # inside a branch would keep LLVM from vectorising the loops of rvcore.dynamics.races
+    on = law[LAW_ON] != 0.0
+    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, law)
+    fx, fy, fz = -q * gx, -q * gy, -q * gz
+    return (fx + ftx if on else fx, fy + fty if on else fy, fz + ftz if on else fz,
+            ay * ftz - az * fty if on else 0.0, az * ftx - ax * ftz if on else 0.0,
+            ax * fty - ay * ftx if on else 0.0)
+
+
+@kernel(inline=True)
+def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
+    """Penetration of a ball into one groove arc, in the ring's own frame.
+
+    Parameters
+    ----------
+    plx, ply, plz : float
+        Ball centre in the ring frame, axial coordinate relative to the row plane [m].
+    rho, inv_rho : float
+        ``√(plx² + ply²)`` [m] and its inverse [m^-1] (computed once per ring).
+    cr, cz : float
+        Arc centre: distance from the axis and axial offset [m].
+    rmh : float
+        ``(f − ½)·D`` [m].
+    side : float
+        0, or ±1 for an arc that exists only on that side of the groove mid-plane [-].
+    half_d : float
+        Ball radius [m].
+
+    Returns
+    -------
+    delta : float
+        Penetration [m] (≤ 0: no contact; −1 when the arc does not exist there).
+    nx, ny, nz : float
+        Unit normal C→P in the ring frame [-].
+    """
+    dr = rho - cr
+    dz = plz - cz
+    dist = math.sqrt(dr * dr + dz * dz)
+    delta = dist - rmh
+    inv = 1.0 / dist
+    nr = dr * inv
+    nz = dz * inv
+    nx = nr * plx * inv_rho
+    ny = nr * ply * inv_rho
+    if side != 0.0 and side * (plz + half_d * nz) < 0.0:
+        delta = -1.0
+    return delta, nx, ny, nz
+
+
+@kernel(inline=True)
+def pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro):
+    """Ball–pocket contact: a cylindrical pocket with its axis radial through the cage centre.
+
+    Parameters
+    ----------
+    dxp, dyp, dzp : float
+        Ball centre relative to the cage centre, axial from the row plane [m].
+    cth, sth : float
+        cos and sin of the pocket's azimuth (cage angle + pocket offset) [-].
+    pocket_r : float
+        Pocket radius [m].
+    h : float
+        Ball radius [m].
+    cage_ri, cage_ro : float
+        Inner and outer radius of the cage ring [m].
+
+    Returns
+    -------
+    delta : float
+        Penetration [m]; −1 where there is no contact (and where the ball's section at
+        the cage ring has shrunk to nothing: the ball is past the ring's edge).
+    ax, ay, az : float
+        Arm from the ball centre to the contact point [m]; the force is −Q·∇δ, along the
+        arm (a sphere's normal passes through its centre).
+    a_sec : float
+        Radius of the ball's section where it meets the pocket wall, |arm| [m].
+    """
+    rad = dxp * cth + dyp * sth            # ball station along the pocket axis
+    tan = -dxp * sth + dyp * cth           # offset across it, circumferential
+    dperp2 = tan * tan + dzp * dzp
+    # the ball's section is never wider than h: no contact unless dperp + h > pocket_r
+    near = dperp2 > (pocket_r - h) * (pocket_r - h)
+    dperp = math.sqrt(dperp2)
+    # the cage ring spans [cage_ri, cage_ro]: the ball meets the pocket wall at the
+    # station nearest its centre, where its section radius is a_sec
+    station = min(max(rad, cage_ri), cage_ro) - rad
+    a_sec = math.sqrt(max(h * h - station * station, 0.0))
+    delta = dperp + a_sec - pocket_r
+    touch = near & (delta > 0.0) & (dperp > 0.0) & (a_sec > 1e-3 * h)
+    inv = 1.0 / dperp
+    ax = a_sec * ((-tan * sth) * inv) + station * cth
+    ay = a_sec * ((tan * cth) * inv) + station * sth
+    az = a_sec * (dzp * inv)
+    # one return of selects (unit_step, Notes)
+    return (delta if touch else -1.0, ax if touch else 0.0, ay if touch else 0.0, az if touch else 0.0,
+            a_sec if near else h)
+
+
+@kernel(inline=True)
+def spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h):
+    """Ball–pocket contact of a ball-guided cage: a spherical pocket of radius ``pocket_r``
+    centred on the cage's pitch circle (radius ``pitch_r`` [m]) at the pocket's azimuth.
+
+    Why spherical: a ball-guided (ball-riding) cage, e.g. a pressed-steel cage, is centred
+    by the balls, its pockets formed around them, so that a radial or axial shift of the
+    cage closes the pocket play as a circumferential one does. A cylindrical pocket with a
+    radial axis (:func:`pocket_penetration`) holds a shifted cage only through the
+    circumferential contacts of the balls 90° away, and those balls are free to slide
+    along their orbit where they carry no load (all of them without friction): a ball-guided
+    cage built from it drifted millimetres off the axis (docs/validation.md, "A second bearing family").
+
+    Arguments and returns as :func:`pocket_penetration` (``a_sec`` is the ball radius: the
+    normal passes through both centres).
+    """
+    ex = dxp - pitch_r * cth
+    ey = dyp - pitch_r * sth
+    dist = math.sqrt(ex * ex + ey * ey + dzp * dzp)
+    delta = dist + h - pocket_r
+    touch = (delta > 0.0) & (dist > 0.0)
+    s = h / dist
+    return delta if touch else -1.0, ex * s if touch else 0.0, ey * s if touch else 0.0, dzp * s if touch else 0.0, h
+
+
+@kernel(inline=True)
+def cage_pocket_penetration(guide, dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h, cage_ri, cage_ro):
+    """The pocket contact of a cage of guidance ``guide`` (rvcore.bearing.layout.GUIDE_*): spherical
+    pockets for a ball-guided cage (:func:`spherical_pocket_penetration`), cylindrical ones
+    for a land-guided cage (:func:`pocket_penetration`). Returns as those."""
+    ball = guide == GUIDE_BALL
+    sd, sx, sy, sz, ss = spherical_pocket_penetration(dxp, dyp, dzp, cth, sth, pitch_r, pocket_r, h)
+    cd, cx, cy, cz, cs = pocket_penetration(dxp, dyp, dzp, cth, sth, pocket_r, h, cage_ri, cage_ro)
+    return (sd if ball else cd, sx if ball else cx, sy if ball else cy, sz if ball else cz, ss if ball else cs)
+
+
+@kernel(inline=True)
+def land_penetration(xc, yc, land_clearance):
+    """Cage–land contact of an outer-land-guided cage centred at ``(xc, yc)`` [m].
+
+    Returns ``(delta, nx, ny)``: the penetration ``|r_c| − clearance`` [m] (≤ 0: none)
+    and the unit outward normal [-] (0, 0 when the cage is not touching).
+    """
+    ecc = math.sqrt(xc * xc + yc * yc)
+    delta = ecc - land_clearance
+    if delta <= 0.0:
+        return delta, 0.0, 0.0
+    return delta, xc / ecc, yc / ecc
+
+
+@kernel(inline=True)
+def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
+                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer):
+    """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
+
+    An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
+    centre being ``(plx, ply, plz)`` there (:func:`rvcore.contact.pose.to_ring_frame`); an outer-ring arc in
+    the fixed frame, the ball centre being ``(px, py, pzr)`` with ``pzr`` from the row
+    plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
+    An imperfect bearing (:func:`rvcore.dynamics.raceway.ball_offsets`) moves the inner or outer
+    groove radially by ``dr_inner``/``dr_outer`` at this ball, with the slopes
+    ``slope_*`` = dΔr/dφ along the ring, and has the ball larger by ``2·d_half`` [m]; all
+    0 for a perfect one.
+
+    Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
+    penetration [m] and the unit normal C→P in that ring's frame [-].
+
+    Notes
+    -----
+    The groove's curvature centres lie on the curve ``(c_r + Δr(φ))·ê_r(φ)``; the normal
+    from it to the ball is perpendicular to the curve's tangent ``Δr'·ê_r + c_r·ê_φ``, so
+    it leaves the meridian plane by ``n_φ = −n_r·Δr'/c_r`` (to first order in Δr/c_r, as
+    the penetration): an eccentric raceway's normals point from its own centre, not the
+    ring's.
+    """
+    inner = arcs[a, A_RING] == 0.0
+    if inner:
+        cr = arcs[a, A_CR] + dr_inner
+        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr,
+                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, ux, uy = slope_inner, plx * inv_rho_l, ply * inv_rho_l
+    else:
+        cr = arcs[a, A_CR] + dr_outer
+        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr,
+                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, ux, uy = slope_outer, px * inv_rho_b, py * inv_rho_b
+    if slope != 0.0:
+        n_phi = -(nx * ux + ny * uy) * slope / cr
+        scale = 1.0 / math.sqrt(1.0 + n_phi * n_phi)
+        nx, ny, nz = (nx - n_phi * uy) * scale, (ny + n_phi * ux) * scale, nz * scale
+    return inner, delta, nx, ny, nz

@@ -1,0 +1,289 @@
+"""A lubricated traction law for the ball–raceway contacts: Bair–Winer limiting-shear
+liquid with Barus viscosity, blended toward boundary friction as the film parameter λ
+falls. Scalar ``@njit`` functions with their slopes, in the calling style of the study's
+Coulomb/STEP law (:mod:`rvcore.contact`, :mod:`rvcore.bearing.laws`). SI throughout.
+
+NOT wired into the kernels (issue 40): nothing imports this module yet. To register it,
+the law needs, besides the slip speed, the contact's mean pressure, central film and λ,
+which today's ``friction_coefficient(s, law)`` does not carry (see "Registering" below).
+
+Notes
+-----
+The film's shear (Bair & Winer 1979, their limiting-shear-stress liquid in steady,
+isothermal, inelastic shear)::
+
+    γ̇ = s/h                      shear rate of the film [s⁻¹], s the sliding speed, h the film
+    η(p) = η0·exp(α·p)           Barus viscosity at the contact's pressure p [Pa s]
+    τ_L(p) = τ_L0 + γ_L·p        limiting shear stress (Bair & Winer; Johnson & Tevaarwerk)
+    γ̇ = −(τ_L/η)·ln(1 − τ/τ_L)   ⇔   τ = τ_L·(1 − exp(−η·γ̇/τ_L))
+
+so the shear stress starts Newtonian, ``τ ≈ η(p)·s/h``, and saturates at ``τ_L``. The law
+takes the stress at the contact's mean Hertz pressure ``p = Q/(π a b)`` and the central
+film ``h_c`` (a single-point evaluation, not an integral over the ellipse), so the
+traction coefficient of the full film is ``μ_f(s) = τ(s)/p``.
+
+Boundary friction and the blend (a stated λ blend, not an asperity load-sharing model):
+below λ = 1 a contact is taken as boundary lubricated, above λ = 3 as full film, and
+between them the weight of the boundary friction falls along the cubic STEP of
+docs/model.md §3 (the classical regimes of the film parameter: boundary λ < 1, mixed
+1 ≤ λ ≤ 3, full film λ > 3)::
+
+    w_b(λ) = 1 − STEP(λ, λ_b, 0, λ_f, 1)
+    μ_b(s) = STEP(s, −v_b, −μ_b, v_b, μ_b)  for s < v_b,  μ_b above
+    μ(s)   = w_b·μ_b(s) + (1 − w_b)·τ(s)/p
+
+Slope with respect to the sliding speed (what the IMEX tangent needs)::
+
+    dμ/ds = w_b·μ_b'(s) + (1 − w_b)·(η/(h·p))·exp(−η·s/(h·τ_L))
+
+Every term is ≥ 0 for s ≥ 0, so the dissipation ``μ·Q·s`` is never negative, and μ
+never falls with s (no falling part: the whole slope may go into the tangent).
+
+Defaults (:func:`pack_ehl_traction_law`) and their sources:
+
+- ``η0``, ``α``: the lubricant's (:mod:`rvcore.bearing.lubricant`), no default here.
+- ``τ_L0 = 0`` Pa and ``γ_L = 0.07``: a limiting shear stress proportional to pressure,
+  ``τ_L/p`` of the order measured on mineral oils (Bair & Winer 1979; Höglund 1989 and
+  Wikström & Höglund 1994 report γ_L from about 0.04 to 0.09 depending on oil,
+  temperature and pressure). The value was chosen within that range, not taken from one
+  measurement: give the oil's when it is known.
+- ``μ_b = 0.1``, ``v_b = 0.1`` m s⁻¹: the study's static coefficient and its slip speed
+  (docs/model.md §4), so a contact without film behaves as the study's law rises.
+- ``λ_b = 1``, ``λ_f = 3``: the regime bounds above (Hamrock, Schmid & Jacobson,
+  *Fundamentals of Machine Elements*, the lubrication chapter).
+
+Range of validity: isothermal (no shear heating: the traction of fast sliding is
+overestimated), inelastic (the Maxwell elasticity of Johnson & Tevaarwerk 1977 is left
+out, so at small slip the slope is the Barus–Newtonian ``η(p)/(h·p)``, far steeper than a
+real contact's elastic slope at Hertz pressures), smooth-film shear at one mean pressure,
+steady sliding. With α·p ≳ 20 the Barus viscosity is unrealistically large and the law is
+at τ_L for any slip of practical size; the exponent is capped at :data:`BARUS_EXPONENT_MAX`
+only to keep the number finite (a numerical guard, not physics).
+
+Registering (what remains, issue 40): a kind index in ``rvcore.bearing.laws.FRICTION_LAWS``
+and a record (this module's :data:`EHL_LAW_SIZE` columns appended); the contact loop
+passes ``p``, ``h_c`` and ``λ`` of each contact (from its load, its Hertz ellipse and its
+entrainment speed, :mod:`rvcore.contact.film`); ``friction_per_slip``,
+``friction_tangent_curvature`` and ``friction_slope_at_zero_slip`` select these functions
+for the new kind; ``friction_falling_slope`` is 0 for it.
+
+References
+----------
+S. Bair, W. O. Winer, "A rheological model for elastohydrodynamic contacts based on
+primary laboratory data", *J. Lubr. Technol.* 101(3) 258–265, 1979; and "Shear strength
+measurements of lubricants at high pressure", ibid. 251–257.
+K. L. Johnson, J. L. Tevaarwerk, "Shear behaviour of elastohydrodynamic oil films",
+*Proc. R. Soc. Lond. A* 356, 215–236, 1977.
+V. Wikström, E. Höglund, "Investigation of parameters affecting the limiting shear
+stress–pressure coefficient", *J. Tribol.* 116(3) 612–620, 1994.
+C. Barus, "Isothermals, isopiestics and isometrics relative to viscosity", *Am. J. Sci.*
+45, 87–96, 1893.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._numba import kernel
+from .step import step, step_slope
+
+__all__ = [
+    "EHL_ETA0", "EHL_ALPHA", "EHL_TAU_L0", "EHL_GAMMA_L", "EHL_MU_B", "EHL_V_B",
+    "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX", "CURVATURE_X_FLOOR",
+    "pack_ehl_traction_law", "boundary_weight", "film_shear_stress",
+    "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
+    "ehl_tangent_curvature", "ehl_slope_at_zero_slip",
+]
+
+#: Columns of the law's record: η0 [Pa s], α [Pa⁻¹], τ_L0 [Pa], γ_L [-], μ_b [-],
+#: v_b [m s⁻¹], λ_b [-], λ_f [-].
+EHL_ETA0, EHL_ALPHA, EHL_TAU_L0, EHL_GAMMA_L, EHL_MU_B, EHL_V_B, EHL_LAMBDA_B, EHL_LAMBDA_F = range(8)
+EHL_LAW_SIZE = 8
+#: Cap of the Barus exponent α·p [-]: exp(200) ≈ 7e86, so η(p)/(h·τ_L) stays finite even for a
+#: nanometre film (a numerical guard, not physics: α·p of a real contact is below ~60).
+BARUS_EXPONENT_MAX = 200.0
+
+#: Smallest ``x = k·s`` the tangent's curvature is evaluated at [-] (a numerical floor).
+CURVATURE_X_FLOOR = 1e-20
+
+#: Defaults of :func:`pack_ehl_traction_law` (sources in the module Notes).
+TAU_L0_DEFAULT = 0.0
+GAMMA_L_DEFAULT = 0.07
+MU_B_DEFAULT = 0.1
+V_B_DEFAULT = 0.1
+LAMBDA_B_DEFAULT = 1.0
+LAMBDA_F_DEFAULT = 3.0
+
+
+def pack_ehl_traction_law(eta0: float, alpha: float, *, tau_l0: float = TAU_L0_DEFAULT,
+                          gamma_l: float = GAMMA_L_DEFAULT, mu_b: float = MU_B_DEFAULT,
+                          v_b: float = V_B_DEFAULT, lambda_b: float = LAMBDA_B_DEFAULT,
+                          lambda_f: float = LAMBDA_F_DEFAULT) -> np.ndarray:
+    """The law's record (columns above).
+
+    Parameters
+    ----------
+    eta0 : float
+        Dynamic viscosity at the contact's temperature, ambient pressure [Pa s], > 0.
+    alpha : float
+        Pressure–viscosity coefficient [Pa⁻¹], ≥ 0.
+    tau_l0 : float
+        Limiting shear stress at zero pressure [Pa], ≥ 0.
+    gamma_l : float
+        Its pressure coefficient [-], ≥ 0, with ``tau_l0 + gamma_l > 0``.
+    mu_b : float
+        Boundary friction coefficient [-], ≥ 0.
+    v_b : float
+        Slip speed over which boundary friction rises to μ_b [m s⁻¹], > 0.
+    lambda_b, lambda_f : float
+        Film parameters of pure boundary and of full film [-], ``0 ≤ λ_b < λ_f``.
+    """
+    values = dict(eta0=eta0, alpha=alpha, tau_l0=tau_l0, gamma_l=gamma_l, mu_b=mu_b, v_b=v_b,
+                  lambda_b=lambda_b, lambda_f=lambda_f)
+    for name, v in values.items():
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0.0):
+            raise ValueError(f"EHL traction law: {name} must be a finite number >= 0, got {v!r}")
+    if eta0 <= 0.0 or v_b <= 0.0 or tau_l0 + gamma_l <= 0.0 or not lambda_b < lambda_f:
+        raise ValueError("EHL traction law: need eta0 > 0, v_b > 0, tau_l0 + gamma_l > 0 and "
+                         f"lambda_b < lambda_f, got {values}")
+    return np.array([eta0, alpha, tau_l0, gamma_l, mu_b, v_b, lambda_b, lambda_f], dtype=float)
+
+
+@kernel(inline=True)
+def boundary_weight(lam, law):
+    """Weight of boundary friction ``w_b = 1 − STEP(λ, λ_b, 0, λ_f, 1)`` [-] at λ [-]."""
+    return 1.0 - step(lam, law[EHL_LAMBDA_B], 0.0, law[EHL_LAMBDA_F], 1.0)
+
+
+@kernel(inline=True)
+def _film_constants(p, h, law):
+    """``(τ_L, k)``: the limiting shear stress [Pa] and ``k = η(p)/(h·τ_L)`` [s m⁻¹]."""
+    tau_l = law[EHL_TAU_L0] + law[EHL_GAMMA_L] * p
+    eta = law[EHL_ETA0] * math.exp(min(law[EHL_ALPHA] * p, BARUS_EXPONENT_MAX))
+    return tau_l, eta / (h * tau_l)
+
+
+@kernel(inline=True)
+def film_shear_stress(s, p, h, law):
+    """Shear stress of the film ``τ = τ_L·(1 − exp(−η(p)·s/(h·τ_L)))`` [Pa].
+
+    Parameters
+    ----------
+    s : float
+        Sliding speed ≥ 0 [m s⁻¹].
+    p : float
+        Contact pressure (the mean Hertz pressure) > 0 [Pa].
+    h : float
+        Film thickness (central) > 0 [m].
+    law : ndarray
+        :func:`pack_ehl_traction_law`.
+    """
+    tau_l, k = _film_constants(p, h, law)
+    return -tau_l * math.expm1(-k * s)
+
+
+@kernel(inline=True)
+def _boundary(s, law):
+    mu_b, v_b = law[EHL_MU_B], law[EHL_V_B]
+    rising = step(s, -v_b, -mu_b, v_b, mu_b)
+    return rising if s < v_b else mu_b
+
+
+@kernel(inline=True)
+def _boundary_slope(s, law):
+    mu_b, v_b = law[EHL_MU_B], law[EHL_V_B]
+    return step_slope(s, -v_b, -mu_b, v_b, mu_b) if s < v_b else 0.0
+
+
+@kernel(inline=True)
+def ehl_traction_coefficient(s, p, h, lam, law):
+    """Traction coefficient μ [-] at the sliding speed ``s`` ≥ 0 [m s⁻¹].
+
+    Parameters
+    ----------
+    s : float
+        Sliding speed ``|v_t|`` [m s⁻¹] (the slide-to-roll ratio times the entrainment
+        speed).
+    p : float
+        Mean Hertz pressure ``Q/(π a b)`` [Pa], > 0.
+    h : float
+        Central film thickness [m], > 0.
+    lam : float
+        Film parameter λ = h_min/σ [-].
+    law : ndarray
+        :func:`pack_ehl_traction_law`.
+    """
+    w = boundary_weight(lam, law)
+    return w * _boundary(s, law) + (1.0 - w) * film_shear_stress(s, p, h, law) / p
+
+
+@kernel(inline=True)
+def ehl_traction_slope(s, p, h, lam, law):
+    """dμ/ds of :func:`ehl_traction_coefficient` [s m⁻¹] (same parameters)."""
+    w = boundary_weight(lam, law)
+    tau_l, k = _film_constants(p, h, law)
+    film = tau_l * k * math.exp(-k * s) / p
+    return w * _boundary_slope(s, law) + (1.0 - w) * film
+
+
+@kernel(inline=True)
+def ehl_slope_at_zero_slip(p, h, lam, law):
+    """dμ/ds at s = 0 [s m⁻¹]: ``w_b·1.5·μ_b/v_b + (1 − w_b)·η(p)/(h·p)``."""
+    return ehl_traction_slope(0.0, p, h, lam, law)
+
+
+@kernel(inline=True)
+def _expm1_over_x(x):
+    """``(1 − e^(−x))/x`` [-], 1 at x = 0, without cancellation at small x."""
+    return 1.0 - 0.5 * x + x * x / 6.0 if x < 1e-5 else -math.expm1(-x) / x
+
+
+@kernel(inline=True)
+def ehl_traction_per_slip(s2, p, h, lam, law):
+    """``μ(s)/s`` [s m⁻¹] from ``s2 = s²`` [m² s⁻²], with nothing divided by a small slip.
+
+    The film's part is ``(τ_L·k/p)·(1 − e^(−ks))/(ks)``; the boundary part below v_b is the
+    study law's cubic ``μ_b·(1.5 − 0.5·x²)/v_b``, ``x = s/v_b`` (docs/model.md §4).
+    """
+    s = math.sqrt(s2)
+    w = boundary_weight(lam, law)
+    tau_l, k = _film_constants(p, h, law)
+    film = tau_l * k * _expm1_over_x(k * s) / p
+    inv_vb = 1.0 / law[EHL_V_B]
+    x2 = s2 * inv_vb * inv_vb
+    bnd = law[EHL_MU_B] * (1.5 - 0.5 * x2) * inv_vb if x2 < 1.0 else law[EHL_MU_B] / s
+    return w * bnd + (1.0 - w) * film
+
+
+@kernel(inline=True)
+def ehl_tangent_curvature(s2, p, h, lam, law):
+    """``(μ' − μ/s)/s²`` [s³ m⁻³] at ``s2 = s²``: the coefficient of ``v_t·v_tᵀ`` in the
+    friction force's tangent (as :func:`rvcore.contact.friction_tangent_curvature`).
+
+    The film's part is ``(τ_L·k³/p)·φ(x)/x²``, ``x = k·s``, ``φ = e^(−x) − (1 − e^(−x))/x``;
+    it grows as ``−1/(2x)`` when s → 0, but the tangent's term ``coefficient·v_t·v_tᵀ``
+    vanishes there like ``s``: at s = 0 exactly the function returns the boundary part
+    alone (``−μ_b/v_b³``), the film's term being multiplied by ``v_t = 0``. Below
+    x = 1e-3 the series ``φ/x² = −1/(2x) + 1/3 − x/8 + x²/30`` is used, and x is held at
+    :data:`CURVATURE_X_FLOOR` at least, so the coefficient stays finite: the tangent's
+    term along v_t then errs by at most ``x_floor/2`` times the zero-slip slope.
+    """
+    w = boundary_weight(lam, law)
+    inv_vb = 1.0 / law[EHL_V_B]
+    if s2 * inv_vb * inv_vb < 1.0:
+        bnd = -law[EHL_MU_B] * inv_vb * inv_vb * inv_vb
+    else:
+        s_b = math.sqrt(s2)
+        bnd = -law[EHL_MU_B] / (s_b * s2)
+    if s2 == 0.0:
+        return w * bnd
+    s = math.sqrt(s2)
+    tau_l, k = _film_constants(p, h, law)
+    x = max(k * s, CURVATURE_X_FLOOR)
+    if x < 1e-3:
+        phi_x2 = -0.5 / x + 1.0 / 3.0 - x / 8.0 + x * x / 30.0
+    else:
+        phi_x2 = (math.exp(-x) + math.expm1(-x) / x) / (x * x)
+    film = tau_l * k * k * k * phi_x2 / p
+    return w * bnd + (1.0 - w) * film

@@ -1,0 +1,241 @@
+"""The ball contacts of one row, every ball at once: the loops the compiler turns into
+vector code. SI throughout.
+
+Why passes of their own
+-----------------------
+The right-hand side (:func:`rvcore.dynamics.rhs.rhs`) visits a ball at a time: its race
+contacts, its pocket, and the sums over the balls into the rings and the cage. Written
+that way, numba's LLVM compiles the contacts to scalar code, one ball after another.
+Here they are taken out of that loop into loops over the row's balls with nothing that
+depends on another ball: every ball's centre in the fixed and the ring's frame
+(:func:`ball_geometry`), then for each raceway arc every ball's penetration, normal,
+slip, normal load and contact force (:func:`arc_contacts`), and the same for the pockets
+(:func:`pocket_contacts`). LLVM vectorises these (with AVX-512, eight balls an
+instruction), and the ball loop of the right-hand side reads the results back and does
+the rest (the sums, the diagnostics, the IMEX tangents) as before. What it gained:
+docs/performance.md, "The ball contacts in vector passes".
+
+The values are those of the scalar code, bit for bit: each is computed by the same
+functions of :mod:`rvcore.contact.laws` in the same order of operations, for every ball, and
+the ball loop takes them where that code took them (a contact it skipped, it still skips;
+the values of an open contact are never read). What made the loops vectorisable:
+
+- the ball states are gathered into the scratch a quantity a row (:func:`gather_balls`):
+  LLVM does not vectorise the ball's nine states at a stride of nine;
+- one scratch array with constant distances between its quantities (below);
+- the contact laws return one value through selects, not through several ``return``
+  statements (which LLVM lowers to a switch it cannot vectorise), load the law's
+  parameters outside any branch, and take the Hertz root of ``|δ|``
+  (:func:`rvcore.contact.laws.hertz_load`).
+"""
+from __future__ import annotations
+
+import math
+
+from .._numba import kernel
+
+from ..contact.laws import ball_contact_force, cage_pocket_penetration, hertz_load, normal_force, race_arc_penetration
+from ..bearing.layout import A_K, A_RING, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
+from .raceway import ball_offsets
+from ..contact.pose import ring_to_global, to_ring_frame
+
+# The scratch: quantity ``f`` of the row's ball ``j`` (its index in the row, from 0) at
+# ``buf[f·W + j]``, W a constant. One array with constant distances between its
+# quantities, so that LLVM sees that a loop's stores do not overlap its loads: between
+# arrays of their own it must check that at run time, and with the thirty-odd streams of
+# a contact it gave up and ran the scalar loop. The index from 0 is known not to be
+# negative (a negative index's wrap-around is a select LLVM does not vectorise). W is a
+# multiple of 8 balls (one AVX-512 vector) but not a power of two: quantities 2 KiB apart
+# fall into two of the 64 sets of a 32 KiB 8-way L1 cache and evict each other. The
+# quantities: the balls' states (S_*, :func:`gather_balls`); their centres' distance from
+# the axis (fixed frame) and its inverse, their centres in the inner ring's frame with
+# that distance and its inverse, the offsets of an imperfect row's raceways at them, and
+# their pockets' angles (G_*); per raceway arc of the row the penetration, the normal in
+# the arc's ring's frame and in the fixed frame, the slip of the ball against the race,
+# its normal rate, the normal load, and the force and moment on the ball (C_*, from
+# ``arc(slot)``); and the pocket contact's (P_*, from POCKET).
+W = MAX_ROW_BALLS + 8
+S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
+(G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
+ G_SL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 14)
+N_BALL_FIELDS = BALL_STATES + 14
+(C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
+ C_MZ) = range(18)
+N_ARC_FIELDS = 18
+# the pocket contact: penetration, arm, gradient, slip, its normal rate, normal load, its
+# Hertz part, force and moment on the ball
+(P_DELTA, P_AX, P_AY, P_AZ, P_DGX, P_DGY, P_DGZ, P_UX, P_UY, P_UZ, P_UN, P_Q, P_QH, P_FX, P_FY, P_FZ, P_MX, P_MY,
+ P_MZ) = range(19)
+N_POCKET_FIELDS = 19
+POCKET = (N_BALL_FIELDS + MAX_ROW_ARCS * N_ARC_FIELDS) * W
+#: Scratch values (:func:`rvcore.dynamics.rhs.new_diagnostics` keeps them at the end of ``diag``).
+SCRATCH_SIZE = POCKET + N_POCKET_FIELDS * W
+
+
+@kernel(inline=True)
+def scratch(diag):
+    """The scratch at the end of ``diag`` (:func:`rvcore.dynamics.rhs.new_diagnostics`)."""
+    return diag[diag.size - SCRATCH_SIZE:]
+
+
+@kernel(inline=True)
+def arc(slot):
+    """Where arc number ``slot`` of the row starts in the scratch (add ``C_*·W + j``)."""
+    return (N_BALL_FIELDS + slot * N_ARC_FIELDS) * W
+
+
+@kernel
+def gather_balls(y, buf, rows, r, pockets):
+    """Copy row ``r``'s ball states from ``y``, and its pockets' angles (cosine and sine)
+    from ``pockets``, into the scratch, a quantity a row."""
+    b0, k0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+    for j in range(int(rows[r, R_Z])):
+        b = b0 + BALL_STATES * j
+        for f in range(BALL_STATES):
+            buf[f * W + j] = y[b + f]
+        buf[G_CS0 * W + j] = pockets[k0 + j, 0]
+        buf[G_SN0 * W + j] = pockets[k0 + j, 1]
+
+
+@kernel
+def ball_geometry(buf, nz, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow):
+    """Every ball's distance from the axis and its centre in the inner ring's frame
+    (:func:`rvcore.contact.pose.to_ring_frame`), with the inverses of both distances."""
+    for j in range(nz):
+        px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
+        rho_b = math.sqrt(px * px + py * py)
+        plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
+                                             r20, r21, r22, zrow)
+        buf[G_RHO_B * W + j] = rho_b
+        buf[G_INV_RHO_B * W + j] = 1.0 / rho_b
+        buf[G_PLX * W + j] = plx
+        buf[G_PLY * W + j] = ply
+        buf[G_PLZ * W + j] = plz
+        buf[G_RHO_L * W + j] = rho_l
+        buf[G_INV_RHO_L * W + j] = 1.0 / rho_l
+
+
+@kernel
+def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
+    """Every ball's offsets of an imperfect row's raceways (:func:`rvcore.dynamics.raceway.ball_offsets`),
+    0 for a perfect row."""
+    k0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
+    imperfect = rows[r, R_IMPERFECT] != 0.0
+    for j in range(nz):
+        dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
+        if imperfect:
+            inv_rho_b = buf[G_INV_RHO_B * W + j]
+            dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(
+                rows, r, pockets, k0 + j, buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_INV_RHO_L * W + j],
+                cos_spin, sin_spin, buf[S_PX * W + j] * inv_rho_b, buf[S_PY * W + j] * inv_rho_b)
+        buf[G_DR_I * W + j] = dr_i
+        buf[G_DR_O * W + j] = dr_o
+        buf[G_D_HALF * W + j] = d_half
+        buf[G_SL_I * W + j] = sl_i
+        buf[G_SL_O * W + j] = sl_o
+
+
+@kernel
+def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
+                 r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law):
+    """Every ball's contact with arc ``a`` into ``out``, the arc's part of the scratch
+    (``C_*·W + j``; an array of its own, so that the distances LLVM compares are constants
+    within each of the two): the values the ball loop of :func:`rvcore.dynamics.rhs.rhs` reads
+    (module docstring), for every ball whether it touches or not."""
+    inner = arcs[a, A_RING] == 0.0
+    k_hertz = arcs[a, A_K]
+    for j in range(nz):
+        px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
+        vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
+        wx, wy, wz = buf[S_WX * W + j], buf[S_WY * W + j], buf[S_WZ * W + j]
+        _, delta, nlx, nly, nlz = race_arc_penetration(
+            arcs, a, buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_PLZ * W + j], buf[G_RHO_L * W + j],
+            buf[G_INV_RHO_L * W + j], px, py, pz - zrow, buf[G_RHO_B * W + j], buf[G_INV_RHO_B * W + j], h,
+            buf[G_DR_I * W + j], buf[G_DR_O * W + j], buf[G_D_HALF * W + j], buf[G_SL_I * W + j],
+            buf[G_SL_O * W + j])
+        gx, gy, gz = ring_to_global(nlx, nly, nlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
+        nx = gx if inner else nlx
+        ny = gy if inner else nly
+        nz_ = gz if inner else nlz
+        # contact point on the ball, and the arm from the ball centre
+        ax, ay, az = h * nx, h * ny, h * nz_
+        cx, cy, cz = px + ax, py + ay, pz + az
+        # slip of the ball's material point against the race's: v_ring + Ω × (c − r_ring)
+        # for the inner ring's
+        ux = vx + wy * az - wz * ay
+        uy = vy + wz * ax - wx * az
+        uz = vz + wx * ay - wy * ax
+        qx, qy, qz = cx - xi, cy - yi, cz - zi
+        ux = ux - (vxi + omy * qz - omz * qy) if inner else ux
+        uy = uy - (vyi + omz * qx - omx * qz) if inner else uy
+        uz = uz - (vzi + omx * qy - omy * qx) if inner else uz
+        un = ux * nx + uy * ny + uz * nz_    # dδ/dt
+        q = normal_force(delta, un, k_hertz, c_race, inv_dmax)
+        fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az, law)
+        out[C_DELTA * W + j] = delta
+        out[C_NLX * W + j] = nlx
+        out[C_NLY * W + j] = nly
+        out[C_NLZ * W + j] = nlz
+        out[C_NX * W + j] = nx
+        out[C_NY * W + j] = ny
+        out[C_NZ * W + j] = nz_
+        out[C_UX * W + j] = ux
+        out[C_UY * W + j] = uy
+        out[C_UZ * W + j] = uz
+        out[C_UN * W + j] = un
+        out[C_Q * W + j] = q
+        out[C_FX * W + j] = fx
+        out[C_FY * W + j] = fy
+        out[C_FZ * W + j] = fz
+        out[C_MX * W + j] = dmx
+        out[C_MY * W + j] = dmy
+        out[C_MZ * W + j] = dmz
+
+
+@kernel
+def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
+                    xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law):
+    """Every ball's contact with its pocket (:func:`rvcore.contact.laws.cage_pocket_penetration`)
+    into ``out``, the pocket's part of the scratch (``P_*·W + j``), as :func:`arc_contacts`:
+    the cage at ``(xc, yc, zc)`` turned by the angle of cosine ``cphi`` and sine ``sphi``,
+    moving at ``(vxc, vyc, vzc)`` and turning at ``wc``."""
+    inv_h = 1.0 / h
+    for j in range(nz):
+        px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
+        vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
+        wx, wy, wz = buf[S_WX * W + j], buf[S_WY * W + j], buf[S_WZ * W + j]
+        cs0, sn0 = buf[G_CS0 * W + j], buf[G_SN0 * W + j]
+        cth = cphi * cs0 - sphi * sn0
+        sth = sphi * cs0 + cphi * sn0
+        delta, ax, ay, az, a_sec = cage_pocket_penetration(guide, px - xc, py - yc, pz - zc - zrow, cth, sth,
+                                                           pitch_r, pocket_r, h, cage_ri, cage_ro)
+        # ∇δ along the arm
+        dgx, dgy, dgz = ax / a_sec, ay / a_sec, az / a_sec
+        cx, cy = px + ax, py + ay
+        ux = vx + wy * az - wz * ay - (vxc - wc * (cy - yc))
+        uy = vy + wz * ax - wx * az - (vyc + wc * (cx - xc))
+        uz = vz + wx * ay - wy * ax - vzc
+        un = ux * dgx + uy * dgy + uz * dgz   # dδ/dt
+        qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
+        # friction tangential to the ball's surface there, normal a/h
+        fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h,
+                                                          az * inv_h, ax, ay, az, law)
+        out[P_DELTA * W + j] = delta
+        out[P_AX * W + j] = ax
+        out[P_AY * W + j] = ay
+        out[P_AZ * W + j] = az
+        out[P_DGX * W + j] = dgx
+        out[P_DGY * W + j] = dgy
+        out[P_DGZ * W + j] = dgz
+        out[P_UX * W + j] = ux
+        out[P_UY * W + j] = uy
+        out[P_UZ * W + j] = uz
+        out[P_UN * W + j] = un
+        out[P_Q * W + j] = qp
+        out[P_QH * W + j] = hertz_load(k_pocket, delta)
+        out[P_FX * W + j] = fpx
+        out[P_FY * W + j] = fpy
+        out[P_FZ * W + j] = fpz
+        out[P_MX * W + j] = mpx
+        out[P_MY * W + j] = mpy
+        out[P_MZ * W + j] = mpz

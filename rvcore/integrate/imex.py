@@ -1,0 +1,530 @@
+"""The coupled implicit–explicit integrator: the ball–race Hertz stiffness, friction at
+small slip and contact damping implicit in every stage, everything else explicit. SI
+throughout.
+
+Why, and which scheme
+---------------------
+RK4's step is set by the friction law's slope at zero slip, ``c_f = 1.5·μ_s·Q/v_s``
+≈ 5.3e3 N s/m per race contact at the study's 3.55 kN, a real-axis rate
+λ_f ≈ 5.4e5 1/s that limits RK4 to 5.2e-6 s (:func:`rvcore.integrate.step_size.rk4_time_step`),
+and behind it by the contact oscillation, ω_n = √(2k/m_b) ≈ 1.1e5 rad/s. Both are
+implicit here. The friction is stiff through the rings too: a ball drags the inner ring
+and its cage (``rvcore.dynamics.tangent``), so the implicit part couples every ball with the
+ring, in every stage.
+
+The scheme is an additive Runge–Kutta (IMEX-ARK) method on ``dy/dt = f(t, y) + g(t, y)``
+with ``g = J·(y − ỹ(t))``: ``J`` the frozen tangent of :mod:`rvcore.dynamics.tangent` on the
+implicit unknowns (the ring's pose and rates, every ball's centre, velocity and spin)::
+
+    J = [[0, I], [−M⁻¹·K, −M⁻¹·D]]
+
+``K`` the Hertz stiffness of the ball–race contacts on the positions (with the groove's
+geometric stiffness, :func:`rvcore.dynamics.tangent.groove_blocks`), ``D`` the velocity
+tangent of the friction and dampers, and ``f = F − g`` the rest. The splitting is exact
+for any ``J`` and any reference ``ỹ``: the pair's order does not depend on them, only its
+stability, so ``J`` may be frozen over several steps ("Step", below). Explicit tableau:
+classical RK4 (``c = 0, ½, ½, 1``). Implicit tableau: an ESDIRK with the same nodes, the
+same weights ``b̂ = b`` and the constant diagonal γ = 1/6, so one factorization serves
+the three implicit stages. Stage i (e the deviation from the reference)::
+
+    ê   = h·Σ_{j<i} (a_ij·F_j + (â_ij − a_ij)·g_j) − (ỹ_i − y_n)
+    e_x = ê_x + h·γ·e_v
+    (M + h·γ·D + (h·γ)²·K)·e_v = M·ê_v − h·γ·K·ê_x
+    Y_i = ỹ_i + e,   g_i = (e − ê)/(h·γ)   (g_x = e_v),   g_1 = 0
+    y_{n+1} = y_n + h·Σ_i b_i·F_i
+
+with ``F_i = F(Y_i)`` the full right-hand side: four evaluations per step, as RK4.
+``M + h·γ·D + (h·γ)²·K`` is block-arrowhead (each ball coupled only to the ring); it is
+solved exactly through the Schur complement on the ring, O(Z) per stage. With ``b̂ = b``
+the velocity update weighs the stages' full forces by ``b`` alone, so ``Σ b_i·T(Y_i)`` is
+the drive torque whose impulse the step gave the balls (the step's torque that
+:func:`rvcore.integrate.loop.integrate` accumulates). A change to ``b̂ ≠ b`` must change that.
+
+The implicit tableau: all-pass
+------------------------------
+Its stability function is ``R(z) = ((1 + z/6)/(1 − z/6))³`` (that of three trapezoidal
+steps of h/3), so ``|R(iy)| = 1``: the contact oscillation, now in the implicit part, is
+integrated without numerical damping at any ω_n·h, and the energy its ring-downs carry
+leaves through the damper, not the scheme. It is the only such function the structure
+allows: with the denominator ``(1 − γz)³``, ``|R(iy)| = 1`` needs the numerator
+``(1 + γz)³``, and ``R = e^z + O(z²)`` then fixes γ = 1/6; its z³ coefficient is
+1/6 + 1/108, so the implicit tableau, and the pair, are of order 2 (order 3 and
+``|R(iy)| = 1`` exclude each other here). Of the one-parameter family of tableaux with
+this R (rows summing to c, ``b̂ = b``; ``â_43`` its parameter, ``â_32 = 2/(27·â_43)``), the
+one below is stiffly accurate: its last row is ``b̂``, so the last stage is the step's
+end. Its stage values of a stiff mode are at most 2× the step's start on the real and
+imaginary axes (the family's least: the second stage alone reaches 2 at infinity; 2.65
+at ``â_43 = ½``). On the bearing it keeps the energy of a combined load's oscillation
+better than ``â_43 = ½`` did, by 2.3× (docs/performance.md, "IMEX at MODEL_VERSION
+11"); a single Hertz contact shows no such gain, so this is a measured property of the
+bearing, not of the tableau. The price:
+an all-pass function cannot be L-stable, ``R(−x) → −1`` as x → ∞, so a stiff friction
+mode is damped per step by ``|R(−λ_f·h)|`` only, which bounds the step (below).
+
+Reference
+---------
+Linearised about ``y_n``, a ball's orbit is not a small deviation: over a step its
+centre leaves the tangent by v²h²/(2ρ) (about 1 µm at 300 rad/s and 25 µs), which the
+implicit Hertz stiffness reads as a change of penetration, and the explicit stages'
+O(h²) error of the orbit's position turns into stage forces of order (ω_n·h)²·m_b·a.
+So the balls' stages are deviations from ``ỹ(t)``: ``y_n`` turned about the bearing's
+axis at the ball's orbital speed (centre, velocity and spin), and ``ê`` subtracts the
+explicit row's own quadrature of ``ỹ'`` (the row's one entry, at the previous node) where
+it would subtract ``ỹ_i − y_n``: then a ball on that orbit stays on it exactly, and the
+centrifugal balance (docs/model.md §9.7) does not depend on the step. The ring and cages are
+not turned (``ỹ = y_n`` for the ring; the cages are explicit).
+
+Step
+----
+What bounds it (:func:`rvcore.integrate.step_size.imex_time_step`):
+
+- the stiff friction modes, implicit, damped per step by ``|R(−λ_f·h)|``: the step keeps
+  ``λ_f·h ≤`` :data:`FRICTION_LIMIT`, where that factor is :data:`FRICTION_DAMPING`.
+  Beyond it the friction's slip oscillates from step to step, and the law's saturation
+  turns that into a chatter that dissipates energy the physics does not (the energy
+  balances of tests/core/test_energy_balance.py break); λ_f is RK4's friction-and-damping
+  rate (:func:`rvcore.integrate.step_size.rk4_time_step`), so the IMEX step is
+  ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
+- the friction law's falling slope between v_s and v_d, explicit (at most
+  ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
+- a race contact that closes within a step: its stiffness is not in the step's
+  tangents, so for that step it is explicit, on the explicit tableau's imaginary-axis
+  limit, ``ω_c·h ≤`` :data:`ONSET_LIMIT` = 2√2 with ``ω_c = ω_n/√2`` (one contact: a
+  rattling ball's other side is open) at the peak contact load. A case with no load and
+  no speed (the ring's weight alone, balls rattling) blows up just past it.
+
+Once a contact is in the tangents its oscillation does not bound the step: the tableau
+is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against
+ω_n·h, a frequency error of about (ω_n·h)²/108: 8 % at ω_n·h = 3.2, the onset bound's.
+Unlike RK4's, the scheme does not damp high-frequency motion. The pair is of order 2, and
+so is its trajectory: on the 12-ball section that error, about 1e-4 of the ring's travel
+at the default step, shifts the pocket impacts of the steady phase, which is why IMEX
+misses docs/model.md §9.6 there and meets it on the study bearing (docs/performance.md,
+"§9.6 on the study bearing"). The pockets' stiffness and the cage–land contact stay explicit
+(``rvcore.dynamics.tangent``): their rates are far below the race contacts' (a ball on a 100 N
+pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
+these steps.
+
+The tangents and the factorization are evaluated again when the contacts they were
+taken at have moved, and at least every :data:`TANGENT_MAX_STEPS` steps; between, a step
+costs four right-hand sides and three solves. The splitting stays exact with a frozen
+``J``: what a stale tangent leaves out (``J_true − J``) is integrated by the explicit
+tableau, so it must stay within that tableau's limits, and the energy a large oscillation
+keeps depends on it (tests/core/test_imex_conservation.py). Both follow the race contacts'
+loads: ``D`` of a contact in micro-slip is proportional to its load, and ``K`` to its
+cube root. So at each step's end (the last stage, at t + h) every ball's inner- and
+outer-race loads are compared with those the tangents were taken at; where one has moved
+by more than :data:`TANGENT_LOAD_TOL` of the case's peak contact load
+(:func:`rvcore.integrate.step_size.tangent_load_tolerance`), the next step evaluates them again. A
+ring-down or an impact then refreshes them every step; a running bearing, whose loads
+move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
+(docs/performance.md, "IMEX at MODEL_VERSION 11").
+
+Pocket impacts
+--------------
+A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1), and a
+step that cuts through the impact makes or loses a few per cent of its energy, implicit
+or not (:mod:`rvcore.integrate.pocket_check`). So each step checks every pocket it touched: where
+the pocket's elastic energy and the work the step gave its Hertz force disagree by more
+than a tolerance, the step is taken again from its start as :data:`SUBSTEPS` substeps,
+each with its own tangents. The tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a
+race contact's elastic energy at the case's peak contact load (the load the step is sized
+on), scaled as the step's cube so that it puts no floor under the drift's convergence
+(:func:`rvcore.integrate.step_size.pocket_energy_tolerance`): what matters is the energy the bearing gains or loses, and a tolerance relative to
+each pocket's own energy would take the steady pocket contacts of a running bearing,
+whose errors are tiny in joules, in substeps too (4 % of the study cycle's steps at 1e-3 of
+their energy, against 0.4 % here: docs/performance.md).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from .._numba import kernel
+
+from .arrowhead import N_SOLVE_FIELDS, WS, factor, pack, solve
+from ..dynamics.tangent import N_JWORK, N_SCHUR
+from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
+from ..bearing.layout import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
+                    R_MB, R_POCKET0, R_Z)
+from .pocket_check import pocket_energy_kept
+from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
+from .protocol import new_state as new_counters
+from .rk4 import stage_weighted_inertia
+from ..dynamics.rhs import rhs
+from ..recording.plan import add_substep_integrals, in_window
+
+# ---- the tableaux (explicit a, b; implicit â, b̂), nodes c = (0, ½, ½, 1)
+A21, A32, A43 = 0.5, 0.5, 1.0
+B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
+#: The implicit tableau: the ESDIRK whose stability function is the all-pass
+#: ((1 + z/6)/(1 − z/6))³ (module docstring), γ = 1/6, b̂ = b, rows summing to c. Of the
+#: family (``I32 = 2/(27·I43)``, ``I42 = 10/9 − I43 − 4/(27·I43)``), ``I43 = 1/3``: the
+#: stiffly accurate member (last row ``b̂``), with the least stage values.
+GAMMA = 1.0 / 6.0
+I32 = 2.0 / 9.0
+I42, I43 = 1.0 / 3.0, 1.0 / 3.0
+I21 = 0.5 - GAMMA
+I31 = 0.5 - GAMMA - I32
+I41 = 1.0 - GAMMA - I42 - I43
+IB1, IB2, IB3, IB4 = B1, B2, B3, B4
+#: Largest ``λ_f·h`` (λ_f the friction's rate at zero slip, on the negative real axis):
+#: where the implicit tableau damps a friction mode by at least :data:`FRICTION_DAMPING`
+#: per step. ``R(−x) = ((6 − x)/(6 + x))³`` tends to −1 as x → ∞ (an all-pass function
+#: cannot be L-stable), so the step must keep x below the root of ``|R(−x)| = ρ``:
+#: ``x = 6·(1 + ρ^⅓)/(1 − ρ^⅓)``.
+FRICTION_DAMPING = 0.2
+FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION_DAMPING ** (1.0 / 3.0))
+#: Limit on ``ω_c·h`` for a race contact that closes within a step: its stiffness is not
+#: in the tangents of the step's start, so for that step it is explicit, on the explicit
+#: tableau's imaginary-axis limit 2√2. ``ω_c = ω_n/√2``, one contact on the ball (the
+#: other side open, as for a ball that rattles) at the peak contact load.
+ONSET_LIMIT = 2.0 * math.sqrt(2.0)
+#: Most steps one evaluation of the tangents and one factorization serve (module
+#: docstring, "Step"), whatever the loads.
+TANGENT_MAX_STEPS = 8
+#: A race contact's load may move by this fraction of the case's peak contact load from
+#: the load the tangents were taken at before they are evaluated again (module docstring,
+#: "Step"). A stale friction tangent leaves ``D_true − D`` to the explicit tableau, whose
+#: real-axis limit 2.785 is 15 % of the implicit one at the default step
+#: (``0.8·FRICTION_LIMIT``): the bound for stability. Accuracy asks for less: in the
+#: ring-down of docs/model.md §9.4(a) the loads move by 0.1–1 % of the peak per step, and
+#: tangents that lag 1 % leave 2.5× the drift of tangents taken at every step
+#: (docs/performance.md, "IMEX at MODEL_VERSION 11"). A running bearing's loads move
+#: by a fraction of a newton per step, so :data:`TANGENT_MAX_STEPS` sets its refreshes.
+#: Read at each call of :func:`rvcore.integrate.step_size.tangent_load_tolerance`, so that a test can
+#: set it.
+TANGENT_LOAD_TOL = 0.001
+#: A step is taken again as :data:`SUBSTEPS` substeps where some pocket's energy error
+#: (:mod:`rvcore.integrate.pocket_check`) passes this fraction of the elastic energy of a race
+#: contact at the case's peak contact load, at the step of the onset limit and scaled as
+#: the step's cube (:func:`rvcore.integrate.step_size.pocket_energy_tolerance`; module docstring,
+#: "Pocket impacts"): 1.0e-7 at the default step (0.8 of the onset limit's). Read at
+#: each call of that function, so that a test can set it.
+POCKET_ENERGY_TOL = 2e-7
+#: Substeps of a step taken again: an eighth of the step keeps a Hertz impact's energy
+#: to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own tangents.
+SUBSTEPS = 8
+
+#: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
+#: implicit velocities), 1 at the implicit velocities and 1 at the implicit positions (the
+#: balls' centres, the ring's pose; 0 elsewhere: masks that keep the stage's loop free of
+#: branches), the balls' reference offset ỹ − y_n, the step's start y_n, and per ball
+#: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
+#: and whether any stage touched the pocket; per ball the inner- and outer-race loads the
+#: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J] and
+#: ``work[W_SET, 1]`` the tangents' load tolerance [N]; per ball the reference's rotations
+#: (:func:`_orbit_rotations`).
+W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_SF = 14, 15, 16, 17, 18, 19, 21, 22
+N_WORK = 22      # and the rows of the packed factors from W_SF (new_work)
+
+
+def new_work(model, pocket_tolerance, load_tolerance):
+    """``(work, jwork, schur)`` for :func:`rvcore.integrate.loop.integrate` with the IMEX method;
+    ``pocket_tolerance`` [J] is the pocket check's and ``load_tolerance`` [N] the
+    tangents' (:func:`imex_step`)."""
+    n = model.n_states
+    # from W_SF the block solve's packed factors, a row of the bearing in N_SOLVE_FIELDS·WS
+    work = np.zeros((N_WORK + -(-model.rows.shape[0] * N_SOLVE_FIELDS * WS // n), n))
+    inv_m = work[W_INVM]
+    p, rows = model.params, model.rows
+    inv_m[5:8] = 1.0 / p[P_RING_M]
+    # a held ring's tilts (InnerRing.tilt "held") are constrained: an inertia 1e12 times
+    # its own keeps the implicit solve from giving them a rate (its coupling to the
+    # balls then drops out of the Schur complement to 1e-12), and the right-hand side
+    # reads them as 0 whatever they hold
+    inv_m[8:10] = 1.0 / (p[P_RING_IT] * (1e12 if p[P_TILT_HELD] != 0.0 else 1.0))
+    work[W_ISP, 0:5] = 1.0
+    for r in range(rows.shape[0]):     # the implicit unknowns: the ring's and balls' velocities
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
+            inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
+            work[W_ISP, b:b + 3] = 1.0
+    work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
+    work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
+    work[W_SET, 0] = pocket_tolerance
+    work[W_SET, 1] = load_tolerance
+    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
+
+
+@kernel(inline=True)
+def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag, bdiag,
+                    a1, a2, a3, i1, i2, i3, c):
+    """Stage ``i`` (1–3, 0-based): Ŷ, the solve, g_i and F_i (module docstring). ``i1``
+    weighs g_1, which is 0 (the reference at t_n is y_n): it drops out."""
+    n = y.size
+    tmp, g, f = work[W_TMP], work[W_G + i], work[W_F + i]
+    f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
+    g1, g2 = work[W_G + 1], work[W_G + 2]
+    mass, isv, isp = work[W_M], work[W_ISV], work[W_ISP]
+    for m in range(n):
+        s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
+        if i >= 2:
+            s += a2 * f1[m] + (i2 - a2) * g1[m]
+        if i >= 3:
+            s += a3 * f2[m] + (i3 - a3) * g2[m]
+        tmp[m] = dt * s        # Ŷ − y_n
+    # The balls' stages are solved as deviations from a reference ỹ(t): y_n turned about
+    # the bearing's axis at the ball's orbital speed Ω = (x·v_y − y·v_x)/ρ² (centre,
+    # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
+    # (the explicit row's own quadrature of ỹ', one node back) and Y = ỹ(t_i) + e, so that
+    # a ball on that orbit stays on it exactly. Rotations are Cayley's (orthogonal).
+    off, rot = work[W_OFF], work[W_ROT]
+    ap = a1 if i == 1 else (a2 if i == 2 else a3)
+    # this stage's rotations (_orbit_rotations): through Ω·c·h, and the explicit row's
+    # previous node's, through Ω·h/2 (stages 2 and 3) or 0 (stage 1)
+    k_now = 1 if c == 0.5 else 5
+    k_prev = 7 if i == 1 else 3
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            om = rot[b]
+            cm1, sn = rot[b + k_now], rot[b + k_now + 1]
+            cp1, snp = rot[b + k_prev], rot[b + k_prev + 1]
+            w = dt * ap * om
+            for o in (0, 3, 6):         # centre, velocity, spin: the x and y components
+                ux, uy = y[b + o], y[b + o + 1]
+                off[b + o] = cm1 * ux - sn * uy
+                off[b + o + 1] = sn * ux + cm1 * uy
+                # h·a·Ω·(ẑ × R(φ_prev)·u)
+                tmp[b + o] -= w * -(snp * ux + cp1 * uy)
+                tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
+    for m in range(n):
+        g[m] = tmp[m]          # ê, for g_i below
+    solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
+    hg = dt * GAMMA
+    inv_hg = 1.0 / hg
+    # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
+    for m in range(5):
+        g[m] = tmp[m + 5]
+        tmp[m] = tmp[m] + hg * g[m]
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            for m in range(b, b + 3):
+                g[m] = tmp[m + 3]
+                tmp[m] = tmp[m] + hg * g[m]
+    # the velocities: g_v = (e_v − ê_v)/(h·γ); 0 off the implicit unknowns
+    for m in range(n):
+        g[m] = isv[m] * ((tmp[m] - g[m]) * inv_hg) + isp[m] * g[m]
+        tmp[m] += y[m] + off[m]
+    rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
+    return diag[D_DRIVE_TORQUE]
+
+
+@kernel(inline=True)
+def _orbit_rotations(y, dt, rows, rot):
+    """Per ball, from its state in ``y``, into ``rot[b:b + 9]`` (b the ball's first state):
+    its orbital speed Ω = (x·v_y − y·v_x)/ρ², the Cayley rotation's (cos − 1, sin) through
+    Ω·h/2 and (cos, sin) through the same angle, (cos − 1, sin) through Ω·h, and (cos, sin)
+    through 0: what the three stages turn the reference by (:func:`_implicit_stage`). Once
+    a step, not once a stage: they depend on the step's start alone."""
+    for r in range(rows.shape[0]):
+        b0 = int(rows[r, R_BALL0])
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            px, py, vx, vy = y[b], y[b + 1], y[b + 3], y[b + 4]
+            om = (px * vy - py * vx) / (px * px + py * py)
+            rot[b] = om
+            phi = om * 0.5 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 1], rot[b + 2] = -0.5 * phi * phi * d, phi * d
+            rot[b + 3], rot[b + 4] = 1.0 - 0.5 * phi * phi * d, phi * d
+            phi = om * 1.0 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 5], rot[b + 6] = -0.5 * phi * phi * d, phi * d
+            phi = om * 0.0 * dt
+            d = 1.0 / (1.0 + 0.25 * phi * phi)
+            rot[b + 7], rot[b + 8] = 1.0 - 0.5 * phi * phi * d, phi * d
+
+
+@kernel(inline=True)
+def _pocket_power(work, bdiag, weight):
+    """Add ``weight·P`` of the stage just evaluated to each ball's Σ b_i·P_i, and mark
+    the balls whose pocket it touched."""
+    for k in range(bdiag.shape[0]):
+        work[W_PACC, k] += weight * bdiag[k, B_PP]
+        if bdiag[k, B_PV] > 0.0:
+            work[W_TOUCH, k] = 1.0
+
+
+# compiled once, not inlined: imex_step calls it for the step and for each substep
+@kernel
+def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur):
+    """The three implicit stages and the update ``y_{n+1} = y_n + h·Σ b_i·F_i`` (b̂ = b:
+    the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
+    ``Σ_{i≥2} b_i·T(Y_i)·ω(t_i)``."""
+    _orbit_rotations(y, dt, rows, work[W_ROT])
+    torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                  bdiag, A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
+    _pocket_power(work, bdiag, B2)
+    power = B2 * diag[D_DRIVE_POWER]
+    torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                   bdiag, 0.0, A32, 0.0, I31, I32, 0.0, 0.5)
+    _pocket_power(work, bdiag, B3)
+    power += B3 * diag[D_DRIVE_POWER]
+    torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
+                                   bdiag, 0.0, 0.0, A43, I41, I42, I43, 1.0)
+    _pocket_power(work, bdiag, B4)
+    power += B4 * diag[D_DRIVE_POWER]
+    f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
+    for m in range(y.size):
+        y[m] += dt * (B1 * f0[m] + B2 * f1[m] + B3 * f2[m] + B4 * f3[m])
+    return torque, power
+
+
+@kernel(inline=True)
+def _tangents_stale(work, bdiag):
+    """Whether a ball's inner- or outer-race load in ``bdiag`` has moved from the one the
+    tangents were taken at (``work[W_QREF]``, ``work[W_QREF + 1]``) by more than the
+    load tolerance ``work[W_SET, 1]`` (module docstring, "Step")."""
+    tol = work[W_SET, 1]
+    for k in range(bdiag.shape[0]):
+        if (abs(bdiag[k, B_QI] - work[W_QREF, k]) > tol
+                or abs(bdiag[k, B_QO] - work[W_QREF + 1, k]) > tol):
+            return True
+    return False
+
+
+@kernel
+def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, refresh,
+              inner):
+    """Advance ``y`` by one IMEX step of ``dt``.
+
+    On entry ``work[W_F]`` holds ``F(y)``, ``diag`` and ``bdiag`` that evaluation's
+    diagnostics, and ``jwork`` and ``schur`` the blocks that
+    :func:`rvcore.dynamics.rhs.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
+    when ``refresh`` (then factored here), or as factored at an earlier step. Where a
+    pocket the step touched did not keep its energy (:func:`rvcore.integrate.pocket_check.pocket_energy_kept`), the
+    step is taken again from ``y`` as :data:`SUBSTEPS` substeps, each with the tangents
+    of its own start; ``inner`` then receives the diagnostics at the substeps' starts as
+    :func:`rvcore.recording.plan.add_substep_integrals` takes them.
+
+    Returns
+    -------
+    torque : float
+        The step's drive torque less the first stage's ``b_1·T(y)``, which the caller
+        has [N m]: ``Σ_{i≥2} b_i·T(Y_i)``, or over substeps their mean less ``b_1·T(y)``.
+    power : float
+        The same of the drive's power ``T·ω`` [W].
+    substepped : bool
+        Whether the step was taken again: the tangents left in ``jwork`` are then the last
+        substep's, and the next step must evaluate its own.
+    stale : bool
+        Whether the race contacts' loads at the step's last stage have moved from those
+        the tangents were taken at by more than the load tolerance (module docstring,
+        "Step"): the next step must evaluate its own.
+    """
+    n = y.size
+    if refresh:
+        factor(jwork, schur, rows, work[W_M])
+        pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
+        for k in range(bdiag.shape[0]):
+            work[W_QREF, k] = bdiag[k, B_QI]
+            work[W_QREF + 1, k] = bdiag[k, B_QO]
+    first, first_power = B1 * diag[D_DRIVE_TORQUE], B1 * diag[D_DRIVE_POWER]
+    for m in range(n):
+        work[W_Y0, m] = y[m]
+    for k in range(bdiag.shape[0]):
+        work[W_PV0, k] = bdiag[k, B_PV]
+        work[W_PACC, k] = B1 * bdiag[k, B_PP]
+        work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
+    torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
+    if pocket_energy_kept(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH], work[W_SET, 0]):
+        return torque, power, False, _tangents_stale(work, bdiag)
+    for m in range(n):
+        y[m] = work[W_Y0, m]
+    h = dt / SUBSTEPS
+    total, total_power = 0.0, 0.0
+    for s in range(SUBSTEPS):
+        ts = t + s * h
+        rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * GAMMA, jwork, schur)
+        for m in range(inner.size):
+            inner[m] = -0.5 * (SUBSTEPS - 1) * diag[m] if s == 0 else inner[m] + diag[m]
+        diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
+        factor(jwork, schur, rows, work[W_M])
+        pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
+        later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork,
+                                     schur)
+        total += B1 * diag_torque + later
+        total_power += B1 * diag_power + later_power
+    return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True, True
+
+
+# ---- the method's protocol (rvcore.integrate.protocol)
+#: Right-hand sides a step evaluates (and each of its substeps, when taken again).
+STAGES = 4
+#: The method's own counters in ``state``: steps since the tangents were evaluated, whether
+#: they no longer fit the contacts' loads (1), and whether this step evaluates them (1).
+S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
+
+
+def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
+    """IMEX's fixed step [s] (:func:`rvcore.integrate.step_size.imex_time_step`)."""
+    from .step_size import imex_time_step
+
+    return imex_time_step(model, peak_contact_load, safety=safety)
+
+
+def new_state():
+    """The counters of a run: no tangents yet, so the first step evaluates them."""
+    state = new_counters()
+    state[S_SINCE] = TANGENT_MAX_STEPS
+    state[S_STALE] = 1
+    return state
+
+
+def rhs_evaluations(n_steps: int, substepped: int) -> int:
+    """Right-hand sides of a run: four a step and the last step's end, and four a
+    substep of each step taken again."""
+    return STAGES * n_steps + 1 + STAGES * SUBSTEPS * substepped
+
+
+@kernel(inline=True)
+def evaluate(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state):
+    """The right-hand side at the step's start into ``work[W_F]``, and with it the
+    tangents (:func:`rvcore.dynamics.rhs.rhs_jac`, ``h·γ = dt·GAMMA``) where the contacts'
+    loads have moved from those they were taken at, after :data:`TANGENT_MAX_STEPS` steps,
+    and after a step taken in substeps (module docstring, "Step"); they stay frozen in
+    between."""
+    refresh = state[S_STALE] != 0 or state[S_SINCE] >= TANGENT_MAX_STEPS
+    if refresh:
+        state[S_SINCE] = 0
+        state[S_REFRESHES] += 1
+        state[S_REFRESH] = 1
+        rhs_jac(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
+    else:
+        state[S_REFRESH] = 0
+        rhs(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag)
+
+
+@kernel(inline=True)
+def step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state, inner,
+         acc, reductions, phases):
+    """One step (:func:`imex_step`) after :func:`evaluate`; a step taken again adds its
+    substeps' integrals to the accumulator lines whose window holds ``t``
+    (:func:`rvcore.recording.plan.add_substep_integrals`). Returns as
+    :func:`rvcore.integrate.rk4.step`, the end weight's divisor :data:`SUBSTEPS` after a
+    step taken again."""
+    torque = B1 * diag[D_DRIVE_TORQUE]
+    power = B1 * diag[D_DRIVE_POWER]
+    later, later_power, again, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+                                                 bdiag, work, jwork, schur, state[S_REFRESH] != 0, inner)
+    torque += later
+    power += later_power
+    state[S_STALE] = 1 if stale else 0
+    state[S_SINCE] += 1
+    divisor = 1.0
+    if again:
+        state[S_SUBSTEPPED] += 1
+        divisor = float(SUBSTEPS)
+        n_ph = phases.shape[0]
+        for k in range(n_ph + 1):
+            if in_window(phases, k, n_ph, t):
+                add_substep_integrals(acc[k], reductions, inner, dt / SUBSTEPS)
+    return torque, power, stage_weighted_inertia(t, dt, params, table, meta), divisor

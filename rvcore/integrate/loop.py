@@ -1,0 +1,163 @@
+"""The integration loop: one fixed-step method per call, the accumulators and the
+blow-up checks. SI throughout.
+
+The loop owns what every method shares: the right-hand side at each step's state (its
+diagnostics are the outputs' signals, :mod:`rvcore.output_table`), the blow-up checks, the
+output lines, the per-phase reductions (:mod:`rvcore.recording.plan`) and the drive torque's
+filter. It knows no method by name: a step is the method's ``evaluate`` and ``step``
+(:mod:`rvcore.integrate.methods`, :mod:`rvcore.integrate.protocol`), its size the
+method's ``time_step``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._numba import kernel
+
+from ..dynamics.energy import kinetic_energy
+from ..dynamics.races import SCRATCH_SIZE
+from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
+from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_state_signals,
+                              in_window, reduce_step, write_series)
+from .methods import NAMES, evaluate, method, step
+from .protocol import S_REFRESHES, S_SUBSTEPPED
+
+OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
+
+#: Bandwidth of the drive torque whose peak is reported (``inner_ring_drive_torque_peak``)
+#: [Hz]: two cascaded first-order low-passes of this corner (a critically damped
+#: second-order filter, as a torque transducer or the drive's current loop would see it)
+#: on the contacts' part ``−M_c·e``; the prescribed ``I_p·ω̇`` is added unfiltered. Why:
+#: the instantaneous torque carries the contact oscillation (ω_n ≈ 1.1e5 rad/s, 17 kHz on
+#: the study bearing) through the friction, a chatter whose sampled peak depends on the
+#: step and is no load a drive train transmits. 1 kHz keeps the bearing's kinematic
+#: ripple (the ball pass is 50 Hz at 660 °/s: attenuated by 0.25 %) and takes the 17 kHz
+#: chatter down 300×.
+TORQUE_BANDWIDTH = 1.0e3
+
+# FAST (rvcore._numba: no fast-math flags) keeps IEEE semantics, so the non-finite check
+# below works and the state sums are rounded in the same order on every CPU.
+@kernel
+def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
+              phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
+              cos_nominal, code, jwork, schur, inner, state):
+    """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of the method of ``code``
+    (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance` allocates its
+    scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
+
+    Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
+    written, the columns of the series plan ``series``. At every step the state at the
+    step's start is reduced into each accumulator line of ``acc`` whose window
+    (``phases[k] = (start, end)``; the last line the whole cycle) holds it, by the
+    reduction plan ``reductions`` (:func:`rvcore.recording.plan.build_plan`). ``sensors``
+    holds rows ``(px, py, pz, dx, dy, dz)``; ``cos_nominal[r]`` is cos α of row r's
+    nominal contact angle.
+
+    Returns
+    -------
+    status : int
+        ``OK`` or the blow-up kind.
+    t_fail : float
+        Simulated time of the failure [s].
+    where : int
+        State index (non-finite) or ball state offset (penetration) of the culprit.
+    n_out : int
+        Lines written to ``out``.
+    substepped : int
+        Steps the method took again in substeps (IMEX: :func:`rvcore.integrate.imex.imex_step`).
+    refreshes : int
+        Steps at which the method evaluated and factored its tangents (substeps not
+        counted).
+    """
+    n = y.size
+    k1 = work[0]
+    n_out = 0
+    half = 0.5 * dt
+    n_ph = phases.shape[0]
+    # the band-limited drive torque (TORQUE_BANDWIDTH): two first-order stages, exact for
+    # a torque held over each step, started at the first step's torque
+    decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
+    torque_f1, torque_f2 = 0.0, 0.0
+    end_half = half        # the trapezoid's end weight of the step just taken
+    for i in range(n_steps + 1):
+        t = t_start + i * dt
+        # the outputs' signals at the step's state (the stages skip the costly ones), and
+        # whatever else the method takes from that evaluation (IMEX: its tangents)
+        evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state)
+        # blow-up checks on the state at t
+        total = 0.0
+        for m in range(n):
+            total += y[m] + k1[m]
+        if not math.isfinite(total):
+            for m in range(n):
+                if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
+                    return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+        if diag[D_MAX_PEN] > pen_limit:
+            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+        fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal)
+        if i > 0:
+            tp = t - dt
+            for k in range(n_ph + 1):
+                if in_window(phases, k, n_ph, tp):
+                    add_integral_end(acc[k], reductions, diag, end_half)
+        if i < n_steps:
+            for k in range(n_ph + 1):
+                if in_window(phases, k, n_ph, t):
+                    reduce_step(acc[k], reductions, diag, t, 0, half)
+        if i % out_every == 0 or i == n_steps:
+            if kinetic_energy(y, params, rows) > ke_limit:
+                return ENERGY, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+            write_series(out[n_out], series, diag)
+            n_out += 1
+        if i == n_steps:
+            break
+        # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
+        # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
+        # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
+        # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
+        # and ends on a substep's weight
+        torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+                                                bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
+        end_half = half / divisor
+        # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
+        # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
+        # would only lag; it is weighed over the stages as the step's torque is, so that
+        # the filter sees the contacts' part alone
+        if i == 0:
+            torque_f1 = torque_f2 = torque - inertial
+        # the band-limited torque at t, the time whose phase it goes to: the filter's
+        # output before this step's torque enters it (after, it is the output at t + dt,
+        # which put the filter's decay over one step after a profile's corner into the
+        # next phase's peak: an error growing as the step squared)
+        diag[SL_TORQUE_BAND] = inertial + torque_f2
+        if i > 0:
+            torque_f1 += decay * (torque - inertial - torque_f1)
+            torque_f2 += decay * (torque_f1 - torque_f2)
+        diag[SL_TORQUE_STEP] = torque
+        diag[SL_POWER_STEP] = power
+        for k in range(n_ph + 1):
+            if in_window(phases, k, n_ph, t):
+                reduce_step(acc[k], reductions, diag, t, 1, half)
+    return OK, t_start + n_steps * dt, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+
+
+def advance(method_name: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
+            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance, load_tolerance):
+    """:func:`integrate` with the method named ``method_name``
+    (:data:`rvcore.integrate.methods.METHODS`), the plan's arrays and the method's scratch.
+
+    ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
+    tangents' (:func:`rvcore.integrate.step_size.pocket_energy_tolerance`,
+    :func:`rvcore.integrate.step_size.tangent_load_tolerance`). Returns ``(status, t_fail, where,
+    n_out, substepped, refreshes)`` as :func:`integrate`.
+    """
+    m = method(method_name)
+    work, jwork, schur = m.new_work(model, pocket_tolerance, load_tolerance)
+    status, t_fail, where, n_out, substepped, refreshes = integrate(
+        y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
+        table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
+        pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), jwork, schur,
+        np.zeros(diag.size - SCRATCH_SIZE), m.new_state())
+    return status, t_fail, where, n_out, int(substepped), int(refreshes)

@@ -1,0 +1,33 @@
+"""What an integration method supplies, and the counters it shares with the loop.
+
+A method is one module (:mod:`rvcore.integrate.rk4`, :mod:`rvcore.integrate.imex`) and
+one entry of :data:`rvcore.integrate.methods.METHODS`. The module supplies:
+
+- ``new_work(model, pocket_tolerance, load_tolerance)``: its scratch arrays
+  ``(work, jwork, schur)``; ``work[0]`` receives the right-hand side at each step's start;
+- ``time_step(model, peak_contact_load, *, safety)``: its fixed step [s];
+- ``new_state()``: its counters for one run (:func:`new_state`, its own slots set);
+- ``rhs_evaluations(n_steps, substepped)``: how many right-hand sides a run of ``n_steps``
+  evaluated, ``substepped`` of them taken again;
+- the kernels ``evaluate(...)`` (the right-hand side at the step's start, with whatever
+  else the method takes from it) and ``step(...)`` (one step), which
+  :mod:`rvcore.integrate.methods` dispatches to.
+
+``state`` is an int64 array of :data:`N_STATE` counters the loop hands to every call: the
+first three are read by the loop and the run (below), the rest belong to the method.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: ``state[S_SUBSTEPPED]``: steps the method took again in substeps; ``state[S_REFRESHES]``:
+#: steps at which it evaluated and factored its tangents (0 for a method without).
+S_SUBSTEPPED, S_REFRESHES = 0, 1
+#: From this slot on, the method's own counters.
+S_OWN = 2
+N_STATE = 8
+
+
+def new_state() -> np.ndarray:
+    """Zeroed counters for one run."""
+    return np.zeros(N_STATE, dtype=np.int64)

@@ -1,0 +1,1 @@
+"""One dynamic case: the solver settings, the initial state, ``run_case``."""

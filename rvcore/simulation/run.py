@@ -1,0 +1,175 @@
+"""``run_case``: the one entry point for a dynamic case. SI in, SI out.
+
+Takes a bearing, a profile, an operating point and solver settings
+(:mod:`rvcore.simulation.settings`); returns a :class:`rvcore.recording.results.CaseResult` of plain arrays,
+which :mod:`pipeline.io.case` labels. The jobs it strings together have their own
+modules: the initial state (:mod:`rvcore.simulation.initial_state`), the step
+(:mod:`rvcore.integrate.step_size`), the loop (:mod:`rvcore.integrate.loop`), the reductions
+(:mod:`rvcore.recording.plan`) and reading them back (:mod:`rvcore.recording.results`).
+"""
+from __future__ import annotations
+
+import math
+import time as time_module
+
+import numpy as np
+
+from ..recording.plan import build_plan, new_accumulators
+from ..bearing.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row, epicyclic_cage_ratio
+from ..bearing.imperfections import realize
+from .initial_state import initial_state, peak_contact_load
+from ..integrate.loop import ENERGY, NONFINITE, OK, PENETRATION, advance
+from ..integrate.methods import METHODS, NAMES
+from ..dynamics.energy import kinetic_energy_limit
+from ..dynamics.rhs import new_diagnostics
+from ..bearing.layout import (BALL_STATES, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_HALF_D, R_IB, R_MB, R_PITCH_R, R_Z,
+                    body_name, compile_bearing)
+from ..statics.operating import steady_outputs
+from ..profile import OperatingPoint, scaled_study_profile
+from ..recording.results import (CaseResult, SimulationError, duty_cycle_outputs, read_energies, read_life_sums,
+                      read_phase_metrics)
+from .settings import SolverSettings
+from ..recording.spectra import kinematic_frequencies, steady_spectra
+from ..integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance
+
+
+def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,
+             sensors=()) -> CaseResult:
+    """Integrate one case through its duty cycle.
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+    profile : rvcore.profile.Profile
+    op : rvcore.profile.OperatingPoint
+    settings : SolverSettings
+    initial_state_vector : ndarray, optional
+        A previous ``CaseResult.final_state`` to continue from; default: quasi-static
+        equilibrium at ``settings.start_time`` (random ball positions with
+        ``settings.seed`` ≥ 0).
+    sensors : sequence of Sensor
+        Virtual displacement sensors; each adds a reading over time and its phase metrics.
+
+    Returns
+    -------
+    CaseResult
+
+    Raises
+    ------
+    SimulationError
+        On blow-up, naming the simulated time and the body.
+    """
+    # the imperfections this case runs with: a tolerance class's high-point angles and
+    # ball sizes drawn from its seed (rvcore.bearing.imperfections)
+    bearing = realize(bearing, int(settings.seed))
+    model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
+                            gravity=settings.gravity)
+    resolved = profile.resolve(op)
+    table, meta = resolved.arrays()
+    t_start = settings.start_time
+    t_end = settings.end_time if settings.end_time > 0 else profile.duration
+    if t_end <= t_start:
+        raise ValueError(f"end time {t_end} s is not after start time {t_start} s")
+    y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
+         else initial_state(model, resolved, t_start, seed=int(settings.seed)))
+    if y.shape != (model.n_states,):
+        raise ValueError(f"initial state has {y.size} values; this bearing needs {model.n_states}")
+
+    q_peak = peak_contact_load(model, resolved)
+    if settings.method not in METHODS:
+        raise ValueError(f"solver method {settings.method!r} is not one of {', '.join(NAMES)}")
+    method = METHODS[settings.method]
+    dt_max = settings.time_step if settings.time_step > 0 else method.time_step(
+        model, q_peak, safety=settings.step_safety)
+    # The step divides the output interval exactly, so every case of a sweep samples at
+    # the same times t_start + k/output_rate whatever its own stability limit.
+    out_every = max(1, int(math.ceil(1.0 / (settings.output_rate * dt_max) - 1e-9)))
+    dt = 1.0 / (settings.output_rate * out_every)
+    n_steps = int(math.ceil((t_end - t_start) / dt - 1e-6))
+    n_out_max = n_steps // out_every + 2
+    sensor_rows = (np.array([s.as_row() for s in sensors], dtype=float) if len(sensors)
+                   else np.zeros((0, 6)))
+    n_sensors = sensor_rows.shape[0]
+    n_rows = model.rows.shape[0]
+    plan = build_plan(n_rows, n_sensors)
+    out = np.zeros((n_out_max, plan.series.shape[0]))
+    acc = new_accumulators(plan, resolved.phases.shape[0])
+    diag, bdiag = new_diagnostics(n_rows, model.n_balls, n_sensors)
+    pen_limit = 0.1 * 2 * float(model.rows[:, R_HALF_D].min())
+    ke_limit = kinetic_energy_limit(model, resolved, bearing.outer_diameter)
+
+    t0 = time_module.perf_counter()
+    status, t_fail, where, n_out, substepped, refreshes = advance(
+        settings.method, y, t_start, dt, n_steps, out_every, model, table, meta, resolved.phases, sensor_rows,
+        out, acc, plan, diag, bdiag, pen_limit, ke_limit,
+        np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]),
+        pocket_energy_tolerance(model, q_peak, dt), tangent_load_tolerance(q_peak))
+    wall = time_module.perf_counter() - t0
+    if status != OK:
+        what = {NONFINITE: "a non-finite state value",
+                PENETRATION: f"a penetration beyond {pen_limit * 1e3:.3g} mm (10 % of the ball diameter)",
+                ENERGY: f"kinetic energy beyond the physical bound {ke_limit:.3g} J"}[status]
+        if where < 0:  # energy bound: name the body holding the most kinetic energy
+            where = _most_energetic_state(model, y)
+        body = body_name(model, where)
+        hint = ("try a smaller solver.time_step" if settings.time_step > 0
+                else "try a smaller solver.step_safety")
+        raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
+                              f"(time step {dt:.3g} s; {hint})")
+    out = out[:n_out]
+    k = np.minimum(np.arange(n_out) * out_every, n_steps)
+    time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
+    series = {}
+    for c, (name, instance) in enumerate(plan.series_labels):
+        series.setdefault(name, []).append(out[:, c])
+    # one column a sensor; one a row where the bearing has several (a single row's drops it)
+    series = {name: (np.column_stack(cols) if (name == "sensor_displacement" or len(cols) > 1) else cols[0].copy())
+              for name, cols in series.items()}
+    metrics = read_phase_metrics(acc, plan, resolved.phases, 1.0 / settings.output_rate)
+    life_sums = read_life_sums(acc, plan)
+    life = duty_cycle_outputs(bearing, life_sums, resolved.phases.shape[0])
+    if "fatigue_damage" in life:
+        metrics["fatigue_damage"] = life.pop("fatigue_damage")
+    energy = read_energies(acc, plan)
+    info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": method.rhs_evaluations(n_steps, substepped),
+            "substepped_steps": substepped, "tangent_refreshes": refreshes, "method": settings.method,
+            "wall_time": wall, "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
+            "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
+            "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),
+            "seed": int(settings.seed), "inner_ring_tilt": bearing.inner_ring.tilt}
+    row0 = bearing.rows[0]
+    kinematic = kinematic_frequencies(row0.ball_count, row0.ball_diameter, row0.pitch_diameter,
+                                      row0.nominal_contact_angle, op.speed)
+    spectra = steady_spectra(time, series, tuple(resolved.phases[1]), kinematic)
+    if spectra:
+        spectra["kinematic_frequency"] = kinematic
+    return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
+                      ball_diag=bdiag.copy(),
+                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity),
+                      life_sums=life_sums, life=life, energy=energy, spectra=spectra)
+
+
+def _most_energetic_state(model, y) -> int:
+    """First state index of the body with the largest kinetic energy in ``y``."""
+    p = model.params
+    best = (0.5 * p[0] * float(y[5:8] @ y[5:8]) + 0.5 * p[2] * float(y[8:10] @ y[8:10]), 0)
+    for row in model.rows:
+        c0 = int(row[R_CAGE0])
+        e = 0.5 * row[R_CAGE_M] * float(y[c0 + 4:c0 + 7] @ y[c0 + 4:c0 + 7]) + 0.5 * row[R_CAGE_I] * y[c0 + 7] ** 2
+        best = max(best, (e, c0))
+        for j in range(int(row[R_Z])):
+            b = int(row[R_BALL0]) + BALL_STATES * j
+            e = 0.5 * row[R_MB] * float(y[b + 3:b + 6] @ y[b + 3:b + 6]) + 0.5 * row[R_IB] * float(y[b + 6:b + 9] @ y[b + 6:b + 9])
+            best = max(best, (e, b))
+    return best[1]
+
+
+def warm_up() -> None:
+    """Compile (or load from the numba cache) every kernel by running a tiny case."""
+    steel = Material(7800.0, 208e9, 0.3)
+    cage = Cage(0.0545, 0.0575, 0.008, 0.3e-3, 0.3e-3, "outer-land", Material(8500.0, 100e9, 0.34), 1e9)
+    row = Row(6, 0.008, 0.056, 0.0, (Arc(0.52, math.radians(15)),), (Arc(0.53, math.radians(15)),), cage)
+    b = Bearing("warm-up", 0.045, 0.068, 0.012, (row,), steel, steel, InnerRing(0.050),
+                ContactLaw(50.0, 1e-6, 10.0, 10.0))
+    run_case(b, scaled_study_profile(0.002), OperatingPoint(1.0, 100.0, 50.0),
+             SolverSettings(output_rate=1e4, time_step=2e-6))

@@ -1,0 +1,1 @@
+"""Rigid-ring statics: equilibrium, its stiffness, preloaded pairs, the operating point, runout."""

@@ -1,0 +1,118 @@
+"""The steady operating point of a duty cycle and the bearing's statics there, SI.
+
+A designer reads stiffness and load distribution "at the operating point": the loads the
+profile applies in the middle of its steady phase. The statics there (rigid rings, Hertz
+at every contact, balls in equilibrium, the ring's weight included) give the ball loads
+per row, the tangent stiffness and the rating lives there (:mod:`rvcore.standards.iso16281`).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..standards.palmgren import FrictionMomentError, friction_moment
+from ..standards.iso16281 import LifeError, static_life
+from ..output_table import STEADY, outputs_of
+from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
+from .equilibrium import NoEquilibriumError, StaticResult, solve_statics
+from ..standards.iso76 import StaticRatingError, static_safety_factor, static_safety_factor_from_pressure
+
+
+def steady_time(profile: Profile) -> float:
+    """The middle of the profile's steady phase [s]."""
+    for name, start, end in profile.phases:
+        if name == PHASES[1]:
+            return 0.5 * (start + end)
+    raise ValueError(f"profile {profile.name!r} has no {PHASES[1]} phase")
+
+
+def steady_loads(profile: Profile, op: OperatingPoint):
+    """Loads the profile applies in the middle of its steady phase.
+
+    Returns
+    -------
+    radial_load : float
+        [N]
+    axial_load : float
+        [N]
+    moment : float
+        Tilting moment about the axis normal to the radial load [N m].
+    load_angle : float
+        Direction of the radial load [rad].
+    """
+    resolved = profile.resolve(op)
+    t = steady_time(profile)
+    return tuple(resolved.value(c, t) for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT, CH_DIRECTION))
+
+
+def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> StaticResult:
+    """Quasi-static equilibrium, ball loads and stiffness at the steady operating point."""
+    fr, fa, m, psi = steady_loads(profile, op)
+    return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True)
+
+
+def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:
+    """The ``steady`` outputs of :mod:`rvcore.output_table` for one case, SI; NaN where the
+    statics find no equilibrium."""
+
+    try:
+        st = steady_statics(bearing, profile, op, gravity=gravity)
+    except NoEquilibriumError:
+        return {o.name: float("nan") for o in outputs_of(STEADY)}
+    out = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), st.stiffness_scalars()))
+    out.update(zip(("radial_stiffness_compliant", "axial_stiffness_compliant", "tilting_stiffness_compliant"),
+                   st.free_stiffness_scalars()))
+    out["statically_stable"] = float(positive_definite(st.stiffness_matrix, 3 if st.tilt == "held" else 5))
+    out.update(_steady_lives(bearing, st))
+    out.update(_steady_ratings(bearing, st, abs(op.speed)))
+    return out
+
+
+def positive_definite(k, n: int = 5) -> bool:
+    """Whether the leading ``n`` × ``n`` block of the tangent stiffness ``k`` is positive
+    definite (a Cholesky factorisation of its symmetric part exists): definiteness does not
+    depend on the coordinates' units (a congruence), so the mixed-unit matrix serves."""
+    block = np.asarray(k, dtype=float)[:n, :n]
+    try:
+        np.linalg.cholesky(0.5 * (block + block.T))
+    except np.linalg.LinAlgError:
+        return False
+    return True
+
+
+def _steady_ratings(bearing, st: StaticResult, speed: float) -> dict:
+    """ISO 76's s0 both ways and Palmgren's friction moment at the equilibrium (the loads it
+    carries, the ring's weight included) and ``speed`` [rad s^-1]; NaN where not rated."""
+
+    fr, fa = float(np.hypot(*st.applied[:2])), float(abs(st.applied[2]))
+    nan = float("nan")
+    s0 = float(static_safety_factor_from_pressure(st.max_contact_pressure))
+    out = {"static_safety_factor_steady": s0 if math.isfinite(s0) else nan}
+    try:
+        cat = static_safety_factor(bearing, fr, fa)["static_safety_factor"]
+        out["static_safety_factor_catalogue"] = cat if math.isfinite(cat) else nan
+    except (LifeError, StaticRatingError):
+        out["static_safety_factor_catalogue"] = nan
+    try:
+        m = friction_moment(bearing, fr, fa, speed)
+        out.update({"friction_moment_palmgren": m["friction_moment_N_m"],
+                    "friction_moment_palmgren_load": m["load_moment_N_m"],
+                    "friction_moment_palmgren_viscous": m["viscous_moment_N_m"]})
+    except (LifeError, StaticRatingError, FrictionMomentError):
+        out.update(dict.fromkeys(("friction_moment_palmgren", "friction_moment_palmgren_load",
+                                  "friction_moment_palmgren_viscous"), nan))
+    return out
+
+
+def _steady_lives(bearing, st: StaticResult) -> dict:
+    """L10 and L10r [rev] at the equilibrium (:func:`rvcore.standards.iso16281.static_life`, the loads the
+    equilibrium carries, the ring's weight included); NaN where infinite or not rated."""
+
+    try:
+        life = static_life(bearing, st)
+    except LifeError:
+        return {"basic_rating_life_L10": float("nan"), "reference_rating_life_L10r": float("nan")}
+    rev = {"basic_rating_life_L10": life["basic_rating_life_L10_Mrev"] * 1e6,
+           "reference_rating_life_L10r": life["reference_rating_life_L10r_Mrev"] * 1e6}
+    return {k: (v if math.isfinite(v) else float("nan")) for k, v in rev.items()}
