@@ -30,7 +30,7 @@ from ..errors import ConfigError
 from .context import Context, ensemble_text, extra_dims
 from .figures import SAME_WITHIN
 from .render import Heading, Para, Table, Warning_, fmt_kn, fmt_number, fmt_speed
-from .summary import ABSENT, COLUMNS, Summary, _cell
+from .summary import ABSENT, COLUMNS, Summary, table_cell
 
 #: Two values closer than this (relative) count as the same: "every speed" rather than one
 #: (the figures' :data:`.figures.SAME_WITHIN`, which draws such lines as one).
@@ -221,7 +221,7 @@ def headline_rows(s: Summary, targets: dict) -> list:
                 when += " (differs between the tied points)"
         unit = f" {t.unit}" if t.unit else ""
         where = location_text(s, points, np.asarray(v, dtype=np.float64))
-        rows.append([t.name, _cell(w) + unit if points else ABSENT, where, when or ABSENT,
+        rows.append([t.name, table_cell(w) + unit if points else ABSENT, where, when or ABSENT,
                      _target_text(t, targets.get(t.key)), verdict(t, w, targets.get(t.key))])
         if t.key == "life_mrev":
             rows.append(["modified rating life L_nm (ISO 281)", "not computed (needs ISO 281's a_ISO)", ABSENT, ABSENT, ABSENT, ABSENT])

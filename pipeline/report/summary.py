@@ -226,7 +226,7 @@ def _shown_points(n_speed: int, n_load: int) -> list:
     return sorted(picked)
 
 
-def _cell(v: float, digits: int = 3) -> str:
+def table_cell(v: float, digits: int = 3) -> str:
     """``v`` to ``digits`` significant digits (below a million written out: 1200), a larger or
     very small one as ``1.23×10⁷``; "∞" for +inf (a life without load), "—" for NaN."""
     if v is not None and math.isinf(v) and v > 0:
@@ -246,7 +246,7 @@ def summary_rows(s: Summary, points) -> list:
         row = [fmt_speed(s.speeds[i]), fmt_kn(s.loads[j])]
         for col in COLUMNS:
             v = s.values[col.key]
-            row.append(_cell(None if v is None else float(v[i, j])))
+            row.append(table_cell(None if v is None else float(v[i, j])))
             if col.key == "safety":
                 row.append(s.phase_text(i, j))
         rows.append(row)

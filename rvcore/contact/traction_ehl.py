@@ -1,7 +1,7 @@
 """A lubricated traction law for the ball–raceway contacts: Bair–Winer limiting-shear
 liquid with Barus viscosity, blended toward boundary friction as the film parameter λ
-falls. Scalar ``@njit`` functions with their slopes, in the calling style of the study's
-Coulomb/STEP law (:mod:`rvcore.contact`, :mod:`rvcore.bearing.laws`). SI throughout.
+falls. Scalar kernels (``rvcore._numba.kernel``) with their slopes, in the calling style of the study's
+Coulomb/STEP law (:mod:`rvcore.contact.coulomb_step`, :mod:`rvcore.bearing.laws`). SI throughout.
 
 NOT wired into the kernels (issue 40): nothing imports this module yet. To register it,
 the law needs, besides the slip speed, the contact's mean pressure, central film and λ,

@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from rvcore.bearing import hertz
+from rvcore import hertz
 from rvcore.bearing.geometry import INNER, OUTER
 
 STEEL_E, STEEL_NU = 208e9, 0.3

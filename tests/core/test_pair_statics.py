@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from scipy import optimize
 
-from rvcore.bearing import hertz
+from rvcore import hertz
 from rvcore.statics.preload import apply_preload, mirrored_rows
 from rvcore.statics.equilibrium import solve_statics
 from rvcore.statics.stiffness import load_frame

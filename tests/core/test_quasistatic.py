@@ -25,7 +25,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-from rvcore.bearing import hertz
+from rvcore import hertz
 from rvcore.bearing.geometry import Arc
 from rvcore.statics.equilibrium import NoEquilibriumError, solve_statics
 from tests.core.physics_cases import STEEL, section_bearing, series_stiffness

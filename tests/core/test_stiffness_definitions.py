@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 
-from rvcore.bearing import hertz
+from rvcore import hertz
 from rvcore.statics.equilibrium import solve_statics
 from rvcore.statics.stiffness import load_frame
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rvcore.bearing import hertz
+from rvcore import hertz
 from rvcore.simulation.run import run_case
 from rvcore.simulation.initial_state import initial_state, set_rolling_velocities
 from rvcore.simulation.settings import Sensor, SolverSettings

@@ -84,7 +84,7 @@ def designer(tmp_path_factory):
     return d, sweep, files, files.markdown.read_text(), files.html.read_text()
 
 
-def _g3(x: float) -> str:
+def fmt_g3(x: float) -> str:
     """``x`` to 3 significant digits as the table writes it: 1234 as 1230, 12300000 as 1.23×10⁷."""
     text = f"{x:.3g}"
     if "e+" in text and abs(x) < 1e6:
@@ -124,23 +124,23 @@ def test_summary_rows_match_the_dataset(designer):
             continue
         phase = {n: at[n].values for n in DESIGNER_METRICS}
         k = int(np.argmin(phase["static_safety_factor_min"]))
-        assert r[col[SAFETY_COLUMN]] == _g3(phase["static_safety_factor_min"].min())
+        assert r[col[SAFETY_COLUMN]] == fmt_g3(phase["static_safety_factor_min"].min())
         assert r[col["s₀ smallest in"]] == f"{TITLE[PHASES[k]]}, {phase['static_safety_factor_min_time'][k]:.3g} s"
-        assert r[col["L10r of the duty cycle [Mrev]"]] == _g3(float(at["rating_life_L10r"]) / 1e6)
-        assert r[col["L10r of the duty cycle [cycles]"]] == _g3(float(at["rating_life_cycles"]))
-        assert r[col["L10r at the steady point (statics) [Mrev]"]] == _g3(float(at["reference_rating_life_L10r"]) / 1e6)
-        assert r[col["L10 (ISO 281) at the steady point [Mrev]"]] == _g3(float(at["basic_rating_life_L10"]) / 1e6)
-        assert r[col["peak start-up drive torque [N m]"]] == _g3(phase["inner_ring_drive_torque_peak"][0])
-        assert r[col["peak ball-pocket force [N]"]] == _g3(phase["max_pocket_force_peak"].max())
-        assert r[col["peak cage-land force [N]"]] == _g3(phase["cage_land_force_peak"].max())
-        assert r[col["peak race sliding speed [m/s]"]] == _g3(phase["max_race_sliding_speed_peak"].max())
-        assert r[col["peak race pv [MPa m/s]"]] == _g3(phase["max_race_pv_peak"].max() / 1e6)
+        assert r[col["L10r of the duty cycle [Mrev]"]] == fmt_g3(float(at["rating_life_L10r"]) / 1e6)
+        assert r[col["L10r of the duty cycle [cycles]"]] == fmt_g3(float(at["rating_life_cycles"]))
+        assert r[col["L10r at the steady point (statics) [Mrev]"]] == fmt_g3(float(at["reference_rating_life_L10r"]) / 1e6)
+        assert r[col["L10 (ISO 281) at the steady point [Mrev]"]] == fmt_g3(float(at["basic_rating_life_L10"]) / 1e6)
+        assert r[col["peak start-up drive torque [N m]"]] == fmt_g3(phase["inner_ring_drive_torque_peak"][0])
+        assert r[col["peak ball-pocket force [N]"]] == fmt_g3(phase["max_pocket_force_peak"].max())
+        assert r[col["peak cage-land force [N]"]] == fmt_g3(phase["cage_land_force_peak"].max())
+        assert r[col["peak race sliding speed [m/s]"]] == fmt_g3(phase["max_race_sliding_speed_peak"].max())
+        assert r[col["peak race pv [MPa m/s]"]] == fmt_g3(phase["max_race_pv_peak"].max() / 1e6)
         steady = PHASES.index("steady")
-        assert r[col["steady δ_r mean [µm]"]] == _g3(float(at["radial_displacement_mean"][steady]) * 1e6)
-        assert r[col["steady δ_a mean [µm]"]] == _g3(float(at["axial_displacement_mean"][steady]) * 1e6)
-        assert r[col["radial stiffness [N/µm]"]] == _g3(float(at["radial_stiffness"]) / 1e6)    # N/m -> N/µm
-        assert r[col["axial stiffness [N/µm]"]] == _g3(float(at["axial_stiffness"]) / 1e6)
-        assert r[col["tilting stiffness [N m/mrad]"]] == _g3(float(at["tilting_stiffness"]) / 1e3)  # per rad -> per mrad
+        assert r[col["steady δ_r mean [µm]"]] == fmt_g3(float(at["radial_displacement_mean"][steady]) * 1e6)
+        assert r[col["steady δ_a mean [µm]"]] == fmt_g3(float(at["axial_displacement_mean"][steady]) * 1e6)
+        assert r[col["radial stiffness [N/µm]"]] == fmt_g3(float(at["radial_stiffness"]) / 1e6)    # N/m -> N/µm
+        assert r[col["axial stiffness [N/µm]"]] == fmt_g3(float(at["axial_stiffness"]) / 1e6)
+        assert r[col["tilting stiffness [N m/mrad]"]] == fmt_g3(float(at["tilting_stiffness"]) / 1e3)  # per rad -> per mrad
 
 
 def test_summary_csv_holds_every_point(designer):
@@ -247,11 +247,11 @@ def test_ensemble_summary_is_the_mean_over_realizations(tmp_path):
     lives = [made_up("rating_life_L10r", s, f) for s in (120.0, 660.0) for f in (20e3, 40e3)]
     means = [float(x) * (1.0 + 0.1) for x in lives]  # mean of factors 1, 1.1, 1.2
     means[0] = float(lives[0]) * 1.05                # mean of factors 1, 1.1
-    assert [r[k] for r in table.rows] == [_g3(x / 1e6) for x in means]
+    assert [r[k] for r in table.rows] == [fmt_g3(x / 1e6) for x in means]
     # s₀: the minimum over the phases per realization, then the mean
     k = table.header.index(SAFETY_COLUMN)
     s0 = made_up("static_safety_factor_min", 120.0, 20e3).min() * 1.1
-    assert table.rows[0][k] == _g3(s0)
+    assert table.rows[0][k] == fmt_g3(s0)
     assert table.rows[0][k + 1] in TITLE.values()    # an ensemble: the phase, no time
 
 

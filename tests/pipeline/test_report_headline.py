@@ -27,8 +27,8 @@ from pipeline.report import build_report
 from pipeline.report.build import load_context
 from rvcore.profile import PHASES
 from tests.pipeline.test_report import section_of, synthetic_sweep, table_rows
-from tests.pipeline.test_report_designer import _g3, add_designer_outputs, made_up
-from tests.pipeline.test_report_stiffness import _made_up_stiffness, add_stiffness
+from tests.pipeline.test_report_designer import fmt_g3, add_designer_outputs, made_up
+from tests.pipeline.test_report_stiffness import made_up_stiffness, add_stiffness
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -67,7 +67,7 @@ def _torque(s, f):    # peak start-up drive torque [N m]
 
 
 def _k_r(s, f):       # radial stiffness [N/µm]
-    return _made_up_stiffness(s, f)[0] / 1e6
+    return made_up_stiffness(s, f)[0] / 1e6
 
 
 @pytest.fixture(scope="module")
@@ -106,7 +106,7 @@ def test_headline_states_each_worst_value_where_and_its_verdict(headline):
     _, targets, md, html = headline
     s0, at = _worst(_s0, "min")
     row = _row(md, "smallest static safety factor")
-    assert row[1] == _g3(s0)
+    assert row[1] == fmt_g3(s0)
     (s, f), = at
     assert row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
     assert row[3].startswith({"startup": "start-up"}.get(_s0_phase(s, f), _s0_phase(s, f)))
@@ -116,13 +116,13 @@ def test_headline_states_each_worst_value_where_and_its_verdict(headline):
     life, at = _worst(_life, "min")
     row = _row(md, "shortest rating life L10r")
     (s, f), = at
-    assert row[1] == f"{_g3(life)} Mrev" and row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
+    assert row[1] == f"{fmt_g3(life)} Mrev" and row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
     assert row[5] == "✓ pass"
 
     torque, at = _worst(_torque, "max")
     row = _row(md, "largest start-up drive torque")
     (s, f), = at
-    assert row[1] == f"{_g3(torque)} N m" and row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
+    assert row[1] == f"{fmt_g3(torque)} N m" and row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
     assert row[3] == "start-up phase" and row[4] == f"≤ {targets['startup_torque']:.4g} N m"
     assert row[5] == "✓ pass"
 
@@ -131,7 +131,7 @@ def test_headline_states_each_worst_value_where_and_its_verdict(headline):
     k_r, at = _worst(_k_r, "min")
     row = _row(md, "smallest radial stiffness")
     assert {f for _, f in at} == {LOADS[0]} and len(at) == 2
-    assert row[1] == f"{_g3(k_r)} N/µm" and row[2] == f"every speed with a result, {LOADS[0] / 1e3:g} kN"
+    assert row[1] == f"{fmt_g3(k_r)} N/µm" and row[2] == f"every speed with a result, {LOADS[0] / 1e3:g} kN"
     assert row[5] == "✓ pass"
 
     # no target: said so, no mark; L_nm has its slot

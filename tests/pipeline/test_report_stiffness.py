@@ -32,7 +32,7 @@ REPO = Path(__file__).resolve().parents[2]
 STUDY_D, STUDY_DM, STUDY_RHO = 0.023, 0.3515, 7800.0
 
 
-def _made_up_stiffness(speed_deg, load):
+def made_up_stiffness(speed_deg, load):
     """Synthetic stiffness values [N m-1, N m-1, N m rad-1] of a grid point."""
     return 1e9 * (1.0 + load / 1e5), 4e8 * (1.0 + load / 2e5), 3e6 * (1.0 + load / 4e5)
 
@@ -46,7 +46,7 @@ def add_stiffness(directory: Path) -> dict:
     failed = sweep["case_status"].values != 0
     written = {}
     for k, name in enumerate(STIFFNESS):
-        v = np.array([[_made_up_stiffness(s, f)[k] for f in sweep["radial_load"].values]
+        v = np.array([[made_up_stiffness(s, f)[k] for f in sweep["radial_load"].values]
                       for s in sweep["speed"].values])
         v[failed] = np.nan
         units, long_name = STIFFNESS[name]
