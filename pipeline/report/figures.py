@@ -67,6 +67,19 @@ SAME_WITHIN = 1e-3
 MARKERS = ("o", "s", "^", "D", "v", "P", "X", "<", ">", "*")
 
 
+def _shared_abscissae(lines):
+    """``(values, finite, columns)`` of ``lines`` stacked as rows, ``columns`` the abscissae
+    where at least two lines are finite; ``(None, None, None)`` without such an abscissa."""
+    a = np.asarray([np.asarray(y, dtype=np.float64) for y in lines])
+    if a.ndim != 2 or a.shape[0] < 2:
+        return None, None, None
+    ok = np.isfinite(a)
+    cols = ok.sum(axis=0) >= 2
+    if not cols.any():
+        return None, None, None
+    return a, ok, cols
+
+
 def spread_of(lines) -> float:
     """The largest relative spread between ``lines`` at any abscissa [1].
 
@@ -81,12 +94,8 @@ def spread_of(lines) -> float:
         ``max_x (max_k y_k(x) − min_k y_k(x)) / max_k |y_k(x)|`` over the abscissae where at
         least two lines are finite; 0 where every value is 0; NaN with no such abscissa.
     """
-    a = np.asarray([np.asarray(y, dtype=np.float64) for y in lines])
-    if a.ndim != 2 or a.shape[0] < 2:
-        return math.nan
-    ok = np.isfinite(a)
-    cols = ok.sum(axis=0) >= 2
-    if not cols.any():
+    a, ok, cols = _shared_abscissae(lines)
+    if a is None:
         return math.nan
     hi = np.where(ok, a, -np.inf).max(axis=0)[cols]
     lo = np.where(ok, a, np.inf).min(axis=0)[cols]
@@ -104,12 +113,8 @@ OVERLAP_WITHIN = 0.02
 def overlap_of(lines) -> float:
     """The largest gap between ``lines`` at any abscissa, as a fraction of their joint span [1]
     (NaN without two finite values at one abscissa; 0 for a zero span)."""
-    a = np.asarray([np.asarray(y, dtype=np.float64) for y in lines])
-    if a.ndim != 2 or a.shape[0] < 2:
-        return math.nan
-    ok = np.isfinite(a)
-    cols = ok.sum(axis=0) >= 2
-    if not cols.any():
+    a, ok, cols = _shared_abscissae(lines)
+    if a is None:
         return math.nan
     gap = (np.where(ok, a, -np.inf).max(axis=0) - np.where(ok, a, np.inf).min(axis=0))[cols]
     span = float(np.nanmax(a[ok]) - np.nanmin(a[ok]))
