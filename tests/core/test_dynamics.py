@@ -389,20 +389,6 @@ def test_imex_trajectory_converges_at_second_order():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "the 12-ball section in gravity is no §9.6 case for either integrator: its steady phase is a chain of "
-    "pocket impacts whose timing a tenth of RK4's step moves (steady δ_a std 4.8 %, δ_r range 4.1 %, the "
-    "deceleration's δ_a range 3.3 %, a pocket-force peak 6.9 %); docs/performance.md, '§9.6 on the study bearing'"))
-def test_convergence_tenfold_smaller_step_in_gravity():
-    """The check above with the ring's weight on: RK4 does not pass it either. §9.6 for the
-    default integrator is therefore also run on the unreduced study bearing, in gravity
-    (tests/core/test_imex_accuracy.py::test_imex_convergence_tenfold_smaller_step_on_the_study_bearing)."""
-    for name, change in _convergence(0.05, 12, gravity=True).items():
-        limit = 1e-3 if name == "cage_slip" else 0.01
-        assert np.all(change < limit), (name, change)
-
-
-@pytest.mark.slow
 def test_convergence_tenfold_smaller_step_longer_cycle():
     """As above on the cycle at 1/5 (0.92 s), output at 1 kHz as in sweeps/study.toml: ~1 min.
 
