@@ -5,16 +5,16 @@ schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.read
 This module adds what one field cannot say: the material's two forms, the cage's land
 values required when it is outer-land guided, two arcs at ±α, the friction speeds'
 order, gravity by mounting or vector, the assumptions list, a ``[pair]``'s two mirrored
-rows and their preload (:mod:`rvcore.statics.preload`), and the geometry checks
-(``rvcore.bearing.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
+rows and their preload (:mod:`rvcore.statics.preload`), and the one-line error of the first
+problem the geometry checks find (:func:`rvcore.bearing.checks.bearing_problems`). The file
 format is described in :mod:`pipeline.schema.config`.
 """
 from __future__ import annotations
 
 import dataclasses
 
-from rvcore.bearing.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
-                             geometry_problems)
+from rvcore.bearing.checks import BALL_OVERLAP, bearing_problems
+from rvcore.bearing.geometry import MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row
 
 from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
 
@@ -22,7 +22,7 @@ from ..errors import ConfigError
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
-__all__ = ["bearing_from_dict", "load_bearing", "extra_geometry_problems", "is_overlap_problem"]
+__all__ = ["bearing_from_dict", "load_bearing"]
 
 
 def _material(t: Table) -> Material:
@@ -167,32 +167,6 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
     return pair_rows, arrangement, preload, offset
 
 
-def _pair_problems(bearing: Bearing):
-    """A pair's rows must not overlap each other nor stick out of the envelope, as
-    ``(key, value, reason)``: the row spacing is at least the ball diameter and each
-    cage's width, and the spacing plus the wider of ball and cage fits in the width."""
-    out = []
-    z = sorted(r.axial_position for r in bearing.rows)
-    spacing = z[-1] - z[0]
-    row = bearing.rows[0]
-    d, cage = row.ball_diameter, row.cage.width
-    mm = lambda x: f"{x * 1e3:.4g} mm"  # noqa: E731
-    if spacing < d:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows' balls ({mm(d)}) overlap at a spacing of {mm(spacing)}: the spacing "
-                    "must be at least the ball diameter"))
-    elif spacing < cage:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows' cages ({mm(cage)} wide) overlap at a spacing of {mm(spacing)}: the "
-                    "spacing must be at least the cage width"))
-    extent = spacing + max(d, cage)
-    if extent > bearing.width:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows span {mm(extent)} (spacing + the wider of ball and cage, "
-                    f"{mm(max(d, cage))}), more than the envelope width {mm(bearing.width)}"))
-    return out
-
-
 def _preload(bearing: Bearing, top: Table) -> Bearing:
     """The pair with its preload applied (:func:`rvcore.statics.preload.apply_preload`)."""
     from rvcore.statics.preload import apply_preload
@@ -205,55 +179,6 @@ def _preload(bearing: Bearing, top: Table) -> Bearing:
         return apply_preload(bearing)
     except ValueError as exc:
         raise ConfigError(top.file, f"pair.{key}", pair.raw(key, None), str(exc)) from None
-
-
-def extra_geometry_problems(bearing: Bearing):
-    """Checks beyond ``rvcore.bearing.geometry.geometry_problems``, as ``(key, value, reason)``.
-
-    - the cage is no wider than the bearing, and wider than its pockets (``D + c_p``),
-      or the pockets would cut the cage ring in two;
-    - an outer-land guided cage's land (bore ``d_cage,o + 2·c_land``) lies inside the
-      outer ring's envelope and above the outer groove's bottom (``d_m + D``), so that
-      the outer ring has a land there at all.
-    """
-    from rvcore.bearing.imperfections import Imperfections
-    from rvcore.standards.iso492 import tolerance_problems
-
-    out = []
-    for i, row in enumerate(bearing.rows):
-        imp = row.imperfections
-        if isinstance(imp, Imperfections):   # a tolerance class without a sourced value (issue 39)
-            out += tolerance_problems(imp.tolerance_class, bearing.bore, bearing.outer_diameter, row.ball_diameter,
-                                      inner_given=imp.inner_eccentricity is not None,
-                                      outer_given=imp.outer_eccentricity is not None,
-                                      grade_given=bool(imp.ball_grade or imp.ball_diameter_deviation))
-        c = row.cage
-        if c.width > bearing.width:
-            out.append((f"rows[{i}].cage.width", c.width,
-                        f"the cage ({c.width * 1e3:.4g} mm) is wider than the bearing "
-                        f"({bearing.width * 1e3:.4g} mm)"))
-        pocket = row.ball_diameter + c.pocket_clearance
-        if c.width <= pocket:
-            out.append((f"rows[{i}].cage.width", c.width,
-                        f"the cage ({c.width * 1e3:.4g} mm) is not wider than its pockets "
-                        f"({pocket * 1e3:.4g} mm = ball diameter + pocket clearance), so they "
-                        "would cut the ring in two"))
-        if c.guidance == "outer-land":
-            land = c.outer_diameter + 2.0 * c.land_clearance
-            groove_bottom = row.pitch_diameter + row.ball_diameter
-            if land >= groove_bottom:
-                out.append((f"rows[{i}].cage.outer_diameter", c.outer_diameter,
-                            f"the cage does not fit inside the outer ring: its guiding land's bore "
-                            f"({land * 1e3:.4g} mm = cage OD + 2 × land clearance "
-                            f"{c.land_clearance * 1e3:.4g} mm) is not below the outer groove's "
-                            f"bottom ({groove_bottom * 1e3:.4g} mm = d_m + D), so the outer ring "
-                            "has no land there"))
-    return out
-
-
-def is_overlap_problem(key: str, reason: str) -> bool:
-    """Whether a ``geometry_problems`` entry is the ball overlap of docs/model.md §10."""
-    return key.endswith(".balls.count") and "need a pitch diameter" in reason
 
 
 def _assumptions(top: Table, raw: dict) -> tuple:
@@ -369,21 +294,19 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       lubricant=_lubricant(top))
 
     warnings = []
-    problems = list(geometry_problems(bearing)) + extra_geometry_problems(bearing)
-    if arrangement:
-        problems += _pair_problems(bearing)
-    for key, value, reason in problems:
+    for p in bearing_problems(bearing):
+        key, reason = p.key, p.reason
         if arrangement:   # the file gives the design of both rows as rows[0]
             key = key.replace("rows[1]", "rows[0]")
-        if allow_overlap and is_overlap_problem(key, reason):
-            warnings.append(reason)
-            continue
-        shown = lookup(raw, key, value)
-        if isinstance(shown, (dict, list)):
-            shown = value
-        if is_overlap_problem(key, reason):
+        if p.kind == BALL_OVERLAP:
+            if allow_overlap:
+                warnings.append(reason)
+                continue
             reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
                        "as a warning (docs/model.md §10)")
+        shown = lookup(raw, key, p.value)
+        if isinstance(shown, (dict, list)):
+            shown = p.value
         raise ConfigError(file, key, shown, reason)
     _refuse_unphysical(bearing, raw, file, arrangement)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
