@@ -19,15 +19,54 @@ from rvcore.bearing.geometry import MOUNTINGS, Arc, Bearing, Cage, ContactLaw, I
 from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
 
 from ..errors import ConfigError
+from .fields import fields_of
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
 __all__ = ["bearing_from_dict", "load_bearing"]
 
 
-def _material(t: Table) -> Material:
-    return Material(density=t.get("density"), youngs_modulus=t.get("youngs_modulus"),
-                    poisson_ratio=t.get("poisson_ratio"))
+def from_fields(cls, t: Table, source: str, given: dict | None = None, overrides: dict | None = None):
+    """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table.
+
+    Each field ``name`` of ``cls`` not in ``given`` is read from the schema field under
+    ``t`` whose ``source`` is ``f"{source}.{name}"`` (:class:`pipeline.schema.fields.Field`):
+    its key path relative to ``t`` says where it is written (``friction.mu_static`` holds
+    ``contact.mu_static``), and :meth:`Table.get` validates it and supplies its default. A
+    sub-table is required when any field read from it is. ``overrides`` maps a name to
+    :meth:`Table.get`'s ``default``/``bounds`` where another key decides them. A field of
+    ``cls`` that no schema field holds keeps the dataclass's default.
+    """
+    given, overrides = dict(given or {}), overrides or {}
+    kwargs = {}
+    for name, f in _sourced(t.schema_file, t.pattern, source, cls).items():
+        if name in given:
+            kwargs[name] = given.pop(name)
+            continue
+        *tables, key = f.path[len(t.pattern) + 1 if t.pattern else 0:].split(".")
+        here = t
+        for sub in tables:
+            below = f"{here.pattern}.{sub}" if here.pattern else sub
+            here = here.table(sub, required=_any_required(t.schema_file, below))
+        kwargs[name] = here.get(key, **overrides.get(name, {}))
+    return cls(**kwargs, **given)
+
+
+def _sourced(schema_file: str, pattern: str, source: str, cls) -> dict:
+    """``{dataclass field name: schema Field}`` of the fields under ``pattern`` that hold
+    ``cls``'s fields at ``source``, in the dataclass's order."""
+    under = [f for f in fields_of(schema_file) if not pattern or f.path.startswith(f"{pattern}.")]
+    by_source = {f.source: f for f in under if f.source}
+    return {d.name: by_source[f"{source}.{d.name}"] for d in dataclasses.fields(cls)
+            if f"{source}.{d.name}" in by_source}
+
+
+def _any_required(schema_file: str, pattern: str) -> bool:
+    return any(f.required for f in fields_of(schema_file) if f.path.startswith(f"{pattern}."))
+
+
+def _material(t: Table, source: str) -> Material:
+    return from_fields(Material, t, source)
 
 
 def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
@@ -58,14 +97,11 @@ def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
 
 
 def _cage(c: Table) -> Cage:
-    guidance = c.get("guidance")
     land = {}
-    if guidance == "outer-land":   # the land values matter only then: required and positive
+    if c.get("guidance") == "outer-land":   # the land values matter only then: required and positive
         land = {"default": MISSING, "bounds": "positive"}
-    return Cage(inner_diameter=c.get("inner_diameter"), outer_diameter=c.get("outer_diameter"),
-                width=c.get("width"), pocket_clearance=c.get("pocket_clearance"),
-                land_clearance=c.get("land_clearance", **land), guidance=guidance,
-                material=_material(c), land_stiffness=c.get("land_stiffness", **land))
+    return from_fields(Cage, c, "rows[].cage", given={"material": _material(c, "rows[].cage.material")},
+                       overrides={"land_clearance": land, "land_stiffness": land})
 
 
 def _row(t: Table, top: Table) -> Row:
@@ -221,32 +257,22 @@ def _materials(top: Table):
                 raise ConfigError(file, other, None,
                                   "give either [material] (rings and balls) or both "
                                   "[ring_material] and [ball_material], not both forms")
-        mat = _material(top.table("material"))
+        mat = _material(top.table("material"), "ring_material")
         return mat, mat
     if top.has("ring_material") or top.has("ball_material"):
-        return _material(top.table("ring_material")), _material(top.table("ball_material"))
+        return (_material(top.table("ring_material"), "ring_material"),
+                _material(top.table("ball_material"), "ball_material"))
     raise ConfigError(file, "material", None,
                       "missing required table (or [ring_material] and [ball_material])")
 
 
 def _contact(top: Table) -> ContactLaw:
-    ct = top.table("contact")
-    fr = top.table("friction", required=False)
-    contact = ContactLaw(
-        damping=ct.get("damping"), damping_depth=ct.get("damping_depth"),
-        pocket_damping=ct.get("pocket_damping"), land_damping=ct.get("land_damping"),
-        mu_static=fr.get("mu_static"), v_static=fr.get("v_static"),
-        mu_dynamic=fr.get("mu_dynamic"), v_dynamic=fr.get("v_dynamic"),
-    )
+    contact = from_fields(ContactLaw, top, "contact")
     if not contact.v_dynamic > contact.v_static:
-        raise ConfigError(top.file, "friction.v_dynamic", fr.raw("v_dynamic", contact.v_dynamic),
+        raise ConfigError(top.file, "friction.v_dynamic",
+                          top.table("friction", required=False).raw("v_dynamic", contact.v_dynamic),
                           f"must exceed friction.v_static ({contact.v_static:g} m/s)")
     return contact
-
-
-def _lubricant(top: Table) -> Lubricant:
-    lub = top.table("lubricant", required=False)
-    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity"), method=lub.get("method"))
 
 
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
@@ -274,10 +300,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     env = top.table("envelope")
     bore, od, width = env.get("bore"), env.get("outer_diameter"), env.get("width")
     ring_mat, ball_mat = _materials(top)
-    ir = top.table("inner_ring")
-    inner_ring = InnerRing(shoulder_diameter=ir.get("shoulder_diameter"),
-                           attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"),
-                           tilt=ir.get("tilt"))
+    inner_ring = from_fields(InnerRing, top, "inner_ring")
     contact = _contact(top)
     row_tables = top.tables("rows")
     rows = tuple(_row(t, top) for t in row_tables)
@@ -291,7 +314,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       source=top.get("source"), description=top.get("description"),
                       # left out: 0, "from the geometry" (rvcore.standards.iso16281)
                       dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
-                      lubricant=_lubricant(top))
+                      lubricant=from_fields(Lubricant, top, "lubricant"))
 
     warnings = []
     for p in bearing_problems(bearing):
