@@ -25,6 +25,7 @@ Shared
 - ``bearing.geometry``         bearing, rows, groove arcs, cages, materials (frozen dataclasses)
 - ``bearing.imperfections``    eccentricities, waviness, ball sizes; a tolerance class realized from a seed
 - ``bearing.lubricant``        ISO VG grades, Walther's viscosity-temperature law, roughness (not yet wired in)
+- ``bearing.checks``           the geometry checks: what makes a bearing unbuildable, as problems with a kind
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
 

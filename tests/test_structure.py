@@ -190,3 +190,73 @@ def test_the_kernel_decorator_sets_the_error_model_and_no_fast_math():
         assert options["error_model"] == "numpy" and options["fastmath"] is False
         assert options["nogil"] is True
     assert hertz_load.targetoptions["inline"] == "always" and rhs.targetoptions["inline"] == "never"
+
+
+#: Where the project names its own modules in prose: the README, docs/ and every docstring
+#: and comment (CHANGELOG.md is history: it names what was renamed, under the old names).
+PROSE = [REPO / "README.md", *sorted((REPO / "docs").glob("*.md")), *SOURCES]
+#: ``rvcore.integrate.imex.TANGENT_LOAD_TOL``, ``pipeline.schema.fields.Field`` (not a file
+#: name such as ``pipeline.md``, nor a family such as ``rvcore.profile.CH_*``).
+_DOTTED = re.compile(r"(?<![\w./-])((?:rvcore|pipeline)(?:\.[A-Za-z_]\w*)+)(?![\w*])")
+#: ``rvcore/dynamics/races.py``, ``pipeline/run/`` as a path from the repository's root.
+_PATH = re.compile(r"(?<![\w./-])((?:rvcore|pipeline|tests|tools)/[\w/.-]*\w)")
+#: A bare ``races.py`` in the README or docs/ (in backticks or a link).
+_FILE = re.compile(r"[`(]([A-Za-z_]\w*\.py)\b")
+#: Names that are not in a checkout on purpose: the shipped files' home inside a wheel, and
+#: Exudyn's example that the 6010 bearing's data come from (docs/validation.md).
+_ELSEWHERE = {"pipeline/sweeps", "ballBearningModel.py"}
+
+
+def _resolves(name: str) -> bool:
+    """Whether the dotted ``name`` is a module, or a module and attributes (a dataclass's
+    fields count) found in it."""
+    parts = name.split(".")
+    for i in range(len(parts), 0, -1):
+        module = ".".join(parts[:i])
+        try:
+            found = importlib.util.find_spec(module) is not None
+        except ModuleNotFoundError:
+            found = False
+        if not found:
+            continue
+        obj = importlib.import_module(module)
+        for attr in parts[i:]:
+            if attr in getattr(obj, "__dataclass_fields__", {}):
+                return attr == parts[-1]
+            if not hasattr(obj, attr):
+                return False
+            obj = getattr(obj, attr)
+        return True
+    return False
+
+
+def _stale_names(files) -> list:
+    """``where: name`` of every module, function or path named in ``files`` that does not exist."""
+    on_disk = {p.name for p in REPO.rglob("*.py") if ".venv" not in p.parts}
+    bad = []
+    for path in files:
+        if path == Path(__file__).resolve():
+            continue
+        text, where = path.read_text(), path.relative_to(REPO) if path.is_relative_to(REPO) else path.name
+        bad += [f"{where}: {m.group(1)}" for m in _DOTTED.finditer(text)
+                if not m.group(1).endswith((".md", ".py", ".toml", ".nc")) and not _resolves(m.group(1))]
+        bad += [f"{where}: {m.group(1)}" for m in _PATH.finditer(text)
+                if m.group(1) not in _ELSEWHERE and not (REPO / m.group(1)).exists()]
+        if path.suffix == ".md":
+            bad += [f"{where}: {m.group(1)}" for m in _FILE.finditer(text)
+                    if m.group(1) not in on_disk | _ELSEWHERE]
+    return sorted(set(bad))
+
+
+def test_every_module_function_and_path_named_in_the_docs_and_docstrings_exists():
+    """Names in prose go stale when code moves (issue 38 found 14); each must resolve."""
+    stale = _stale_names(PROSE)
+    assert not stale, "\n".join(stale)
+
+
+def test_the_stale_name_check_finds_a_moved_module(tmp_path):
+    doc = tmp_path / "x.md"
+    doc.write_text("See `rvcore.driver.Sensor`, rvcore/integrator.py and `friction_law.py`; "
+                   "`rvcore.simulation.settings.Sensor`, `Bearing.rows` as "
+                   "rvcore.bearing.geometry.Bearing.rows and rvcore/integrate/loop.py are real.")
+    assert _stale_names([doc]) == ["x.md: friction_law.py", "x.md: rvcore.driver.Sensor", "x.md: rvcore/integrator.py"]

@@ -29,7 +29,7 @@ TEMP_SUFFIX = ".tmp"
 
 #: Test hook: ``N:SECONDS`` makes the N-th :func:`write_atomic` of this process sleep for
 #: SECONDS once its temporary file exists, so that a test can send a signal inside a
-#: case write (tests/pipeline/test_signals.py). Unset in normal use.
+#: case write (tests/pipeline/test_trust.py). Unset in normal use.
 PAUSE_ENV = "RVSWEEP_TEST_PAUSE_IN_WRITE"
 _writes = itertools.count(1)
 

@@ -5,29 +5,68 @@ schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.read
 This module adds what one field cannot say: the material's two forms, the cage's land
 values required when it is outer-land guided, two arcs at ±α, the friction speeds'
 order, gravity by mounting or vector, the assumptions list, a ``[pair]``'s two mirrored
-rows and their preload (:mod:`rvcore.statics.preload`), and the geometry checks
-(``rvcore.bearing.geometry.geometry_problems`` plus :func:`extra_geometry_problems`). The file
+rows and their preload (:mod:`rvcore.statics.preload`), and the one-line error of the first
+problem the geometry checks find (:func:`rvcore.bearing.checks.bearing_problems`). The file
 format is described in :mod:`pipeline.schema.config`.
 """
 from __future__ import annotations
 
 import dataclasses
 
-from rvcore.bearing.geometry import (MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row,
-                             geometry_problems)
+from rvcore.bearing.checks import BALL_OVERLAP, bearing_problems
+from rvcore.bearing.geometry import MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row
 
 from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
 
 from ..errors import ConfigError
+from .fields import fields_of
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
-__all__ = ["bearing_from_dict", "load_bearing", "extra_geometry_problems", "is_overlap_problem"]
+__all__ = ["bearing_from_dict", "load_bearing"]
 
 
-def _material(t: Table) -> Material:
-    return Material(density=t.get("density"), youngs_modulus=t.get("youngs_modulus"),
-                    poisson_ratio=t.get("poisson_ratio"))
+def from_fields(cls, t: Table, source: str, given: dict | None = None, overrides: dict | None = None):
+    """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table.
+
+    Each field ``name`` of ``cls`` not in ``given`` is read from the schema field under
+    ``t`` whose ``source`` is ``f"{source}.{name}"`` (:class:`pipeline.schema.fields.Field`):
+    its key path relative to ``t`` says where it is written (``friction.mu_static`` holds
+    ``contact.mu_static``), and :meth:`Table.get` validates it and supplies its default. A
+    sub-table is required when any field read from it is. ``overrides`` maps a name to
+    :meth:`Table.get`'s ``default``/``bounds`` where another key decides them. A field of
+    ``cls`` that no schema field holds keeps the dataclass's default.
+    """
+    given, overrides = dict(given or {}), overrides or {}
+    kwargs = {}
+    for name, f in _sourced(t.schema_file, t.pattern, source, cls).items():
+        if name in given:
+            kwargs[name] = given.pop(name)
+            continue
+        *tables, key = f.path[len(t.pattern) + 1 if t.pattern else 0:].split(".")
+        here = t
+        for sub in tables:
+            below = f"{here.pattern}.{sub}" if here.pattern else sub
+            here = here.table(sub, required=_any_required(t.schema_file, below))
+        kwargs[name] = here.get(key, **overrides.get(name, {}))
+    return cls(**kwargs, **given)
+
+
+def _sourced(schema_file: str, pattern: str, source: str, cls) -> dict:
+    """``{dataclass field name: schema Field}`` of the fields under ``pattern`` that hold
+    ``cls``'s fields at ``source``, in the dataclass's order."""
+    under = [f for f in fields_of(schema_file) if not pattern or f.path.startswith(f"{pattern}.")]
+    by_source = {f.source: f for f in under if f.source}
+    return {d.name: by_source[f"{source}.{d.name}"] for d in dataclasses.fields(cls)
+            if f"{source}.{d.name}" in by_source}
+
+
+def _any_required(schema_file: str, pattern: str) -> bool:
+    return any(f.required for f in fields_of(schema_file) if f.path.startswith(f"{pattern}."))
+
+
+def _material(t: Table, source: str) -> Material:
+    return from_fields(Material, t, source)
 
 
 def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
@@ -58,14 +97,11 @@ def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
 
 
 def _cage(c: Table) -> Cage:
-    guidance = c.get("guidance")
     land = {}
-    if guidance == "outer-land":   # the land values matter only then: required and positive
+    if c.get("guidance") == "outer-land":   # the land values matter only then: required and positive
         land = {"default": MISSING, "bounds": "positive"}
-    return Cage(inner_diameter=c.get("inner_diameter"), outer_diameter=c.get("outer_diameter"),
-                width=c.get("width"), pocket_clearance=c.get("pocket_clearance"),
-                land_clearance=c.get("land_clearance", **land), guidance=guidance,
-                material=_material(c), land_stiffness=c.get("land_stiffness", **land))
+    return from_fields(Cage, c, "rows[].cage", given={"material": _material(c, "rows[].cage.material")},
+                       overrides={"land_clearance": land, "land_stiffness": land})
 
 
 def _row(t: Table, top: Table) -> Row:
@@ -167,32 +203,6 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
     return pair_rows, arrangement, preload, offset
 
 
-def _pair_problems(bearing: Bearing):
-    """A pair's rows must not overlap each other nor stick out of the envelope, as
-    ``(key, value, reason)``: the row spacing is at least the ball diameter and each
-    cage's width, and the spacing plus the wider of ball and cage fits in the width."""
-    out = []
-    z = sorted(r.axial_position for r in bearing.rows)
-    spacing = z[-1] - z[0]
-    row = bearing.rows[0]
-    d, cage = row.ball_diameter, row.cage.width
-    mm = lambda x: f"{x * 1e3:.4g} mm"  # noqa: E731
-    if spacing < d:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows' balls ({mm(d)}) overlap at a spacing of {mm(spacing)}: the spacing "
-                    "must be at least the ball diameter"))
-    elif spacing < cage:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows' cages ({mm(cage)} wide) overlap at a spacing of {mm(spacing)}: the "
-                    "spacing must be at least the cage width"))
-    extent = spacing + max(d, cage)
-    if extent > bearing.width:
-        out.append(("pair.row_spacing", spacing,
-                    f"the two rows span {mm(extent)} (spacing + the wider of ball and cage, "
-                    f"{mm(max(d, cage))}), more than the envelope width {mm(bearing.width)}"))
-    return out
-
-
 def _preload(bearing: Bearing, top: Table) -> Bearing:
     """The pair with its preload applied (:func:`rvcore.statics.preload.apply_preload`)."""
     from rvcore.statics.preload import apply_preload
@@ -205,55 +215,6 @@ def _preload(bearing: Bearing, top: Table) -> Bearing:
         return apply_preload(bearing)
     except ValueError as exc:
         raise ConfigError(top.file, f"pair.{key}", pair.raw(key, None), str(exc)) from None
-
-
-def extra_geometry_problems(bearing: Bearing):
-    """Checks beyond ``rvcore.bearing.geometry.geometry_problems``, as ``(key, value, reason)``.
-
-    - the cage is no wider than the bearing, and wider than its pockets (``D + c_p``),
-      or the pockets would cut the cage ring in two;
-    - an outer-land guided cage's land (bore ``d_cage,o + 2·c_land``) lies inside the
-      outer ring's envelope and above the outer groove's bottom (``d_m + D``), so that
-      the outer ring has a land there at all.
-    """
-    from rvcore.bearing.imperfections import Imperfections
-    from rvcore.standards.iso492 import tolerance_problems
-
-    out = []
-    for i, row in enumerate(bearing.rows):
-        imp = row.imperfections
-        if isinstance(imp, Imperfections):   # a tolerance class without a sourced value (issue 39)
-            out += tolerance_problems(imp.tolerance_class, bearing.bore, bearing.outer_diameter, row.ball_diameter,
-                                      inner_given=imp.inner_eccentricity is not None,
-                                      outer_given=imp.outer_eccentricity is not None,
-                                      grade_given=bool(imp.ball_grade or imp.ball_diameter_deviation))
-        c = row.cage
-        if c.width > bearing.width:
-            out.append((f"rows[{i}].cage.width", c.width,
-                        f"the cage ({c.width * 1e3:.4g} mm) is wider than the bearing "
-                        f"({bearing.width * 1e3:.4g} mm)"))
-        pocket = row.ball_diameter + c.pocket_clearance
-        if c.width <= pocket:
-            out.append((f"rows[{i}].cage.width", c.width,
-                        f"the cage ({c.width * 1e3:.4g} mm) is not wider than its pockets "
-                        f"({pocket * 1e3:.4g} mm = ball diameter + pocket clearance), so they "
-                        "would cut the ring in two"))
-        if c.guidance == "outer-land":
-            land = c.outer_diameter + 2.0 * c.land_clearance
-            groove_bottom = row.pitch_diameter + row.ball_diameter
-            if land >= groove_bottom:
-                out.append((f"rows[{i}].cage.outer_diameter", c.outer_diameter,
-                            f"the cage does not fit inside the outer ring: its guiding land's bore "
-                            f"({land * 1e3:.4g} mm = cage OD + 2 × land clearance "
-                            f"{c.land_clearance * 1e3:.4g} mm) is not below the outer groove's "
-                            f"bottom ({groove_bottom * 1e3:.4g} mm = d_m + D), so the outer ring "
-                            "has no land there"))
-    return out
-
-
-def is_overlap_problem(key: str, reason: str) -> bool:
-    """Whether a ``geometry_problems`` entry is the ball overlap of docs/model.md §10."""
-    return key.endswith(".balls.count") and "need a pitch diameter" in reason
 
 
 def _assumptions(top: Table, raw: dict) -> tuple:
@@ -296,32 +257,22 @@ def _materials(top: Table):
                 raise ConfigError(file, other, None,
                                   "give either [material] (rings and balls) or both "
                                   "[ring_material] and [ball_material], not both forms")
-        mat = _material(top.table("material"))
+        mat = _material(top.table("material"), "ring_material")
         return mat, mat
     if top.has("ring_material") or top.has("ball_material"):
-        return _material(top.table("ring_material")), _material(top.table("ball_material"))
+        return (_material(top.table("ring_material"), "ring_material"),
+                _material(top.table("ball_material"), "ball_material"))
     raise ConfigError(file, "material", None,
                       "missing required table (or [ring_material] and [ball_material])")
 
 
 def _contact(top: Table) -> ContactLaw:
-    ct = top.table("contact")
-    fr = top.table("friction", required=False)
-    contact = ContactLaw(
-        damping=ct.get("damping"), damping_depth=ct.get("damping_depth"),
-        pocket_damping=ct.get("pocket_damping"), land_damping=ct.get("land_damping"),
-        mu_static=fr.get("mu_static"), v_static=fr.get("v_static"),
-        mu_dynamic=fr.get("mu_dynamic"), v_dynamic=fr.get("v_dynamic"),
-    )
+    contact = from_fields(ContactLaw, top, "contact")
     if not contact.v_dynamic > contact.v_static:
-        raise ConfigError(top.file, "friction.v_dynamic", fr.raw("v_dynamic", contact.v_dynamic),
+        raise ConfigError(top.file, "friction.v_dynamic",
+                          top.table("friction", required=False).raw("v_dynamic", contact.v_dynamic),
                           f"must exceed friction.v_static ({contact.v_static:g} m/s)")
     return contact
-
-
-def _lubricant(top: Table) -> Lubricant:
-    lub = top.table("lubricant", required=False)
-    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity"), method=lub.get("method"))
 
 
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
@@ -349,10 +300,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     env = top.table("envelope")
     bore, od, width = env.get("bore"), env.get("outer_diameter"), env.get("width")
     ring_mat, ball_mat = _materials(top)
-    ir = top.table("inner_ring")
-    inner_ring = InnerRing(shoulder_diameter=ir.get("shoulder_diameter"),
-                           attached_mass=ir.get("attached_mass"), attached_inertia=ir.get("attached_inertia"),
-                           tilt=ir.get("tilt"))
+    inner_ring = from_fields(InnerRing, top, "inner_ring")
     contact = _contact(top)
     row_tables = top.tables("rows")
     rows = tuple(_row(t, top) for t in row_tables)
@@ -366,24 +314,22 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       source=top.get("source"), description=top.get("description"),
                       # left out: 0, "from the geometry" (rvcore.standards.iso16281)
                       dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
-                      lubricant=_lubricant(top))
+                      lubricant=from_fields(Lubricant, top, "lubricant"))
 
     warnings = []
-    problems = list(geometry_problems(bearing)) + extra_geometry_problems(bearing)
-    if arrangement:
-        problems += _pair_problems(bearing)
-    for key, value, reason in problems:
+    for p in bearing_problems(bearing):
+        key, reason = p.key, p.reason
         if arrangement:   # the file gives the design of both rows as rows[0]
             key = key.replace("rows[1]", "rows[0]")
-        if allow_overlap and is_overlap_problem(key, reason):
-            warnings.append(reason)
-            continue
-        shown = lookup(raw, key, value)
-        if isinstance(shown, (dict, list)):
-            shown = value
-        if is_overlap_problem(key, reason):
+        if p.kind == BALL_OVERLAP:
+            if allow_overlap:
+                warnings.append(reason)
+                continue
             reason += ("; set allow_ball_overlap = true to reproduce it anyway, with this "
                        "as a warning (docs/model.md §10)")
+        shown = lookup(raw, key, p.value)
+        if isinstance(shown, (dict, list)):
+            shown = p.value
         raise ConfigError(file, key, shown, reason)
     _refuse_unphysical(bearing, raw, file, arrangement)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))

@@ -9,8 +9,8 @@ Every quantity goes through :func:`pipeline.schema.units.parse_quantity`, so a f
 ``"23 mm"``, ``"15 deg"``, ``"250 N s/m"`` or a plain SI number. Every problem is a
 :class:`pipeline.errors.ConfigError` naming the file, the dotted key, the value as
 written and the reason: unknown keys (anywhere, nested too), missing required keys,
-wrong units, non-positive sizes, impossible geometry (``rvcore.bearing.geometry.geometry_problems``
-plus the checks of :func:`extra_geometry_problems`).
+wrong units, non-positive sizes, impossible geometry (the checks of
+:mod:`rvcore.bearing.checks`).
 
 Key paths
 ---------
@@ -60,7 +60,7 @@ carries a ``# ASSUMPTION: why`` comment for the reader *and* its key path in the
 top-level ``assumptions`` list for the program. Each listed path must exist in the file
 (a path to a table marks everything in it). They end up in ``Bearing.assumptions``.
 
-Ball overlap: ``geometry_problems`` reports balls that do not fit on their pitch circle
+Ball overlap: :func:`rvcore.bearing.checks.geometry_problems` reports balls that do not fit on their pitch circle
 with the numbers (docs/model.md §10). With ``allow_ball_overlap = true`` that message goes
 into ``Bearing.warnings`` (which every output must repeat) instead of being an error.
 
@@ -92,7 +92,7 @@ sweep axes of their own.
 """
 from __future__ import annotations
 
-from .bearingfile import bearing_from_dict, extra_geometry_problems, is_overlap_problem, load_bearing
+from .bearingfile import bearing_from_dict, load_bearing
 from .profilefile import load_profile, profile_from_dict
 from .tomlfile import (apply_override, format_key_path, lookup, parse_key_path, parse_set, parse_sets,
                        parse_value, read_toml, resolve_path)
@@ -100,5 +100,5 @@ from .tomlfile import (apply_override, format_key_path, lookup, parse_key_path, 
 __all__ = [
     "read_toml", "bearing_from_dict", "load_bearing", "profile_from_dict", "load_profile",
     "apply_override", "resolve_path", "parse_key_path", "format_key_path", "lookup",
-    "extra_geometry_problems", "is_overlap_problem", "parse_set", "parse_sets", "parse_value",
+    "parse_set", "parse_sets", "parse_value",
 ]

@@ -1,7 +1,6 @@
 """Physical bounds of a bearing's values, computed from the bearing itself.
 
-The geometry checks (:func:`rvcore.bearing.geometry.geometry_problems`,
-:func:`pipeline.schema.bearingfile.extra_geometry_problems`) refuse what cannot be built.
+The geometry checks (:mod:`rvcore.bearing.checks`) refuse what cannot be built.
 These refuse what can be written but makes no bearing: a clearance, a ball, a raceway
 offset or waviness so large that the balls are crushed at rest or leave their groove, and
 loads no set of balls can carry. Every bound is a fact of the bearing's own geometry and

@@ -259,7 +259,7 @@ def ehl_traction_per_slip(s2, p, h, lam, law):
 @kernel(inline=True)
 def ehl_tangent_curvature(s2, p, h, lam, law):
     """``(μ' − μ/s)/s²`` [s³ m⁻³] at ``s2 = s²``: the coefficient of ``v_t·v_tᵀ`` in the
-    friction force's tangent (as :func:`rvcore.contact.friction_tangent_curvature`).
+    friction force's tangent (as :func:`rvcore.contact.laws.friction_tangent_curvature`).
 
     The film's part is ``(τ_L·k³/p)·φ(x)/x²``, ``x = k·s``, ``φ = e^(−x) − (1 − e^(−x))/x``;
     it grows as ``−1/(2x)`` when s → 0, but the tangent's term ``coefficient·v_t·v_tᵀ``

@@ -43,7 +43,7 @@ axial and 660 °/s on the study bearing, issue 39's audit found 5.2 N m (KRW), 6
 
 The ``f_1`` takes ISO 76's ``C_0`` (:func:`rvcore.standards.iso76.bearing_static_load_rating`),
 so where the grooves are more open than 0.52/0.53·D_w it takes the reduced ``C_0`` of
-:func:`rvcore.static_rating.f0_osculation_factor`: ``P_0/C_0`` is larger and so is
+:func:`rvcore.standards.iso76.f0_osculation_factor`: ``P_0/C_0`` is larger and so is
 ``f_1`` (by ``k^-y``, ``k`` the reduction).
 """
 from __future__ import annotations

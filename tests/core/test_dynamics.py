@@ -6,11 +6,11 @@ the centrifugal load difference) hold for a bearing without body forces. The kin
 check runs in gravity. The convergence checks on this 12-ball bearing at 20× the
 study's acceleration run weightless: in gravity its steady and deceleration ranges move
 by 2–4 % under a 10× smaller step (see the README's known limits); the study bearing's
-start-up ranges converge in gravity (tests/test_truth.py, slow). Gravity has its own
+start-up ranges converge in gravity (tests/core/test_truth.py, slow). Gravity has its own
 checks in test_truth.py.
 
 Each check runs the real equations of motion on a small bearing built in code
-(tests/physics_cases.py: the study's ring section with 8–12 balls) over tens of
+(tests/core/physics_cases.py: the study's ring section with 8–12 balls) over tens of
 milliseconds, and compares with a value derived here:
 
 - statics: the quasi-static solver (itself checked against hand cases in

@@ -378,3 +378,43 @@ def test_the_land_values_are_required_for_an_outer_land_guided_cage_only():
     assert bearing_from_dict(raw, "b.toml").rows[0].cage.land_clearance == schema.field(
         "bearing", "rows[].cage.land_clearance").default
     assert math.isfinite(bearing_from_dict(raw, "b.toml").rows[0].cage.land_stiffness)
+
+
+def _attribute(obj, source: str, index: int):
+    """The value at a field's ``source`` (``rows[].cage.material.density``), ``[]`` taken as ``index``."""
+    for part in source.split("."):
+        name, listed = part.removesuffix("[]"), part.endswith("[]")
+        obj = getattr(obj, name)
+        if listed:
+            obj = obj[index]
+    return obj
+
+
+@pytest.mark.parametrize("path", [p for p in BEARING_FILES if "pair" not in p.name], ids=lambda p: p.name)
+def test_every_value_written_in_a_shipped_bearing_lands_where_its_field_says(path):
+    """The loader reads the dataclasses by the field table (``Field.source``): each quantity,
+    integer, boolean and choice written in the file, converted on its own here, is the value
+    at the field's ``source`` in the built Bearing; and that source is the attribute of the
+    key's own name (or its one documented rename), so the table cannot map a key elsewhere."""
+    renamed = {"balls.count": "ball_count", "balls.diameter": "ball_diameter", "envelope.bore": "bore",
+               "envelope.outer_diameter": "outer_diameter", "envelope.width": "width"}
+    raw = read_toml(path)
+    bearing = load_bearing(path)
+    checked = 0
+    for key in leaf_paths(raw):
+        f = schema.field("bearing", key)
+        if f is None or f.source is None or f.kind == "list" or "[" in f.path.replace("rows[]", ""):
+            continue
+        if f.path.startswith("material."):   # [material]: rings and balls alike
+            sources = [f.source, f.source.replace("ring_material", "ball_material")]
+        else:
+            sources = [f.source]
+        index = int(key.split("[")[1].split("]")[0]) if key.startswith("rows[") else 0
+        tail = ".".join(f.path.split(".")[-2:])
+        assert f.source.split(".")[-1] == renamed.get(tail, f.path.split(".")[-1]), (f.path, f.source)
+        written = lookup(raw, key)
+        expected = parse_quantity(written, f.unit_kind) if f.kind == "quantity" else written
+        for source in sources:
+            assert _attribute(bearing, source, index) == expected, (key, source)
+            checked += 1
+    assert checked >= 20
