@@ -311,7 +311,7 @@ def _contact(top: Table) -> ContactLaw:
         damping=ct.get("damping"), damping_depth=ct.get("damping_depth"),
         pocket_damping=ct.get("pocket_damping"), land_damping=ct.get("land_damping"),
         mu_static=fr.get("mu_static"), v_static=fr.get("v_static"),
-        mu_dynamic=fr.get("mu_dynamic"), v_dynamic=fr.get("v_dynamic"),
+        mu_dynamic=fr.get("mu_dynamic"), v_dynamic=fr.get("v_dynamic"), law=fr.get("law"),
     )
     if not contact.v_dynamic > contact.v_static:
         raise ConfigError(top.file, "friction.v_dynamic", fr.raw("v_dynamic", contact.v_dynamic),
