@@ -3,9 +3,11 @@ liquid with Barus viscosity, blended toward boundary friction as the film parame
 falls. Scalar kernels (``rvcore._numba.kernel``) with their slopes, in the calling style of the study's
 Coulomb/STEP law (:mod:`rvcore.contact.coulomb_step`, :mod:`rvcore.bearing.laws`). SI throughout.
 
-NOT wired into the kernels (issue 40): nothing imports this module yet. To register it,
-the law needs, besides the slip speed, the contact's mean pressure, central film and λ,
-which today's ``friction_coefficient(s, law)`` does not carry (see "Registering" below).
+Registered as ``ehl_bair_winer`` (:data:`rvcore.bearing.laws.FRICTION_LAWS`): the
+dispatchers of :mod:`rvcore.contact.laws` select these functions for that kind, with each
+ball–race contact's mean pressure, central film and λ from
+:func:`rvcore.contact.laws.contact_film` (docs/model.md §4.1). The record's columns and
+:func:`pack_ehl_traction_law` live in :mod:`rvcore.bearing.laws` (re-exported here).
 
 Notes
 -----
@@ -32,9 +34,18 @@ docs/model.md §3 (the classical regimes of the film parameter: boundary λ < 1,
     μ_b(s) = STEP(s, −v_b, −μ_b, v_b, μ_b)  for s < v_b,  μ_b above
     μ(s)   = w_b·μ_b(s) + (1 − w_b)·τ(s)/p
 
-Slope with respect to the sliding speed (what the IMEX tangent needs)::
+Slope cap (numerical, docs/model.md §4.1): the film's compliance ``h/η(p)`` is put in
+series with ``1/(c·p)``, so that the slope at zero slip is ``1/(h·p/η(p) + 1/c)`` ≤ c::
 
-    dμ/ds = w_b·μ_b'(s) + (1 − w_b)·(η/(h·p))·exp(−η·s/(h·τ_L))
+    τ(s) = τ_L·(1 − exp(−k·s)),   1/(τ_L·k) = h/η(p) + 1/(c·p)
+
+(c = ∞: Bair–Winer's ``k = η(p)/(h·τ_L)``). The dynamics packs c = 1.5·μ_s/v_s, the study
+law's own slope, so the integrators' step is the dry case's; the Newtonian slope of a
+real contact (1e6 s/m and more) would cut it a millionfold.
+
+Slope with respect to the sliding speed (what the IMEX tangent needs), ``k`` as above::
+
+    dμ/ds = w_b·μ_b'(s) + (1 − w_b)·(τ_L·k/p)·exp(−k·s)
 
 Every term is ≥ 0 for s ≥ 0, so the dissipation ``μ·Q·s`` is never negative, and μ
 never falls with s (no falling part: the whole slope may go into the tangent).
@@ -59,13 +70,6 @@ real contact's elastic slope at Hertz pressures), smooth-film shear at one mean 
 steady sliding. With α·p ≳ 20 the Barus viscosity is unrealistically large and the law is
 at τ_L for any slip of practical size; the exponent is capped at :data:`BARUS_EXPONENT_MAX`
 only to keep the number finite (a numerical guard, not physics).
-
-Registering (what remains, issue 40): a kind index in ``rvcore.bearing.laws.FRICTION_LAWS``
-and a record (this module's :data:`EHL_LAW_SIZE` columns appended); the contact loop
-passes ``p``, ``h_c`` and ``λ`` of each contact (from its load, its Hertz ellipse and its
-entrainment speed, :mod:`rvcore.contact.film`); ``friction_per_slip``,
-``friction_tangent_curvature`` and ``friction_slope_at_zero_slip`` select these functions
-for the new kind; ``friction_falling_slope`` is 0 for it.
 
 References
 ----------

@@ -180,10 +180,12 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
         p_f, h_f, lam_f = p_none, h_none, lam_none
         if uses_film:
             # entrainment: the mean of the two surfaces' speeds past the contact point, which
-            # moves with the ball centre: ω × a for the ball's, ω × a − u for the race's
-            # (u the slip), tangential (ω × a ⊥ n: the arm is along n)
-            ex = (wy * az - wz * ay) - 0.5 * (ux - un * nx)
-            ey = (wz * ax - wx * az) - 0.5 * (uy - un * ny)
+            # moves with the ball centre and turns with its orbit (ω_c ẑ, ω_c the ball's
+            # orbital speed): (ω − ω_c ẑ) × a for the ball's, the same less the slip u for the
+            # race's; tangential (the arm a is along n)
+            w_orb = (px * vy - py * vx) * buf[G_INV_RHO_B * W + j] * buf[G_INV_RHO_B * W + j]
+            ex = (wy * az - wz * ay + w_orb * ay) - 0.5 * (ux - un * nx)
+            ey = (wz * ax - wx * az - w_orb * ax) - 0.5 * (uy - un * ny)
             ez = (wx * ay - wy * ax) - 0.5 * (uz - un * nz_)
             p_f, h_f, lam_f = contact_film(q, math.sqrt(ex * ex + ey * ey + ez * ez), pc3, rx, e_eff, ell, law)
         fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,

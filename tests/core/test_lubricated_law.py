@@ -216,15 +216,17 @@ def test_lubricated_centrifugal_radial_balance():
 
 
 def test_lubricated_start_up_converges_with_the_step():
-    """The scaled study cycle (0.1 of it) on the 12-ball section with the law on: every
-    displacement and torque metric at step_safety 0.8 within 2 % of its value at 0.4, the
-    cage slip within 2e-3."""
+    """The start-up (phase 0) of the study cycle scaled to 1/50, 30 kN + 10 kN at 660 °/s,
+    on the 12-ball section with the law on, without gravity as the dry §9.6 checks
+    (tests/core/test_dynamics.py): each displacement, torque and cage-speed metric at
+    step_safety 0.8 within 2 % of its value at 0.4, the cage slip within 2e-3."""
     bearing = lubricated(section_bearing(12))
     op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
     prof = scaled_study_profile(0.02)
-    runs = {s: run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=s)) for s in (0.8, 0.4)}
+    runs = {s: run_case(bearing, prof, op, SolverSettings(output_rate=1e3, step_safety=s, gravity=False))
+            for s in (0.8, 0.4)}
     coarse, fine = runs[0.8].phase_metrics, runs[0.4].phase_metrics
-    for name in ("radial_displacement_mean", "axial_displacement_mean", "inner_ring_drive_torque_mean",
-                 "cage_speed_mean"):
-        np.testing.assert_allclose(coarse[name], fine[name], rtol=0.02, err_msg=name)
-    assert np.abs(coarse["cage_slip"] - fine["cage_slip"]).max() < 2e-3
+    for name in ("radial_displacement_mean", "axial_displacement_mean", "radial_displacement_range",
+                 "axial_displacement_range", "inner_ring_drive_torque_mean", "cage_speed_mean"):
+        assert coarse[name][0] == pytest.approx(fine[name][0], rel=0.02), name
+    assert abs(coarse["cage_slip"][0] - fine["cage_slip"][0]) < 2e-3
