@@ -147,6 +147,10 @@ def hamrock_dowson(load, entrainment_speed, viscosity, pressure_viscosity, e_eff
                          big_u, big_g, big_w, k, not lo <= k <= hi)
 
 
+#: Hamrock–Dowson's exponents of the entrainment speed and the load: central and minimum film.
+HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W = 0.67, -0.067, 0.68, -0.073
+
+
 @kernel(inline=True)
 def central_film(w, u, eta, alpha, e, rx, k):
     """Hamrock–Dowson central film ``h_c`` [m] (module Notes), the one place of its formula
@@ -165,7 +169,7 @@ def central_film(w, u, eta, alpha, e, rx, k):
     """
     big_u = eta * u / (e * rx)
     big_w = w / (e * rx * rx)
-    return rx * 2.69 * big_u ** 0.67 * (alpha * e) ** 0.53 * big_w ** -0.067 * (1.0 - 0.61 * math.exp(-0.73 * k))
+    return rx * 2.69 * big_u ** HC_EXP_U * (alpha * e) ** 0.53 * big_w ** HC_EXP_W * (1.0 - 0.61 * math.exp(-0.73 * k))
 
 
 @kernel(inline=True)
@@ -173,7 +177,7 @@ def minimum_film(w, u, eta, alpha, e, rx, k):
     """Hamrock–Dowson minimum film ``h_min`` [m] (module Notes; arguments as :func:`central_film`)."""
     big_u = eta * u / (e * rx)
     big_w = w / (e * rx * rx)
-    return rx * 3.63 * big_u ** 0.68 * (alpha * e) ** 0.49 * big_w ** -0.073 * (1.0 - math.exp(-0.68 * k))
+    return rx * 3.63 * big_u ** HM_EXP_U * (alpha * e) ** 0.49 * big_w ** HM_EXP_W * (1.0 - math.exp(-0.68 * k))
 
 
 def hamrock_dowson_contact(contact: HertzContact, load, entrainment_speed, viscosity,

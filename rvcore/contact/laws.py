@@ -120,7 +120,37 @@ def friction_uses_film(law):
 
 
 @kernel(inline=True)
-def contact_film(q, ue, pc3, rx, e_eff, ell, law):
+def film_coefficients(pc3, rx, e_eff, ell, law):
+    """An arc's film at unit load and unit entrainment speed, for :func:`contact_film`
+    (once per arc, outside the contact loop).
+
+    Parameters
+    ----------
+    pc3 : float
+        ``p_max³/Q`` of the arc's Hertz contact [Pa³ N⁻¹].
+    rx, e_eff, ell : float
+        Effective radius in the rolling direction [m], effective modulus [Pa] and
+        ellipticity k [-] of the arc's Hertz contact.
+    law : ndarray
+        The friction law's record (η0, α and σ of its lubricated part).
+
+    Returns
+    -------
+    p1 : float
+        Mean Hertz pressure at 1 N, ``⅔·pc3^(1/3)`` [Pa].
+    hc1 : float
+        Central film at 1 N and 1 m/s [m] (:func:`rvcore.contact.film.central_film`).
+    lam1 : float
+        λ at 1 N and 1 m/s [-] (:func:`rvcore.contact.film.minimum_film` over σ).
+    """
+    e0 = LAW_EHL0
+    eta, alpha = law[e0 + EHL_ETA0], law[e0 + EHL_ALPHA]
+    return ((2.0 / 3.0) * pc3 ** (1.0 / 3.0), film.central_film(1.0, 1.0, eta, alpha, e_eff, rx, ell),
+            film.minimum_film(1.0, 1.0, eta, alpha, e_eff, rx, ell) / law[e0 + EHL_SIGMA])
+
+
+@kernel(inline=True)
+def contact_film(q, ue, p1, hc1, lam1):
     """The film arguments ``(p, h_c, λ)`` of a ball–race contact for the record's law.
 
     Parameters
@@ -129,32 +159,30 @@ def contact_film(q, ue, pc3, rx, e_eff, ell, law):
         Normal load [N] (floored at 1e-6 N, so an open contact's values stay finite; they
         multiply a zero load).
     ue : float
-        Entrainment speed ``|u_e|`` [m s⁻¹] (:func:`rvcore.dynamics.races.arc_contacts`).
-    pc3 : float
-        ``p_max³/Q`` of the arc's Hertz contact [Pa³ N⁻¹].
-    rx, e_eff, ell : float
-        Effective radius in the rolling direction [m], effective modulus [Pa] and
-        ellipticity k [-] of the arc's Hertz contact.
-    law : ndarray
-        The friction law's record.
+        Entrainment speed ``|u_e|`` [m s⁻¹] (:func:`rvcore.dynamics.races.arc_contacts`;
+        floored at 1e-30 m/s: no film).
+    p1, hc1, lam1 : float
+        The arc's :func:`film_coefficients` [Pa], [m], [-].
 
     Returns
     -------
     p : float
-        Mean Hertz pressure ``⅔·p_max = ⅔·(pc3·Q)^(1/3)`` [Pa].
+        Mean Hertz pressure ``⅔·p_max = p1·Q^(1/3)`` [Pa].
     h : float
-        Hamrock–Dowson central film [m] (:func:`rvcore.contact.film.central_film`).
+        Hamrock–Dowson central film ``hc1·u^0.67·Q^−0.067`` [m].
     lam : float
-        ``h_min/σ`` [-] (:func:`rvcore.contact.film.minimum_film`, σ the law's composite
-        roughness).
+        ``h_min/σ = lam1·u^0.68·Q^−0.073`` [-].
+
+    Notes
+    -----
+    Hamrock–Dowson's films are power laws of u and Q at a given contact
+    (:mod:`rvcore.contact.film`), so the arc's coefficients at 1 N and 1 m/s and two
+    logarithms give them: three exponentials a contact instead of seven powers.
     """
-    e0 = LAW_EHL0
-    w = max(q, 1e-6)
-    eta, alpha = law[e0 + EHL_ETA0], law[e0 + EHL_ALPHA]
-    p = (2.0 / 3.0) * (pc3 * w) ** (1.0 / 3.0)
-    hc = film.central_film(w, ue, eta, alpha, e_eff, rx, ell)
-    hm = film.minimum_film(w, ue, eta, alpha, e_eff, rx, ell)
-    return p, hc, hm / law[e0 + EHL_SIGMA]
+    lw = math.log(max(q, 1e-6))
+    lu = math.log(max(ue, 1e-30))
+    return (p1 * math.exp(lw * (1.0 / 3.0)), hc1 * math.exp(film.HC_EXP_U * lu + film.HC_EXP_W * lw),
+            lam1 * math.exp(film.HM_EXP_U * lu + film.HM_EXP_W * lw))
 
 
 @kernel(inline=True)

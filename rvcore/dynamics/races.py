@@ -34,8 +34,8 @@ import math
 
 from .._numba import kernel
 
-from ..contact.laws import (NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film, friction_uses_film,
-                            hertz_load, normal_force, race_arc_penetration)
+from ..contact.laws import (NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film, film_coefficients,
+                            friction_uses_film, hertz_load, normal_force, race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
 from ..contact.pose import ring_to_global, to_ring_frame
@@ -148,7 +148,9 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
     inner = arcs[a, A_RING] == 0.0
     k_hertz = arcs[a, A_K]
     uses_film = friction_uses_film(law)
-    pc3, rx, e_eff, ell = arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL]
+    p1, hc1, lam1 = 0.0, 0.0, 0.0
+    if uses_film:
+        p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
     p_none, h_none, lam_none = NO_FILM
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
@@ -187,7 +189,7 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
             ex = (wy * az - wz * ay + w_orb * ay) - 0.5 * (ux - un * nx)
             ey = (wz * ax - wx * az - w_orb * ax) - 0.5 * (uy - un * ny)
             ez = (wx * ay - wy * ax) - 0.5 * (uz - un * nz_)
-            p_f, h_f, lam_f = contact_film(q, math.sqrt(ex * ex + ey * ey + ez * ez), pc3, rx, e_eff, ell, law)
+            p_f, h_f, lam_f = contact_film(q, math.sqrt(ex * ex + ey * ey + ez * ez), p1, hc1, lam1)
         fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
                                                        p_f, h_f, lam_f, law)
         out[C_DELTA * W + j] = delta

@@ -121,8 +121,9 @@ def test_compile_bearing_packs_the_law_and_each_arc_s_film_geometry():
     assert not dry[bl.LAW_EHL0:].any()
     for a, (_, _, _, hc) in enumerate(model.hertz_contacts):      # in the order of the arcs
         w, u = 3000.0, 0.4
-        p, h, lam = contact.contact_film(w, u, model.arcs[a, A_PC3], model.arcs[a, A_RX], model.arcs[a, A_EEFF],
-                                         model.arcs[a, A_ELL], law)
+        coefficients = contact.film_coefficients(model.arcs[a, A_PC3], model.arcs[a, A_RX], model.arcs[a, A_EEFF],
+                                                 model.arcs[a, A_ELL], law)
+        p, h, lam = contact.contact_film(w, u, *coefficients)
         semi_a, semi_b = hc.semi_axes(w)
         assert p == pytest.approx(w / (math.pi * semi_a * semi_b), rel=1e-9)
         rx, _ = effective_radii(hc)
