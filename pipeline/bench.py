@@ -20,6 +20,9 @@ asserts a time (these machines are noisy).
   eccentricities, high points and ball sizes drawn from seed 0) against the perfect one,
   over the cycle's first 0.6 s (load ramp and start-up) with the default method, in
   alternating pairs; the median of the pairs' wall-time ratios.
+- ``lubricated_cost_ratio``: the study case with the lubricated contact law
+  (``friction.law = "ehl_bair_winer"``, docs/model.md §4.1) against the dry one, measured
+  as the imperfection cost (same window, pairs, median of ratios); issue 40's goal ≤ 1.3.
 """
 from __future__ import annotations
 
@@ -273,6 +276,26 @@ def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
             "imperfection_cost_ratio": statistics.median([b / a for a, b in zip(perfect, imperfect)])}
 
 
+def lubricated_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
+    """Wall time of the lubricated study case over the dry one (module docstring)."""
+    import dataclasses
+
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
+
+    bearing, profile, op = _study()
+    wet = dataclasses.replace(bearing, contact=dataclasses.replace(bearing.contact, law="ehl_bair_winer"))
+    settings = SolverSettings(end_time=end_time)
+    run_case(wet, profile, op, dataclasses.replace(settings, end_time=0.01))   # load every kernel
+    dry_s, wet_s = [], []
+    for _ in range(pairs):
+        dry_s.append(run_case(bearing, profile, op, settings).info["wall_time"])
+        wet_s.append(run_case(wet, profile, op, settings).info["wall_time"])
+    return {"lubricated_dry_wall_s": statistics.median(dry_s),
+            "lubricated_wall_s": statistics.median(wet_s),
+            "lubricated_cost_ratio": statistics.median([b / a for a, b in zip(dry_s, wet_s)])}
+
+
 def run_all(*, quick: bool = False) -> dict:
     """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``)."""
     out = {}
@@ -280,6 +303,7 @@ def run_all(*, quick: bool = False) -> dict:
     out.update(scipy_comparison("imex"))
     out.update({f"rk4_{k}": v for k, v in scipy_comparison("rk4").items()})
     out.update(imperfection_cost())
+    out.update(lubricated_cost())
     if not quick:
         out.update(parallel_efficiency())
     return out

@@ -93,6 +93,7 @@ __all__ = [
     "pocket_contact",
     "spherical_pocket_contact",
     "hamrock_brewe",
+    "effective_radii",
 ]
 
 
@@ -469,3 +470,23 @@ def hamrock_brewe(rho_1x, rho_1y, rho_2x, rho_2y, e_eff) -> dict:
         "a_coefficient": (6.0 * kappa**2 * ek * r / (math.pi * e_eff)) ** (1.0 / 3.0),
         "b_coefficient": (6.0 * ek * r / (math.pi * kappa * e_eff)) ** (1.0 / 3.0),
     }
+
+
+def effective_radii(contact: HertzContact):
+    """``(R_x, R_y)`` [m] of a Hertz contact, x the rolling direction.
+
+    Parameters
+    ----------
+    contact : rvcore.hertz.HertzContact
+
+    Notes
+    -----
+    From the contact's ``Σρ`` and ``F(ρ)``: the curvature sums are ``Σρ·(1 ± F)/2``; the
+    larger one lies across the ellipse's minor axis. This module records which
+    direction the major axis takes (``major_axis``): for a ball on a raceway it is ``y``,
+    so ``ρ_x`` is the larger sum.
+    """
+    big = 0.5 * contact.curvature_sum * (1.0 + contact.curvature_difference)
+    small = 0.5 * contact.curvature_sum * (1.0 - contact.curvature_difference)
+    rho_x, rho_y = (big, small) if contact.major_axis == "y" else (small, big)
+    return 1.0 / rho_x, 1.0 / rho_y

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 
 from rvcore.simulation.settings import SolverSettings
 from rvcore.bearing.geometry import MOUNTINGS, TILT_CONDITIONS, ContactLaw
+from rvcore.bearing.laws import FRICTION_LAWS
 from rvcore.bearing.layout import MAX_ROW_BALLS
 from rvcore.standards.iso492 import BALL_GRADES, TOLERANCE_CLASSES
 from rvcore.statics.preload import ARRANGEMENTS
@@ -259,6 +260,10 @@ _BEARING = [
        bounds="nonnegative", default=_default(ContactLaw, "mu_dynamic"), source="contact.mu_dynamic"),
     _q("friction.v_dynamic", "speed", "m/s", "sliding speed from which friction is dynamic (> v_static)",
        default=_default(ContactLaw, "v_dynamic"), source="contact.v_dynamic"),
+    Field("friction.law", "choice", "bearing", default=_default(ContactLaw, "law"), choices=FRICTION_LAWS,
+          doc="the contact friction law: coulomb_step (the study's, default) or ehl_bair_winer (lubricated: "
+              "film traction, boundary friction mu_static below lambda 1; docs/model.md section 4.1)",
+          source="contact.law"),
     _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
        "kinematic viscosity of the oil (a grease: its base oil) at the operating temperature, for the "
        "friction-moment estimate only; default ISO VG 68 at 40 degC, an assumption",

@@ -209,6 +209,10 @@ class ContactLaw:
         Friction coefficients [-].
     v_static, v_dynamic : float
         Slip speeds of the static and dynamic regimes [m s^-1].
+    law : str
+        The friction law by name, one of :data:`rvcore.bearing.laws.FRICTION_LAWS`:
+        ``coulomb_step`` (the study's, the default) or ``ehl_bair_winer`` (lubricated,
+        from the film; its boundary friction is ``mu_static`` rising over ``v_static``).
     """
 
     damping: float
@@ -219,6 +223,7 @@ class ContactLaw:
     v_static: float = 0.1
     mu_dynamic: float = 0.02
     v_dynamic: float = 1.0
+    law: str = "coulomb_step"
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import hertz
-from .laws import FRICTION_LAW_SIZE, pack_friction_law
+from .laws import FRICTION_LAW_SIZE, pack_ehl_traction_law, pack_friction_law
+from .lubricant import contact_lubricant
 from .imperfections import MAX_WAVINESS_TERMS, realize
 from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
                        cage_mass_properties, inner_ring_mass_properties)
@@ -57,9 +58,11 @@ N_ROWCOLS = R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
 PK_COS, PK_SIN, PK_BALL_DD = 0, 1, 2
 N_PKCOLS = 3
 
-# arcs columns
-A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE = range(7)
-N_ARCCOLS = 7
+# arcs columns; the last three are the arc's Hertz contact as the film needs it (the
+# effective radius in the rolling direction R_x [m], the effective modulus E' [Pa] and the
+# ellipticity k [-]; rvcore.contact.laws.contact_film)
+A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE, A_RX, A_EEFF, A_ELL = range(10)
+N_ARCCOLS = 10
 #: Raceway arcs a row may have, inner and outer together (a four-point row has four): the
 #: right-hand side keeps every arc's contacts of a row at once (:mod:`rvcore.dynamics.races`).
 MAX_ROW_ARCS = 4
@@ -99,7 +102,8 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     params[P_DAMP_C], params[P_DAMP_D] = c.damping, c.damping_depth
     params[P_POCKET_C], params[P_LAND_C] = c.pocket_damping, c.land_damping
     params[P_LAW:P_LAW + FRICTION_LAW_SIZE] = pack_friction_law(c.mu_static, c.v_static, c.mu_dynamic,
-                                                                c.v_dynamic, on=friction)
+                                                                c.v_dynamic, on=friction, kind=c.law,
+                                                                ehl=_ehl_record(bearing))
     params[P_DAMPING] = 1.0 if damping else 0.0
     if gravity:
         params[[P_GX, P_GY, P_GZ]] = bearing.gravity
@@ -148,7 +152,9 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
                 cr, cz, rmh, side = arc_geometry(row, arc, ring)
                 hc = hertz.race_contact(row.ball_diameter, row.pitch_diameter, arc.curvature_ratio,
                                         arc.contact_angle, "inner" if ring == INNER else "outer", e_race)
-                arcs.append((ring, cr, cz, rmh, hc.stiffness, hc.pressure_coefficient**3, side))
+                r_x, _ = hertz.effective_radii(hc)
+                arcs.append((ring, cr, cz, rmh, hc.stiffness, hc.pressure_coefficient**3, side, r_x,
+                             hc.effective_modulus, hc.ellipticity))
                 contacts.append((r, ring, k, hc))
         rows[r, R_NARC] = len(arcs) - rows[r, R_ARC0]
         imp = row.imperfections
@@ -160,6 +166,27 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
         n_balls += row.ball_count
     return CompiledBearing(params, rows, np.array(arcs, dtype=float), np.array(pockets, dtype=float),
                            offset, n_balls, tuple(contacts))
+
+
+def _ehl_record(bearing: Bearing):
+    """The lubricated law's sub-record of ``bearing`` (None for a law without one).
+
+    Notes
+    -----
+    The lubricant's ``η0``, ``α`` and σ from :func:`rvcore.bearing.lubricant.contact_lubricant`;
+    the boundary friction ``μ_b``, ``v_b`` are the bearing's ``friction.mu_static`` and
+    ``friction.v_static`` (the study law's rise, so that a contact without film behaves as
+    the study's law below v_s); the slope cap is the study law's slope at zero slip,
+    ``1.5·μ_s/v_s``, so that the lubricated case's step equals the dry one's
+    (:mod:`rvcore.contact.traction_ehl`, Notes, "Slope cap"). The other parameters take
+    their defaults (:func:`rvcore.bearing.laws.pack_ehl_traction_law`).
+    """
+    c = bearing.contact
+    if c.law != "ehl_bair_winer":
+        return None
+    eta0, alpha, sigma = contact_lubricant(bearing)
+    return pack_ehl_traction_law(eta0, alpha, mu_b=c.mu_static, v_b=c.v_static,
+                                 slope_cap=1.5 * c.mu_static / c.v_static, sigma=sigma)
 
 
 def _pack_imperfections(line, imp) -> None:

@@ -4,8 +4,8 @@ roughness. Pure functions, SI in and out (kinematic viscosity in m² s⁻¹, tem
 K); where a standard writes its formula in its own units (mm² s⁻¹) the conversion is
 inside and said there.
 
-Not wired into the model yet (issue 40): nothing in the kernels, the statics or the
-pipeline imports this module.
+The dynamics reads the lubricant of a bearing through :func:`contact_lubricant` (the
+lubricated friction law, :func:`rvcore.bearing.layout.compile_bearing`).
 
 Notes
 -----
@@ -54,6 +54,8 @@ __all__ = [
     "kinematic_viscosity",
     "dynamic_viscosity",
     "composite_roughness",
+    "DENSITY_DEFAULT",
+    "contact_lubricant",
 ]
 
 #: ISO VG grades: midpoint kinematic viscosity at 40 °C [mm² s⁻¹], ISO 3448:1992 Table 1
@@ -88,6 +90,11 @@ PRESSURE_VISCOSITY_DEFAULT = 2.0e-8
 #: remembered; not re-checked against the book this session.
 BALL_ROUGHNESS_DEFAULT = 0.0625e-6
 RACEWAY_ROUGHNESS_DEFAULT = 0.175e-6
+
+
+#: Density of the oil when none is given [kg m⁻³]: 880, a mineral base oil near 40 °C
+#: (the order of ISO VG 68–100 data sheets, 0.86–0.89 g/ml at 15 °C); an assumption.
+DENSITY_DEFAULT = 880.0
 
 
 class LubricantError(ValueError):
@@ -226,3 +233,28 @@ def composite_roughness(sigma1=BALL_ROUGHNESS_DEFAULT, sigma2=RACEWAY_ROUGHNESS_
             raise LubricantError(f"{name} must be a finite roughness >= 0 m, got {v!r}")
         s.append(x)
     return math.hypot(s[0], s[1])
+
+
+def contact_lubricant(bearing):
+    """The lubricant as the contacts see it: ``(η0, α, σ)``.
+
+    STUB (branch lube-law): built from today's ``Lubricant.kinematic_viscosity`` (the
+    operating viscosity as given) with :data:`DENSITY_DEFAULT`,
+    :data:`PRESSURE_VISCOSITY_DEFAULT` and the default roughnesses; the ``[lubricant]``
+    inputs of issue 40 replace it with the same signature.
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+
+    Returns
+    -------
+    eta0 : float
+        Dynamic viscosity at the operating temperature, ambient pressure [Pa s].
+    alpha : float
+        Pressure–viscosity coefficient [Pa⁻¹].
+    sigma : float
+        Composite rms roughness of ball and raceway [m].
+    """
+    nu = bearing.lubricant.kinematic_viscosity
+    return dynamic_viscosity(nu, DENSITY_DEFAULT), PRESSURE_VISCOSITY_DEFAULT, composite_roughness()

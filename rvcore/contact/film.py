@@ -3,7 +3,8 @@ film parameter λ. Pure functions, SI in and out. The contact's geometry comes f
 :mod:`rvcore.hertz` (its curvature sums and its exact ellipticity), not from a second
 Hertz solution.
 
-Not wired into the model yet (issue 40).
+The dynamics evaluates :func:`central_film` and :func:`minimum_film` at every loaded
+ball–race contact when the lubricated law is active (:func:`rvcore.contact.laws.contact_film`).
 
 Notes
 -----
@@ -49,7 +50,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..hertz import HertzContact
+from .._numba import kernel
+from ..hertz import HertzContact, effective_radii  # noqa: F401 (re-exported)
 
 __all__ = [
     "ELLIPTICITY_RANGE",
@@ -59,6 +61,8 @@ __all__ = [
     "hamrock_dowson_contact",
     "film_parameter",
     "entrainment_speed_pure_rolling",
+    "central_film",
+    "minimum_film",
 ]
 
 #: The ellipticities Hamrock & Dowson (1977) fitted their formulas on [-].
@@ -138,30 +142,42 @@ def hamrock_dowson(load, entrainment_speed, viscosity, pressure_viscosity, e_eff
     big_u = eta * u / (e * rx)
     big_g = alpha * e
     big_w = w / (e * rx * rx)
-    h_c = 2.69 * big_u ** 0.67 * big_g ** 0.53 * big_w ** -0.067 * (1.0 - 0.61 * math.exp(-0.73 * k))
-    h_m = 3.63 * big_u ** 0.68 * big_g ** 0.49 * big_w ** -0.073 * (1.0 - math.exp(-0.68 * k))
     lo, hi = ELLIPTICITY_RANGE
-    return FilmThickness(h_c * rx, h_m * rx, big_u, big_g, big_w, k, not lo <= k <= hi)
+    return FilmThickness(central_film(w, u, eta, alpha, e, rx, k), minimum_film(w, u, eta, alpha, e, rx, k),
+                         big_u, big_g, big_w, k, not lo <= k <= hi)
 
 
-def effective_radii(contact: HertzContact):
-    """``(R_x, R_y)`` [m] of a Hertz contact, x the rolling direction.
+#: Hamrock–Dowson's exponents of the entrainment speed and the load: central and minimum film.
+HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W = 0.67, -0.067, 0.68, -0.073
+
+
+@kernel(inline=True)
+def central_film(w, u, eta, alpha, e, rx, k):
+    """Hamrock–Dowson central film ``h_c`` [m] (module Notes), the one place of its formula
+    (:func:`hamrock_dowson` and the dynamics' contacts, :mod:`rvcore.contact.laws`).
 
     Parameters
     ----------
-    contact : rvcore.hertz.HertzContact
-
-    Notes
-    -----
-    From the contact's ``Σρ`` and ``F(ρ)``: the curvature sums are ``Σρ·(1 ± F)/2``; the
-    larger one lies across the ellipse's minor axis. :mod:`rvcore.hertz` records which
-    direction the major axis takes (``major_axis``): for a ball on a raceway it is ``y``,
-    so ``ρ_x`` is the larger sum.
+    w : float
+        Normal load [N], > 0.
+    u : float
+        Entrainment speed ``|u|`` [m s⁻¹], ≥ 0 (0 gives no film).
+    eta, alpha : float
+        ``η0`` [Pa s], ``α`` [Pa⁻¹].
+    e, rx, k : float
+        ``E'`` [Pa], ``R_x`` [m], ellipticity ``k`` [-].
     """
-    big = 0.5 * contact.curvature_sum * (1.0 + contact.curvature_difference)
-    small = 0.5 * contact.curvature_sum * (1.0 - contact.curvature_difference)
-    rho_x, rho_y = (big, small) if contact.major_axis == "y" else (small, big)
-    return 1.0 / rho_x, 1.0 / rho_y
+    big_u = eta * u / (e * rx)
+    big_w = w / (e * rx * rx)
+    return rx * 2.69 * big_u ** HC_EXP_U * (alpha * e) ** 0.53 * big_w ** HC_EXP_W * (1.0 - 0.61 * math.exp(-0.73 * k))
+
+
+@kernel(inline=True)
+def minimum_film(w, u, eta, alpha, e, rx, k):
+    """Hamrock–Dowson minimum film ``h_min`` [m] (module Notes; arguments as :func:`central_film`)."""
+    big_u = eta * u / (e * rx)
+    big_w = w / (e * rx * rx)
+    return rx * 3.63 * big_u ** HM_EXP_U * (alpha * e) ** 0.49 * big_w ** HM_EXP_W * (1.0 - math.exp(-0.68 * k))
 
 
 def hamrock_dowson_contact(contact: HertzContact, load, entrainment_speed, viscosity,

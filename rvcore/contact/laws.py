@@ -1,5 +1,7 @@
 """Contact laws, written once: Hertz force with the IMPACT damper, the friction law's
-functions dispatched on the record's kind (the study's law: :mod:`rvcore.contact.coulomb_step`),
+functions dispatched on the record's kind (the study's law: :mod:`rvcore.contact.coulomb_step`;
+the lubricated law: :mod:`rvcore.contact.traction_ehl`, with each contact's film from
+:func:`contact_film`),
 and the penetrations of every contact type. SI throughout. (The cubic STEP:
 :mod:`rvcore.contact.step`.)
 (The inner ring's pose: :mod:`rvcore.contact.pose`.)
@@ -35,8 +37,8 @@ import math
 
 from .._numba import kernel
 
-from ..bearing.laws import COULOMB_STEP, LAW_KIND, LAW_ON
-from . import coulomb_step
+from ..bearing.laws import COULOMB_STEP, EHL_BAIR_WINER, EHL_ALPHA, EHL_ETA0, EHL_SIGMA, LAW_EHL0, LAW_KIND, LAW_ON
+from . import coulomb_step, film, traction_ehl
 from .step import step, step_slope, unit_step, unit_step_slope  # noqa: F401 (STEP, with the laws)
 from ..bearing.layout import A_CR, A_CZ, A_RING, A_RMH, A_SIDE, GUIDE_BALL
 
@@ -104,90 +106,197 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
     return q if q > 0.0 else 0.0
 
 
-@kernel(inline=True)
-def friction_coefficient(s, law):
-    """μ(s) of the record's law [-] at the slip speed ``s`` ≥ 0 [m s^-1]
-    (``coulomb_step``: :func:`rvcore.contact.coulomb_step.coefficient`).
+#: The film arguments ``(p, h, λ)`` of a contact that has no film of its own (ball–pocket,
+#: cage–land, and every contact of a law that needs none): unit pressure [Pa], no film [m],
+#: λ = 0 [-], so the lubricated law gives its boundary friction there.
+NO_FILM = (1.0, 0.0, 0.0)
 
-    Each law function here dispatches on the record's kind ``law[LAW_KIND]``: its law's
-    value is computed and selected (a select, not a branch, keeps the contact loops of
-    :mod:`rvcore.dynamics.races` vectorised); a kind no law has gives NaN, which the
-    integrator's blow-up check reports.
+
+@kernel(inline=True)
+def friction_uses_film(law):
+    """Whether the record's law needs each contact's film ``(p, h, λ)`` (:func:`contact_film`):
+    the contact loops compute it only then (a test outside the loop)."""
+    return law[LAW_KIND] == EHL_BAIR_WINER
+
+
+@kernel(inline=True)
+def film_coefficients(pc3, rx, e_eff, ell, law):
+    """An arc's film at unit load and unit entrainment speed, for :func:`contact_film`
+    (once per arc, outside the contact loop).
+
+    Parameters
+    ----------
+    pc3 : float
+        ``p_max³/Q`` of the arc's Hertz contact [Pa³ N⁻¹].
+    rx, e_eff, ell : float
+        Effective radius in the rolling direction [m], effective modulus [Pa] and
+        ellipticity k [-] of the arc's Hertz contact.
+    law : ndarray
+        The friction law's record (η0, α and σ of its lubricated part).
+
+    Returns
+    -------
+    p1 : float
+        Mean Hertz pressure at 1 N, ``⅔·pc3^(1/3)`` [Pa].
+    hc1 : float
+        Central film at 1 N and 1 m/s [m] (:func:`rvcore.contact.film.central_film`).
+    lam1 : float
+        λ at 1 N and 1 m/s [-] (:func:`rvcore.contact.film.minimum_film` over σ).
     """
-    mu = coulomb_step.coefficient(s, law)
-    return mu if law[LAW_KIND] == COULOMB_STEP else math.nan
+    e0 = LAW_EHL0
+    eta, alpha = law[e0 + EHL_ETA0], law[e0 + EHL_ALPHA]
+    return ((2.0 / 3.0) * pc3 ** (1.0 / 3.0), film.central_film(1.0, 1.0, eta, alpha, e_eff, rx, ell),
+            film.minimum_film(1.0, 1.0, eta, alpha, e_eff, rx, ell) / law[e0 + EHL_SIGMA])
 
 
 @kernel(inline=True)
-def friction_slope(s, law):
+def contact_film(q, ue, p1, hc1, lam1):
+    """The film arguments ``(p, h_c, λ)`` of a ball–race contact for the record's law.
+
+    Parameters
+    ----------
+    q : float
+        Normal load [N] (floored at 1e-6 N, so an open contact's values stay finite; they
+        multiply a zero load).
+    ue : float
+        Entrainment speed ``|u_e|`` [m s⁻¹] (:func:`rvcore.dynamics.races.arc_contacts`;
+        floored at 1e-30 m/s: no film).
+    p1, hc1, lam1 : float
+        The arc's :func:`film_coefficients` [Pa], [m], [-].
+
+    Returns
+    -------
+    p : float
+        Mean Hertz pressure ``⅔·p_max = p1·Q^(1/3)`` [Pa].
+    h : float
+        Hamrock–Dowson central film ``hc1·u^0.67·Q^−0.067`` [m].
+    lam : float
+        ``h_min/σ = lam1·u^0.68·Q^−0.073`` [-].
+
+    Notes
+    -----
+    Hamrock–Dowson's films are power laws of u and Q at a given contact
+    (:mod:`rvcore.contact.film`), so the arc's coefficients at 1 N and 1 m/s and two
+    logarithms give them: three exponentials a contact instead of seven powers.
+    """
+    lw = math.log(max(q, 1e-6))
+    lu = math.log(max(ue, 1e-30))
+    return (p1 * math.exp(lw * (1.0 / 3.0)), hc1 * math.exp(film.HC_EXP_U * lu + film.HC_EXP_W * lw),
+            lam1 * math.exp(film.HM_EXP_U * lu + film.HM_EXP_W * lw))
+
+
+@kernel(inline=True)
+def _ehl(law):
+    """The lubricated law's sub-record (a view, no copy)."""
+    return law[LAW_EHL0:]
+
+
+@kernel(inline=True)
+def friction_coefficient(s, p, h, lam, law):
+    """μ(s) of the record's law [-] at the slip speed ``s`` ≥ 0 [m s^-1]
+    (``coulomb_step``: :func:`rvcore.contact.coulomb_step.coefficient`;
+    ``ehl_bair_winer``: :func:`rvcore.contact.traction_ehl.ehl_traction_coefficient`).
+
+    ``p`` [Pa], ``h`` [m] and ``lam`` [-] are the contact's mean Hertz pressure, central
+    film and film parameter (:func:`contact_film`; :data:`NO_FILM` where it has none),
+    read by the laws that need them. Each law function here dispatches on the record's
+    kind ``law[LAW_KIND]``: each law's value is computed and selected (a select, not a
+    branch, keeps the contact loops of :mod:`rvcore.dynamics.races` vectorised); a kind no
+    law has gives NaN, which the integrator's blow-up check reports.
+    """
+    kind = law[LAW_KIND]
+    mu = coulomb_step.coefficient(s, law)
+    mu_e = traction_ehl.ehl_traction_coefficient(s, p, h, lam, _ehl(law))
+    return mu if kind == COULOMB_STEP else (mu_e if kind == EHL_BAIR_WINER else math.nan)
+
+
+@kernel(inline=True)
+def friction_slope(s, p, h, lam, law):
     """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
+    kind = law[LAW_KIND]
     d = coulomb_step.slope(s, law)
-    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
+    d_e = traction_ehl.ehl_traction_slope(s, p, h, lam, _ehl(law))
+    return d if kind == COULOMB_STEP else (d_e if kind == EHL_BAIR_WINER else math.nan)
 
 
 @kernel(inline=True)
 def friction_slope_at_zero_slip(law):
-    """dμ/ds at s = 0 [s m^-1]: the law acts as a viscous damper ``c_f = Q·dμ/ds`` at
-    small slip; the explicit step is sized from it
+    """dμ/ds at s = 0 [s m^-1], at its largest over the contact's film where the law has
+    one (:func:`rvcore.contact.traction_ehl.ehl_slope_bound`): the law acts as a viscous
+    damper ``c_f = Q·dμ/ds`` at small slip; the explicit step is sized from it
     (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
+    kind = law[LAW_KIND]
     d = coulomb_step.slope_at_zero_slip(law)
-    return d if law[LAW_KIND] == COULOMB_STEP else math.nan
+    d_e = traction_ehl.ehl_slope_bound(_ehl(law))
+    return d if kind == COULOMB_STEP else (d_e if kind == EHL_BAIR_WINER else math.nan)
 
 
 def friction_falling_slope(law) -> float:
     """The steepest fall of μ with the slip, ``|min dμ/ds|`` [s m^-1] (0 for a law that
-    never falls): an explicit stage's rate where the law falls (:mod:`rvcore.integrate.step_size`)."""
+    never falls, as the lubricated one): an explicit stage's rate where the law falls
+    (:mod:`rvcore.integrate.step_size`)."""
     if law[LAW_KIND] == COULOMB_STEP:
         return coulomb_step.falling_slope(law)
+    if law[LAW_KIND] == EHL_BAIR_WINER:
+        return 0.0
     raise ValueError(f"no friction law of kind {law[LAW_KIND]!r}")
 
 
 @kernel(inline=True)
-def friction_per_slip(s2, law):
+def friction_per_slip(s2, p, h, lam, law):
     """``μ(s)/s`` [s m^-1] from the squared slip speed ``s2 = s²`` [m² s^-2], without
-    dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`)."""
+    dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`,
+    :func:`rvcore.contact.traction_ehl.ehl_traction_per_slip`; film arguments as
+    :func:`friction_coefficient`)."""
+    kind = law[LAW_KIND]
     g = coulomb_step.per_slip(s2, law)
-    return g if law[LAW_KIND] == COULOMB_STEP else math.nan
+    g_e = traction_ehl.ehl_traction_per_slip(s2, p, h, lam, _ehl(law))
+    return g if kind == COULOMB_STEP else (g_e if kind == EHL_BAIR_WINER else math.nan)
 
 
 @kernel(inline=True)
-def friction_tangent_curvature(s2, law):
+def friction_tangent_curvature(s2, p, h, lam, law):
     """``(max(μ', 0) − μ/s)/s²`` [s^3 m^-3] at ``s2 = s²``: the coefficient of
     ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`;
-    :func:`rvcore.contact.coulomb_step.tangent_curvature`)."""
+    :func:`rvcore.contact.coulomb_step.tangent_curvature`,
+    :func:`rvcore.contact.traction_ehl.ehl_tangent_curvature`)."""
+    kind = law[LAW_KIND]
     c = coulomb_step.tangent_curvature(s2, law)
-    return c if law[LAW_KIND] == COULOMB_STEP else math.nan
+    c_e = traction_ehl.ehl_tangent_curvature(s2, p, h, lam, _ehl(law))
+    return c if kind == COULOMB_STEP else (c_e if kind == EHL_BAIR_WINER else math.nan)
 
 
 @kernel(inline=True)
-def friction_force(ux, uy, uz, nx, ny, nz, q, law):
-    """Coulomb friction on the ball at a contact of unit normal ``n`` [N].
+def friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law):
+    """Friction on the ball at a contact of unit normal ``n`` [N].
 
     ``u`` is the slip velocity of the ball's material point against the other body's
     [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
-    (zero at zero slip). ``q`` is the normal load [N].
+    (zero at zero slip). ``q`` is the normal load [N]; ``p``, ``h``, ``lam`` the film
+    (:func:`friction_coefficient`).
     """
     un = ux * nx + uy * ny + uz * nz
     tx = ux - un * nx
     ty = uy - un * ny
     tz = uz - un * nz
-    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, law)
+    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, p, h, lam, law)
     return g * tx, g * ty, g * tz
 
 
 @kernel(inline=True)
-def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, law):
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, p, h, lam, law):
     """Force [N] and moment about the ball centre [N m] of one contact on a ball.
 
     Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction by
     ``law`` (when it is on) from the slip ``u`` [m s^-1] tangential to the surface normal
-    ``n`` (unit), acting at the arm ``a`` from the ball centre [m]. Returns
+    ``n`` (unit), acting at the arm ``a`` from the ball centre [m], with the contact's film
+    ``p`` [Pa], ``h`` [m], ``lam`` [-] (:func:`friction_coefficient`). Returns
     ``(fx, fy, fz, mx, my, mz)``.
     """
     # the friction computed either way and selected (unit_step, Notes): its loads of the law
     # inside a branch would keep LLVM from vectorising the loops of rvcore.dynamics.races
     on = law[LAW_ON] != 0.0
-    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, law)
+    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law)
     fx, fy, fz = -q * gx, -q * gy, -q * gz
     return (fx + ftx if on else fx, fy + fty if on else fy, fz + ftz if on else fz,
             ay * ftz - az * fty if on else 0.0, az * ftx - ax * ftz if on else 0.0,

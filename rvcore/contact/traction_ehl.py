@@ -3,9 +3,11 @@ liquid with Barus viscosity, blended toward boundary friction as the film parame
 falls. Scalar kernels (``rvcore._numba.kernel``) with their slopes, in the calling style of the study's
 Coulomb/STEP law (:mod:`rvcore.contact.coulomb_step`, :mod:`rvcore.bearing.laws`). SI throughout.
 
-NOT wired into the kernels (issue 40): nothing imports this module yet. To register it,
-the law needs, besides the slip speed, the contact's mean pressure, central film and λ,
-which today's ``friction_coefficient(s, law)`` does not carry (see "Registering" below).
+Registered as ``ehl_bair_winer`` (:data:`rvcore.bearing.laws.FRICTION_LAWS`): the
+dispatchers of :mod:`rvcore.contact.laws` select these functions for that kind, with each
+ball–race contact's mean pressure, central film and λ from
+:func:`rvcore.contact.laws.contact_film` (docs/model.md §4.1). The record's columns and
+:func:`pack_ehl_traction_law` live in :mod:`rvcore.bearing.laws` (re-exported here).
 
 Notes
 -----
@@ -32,9 +34,18 @@ docs/model.md §3 (the classical regimes of the film parameter: boundary λ < 1,
     μ_b(s) = STEP(s, −v_b, −μ_b, v_b, μ_b)  for s < v_b,  μ_b above
     μ(s)   = w_b·μ_b(s) + (1 − w_b)·τ(s)/p
 
-Slope with respect to the sliding speed (what the IMEX tangent needs)::
+Slope cap (numerical, docs/model.md §4.1): the film's compliance ``h/η(p)`` is put in
+series with ``1/(c·p)``, so that the slope at zero slip is ``1/(h·p/η(p) + 1/c)`` ≤ c::
 
-    dμ/ds = w_b·μ_b'(s) + (1 − w_b)·(η/(h·p))·exp(−η·s/(h·τ_L))
+    τ(s) = τ_L·(1 − exp(−k·s)),   1/(τ_L·k) = h/η(p) + 1/(c·p)
+
+(c = ∞: Bair–Winer's ``k = η(p)/(h·τ_L)``). The dynamics packs c = 1.5·μ_s/v_s, the study
+law's own slope, so the integrators' step is the dry case's; the Newtonian slope of a
+real contact (1e6 s/m and more) would cut it a millionfold.
+
+Slope with respect to the sliding speed (what the IMEX tangent needs), ``k`` as above::
+
+    dμ/ds = w_b·μ_b'(s) + (1 − w_b)·(τ_L·k/p)·exp(−k·s)
 
 Every term is ≥ 0 for s ≥ 0, so the dissipation ``μ·Q·s`` is never negative, and μ
 never falls with s (no falling part: the whole slope may go into the tangent).
@@ -60,13 +71,6 @@ steady sliding. With α·p ≳ 20 the Barus viscosity is unrealistically large a
 at τ_L for any slip of practical size; the exponent is capped at :data:`BARUS_EXPONENT_MAX`
 only to keep the number finite (a numerical guard, not physics).
 
-Registering (what remains, issue 40): a kind index in ``rvcore.bearing.laws.FRICTION_LAWS``
-and a record (this module's :data:`EHL_LAW_SIZE` columns appended); the contact loop
-passes ``p``, ``h_c`` and ``λ`` of each contact (from its load, its Hertz ellipse and its
-entrainment speed, :mod:`rvcore.contact.film`); ``friction_per_slip``,
-``friction_tangent_curvature`` and ``friction_slope_at_zero_slip`` select these functions
-for the new kind; ``friction_falling_slope`` is 0 for it.
-
 References
 ----------
 S. Bair, W. O. Winer, "A rheological model for elastohydrodynamic contacts based on
@@ -83,8 +87,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from .._numba import kernel
 from .step import step, step_slope
 
@@ -93,61 +95,22 @@ __all__ = [
     "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX", "CURVATURE_X_FLOOR",
     "pack_ehl_traction_law", "boundary_weight", "film_shear_stress",
     "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
-    "ehl_tangent_curvature", "ehl_slope_at_zero_slip",
+    "ehl_tangent_curvature", "ehl_slope_at_zero_slip", "ehl_slope_bound",
 ]
 
-#: Columns of the law's record: η0 [Pa s], α [Pa⁻¹], τ_L0 [Pa], γ_L [-], μ_b [-],
-#: v_b [m s⁻¹], λ_b [-], λ_f [-].
-EHL_ETA0, EHL_ALPHA, EHL_TAU_L0, EHL_GAMMA_L, EHL_MU_B, EHL_V_B, EHL_LAMBDA_B, EHL_LAMBDA_F = range(8)
-EHL_LAW_SIZE = 8
+# The record's columns and its packing live in rvcore.bearing.laws (the record is packed by
+# rvcore.bearing.layout, a layer below this one); re-exported here.
+from ..bearing.laws import (EHL_ALPHA, EHL_ETA0, EHL_GAMMA_L, EHL_LAMBDA_B, EHL_LAMBDA_F,  # noqa: F401
+                            EHL_LAW_SIZE, EHL_MU_B, EHL_SIGMA, EHL_SLOPE_CAP, EHL_TAU_L0, EHL_V_B,
+                            GAMMA_L_DEFAULT, LAMBDA_B_DEFAULT, LAMBDA_F_DEFAULT, MU_B_DEFAULT,
+                            TAU_L0_DEFAULT, V_B_DEFAULT, pack_ehl_traction_law)
+
 #: Cap of the Barus exponent α·p [-]: exp(200) ≈ 7e86, so η(p)/(h·τ_L) stays finite even for a
 #: nanometre film (a numerical guard, not physics: α·p of a real contact is below ~60).
 BARUS_EXPONENT_MAX = 200.0
 
 #: Smallest ``x = k·s`` the tangent's curvature is evaluated at [-] (a numerical floor).
 CURVATURE_X_FLOOR = 1e-20
-
-#: Defaults of :func:`pack_ehl_traction_law` (sources in the module Notes).
-TAU_L0_DEFAULT = 0.0
-GAMMA_L_DEFAULT = 0.07
-MU_B_DEFAULT = 0.1
-V_B_DEFAULT = 0.1
-LAMBDA_B_DEFAULT = 1.0
-LAMBDA_F_DEFAULT = 3.0
-
-
-def pack_ehl_traction_law(eta0: float, alpha: float, *, tau_l0: float = TAU_L0_DEFAULT,
-                          gamma_l: float = GAMMA_L_DEFAULT, mu_b: float = MU_B_DEFAULT,
-                          v_b: float = V_B_DEFAULT, lambda_b: float = LAMBDA_B_DEFAULT,
-                          lambda_f: float = LAMBDA_F_DEFAULT) -> np.ndarray:
-    """The law's record (columns above).
-
-    Parameters
-    ----------
-    eta0 : float
-        Dynamic viscosity at the contact's temperature, ambient pressure [Pa s], > 0.
-    alpha : float
-        Pressure–viscosity coefficient [Pa⁻¹], ≥ 0.
-    tau_l0 : float
-        Limiting shear stress at zero pressure [Pa], ≥ 0.
-    gamma_l : float
-        Its pressure coefficient [-], ≥ 0, with ``tau_l0 + gamma_l > 0``.
-    mu_b : float
-        Boundary friction coefficient [-], ≥ 0.
-    v_b : float
-        Slip speed over which boundary friction rises to μ_b [m s⁻¹], > 0.
-    lambda_b, lambda_f : float
-        Film parameters of pure boundary and of full film [-], ``0 ≤ λ_b < λ_f``.
-    """
-    values = dict(eta0=eta0, alpha=alpha, tau_l0=tau_l0, gamma_l=gamma_l, mu_b=mu_b, v_b=v_b,
-                  lambda_b=lambda_b, lambda_f=lambda_f)
-    for name, v in values.items():
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0.0):
-            raise ValueError(f"EHL traction law: {name} must be a finite number >= 0, got {v!r}")
-    if eta0 <= 0.0 or v_b <= 0.0 or tau_l0 + gamma_l <= 0.0 or not lambda_b < lambda_f:
-        raise ValueError("EHL traction law: need eta0 > 0, v_b > 0, tau_l0 + gamma_l > 0 and "
-                         f"lambda_b < lambda_f, got {values}")
-    return np.array([eta0, alpha, tau_l0, gamma_l, mu_b, v_b, lambda_b, lambda_f], dtype=float)
 
 
 @kernel(inline=True)
@@ -158,10 +121,12 @@ def boundary_weight(lam, law):
 
 @kernel(inline=True)
 def _film_constants(p, h, law):
-    """``(τ_L, k)``: the limiting shear stress [Pa] and ``k = η(p)/(h·τ_L)`` [s m⁻¹]."""
+    """``(τ_L, k)``: the limiting shear stress [Pa] and ``k = 1/(τ_L·(h/η(p) + 1/(c·p)))`` [s m⁻¹]
+    (``η(p)/(h·τ_L)`` without a cap, c = ∞)."""
     tau_l = law[EHL_TAU_L0] + law[EHL_GAMMA_L] * p
     eta = law[EHL_ETA0] * math.exp(min(law[EHL_ALPHA] * p, BARUS_EXPONENT_MAX))
-    return tau_l, eta / (h * tau_l)
+    # the film's compliance h/η in series with the cap's 1/(c·p) (module Notes, "Slope cap")
+    return tau_l, 1.0 / (tau_l * (h / eta + 1.0 / (law[EHL_SLOPE_CAP] * p)))
 
 
 @kernel(inline=True)
@@ -287,3 +252,12 @@ def ehl_tangent_curvature(s2, p, h, lam, law):
         phi_x2 = (math.exp(-x) + math.expm1(-x) / x) / (x * x)
     film = tau_l * k * k * k * phi_x2 / p
     return w * bnd + (1.0 - w) * film
+
+
+@kernel(inline=True)
+def ehl_slope_bound(law):
+    """An upper bound of dμ/ds at s = 0 over every p, h and λ [s m⁻¹]:
+    ``max(1.5·μ_b/v_b, c)``, the boundary law's slope and the cap (module Notes,
+    "Slope cap"), the blend of the two being a weighted mean. What the step size is made
+    from (:func:`rvcore.integrate.step_size.rk4_time_step`); infinite without a cap."""
+    return max(1.5 * law[EHL_MU_B] / law[EHL_V_B], law[EHL_SLOPE_CAP])

@@ -34,8 +34,9 @@ import math
 
 from .._numba import kernel
 
-from ..contact.laws import ball_contact_force, cage_pocket_penetration, hertz_load, normal_force, race_arc_penetration
-from ..bearing.layout import A_K, A_RING, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
+from ..contact.laws import (NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film, film_coefficients,
+                            friction_uses_film, hertz_load, normal_force, race_arc_penetration)
+from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
 from ..contact.pose import ring_to_global, to_ring_frame
 
@@ -59,9 +60,11 @@ S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 (G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
  G_SL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 14)
 N_BALL_FIELDS = BALL_STATES + 14
+# (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
+# rvcore.contact.laws.contact_film, NO_FILM when the law needs none)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
- C_MZ) = range(18)
-N_ARC_FIELDS = 18
+ C_MZ, C_P, C_H, C_LAM) = range(21)
+N_ARC_FIELDS = 21
 # the pocket contact: penetration, arm, gradient, slip, its normal rate, normal load, its
 # Hertz part, force and moment on the ball
 (P_DELTA, P_AX, P_AY, P_AZ, P_DGX, P_DGY, P_DGZ, P_UX, P_UY, P_UZ, P_UN, P_Q, P_QH, P_FX, P_FY, P_FZ, P_MX, P_MY,
@@ -144,6 +147,11 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
     (module docstring), for every ball whether it touches or not."""
     inner = arcs[a, A_RING] == 0.0
     k_hertz = arcs[a, A_K]
+    uses_film = friction_uses_film(law)
+    p1, hc1, lam1 = 0.0, 0.0, 0.0
+    if uses_film:
+        p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
+    p_none, h_none, lam_none = NO_FILM
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
         vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
@@ -171,7 +179,19 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
         uz = uz - (vzi + omx * qy - omy * qx) if inner else uz
         un = ux * nx + uy * ny + uz * nz_    # dδ/dt
         q = normal_force(delta, un, k_hertz, c_race, inv_dmax)
-        fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az, law)
+        p_f, h_f, lam_f = p_none, h_none, lam_none
+        if uses_film:
+            # entrainment: the mean of the two surfaces' speeds past the contact point, which
+            # moves with the ball centre and turns with its orbit (ω_c ẑ, ω_c the ball's
+            # orbital speed): (ω − ω_c ẑ) × a for the ball's, the same less the slip u for the
+            # race's; tangential (the arm a is along n)
+            w_orb = (px * vy - py * vx) * buf[G_INV_RHO_B * W + j] * buf[G_INV_RHO_B * W + j]
+            ex = (wy * az - wz * ay + w_orb * ay) - 0.5 * (ux - un * nx)
+            ey = (wz * ax - wx * az - w_orb * ax) - 0.5 * (uy - un * ny)
+            ez = (wx * ay - wy * ax) - 0.5 * (uz - un * nz_)
+            p_f, h_f, lam_f = contact_film(q, math.sqrt(ex * ex + ey * ey + ez * ez), p1, hc1, lam1)
+        fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
+                                                       p_f, h_f, lam_f, law)
         out[C_DELTA * W + j] = delta
         out[C_NLX * W + j] = nlx
         out[C_NLY * W + j] = nly
@@ -190,6 +210,9 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
         out[C_MX * W + j] = dmx
         out[C_MY * W + j] = dmy
         out[C_MZ * W + j] = dmz
+        out[C_P * W + j] = p_f
+        out[C_H * W + j] = h_f
+        out[C_LAM * W + j] = lam_f
 
 
 @kernel
@@ -200,6 +223,7 @@ def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro,
     the cage at ``(xc, yc, zc)`` turned by the angle of cosine ``cphi`` and sine ``sphi``,
     moving at ``(vxc, vyc, vzc)`` and turning at ``wc``."""
     inv_h = 1.0 / h
+    p_none, h_none, lam_none = NO_FILM     # no film at a pocket: the law's boundary friction
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
         vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
@@ -219,7 +243,7 @@ def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro,
         qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
         # friction tangential to the ball's surface there, normal a/h
         fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h,
-                                                          az * inv_h, ax, ay, az, law)
+                                                          az * inv_h, ax, ay, az, p_none, h_none, lam_none, law)
         out[P_DELTA * W + j] = delta
         out[P_AX * W + j] = ax
         out[P_AY * W + j] = ay

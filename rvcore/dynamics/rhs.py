@@ -37,7 +37,7 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from ..contact.laws import (LOADED_BALL_LOAD, damping_coefficient, friction_force, hertz_load, land_penetration,
+from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, friction_force, hertz_load, land_penetration,
                       normal_force)
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
@@ -50,7 +50,7 @@ from ..bearing.layout import (A_K, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTE
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from ..output_table import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
-from .races import (C_DELTA, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
+from .races import (C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
                     POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, gather_balls, pocket_contacts,
@@ -159,6 +159,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
     law = params[P_LAW:P_LAW + FRICTION_LAW_SIZE]     # the friction law (rvcore.bearing.laws)
     friction_on = law[LAW_ON] != 0.0
+    p_none, h_none, lam_none = NO_FILM    # pockets and lands have no film (rvcore.contact.laws)
     damp_scale = params[P_DAMPING]
     c_race = params[P_DAMP_C] * damp_scale
     inv_dmax = 1.0 / params[P_DAMP_D]
@@ -266,7 +267,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                 dmx, dmy, dmz = buf[o + C_MX * W], buf[o + C_MY * W], buf[o + C_MZ * W]
                 if jac:
                     tvx, tvy, tvz = ux - un * nx, uy - un * ny, uz - un * nz
-                    alpha, beta = friction_tangent(q, tvx, tvy, tvz, law)
+                    alpha, beta = friction_tangent(q, tvx, tvy, tvz, buf[o + C_P * W], buf[o + C_H * W],
+                                                   buf[o + C_LAM * W], law)
                     cd = damping_coefficient(delta, c_race, inv_dmax)
                     # the Hertz stiffness k_n = dq/dδ = 1.5·K·δ^0.5, implicit too: h·γ·k_n
                     # along n, whose h·γ·(h·γ·k_n)·n·nᵀ is the (h·γ)²·K of the stage matrix
@@ -364,7 +366,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                         nfx, nfy, nfz = ax * inv_h, ay * inv_h, az * inv_h
                         unf = ux * nfx + uy * nfy + uz * nfz
                         tvx, tvy, tvz = ux - unf * nfx, uy - unf * nfy, uz - unf * nfz
-                        alpha, beta = friction_tangent(qp, tvx, tvy, tvz, law)
+                        alpha, beta = friction_tangent(qp, tvx, tvy, tvz, p_none, h_none, lam_none, law)
                         cd = damping_coefficient(delta, c_pocket, inv_dmax)
                         # the cage's side stays explicit (rvcore.dynamics.tangent)
                         contact_blocks(jwork, p0 + j, schur, False, hg, alpha, -alpha, nfx, nfy, nfz,
@@ -420,7 +422,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if ql > land_q:
                         land_q = ql
                     if friction_on:
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, law)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, p_none, h_none, lam_none, law)
                         fxc += ftx
                         fyc += fty
                         fzc += ftz

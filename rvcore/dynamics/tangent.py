@@ -82,7 +82,7 @@ N_SCHUR = 11
 
 
 @kernel(inline=True)
-def friction_tangent(q, tx, ty, tz, law):
+def friction_tangent(q, tx, ty, tz, p, h, lam, law):
     """``(α, β)`` of the friction tangent ``q·φ·P + β·v_t·v_tᵀ`` (module Notes).
 
     Parameters
@@ -91,6 +91,9 @@ def friction_tangent(q, tx, ty, tz, law):
         Normal load [N].
     tx, ty, tz : float
         Tangential slip ``v_t`` [m s^-1].
+    p, h, lam : float
+        The contact's film: mean Hertz pressure [Pa], central film [m], λ [-]
+        (:func:`rvcore.contact.laws.friction_coefficient`).
     law : ndarray
         The friction law's record (:func:`rvcore.bearing.laws.pack_friction_law`).
 
@@ -104,7 +107,7 @@ def friction_tangent(q, tx, ty, tz, law):
     if law[LAW_ON] == 0.0:
         return 0.0, 0.0
     s2 = tx * tx + ty * ty + tz * tz
-    return q * friction_per_slip(s2, law), q * friction_tangent_curvature(s2, law)
+    return q * friction_per_slip(s2, p, h, lam, law), q * friction_tangent_curvature(s2, p, h, lam, law)
 
 
 @kernel(inline=True)

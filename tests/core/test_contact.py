@@ -89,7 +89,7 @@ def test_damper_ramps_in_as_the_step():
 
 def test_friction_coefficient_is_the_law():
     for s in np.concatenate([np.linspace(0.0, 1.5, 1501), [V_S, V_D, 1e-12, 10.0]]):
-        assert contact.friction_coefficient(s, LAW) == pytest.approx(
+        assert contact.friction_coefficient(s, *contact.NO_FILM, LAW) == pytest.approx(
             spec_mu(s), rel=1e-12, abs=1e-15)
 
 
@@ -100,17 +100,17 @@ def test_fast_friction_form_agrees_with_the_law_everywhere():
                            [V_S * (1 - 1e-12), V_S, V_S * (1 + 1e-12), V_D * (1 - 1e-12), V_D,
                             V_D * (1 + 1e-12)]])
     for s in grid:
-        fast = contact.friction_per_slip(s * s, LAW) * s
+        fast = contact.friction_per_slip(s * s, *contact.NO_FILM, LAW) * s
         assert fast == pytest.approx(spec_mu(s), rel=1e-9, abs=1e-15)
     # zero slip: a finite μ/s (the slope), so the force vanishes without a division by 0
-    assert contact.friction_per_slip(0.0, LAW) == pytest.approx(1.5 * MU_S / V_S)
+    assert contact.friction_per_slip(0.0, *contact.NO_FILM, LAW) == pytest.approx(1.5 * MU_S / V_S)
 
 
 def test_friction_force_is_tangential_and_opposes_slip():
     n = np.array([0.3, -0.4, math.sqrt(1 - 0.25)])
     u = np.array([0.05, 0.2, -0.1])
     q = 1234.0
-    ft = np.array(contact.friction_force(*u, *n, q, LAW))
+    ft = np.array(contact.friction_force(*u, *n, q, *contact.NO_FILM, LAW))
     vt = u - (u @ n) * n
     s = np.linalg.norm(vt)
     np.testing.assert_allclose(ft, -spec_mu(s) * q * vt / s, rtol=1e-12)
@@ -134,7 +134,7 @@ def test_friction_slope_and_fall_are_the_laws_own():
                              [1.5 * V_D]]):
         e = 1e-7 * s
         fd = (spec_mu(s + e) - spec_mu(s - e)) / (2 * e)
-        assert contact.friction_slope(s, LAW) == pytest.approx(fd, rel=1e-6, abs=1e-9)
+        assert contact.friction_slope(s, *contact.NO_FILM, LAW) == pytest.approx(fd, rel=1e-6, abs=1e-9)
     assert contact.friction_falling_slope(LAW) == pytest.approx(1.5 * (MU_S - MU_D) / (V_D - V_S), rel=1e-14)
     assert contact.friction_falling_slope(pack_friction_law(0.1, 0.1, 0.2, 1.0)) == 0.0   # a law that rises
 
@@ -145,7 +145,7 @@ def test_friction_tangent_curvature_is_the_forces_derivative():
     the negative slope out: ``μ/s + s²·curvature = 0``)."""
     for s in np.concatenate([np.geomspace(1e-6, 0.999 * V_S, 9), np.linspace(1.001 * V_S, 0.999 * V_D, 5),
                              [2.0 * V_D]]):
-        along = spec_mu(s) / s + s * s * contact.friction_tangent_curvature(s * s, LAW)
+        along = spec_mu(s) / s + s * s * contact.friction_tangent_curvature(s * s, *contact.NO_FILM, LAW)
         e = 1e-5 * s
         slope = (spec_mu(s + e) - spec_mu(s - e)) / (2 * e)
         assert along == pytest.approx(max(slope, 0.0), rel=1e-6, abs=1e-8)

@@ -65,14 +65,14 @@ def test_friction_dispatches_on_the_record_s_kind():
     law = pack_friction_law(0.1, 0.1, 0.02, 1.0)
     assert FRICTION_LAWS[int(law[LAW_KIND])] == "coulomb_step"
     for s in (0.0, 0.03, 0.1, 0.5, 2.0):
-        assert contact.friction_coefficient(s, law) == coulomb_step.coefficient(s, law)
-        assert contact.friction_per_slip(s * s + 1e-12, law) == coulomb_step.per_slip(s * s + 1e-12, law)
+        assert contact.friction_coefficient(s, *contact.NO_FILM, law) == coulomb_step.coefficient(s, law)
+        assert contact.friction_per_slip(s * s + 1e-12, *contact.NO_FILM, law) == coulomb_step.per_slip(s * s + 1e-12, law)
     # the law itself, independently: μ(v_d) = μ_d and μ = μ_s at v_s
-    assert math.isclose(contact.friction_coefficient(1.0, law), 0.02)
-    assert math.isclose(contact.friction_coefficient(0.1, law), 0.1)
+    assert math.isclose(contact.friction_coefficient(1.0, *contact.NO_FILM, law), 0.02)
+    assert math.isclose(contact.friction_coefficient(0.1, *contact.NO_FILM, law), 0.1)
     other = law.copy()
     other[LAW_KIND] = len(FRICTION_LAWS)
-    assert math.isnan(contact.friction_coefficient(0.05, other))
-    assert math.isnan(contact.friction_per_slip(0.0025, other))
-    assert math.isnan(contact.friction_tangent_curvature(0.0025, other))
+    assert math.isnan(contact.friction_coefficient(0.05, *contact.NO_FILM, other))
+    assert math.isnan(contact.friction_per_slip(0.0025, *contact.NO_FILM, other))
+    assert math.isnan(contact.friction_tangent_curvature(0.0025, *contact.NO_FILM, other))
     assert np.isnan(contact.friction_slope_at_zero_slip(other))

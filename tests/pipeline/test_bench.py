@@ -56,6 +56,8 @@ def stand_ins(monkeypatch):
     monkeypatch.setattr(bench, "scipy_comparison", _stand_in_scipy)
     monkeypatch.setattr(bench, "imperfection_cost", lambda: {
         "imperfection_perfect_wall_s": 2.0, "imperfection_normal_wall_s": 2.1, "imperfection_cost_ratio": 1.05})
+    monkeypatch.setattr(bench, "lubricated_cost", lambda: {
+        "lubricated_dry_wall_s": 2.0, "lubricated_wall_s": 2.2, "lubricated_cost_ratio": 1.1})
 
 
 def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
@@ -73,6 +75,7 @@ def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
     assert f["rk4_scipy_method"] == "rk4" and f["rk4_scipy_ratio"] == 2.0
     assert "parallel_efficiency" not in f   # --quick
     assert f["imperfection_cost_ratio"] == 1.05
+    assert f["lubricated_cost_ratio"] == 1.1
 
 
 def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys):

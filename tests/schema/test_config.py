@@ -153,6 +153,15 @@ def test_friction_speeds_in_order(buildable_raw):
     expect_error(bearing_from_dict, raw, "friction.v_dynamic", "50 mm/s", ["v_static"])
 
 
+def test_friction_law_is_one_of_the_registered_laws(buildable_raw):
+    """``friction.law`` names a law of rvcore.bearing.laws.FRICTION_LAWS; the study's by default."""
+    assert bearing_from_dict(buildable_raw, file=FILE).contact.law == "coulomb_step"
+    buildable_raw["friction"]["law"] = "ehl_bair_winer"
+    assert bearing_from_dict(buildable_raw, file=FILE).contact.law == "ehl_bair_winer"
+    buildable_raw["friction"]["law"] = "wet"
+    expect_error(bearing_from_dict, buildable_raw, "friction.law", "wet", ["coulomb_step", "ehl_bair_winer"])
+
+
 def test_cage_guidance_choice(buildable_raw):
     raw = apply_override(buildable_raw, "rows[0].cage.guidance", "inner-land")
     expect_error(bearing_from_dict, raw, "rows[0].cage.guidance", "inner-land", ["outer-land"])
