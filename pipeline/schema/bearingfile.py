@@ -452,8 +452,17 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
 def _operating(bearing: Bearing, top: Table) -> Bearing:
     """The rows' clearances at the rings' operating temperatures
     (:func:`rvcore.bearing.thermal.operating_bearing`)."""
+    from rvcore.bearing.lubricant import LubricantError, operating_viscosity
     from rvcore.bearing.thermal import operating_bearing
 
+    try:   # the oil's Walther line must hold at the lubricant's temperature: said now, not mid-run
+        operating_viscosity(bearing)
+    except LubricantError as exc:
+        t = top.table("temperature", required=False)
+        key = next((k for k in ("inner_ring", "outer_ring") if t.has(k)), None)
+        if key is None:
+            raise ConfigError(top.file, "lubricant", None, str(exc)) from None
+        raise ConfigError(top.file, f"temperature.{key}", t.raw(key), str(exc)) from None
     return operating_bearing(bearing)
 
 
