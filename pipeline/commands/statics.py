@@ -68,6 +68,9 @@ def run(args):
     sweep = one_case_sweep(args, profile=None)
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
+    if args.speed is not None and not op.speed > 0.0:   # before any work
+        raise UserError(f"--speed {args.speed!r}: the lubrication outputs need a speed > 0 (leave --speed "
+                        "out for none)")
     # the realization of --seed (a tolerance class's high-point angles and ball sizes, as a
     # sweep's case with that seed runs): the headline numbers, the lives and the runout
     # path all come from this one bearing (issue 39 item 13)
@@ -365,8 +368,6 @@ def _lubrication(bearing, st, speed: float) -> dict:
 
     from rvcore.statics.lubrication import lubrication_at
 
-    if not speed > 0.0:
-        raise UserError("--speed: the lubrication outputs need a speed > 0 (leave --speed out for none)")
     try:
         r = lubrication_at(bearing, st, speed)
     except LubricantError as exc:
