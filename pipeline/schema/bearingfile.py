@@ -366,7 +366,7 @@ def _lubricant(top: Table, pitch_diameter: float) -> Lubricant:
         raise ConfigError(file, "lubricant.contamination", ec,
                           "must be a number e_C in [0, 1] or one of ISO 281 Table 13's levels: "
                           + ", ".join(f'"{k}"' for k in CONTAMINATION_GUIDE))
-    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity"), method=lub.get("method"),
+    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity", default=None), method=lub.get("method"),
                      grade=grade, viscosity_40=nu40, viscosity_100=nu100, density=lub.get("density"),
                      pressure_viscosity=lub.get("pressure_viscosity"), ep_additives=lub.get("ep_additives"),
                      contamination=contamination, ball_roughness=lub.get("ball_roughness"),

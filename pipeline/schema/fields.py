@@ -281,7 +281,8 @@ _BEARING = [
     _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
        "an override: the oil's (a grease: its base oil's) kinematic viscosity at the operating temperature; "
        "left out, it follows from the base oil (grade or viscosity_40/_100) and the ring temperatures "
-       "(ASTM D341 / Walther)", default=None, source="lubricant.kinematic_viscosity",
+       "(ASTM D341 / Walther)", default="none: from the oil at the operating temperature",
+       source="lubricant.kinematic_viscosity",
        why="must be positive: a kinematic viscosity is a positive quantity (e.g. \"68 mm^2/s\")"),
     Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
           doc="how the bearing is lubricated, for the friction-moment estimate's f0 (Palmgren); "

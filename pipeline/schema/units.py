@@ -116,6 +116,11 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         raise ConfigError(file, key, value, f"wrong units: expected something convertible to {target}, got {q.units:~}") from None
 
 
+def is_temperature_text(value) -> bool:
+    """Whether ``value`` is written as a temperature (``"40 degC"``, ``"313.15 K"``)."""
+    return isinstance(value, str) and _TEMPERATURE.match(value) is not None
+
+
 def _temperature(value, file, key) -> float:
     """A temperature string (``"40 degC"``, ``"40 °C"``, ``"313.15 K"``) in K."""
     m = _TEMPERATURE.match(value) if isinstance(value, str) else None

@@ -182,3 +182,14 @@ def test_unknown_lubricant_key_is_one_line(buildable_raw):
     assert "lubricant" not in buildable_raw      # the table is optional: the default loads
     expect_error(bearing_from_dict, with_lubricant(buildable_raw, viscosity="68 mm^2/s"), "lubricant.viscosity",
                  None, ["unknown key"])
+
+
+def test_a_ring_temperature_is_a_sweep_axis_in_kelvin(tmp_path):
+    """``"temperature.inner_ring" = ["40 degC", "60 degC"]``: a numeric axis in K (40 °C is
+    313.15 K by the kelvin's definition), one bearing per value."""
+    body = GRID.replace('[fixed]', '"temperature.inner_ring" = ["40 degC", "60 degC"]\n\n[fixed]')
+    sweep = read_sweep_file(make_sweep(tmp_path, body))
+    axis = next(a for a in sweep.axes if a.key == "temperature.inner_ring")
+    assert axis.kind == "temperature" and axis.units == "K"
+    assert axis.coords == pytest.approx((313.15, 333.15))
+    assert sorted({c.bearing.inner_ring_temperature for c in sweep.cases}) == pytest.approx([313.15, 333.15])
