@@ -327,6 +327,14 @@ class Bearing:
     description: str = ""
     extra: dict = field(default_factory=dict, compare=False, hash=False)
 
+    @property
+    def operating_viscosity(self) -> float:
+        """Kinematic viscosity of the lubricant at the operating temperature [m^2 s^-1]
+        (:func:`rvcore.bearing.lubricant.operating_viscosity`)."""
+        from .lubricant import operating_viscosity
+
+        return operating_viscosity(self)
+
 
 # --------------------------------------------------------------------------- derived
 
