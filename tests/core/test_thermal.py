@@ -112,3 +112,18 @@ def test_operating_bearing_refuses_a_second_application(raw):
     b = at(raw, "60 degC", "40 degC")
     with pytest.raises(ValueError, match="already"):
         operating_bearing(b)
+
+
+def test_a_pairs_preload_is_set_at_the_reference_and_rises_with_a_warmer_inner_ring():
+    """The pair's ring offset is solved for its 3.5 kN at 20 °C and then held: at 20 °C both
+    rings the preload is the asked 3.5 kN; an inner ring 10 K warmer than the outer takes up
+    radial clearance (≈ α·10 K·d_i ≈ 38 µm here), so the same offset presses harder."""
+    from rvcore.statics.preload import preload_force
+
+    raw = read_toml(ROOT / "sweeps" / "bearings" / "rv-main-pair.toml")
+    ref = bearing_from_dict({**raw, "temperature": {"inner_ring": "20 degC", "outer_ring": "20 degC"}}, file=FILE)
+    warm = bearing_from_dict({**raw, "temperature": {"inner_ring": "50 degC", "outer_ring": "40 degC"}}, file=FILE)
+    assert warm.preload_offset == ref.preload_offset
+    assert preload_force(ref) == pytest.approx(ref.preload, rel=1e-3)
+    assert warm.rows[0].radial_clearance < 0.0
+    assert preload_force(warm) > 1.5 * preload_force(ref)
