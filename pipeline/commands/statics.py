@@ -396,7 +396,14 @@ def _lubrication(bearing, st, speed: float) -> dict:
 
 
 def _print_lubrication(bearing, lub) -> None:
-    """The lubrication outputs in engineering units (mm^2/s, um, Mrev)."""
+    """The ring temperatures and operating clearance, then the lubrication outputs in
+    engineering units (mm^2/s, um, Mrev)."""
+    t = _temperature_json(bearing)
+    print(f"  temperatures         inner {t['inner_ring_temperature_K'] - 273.15:.4g}, outer "
+          f"{t['outer_ring_temperature_K'] - 273.15:.4g} degC; clearance "
+          + ", ".join(f"{c * 1e6:.4g}" for c in t["operating_clearance_m"]) + " um operating, "
+          + ", ".join(f"{c * 1e6:.4g}" for c in t["nominal_clearance_m"])
+          + f" um at {t['reference_temperature_K'] - 273.15:.4g} degC")
     if lub is None:
         print(f"  lubrication          none: {_NO_SPEED}")
         return

@@ -281,7 +281,7 @@ _BEARING = [
     _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
        "an override: the oil's (a grease: its base oil's) kinematic viscosity at the operating temperature; "
        "left out, it follows from the base oil (grade or viscosity_40/_100) and the ring temperatures "
-       "(ASTM D341 / Walther)", default="none: from the oil at the operating temperature",
+       "(ASTM D341 / Walther)", default="(none: from the oil at the operating temperature)",
        source="lubricant.kinematic_viscosity",
        why="must be positive: a kinematic viscosity is a positive quantity (e.g. \"68 mm^2/s\")"),
     Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
@@ -297,7 +297,7 @@ _BEARING = [
        default="from grade", source="lubricant.viscosity_40"),
     _q("lubricant.viscosity_100", "kinematic_viscosity", "mm^2/s",
        "kinematic viscosity of the base oil at 100 degC; default for VG 68 only: 8.5 mm^2/s (VI 94, "
-       "ASTM D2270)", default="8.5 mm^2/s for VG 68", source="lubricant.viscosity_100"),
+       "ASTM D2270)", default="(8.5 mm^2/s for VG 68)", source="lubricant.viscosity_100"),
     _q("lubricant.density", "density", "kg/m^3", "density of the base oil (eta0 = rho nu); default 880 "
        "kg/m^3, a VG 68 mineral oil at 15 degC, an assumption", default=DENSITY_DEFAULT,
        source="lubricant.density"),

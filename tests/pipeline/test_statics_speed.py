@@ -96,7 +96,8 @@ def test_without_speed_there_are_no_lubrication_outputs_and_it_says_why(outputs,
 def test_the_text_output_carries_the_lubrication_lines(capsys):
     assert main([*COMMAND, "--speed", "660deg/s"]) == 0
     text = capsys.readouterr().out
-    for words in ("kappa, a_ISO", "life L_nm", "film h_c, h_min", "lambda, regime"):
+    for words in ("kappa, a_ISO", "life L_nm", "film h_c, h_min", "lambda, regime",
+                  "temperatures         inner 40, outer 40 degC; clearance 0 um operating, 0 um at 20 degC"):
         assert words in text
 
 
