@@ -177,7 +177,7 @@ def _material(prefix: str, source: str, whose: str, thermal: bool = True) -> lis
            why="must lie between -1 and 0.5 for an isotropic solid", source=f"{source}.poisson_ratio"),
     ]
     if thermal:
-        out.append(_q(f"{prefix}.thermal_expansion", "thermal_expansion", "1/K",
+        out.append(_q(f"{prefix}.thermal_expansion", "thermal_expansion", "K^-1",
                       f"linear thermal expansion coefficient of {whose} (the operating clearance, "
                       "rvcore.bearing.thermal); default bearing steel 11.5e-6 K^-1", bounds=(0.0, 1e-4),
                       default=STEEL_THERMAL_EXPANSION, source=f"{source}.thermal_expansion",
@@ -301,7 +301,7 @@ _BEARING = [
     _q("lubricant.density", "density", "kg/m^3", "density of the base oil (eta0 = rho nu); default 880 "
        "kg/m^3, a VG 68 mineral oil at 15 degC, an assumption", default=DENSITY_DEFAULT,
        source="lubricant.density"),
-    _q("lubricant.pressure_viscosity", "inverse_pressure", "1/GPa",
+    _q("lubricant.pressure_viscosity", "inverse_pressure", "GPa^-1",
        "pressure-viscosity coefficient alpha of the base oil; default 2e-8 Pa^-1 (20 GPa^-1), a mineral oil "
        "(Hamrock, NASA RP-1255)", default=PRESSURE_VISCOSITY_DEFAULT, source="lubricant.pressure_viscosity",
        why="must be positive (write e.g. \"20 GPa^-1\" or \"2e-8 Pa^-1\")"),
