@@ -15,7 +15,7 @@ Shared
 
 ``standards``: ISO standards and catalogue methods (imports nothing of rvcore but ``_numba`` and ``hertz``)
 - ``standards.iso281``         ISO 281 load rating, equivalent load and L10
-- ``standards.iso281_modified`` ISO 281 clause 9: ν1, κ, C_u, a_ISO, L_nm and its duty-cycle sum (not yet wired in)
+- ``standards.iso281_modified`` ISO 281 clause 9: ν1, κ, C_u, a_ISO, L_nm and its duty-cycle sum
 - ``standards.iso16281``       ISO/TS 16281 reference rating life, static and over a duty cycle
 - ``standards.iso76``          ISO 76 static load rating and safety factor
 - ``standards.iso492``         ISO 492 runout and ISO 3290 ball grades (tables with their sources)
@@ -24,7 +24,8 @@ Shared
 ``bearing``: a bearing as data
 - ``bearing.geometry``         bearing, rows, groove arcs, cages, materials (frozen dataclasses)
 - ``bearing.imperfections``    eccentricities, waviness, ball sizes; a tolerance class realized from a seed
-- ``bearing.lubricant``        ISO VG grades, Walther's viscosity-temperature law, roughness (not yet wired in)
+- ``bearing.lubricant``        ISO VG grades, Walther's viscosity-temperature law, roughness; a bearing's operating viscosity and contact lubricant
+- ``bearing.thermal``          the operating clearance: the rows' clearance at the rings' temperatures
 - ``bearing.checks``           the geometry checks: what makes a bearing unbuildable, as problems with a kind
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
@@ -34,7 +35,7 @@ Shared
 - ``contact.laws``             every contact law once: Hertz with its damper, friction dispatched on the law's kind, penetrations
 - ``contact.coulomb_step``     the study's friction law (Coulomb with STEP transitions), its slopes and IMEX tangent
 - ``contact.pose``             the inner ring's rotation, angular velocity and frame
-- ``contact.film``             Hamrock–Dowson film thickness and λ at a contact (not yet wired in)
+- ``contact.film``             Hamrock–Dowson film thickness and λ at a contact
 - ``contact.traction_ehl``     a lubricated traction law, Bair–Winer limiting shear (not yet registered)
 
 ``dynamics``: the equations of motion
@@ -50,6 +51,7 @@ Shared
 - ``statics.preload``          mirrored pairs and the offset that gives a preload
 - ``statics.operating``        the steady operating point and the statics there
 - ``statics.runout``           the runout path of an imperfect bearing over a revolution
+- ``statics.lubrication``      κ, a_ISO, L_nm and the film at an equilibrium (ISO 281 clause 9, Hamrock–Dowson)
 
 ``recording``: what a case records
 - ``recording.plan``           the output table as index arrays: series columns, phase reductions, life sums

@@ -341,6 +341,29 @@ OUTPUTS = (
            "loads of the statics at the steady operating point, in revolutions of the inner ring (90 % reliability, "
            "no life modification factor; NaN: not rated or nothing loaded; not rated where the groove radii exceed "
            "ISO 281's 0.52/0.53 Dw and the bearing file gives no C_r)", group="rating"),
+    Output("modified_rating_life_L_nm", STEADY, "1", "ISO 281:2007 clause 9 modified rating life L_nm = a_1 a_ISO "
+           "L10 at the steady operating point, in revolutions of the inner ring: basic_rating_life_L10 times a_ISO "
+           "(lubrication by kappa, contamination e_C, fatigue load limit C_u; a_1 = 1, 90 % reliability); L10 "
+           "includes none of them, L10r the ball-load distribution but no a_ISO (NaN: not rated, nothing loaded or "
+           "no speed)", group="rating"),
+    Output("a_iso_steady", STEADY, "1", "ISO 281 life modification factor a_ISO for ball bearings at the steady "
+           "operating point (kappa limited to 0.1-4, capped at 50; the EP rule where the lubricant has EP "
+           "additives)", group="rating"),
+    Output("kappa_steady", STEADY, "1", "ISO 281 viscosity ratio kappa = nu/nu1 at the steady speed: the "
+           "lubricant's operating viscosity over the reference viscosity nu1 (not limited; below 0.1 outside ISO "
+           "281: boundary lubrication)", group="rating"),
+    Output("operating_viscosity", STEADY, "m2 s-1", "kinematic viscosity of the lubricant (a grease: its base oil) "
+           "at the operating temperature, the mean of the ring temperatures (ASTM D341 / Walther; or the bearing "
+           "file's override)", group="rating"),
+    Output("film_thickness_min_steady", STEADY, "m", "Hamrock-Dowson minimum film thickness of the heaviest-loaded "
+           "inner contact at the steady operating point, pure rolling, fully flooded and isothermal: an upper "
+           "bound under grease (starvation); measured films scatter about +-30 % around it", group="rating"),
+    Output("film_parameter_steady", STEADY, "1", "film parameter lambda = h_min/sigma of the heaviest-loaded inner "
+           "contact at the steady operating point (sigma the composite rms roughness; boundary < 1 <= mixed < 3 "
+           "<= full film)", group="rating"),
+    Output("operating_clearance", STEADY, "m", "radial internal clearance of rows[0] at the rings' operating "
+           "temperatures (thermal expansion from the file's clearance at its reference temperature); the "
+           "statics and the dynamics use it", group="rating"),
 
     # ---- the duty cycle's life, from the integrator's life sums (rvcore.standards.iso16281)
     Output("rating_life_L10r", DUTY_CYCLE, "1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in "

@@ -103,7 +103,8 @@ def one_case_sweep(args, *, profile: str | None):
     from ..errors import ConfigError
     from ..schema import sweep_from_dict
 
-    fixed = {"speed": getattr(args, "speed", "0 deg/s"), "radial_load": args.radial_load,
+    speed = getattr(args, "speed", None)
+    fixed = {"speed": "0 deg/s" if speed is None else speed, "radial_load": args.radial_load,
              "axial_load": args.axial_load, "moment": args.moment, "load_angle": args.load_angle}
     solver, values = split_sets(args.set)
     method = getattr(args, "method", None)

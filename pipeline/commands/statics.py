@@ -18,6 +18,9 @@ _LOAD_UNITS = ("N", "N", "N", "N m", "N m")
 
 def add_arguments(parser):
     add_load_arguments(parser, speed=False)
+    parser.add_argument("--speed", default=None,
+                        help='inner-ring speed, e.g. "120deg/s" or "20 rpm": adds the lubrication outputs '
+                             "(ISO 281's kappa, a_ISO and L_nm; the film of the heaviest-loaded inner contact)")
     parser.add_argument("--moment-x", default="0 N*m",
                         help='moment about the x axis, e.g. "2 kN*m" (added to --moment; default 0)')
     parser.add_argument("--moment-y", default="0 N*m",
@@ -65,6 +68,9 @@ def run(args):
     sweep = one_case_sweep(args, profile=None)
     case = sweep.cases[0]
     op, bearing = case.operating_point, case.bearing
+    if args.speed is not None and not op.speed > 0.0:   # before any work
+        raise UserError(f"--speed {args.speed!r}: the lubrication outputs need a speed > 0 (leave --speed "
+                        "out for none)")
     # the realization of --seed (a tolerance class's high-point angles and ball sizes, as a
     # sweep's case with that seed runs): the headline numbers, the lives and the runout
     # path all come from this one bearing (issue 39 item 13)
@@ -97,6 +103,7 @@ def run(args):
                               "dynamic_load_rating_N", "equivalent_load_N"), math.nan)
         life_note = str(exc)
     ratings = _ratings(bearing, st, fr, fa)
+    lub = _lubrication(bearing, st, op.speed) if args.speed is not None else None
     if args.json:
         obj = {
             "bearing": bearing.name,
@@ -175,7 +182,12 @@ def run(args):
                                      "four-point rows). Constants: "
                                      + _palmgren_basis(bearing) + "; " + _published_spread()),
             "warnings": list(bearing.warnings),
+            **_temperature_json(bearing),
         }
+        if lub is not None:
+            obj.update(lub)
+        else:
+            obj["lubrication_note"] = _NO_SPEED
         if path is not None:
             obj["runout_path"] = {"ring_angle_rad": path["ring_angle"].tolist(),
                                   "ball_angle_rad": path["ball_angle"].tolist(),
@@ -227,6 +239,7 @@ def run(args):
           + ("- (tilt held)" if st.tilt == "held" else f"{kc_tilt * 1e-3:.4g} N m/mrad compliant"))
     print("                       (direct: the other coordinates held; compliant: the others free)")
     _print_life(life, bearing, life_note)
+    _print_lubrication(bearing, lub)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     if path is not None:
         print(f"  runout path          over one revolution, {len(path['ring_angle'])} ring angles: delta_r range "
@@ -329,3 +342,86 @@ def _print_life(life: dict, bearing, note: str) -> None:
     p = life["equivalent_load_N"]
     print(f"  life L10             {mrev(life['basic_rating_life_L10_Mrev'])} (ISO 281, P = "
           + (f"{p / 1e3:.4g} kN)" if math.isfinite(p) else "- )"))
+
+
+_NO_SPEED = ("no lubrication outputs: the film, kappa and a_ISO depend on the speed; give --speed "
+             "(e.g. --speed 120deg/s)")
+
+
+def _temperature_json(bearing) -> dict:
+    """The temperatures and the operating clearance [K, m]."""
+    nominal = bearing.nominal_radial_clearances or tuple(r.radial_clearance for r in bearing.rows)
+    return {"inner_ring_temperature_K": bearing.inner_ring_temperature,
+            "outer_ring_temperature_K": bearing.outer_ring_temperature,
+            "reference_temperature_K": bearing.reference_temperature,
+            "operating_clearance_m": [r.radial_clearance for r in bearing.rows],
+            "nominal_clearance_m": list(nominal),
+            "clearance_note": ("radial internal clearance of each row: nominal at the reference temperature, "
+                               "operating at the rings' temperatures (thermal expansion, "
+                               "rvcore.bearing.thermal); the statics use the operating one")}
+
+
+def _lubrication(bearing, st, speed: float) -> dict:
+    """The lubrication outputs of ``--speed`` (:func:`rvcore.statics.lubrication.lubrication_at`), SI,
+    with the notes saying what each is."""
+    from rvcore.bearing.lubricant import LubricantError, lubricant_temperature
+
+    from rvcore.statics.lubrication import lubrication_at
+
+    try:
+        r = lubrication_at(bearing, st, speed)
+    except LubricantError as exc:
+        raise UserError(f"[lubricant]: {exc}") from None
+    out = {"speed_rad_per_s": float(speed), "lubricant_temperature_K": lubricant_temperature(bearing)}
+    for k, v in r.items():
+        out[k] = _finite(v) if isinstance(v, float) else v
+    out["lubrication_units"] = {
+        "operating_viscosity": "m2 s-1", "reference_viscosity_nu1": "m2 s-1", "kappa": "1", "a_iso": "1",
+        "contamination_factor": "1", "fatigue_load_limit": "N", "equivalent_load": "N",
+        "basic_rating_life_L10": "revolutions", "modified_rating_life_L_nm": "revolutions",
+        "film_thickness_central": "m", "film_thickness_min": "m", "film_contact_load": "N",
+        "entrainment_speed": "m s-1", "composite_roughness": "m", "lambda": "1", "speed_rad_per_s": "rad s-1",
+        "lubricant_temperature_K": "K"}
+    out["lubrication_note"] = (
+        "ISO 281:2007 clause 9 at this speed: kappa = nu/nu1 (nu at the mean ring temperature, ASTM D341; nu1 "
+        "from n and d_m), a_ISO for ball bearings with e_C and C_u = C0/22 (100/d_m)^0.5, L_nm = a_1 a_ISO L10 "
+        "in revolutions (a_1 = 1, 90 %; L10 of ISO 281 with P = X Fr + Y Fa; L10r has no a_ISO); kappa above 4 "
+        "taken as 4, kappa_outside_iso281 true below 0.1 (boundary lubrication: a_ISO taken at 0.1, outside the "
+        "standard). Film: Hamrock-Dowson, fully flooded and isothermal, the heaviest-loaded inner contact at its "
+        "contact angle, pure rolling; grease starvation makes it an upper bound, measured films scatter about "
+        "+-30 % around it; lambda = h_min/sigma; regime: boundary < 1 <= mixed < 3 <= full film"
+        + ("; the contact's ellipticity lies outside Hamrock-Dowson's fitted 1-8 (extrapolated)"
+           if r.get("film_extrapolated") else ""))
+    return out
+
+
+def _print_lubrication(bearing, lub) -> None:
+    """The ring temperatures and operating clearance, then the lubrication outputs in
+    engineering units (mm^2/s, um, Mrev)."""
+    t = _temperature_json(bearing)
+    print(f"  temperatures         inner {t['inner_ring_temperature_K'] - 273.15:.4g}, outer "
+          f"{t['outer_ring_temperature_K'] - 273.15:.4g} degC; clearance "
+          + ", ".join(f"{c * 1e6:.4g}" for c in t["operating_clearance_m"]) + " um operating, "
+          + ", ".join(f"{c * 1e6:.4g}" for c in t["nominal_clearance_m"])
+          + f" um at {t['reference_temperature_K'] - 273.15:.4g} degC")
+    if lub is None:
+        print(f"  lubrication          none: {_NO_SPEED}")
+        return
+
+    def g(x, scale=1.0, fmt="10.4g"):
+        return format(x * scale, fmt) if x is not None else "         -"
+
+    print(f"  lubricant            {g(lub['operating_viscosity'], 1e6)} mm^2/s at "
+          f"{lub['lubricant_temperature_K'] - 273.15:.4g} degC; nu1 {g(lub['reference_viscosity_nu1'], 1e6)} "
+          f"mm^2/s (ISO 281)")
+    flag = "  OUTSIDE ISO 281 (kappa < 0.1: boundary)" if lub["kappa_outside_iso281"] else ""
+    print(f"  kappa, a_ISO         {g(lub['kappa'])}, {g(lub['a_iso'])} (e_C {lub['contamination_factor']:.3g}"
+          f"{', EP rule' if lub['ep_rule'] else ''}){flag}")
+    print(f"  life L_nm            {g(lub['modified_rating_life_L_nm'], 1e-6)} Mrev (a_ISO x L10, ISO 281 "
+          "clause 9, 90 %)")
+    print(f"  film h_c, h_min      {g(lub['film_thickness_central'], 1e6)}, "
+          f"{g(lub['film_thickness_min'], 1e6)} um (Hamrock-Dowson, inner contact at "
+          f"{g(lub['film_contact_load'], 1.0, '.4g')} N, u {g(lub['entrainment_speed'], 1.0, '.4g')} m/s; "
+          "flooded: an upper bound under grease)")
+    print(f"  lambda, regime       {g(lub['lambda'])}, {lub['regime'] or '-'} (sigma "
+          f"{g(lub['composite_roughness'], 1e6, '.4g')} um)")

@@ -58,6 +58,7 @@ from .sections_fits import section_comparison, section_plane, study_comparison
 from .sections_metrics import section_metrics, section_time_histories
 from .select import base_states
 from .stiffness import section_stiffness
+from .lubrication import section_lubrication
 from .summary import section_designer_figures, section_summary, summary_values
 
 #: Sensor metrics fitted for the sensor figures.
@@ -150,7 +151,7 @@ def section_files(ctx: Context) -> list:
 SECTIONS = (
     section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
-    section_stiffness, section_load_distribution, section_window_edges, section_comparison, section_classes,
+    section_stiffness, section_lubrication, section_load_distribution, section_window_edges, section_comparison, section_classes,
     section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 

@@ -275,6 +275,67 @@ def _contact(top: Table) -> ContactLaw:
     return contact
 
 
+def _lubricant(top: Table, pitch_diameter: float) -> Lubricant:
+    """The ``[lubricant]`` table: the base oil by ``grade`` or by ``viscosity_40`` and
+    ``viscosity_100`` (not both), the contamination factor by number or by ISO 281 level,
+    and the rest by the schema (:mod:`rvcore.bearing.lubricant`)."""
+    from rvcore.bearing.lubricant import (ISO_VG_GRADES, LubricantError, VG68_VISCOSITY_100,
+                                          iso_vg_viscosity, walther_coefficients)
+    from rvcore.standards.iso281_modified import CONTAMINATION_GUIDE, contamination_factor
+
+    lub = top.table("lubricant", required=False)
+    file = top.file
+    if lub.has("grade") and lub.has("viscosity_40"):
+        raise ConfigError(file, "lubricant.viscosity_40", lub.raw("viscosity_40"),
+                          "give either grade (ISO VG: nu40 is its number in mm^2/s) or viscosity_40, not both")
+    if lub.has("viscosity_40") and not lub.has("viscosity_100"):
+        raise ConfigError(file, "lubricant.viscosity_40", lub.raw("viscosity_40"),
+                          "needs viscosity_100 too: the two fix the oil's ASTM D341 (Walther) line")
+    grade = lub.get("grade")
+    if grade not in ISO_VG_GRADES:
+        raise ConfigError(file, "lubricant.grade", lub.raw("grade", grade), lub.field("grade").why)
+    if lub.has("viscosity_40"):
+        grade, nu40 = None, lub.get("viscosity_40")
+    else:
+        nu40 = iso_vg_viscosity(grade)
+    if lub.has("viscosity_100"):
+        nu100 = lub.get("viscosity_100")
+    elif grade == 68:
+        nu100 = VG68_VISCOSITY_100
+    else:
+        raise ConfigError(file, "lubricant.grade", lub.raw("grade"),
+                          "needs viscosity_100 (the oil's, from its data sheet): only ISO VG 68's "
+                          "(8.5 mm^2/s, VI 94) is built in")
+    try:
+        walther_coefficients(nu40, nu100)
+    except LubricantError as exc:
+        raise ConfigError(file, "lubricant.viscosity_100", lub.raw("viscosity_100", None), str(exc)) from None
+    ec = lub.raw("contamination", None)
+    if ec is None:
+        contamination = None
+    elif isinstance(ec, str) and ec.strip().lower() in CONTAMINATION_GUIDE:
+        contamination = contamination_factor(ec, pitch_diameter, "low")
+    elif isinstance(ec, (int, float)) and not isinstance(ec, bool) and 0.0 <= ec <= 1.0:
+        contamination = float(ec)
+    else:
+        raise ConfigError(file, "lubricant.contamination", ec,
+                          "must be a number e_C in [0, 1] or one of ISO 281 Table 13's levels: "
+                          + ", ".join(f'"{k}"' for k in CONTAMINATION_GUIDE))
+    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity", default=None), method=lub.get("method"),
+                     grade=grade, viscosity_40=nu40, viscosity_100=nu100, density=lub.get("density"),
+                     pressure_viscosity=lub.get("pressure_viscosity"), ep_additives=lub.get("ep_additives"),
+                     contamination=contamination, ball_roughness=lub.get("ball_roughness"),
+                     raceway_roughness=lub.get("raceway_roughness"))
+
+
+def _temperatures(top: Table) -> dict:
+    """The ``[temperature]`` table: the rings' operating temperatures and the clearance's
+    reference [K]."""
+    t = top.table("temperature", required=False)
+    return {"inner_ring_temperature": t.get("inner_ring"), "outer_ring_temperature": t.get("outer_ring"),
+            "reference_temperature": t.get("reference")}
+
+
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     """Validate a bearing file's contents and build the :class:`rvcore.bearing.geometry.Bearing`.
 
@@ -314,7 +375,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       source=top.get("source"), description=top.get("description"),
                       # left out: 0, "from the geometry" (rvcore.standards.iso16281)
                       dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
-                      lubricant=from_fields(Lubricant, top, "lubricant"))
+                      lubricant=_lubricant(top, rows[0].pitch_diameter), **_temperatures(top))
 
     warnings = []
     for p in bearing_problems(bearing):
@@ -333,7 +394,26 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
         raise ConfigError(file, key, shown, reason)
     _refuse_unphysical(bearing, raw, file, arrangement)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
-    return _preload(bearing, top) if arrangement else bearing
+    if arrangement:   # the preload is set at the reference temperature, the offset then held
+        bearing = _preload(bearing, top)
+    return _operating(bearing, top)
+
+
+def _operating(bearing: Bearing, top: Table) -> Bearing:
+    """The rows' clearances at the rings' operating temperatures
+    (:func:`rvcore.bearing.thermal.operating_bearing`)."""
+    from rvcore.bearing.lubricant import LubricantError, operating_viscosity
+    from rvcore.bearing.thermal import operating_bearing
+
+    try:   # the oil's Walther line must hold at the lubricant's temperature: said now, not mid-run
+        operating_viscosity(bearing)
+    except LubricantError as exc:
+        t = top.table("temperature", required=False)
+        key = next((k for k in ("inner_ring", "outer_ring") if t.has(k)), None)
+        if key is None:
+            raise ConfigError(top.file, "lubricant", None, str(exc)) from None
+        raise ConfigError(top.file, f"temperature.{key}", t.raw(key), str(exc)) from None
+    return operating_bearing(bearing)
 
 
 def _refuse_unphysical(bearing: Bearing, raw: dict, file, arrangement: str) -> None:

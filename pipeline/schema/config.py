@@ -30,8 +30,15 @@ Bearing file
     assumptions = ["rows[0].radial_clearance", ...]   # keys whose values are assumed
 
     [envelope]     bore, outer_diameter, width
-    [material]     density, youngs_modulus, poisson_ratio        (rings and balls)
+    [material]     density, youngs_modulus, poisson_ratio        (rings and balls);
+                   thermal_expansion = 11.5e-6 K^-1
                    -- or [ring_material] and [ball_material], each with the same keys
+    [lubricant]    optional (docs/model.md §15.1): grade = 68 or viscosity_40 and
+                   viscosity_100; density, pressure_viscosity, ep_additives, contamination,
+                   ball_roughness, raceway_roughness, method = "grease";
+                   kinematic_viscosity overrides the viscosity at the operating temperature
+    [temperature]  optional: inner_ring = 40 degC, outer_ring = 40 degC, reference = 20 degC
+                   (the clearance's); the rows' clearances are turned into operating ones
     [inner_ring]   shoulder_diameter; attached_mass = 0, attached_inertia = 0
     [contact]      damping, damping_depth, pocket_damping, land_damping
     [friction]     mu_static = 0.1, v_static = 0.1 m/s, mu_dynamic = 0.02,

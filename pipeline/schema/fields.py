@@ -40,6 +40,10 @@ from rvcore.statics.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 from rvcore.standards.palmgren import LUBRICATIONS
 from rvcore.bearing.geometry import Lubricant
+from rvcore.bearing.lubricant import (BALL_ROUGHNESS_DEFAULT, DENSITY_DEFAULT, ISO_VG_GRADES,
+                                      PRESSURE_VISCOSITY_DEFAULT, RACEWAY_ROUGHNESS_DEFAULT)
+from rvcore.bearing.thermal import OPERATING_TEMPERATURE_DEFAULT, REFERENCE_TEMPERATURE, STEEL_THERMAL_EXPANSION
+from rvcore.standards.iso281_modified import CONTAMINATION_DEFAULT_LEVEL, CONTAMINATION_GUIDE
 
 from ..errors import ConfigError
 
@@ -51,6 +55,13 @@ MAX_SEED = 2**53 - 1
 #: further (:mod:`pipeline.schema.physical`: the ball must not bridge the troughs); this
 #: bound holds where the amplitude is 0.
 MAX_WAVINESS_ORDER = 10**6
+
+#: Temperatures the inputs allow [K]: -50 to 200 degC, about where bearing steels keep their
+#: hardness and mineral oils stay liquid; also what keeps a plain number (read as K) such as
+#: 40 out.
+_TEMPERATURE_BOUNDS = (223.15, 473.15)
+_TEMPERATURE_WHY = ("must lie between -50 and 200 degC (a plain number is kelvin: write \"40 degC\" "
+                    "or \"313.15 K\")")
 
 #: Default of a field that must be given.
 REQUIRED = object()
@@ -158,14 +169,22 @@ def _q(path, unit_kind, unit, doc, file="bearing", bounds="positive", default=RE
     return Field(path, "quantity", file, unit_kind, bounds, default, unit, doc, **kw)
 
 
-def _material(prefix: str, source: str, whose: str) -> list:
-    return [
+def _material(prefix: str, source: str, whose: str, thermal: bool = True) -> list:
+    out = [
         _q(f"{prefix}.density", "density", "kg/m^3", f"density of {whose}", source=f"{source}.density"),
         _q(f"{prefix}.youngs_modulus", "pressure", "GPa", f"Young's modulus of {whose}",
            source=f"{source}.youngs_modulus"),
         _q(f"{prefix}.poisson_ratio", "dimensionless", "", f"Poisson's ratio of {whose}", bounds=(-1.0, 0.5),
            why="must lie between -1 and 0.5 for an isotropic solid", source=f"{source}.poisson_ratio"),
     ]
+    if thermal:
+        out.append(_q(f"{prefix}.thermal_expansion", "thermal_expansion", "K^-1",
+                      f"linear thermal expansion coefficient of {whose} (the operating clearance, "
+                      "rvcore.bearing.thermal); default bearing steel 11.5e-6 K^-1", bounds=(0.0, 1e-4),
+                      default=STEEL_THERMAL_EXPANSION, source=f"{source}.thermal_expansion",
+                      why="must lie in (0, 1e-4) K^-1: metals and ceramics expand 1e-6 to 3e-5 per K "
+                          "(write e.g. \"11.5e-6 K^-1\")"))
+    return out
 
 
 def _imperfections(prefix: str, where: str) -> list:
@@ -265,13 +284,57 @@ _BEARING = [
               "film traction, boundary friction mu_static below lambda 1; docs/model.md section 4.1)",
           source="contact.law"),
     _q("lubricant.kinematic_viscosity", "kinematic_viscosity", "mm^2/s",
-       "kinematic viscosity of the oil (a grease: its base oil) at the operating temperature, for the "
-       "friction-moment estimate only; default ISO VG 68 at 40 degC, an assumption",
-       default=_default(Lubricant, "kinematic_viscosity"), source="lubricant.kinematic_viscosity",
+       "an override: the oil's (a grease: its base oil's) kinematic viscosity at the operating temperature; "
+       "left out, it follows from the base oil (grade or viscosity_40/_100) and the ring temperatures "
+       "(ASTM D341 / Walther)", default="(none: from the oil at the operating temperature)",
+       source="lubricant.kinematic_viscosity",
        why="must be positive: a kinematic viscosity is a positive quantity (e.g. \"68 mm^2/s\")"),
     Field("lubricant.method", "choice", "bearing", default=_default(Lubricant, "method"), choices=LUBRICATIONS,
           doc="how the bearing is lubricated, for the friction-moment estimate's f0 (Palmgren); "
               "default grease, an assumption", source="lubricant.method"),
+    Field("lubricant.grade", "integer", "bearing", default=68, minimum=min(ISO_VG_GRADES),
+          maximum=max(ISO_VG_GRADES), source="lubricant.grade",
+          doc="ISO VG grade of the base oil (ISO 3448: nu40 in mm^2/s), or give viscosity_40 and "
+              "viscosity_100; default 68, an assumption (the study names no lubricant)",
+          why="must be an ISO 3448 grade (" + ", ".join(str(g) for g in ISO_VG_GRADES) + ")"),
+    _q("lubricant.viscosity_40", "kinematic_viscosity", "mm^2/s",
+       "kinematic viscosity of the base oil at 40 degC (instead of grade; with viscosity_100)",
+       default="from grade", source="lubricant.viscosity_40"),
+    _q("lubricant.viscosity_100", "kinematic_viscosity", "mm^2/s",
+       "kinematic viscosity of the base oil at 100 degC; default for VG 68 only: 8.5 mm^2/s (VI 94, "
+       "ASTM D2270)", default="(8.5 mm^2/s for VG 68)", source="lubricant.viscosity_100"),
+    _q("lubricant.density", "density", "kg/m^3", "density of the base oil (eta0 = rho nu); default 880 "
+       "kg/m^3, a VG 68 mineral oil at 15 degC, an assumption", default=DENSITY_DEFAULT,
+       source="lubricant.density"),
+    _q("lubricant.pressure_viscosity", "inverse_pressure", "GPa^-1",
+       "pressure-viscosity coefficient alpha of the base oil; default 2e-8 Pa^-1 (20 GPa^-1), a mineral oil "
+       "(Hamrock, NASA RP-1255)", default=PRESSURE_VISCOSITY_DEFAULT, source="lubricant.pressure_viscosity",
+       why="must be positive (write e.g. \"20 GPa^-1\" or \"2e-8 Pa^-1\")"),
+    Field("lubricant.ep_additives", "boolean", "bearing", default=False, source="lubricant.ep_additives",
+          doc="EP additives proven effective: ISO 281's EP rule (kappa < 1, e_C >= 0.2: a_ISO at kappa = 1, "
+              "at most 3)"),
+    Field("lubricant.contamination", "string", "bearing", default=CONTAMINATION_DEFAULT_LEVEL,
+          source="lubricant.contamination",
+          doc="ISO 281 contamination factor e_C: a number in [0, 1], or a Table 13 level (" +
+              ", ".join(CONTAMINATION_GUIDE) + "), taken at the lower bound of its d_m column; default "
+                                               "normal cleanliness"),
+    _q("lubricant.ball_roughness", "length", "um", "rms roughness of the balls; default 0.0625 um "
+       "(Hamrock & Dowson's ball-bearing example)", bounds="nonnegative", default=BALL_ROUGHNESS_DEFAULT,
+       source="lubricant.ball_roughness"),
+    _q("lubricant.raceway_roughness", "length", "um", "rms roughness of the raceways; default 0.175 um "
+       "(Hamrock & Dowson's ball-bearing example)", bounds="nonnegative", default=RACEWAY_ROUGHNESS_DEFAULT,
+       source="lubricant.raceway_roughness"),
+    _q("temperature.inner_ring", "temperature", "degC",
+       "operating temperature of the inner ring (the clearance, the lubricant at the mean of the rings'); "
+       "default 40 degC, an assumption", bounds=_TEMPERATURE_BOUNDS, default=OPERATING_TEMPERATURE_DEFAULT,
+       source="inner_ring_temperature", why=_TEMPERATURE_WHY),
+    _q("temperature.outer_ring", "temperature", "degC",
+       "operating temperature of the outer ring; default 40 degC, an assumption", bounds=_TEMPERATURE_BOUNDS,
+       default=OPERATING_TEMPERATURE_DEFAULT, source="outer_ring_temperature", why=_TEMPERATURE_WHY),
+    _q("temperature.reference", "temperature", "degC",
+       "temperature at which radial_clearance is given (and a pair's preload set); default 20 degC",
+       bounds=_TEMPERATURE_BOUNDS, default=REFERENCE_TEMPERATURE, source="reference_temperature",
+       why=_TEMPERATURE_WHY),
     *_imperfections("imperfections", "every row"),
     *_imperfections("rows[].imperfections", "this row (overrides [imperfections])"),
     *_imperfections("pair.imperfections[]", "that row of a pair (two entries, the row at -row_spacing/2 "
@@ -298,7 +361,7 @@ _BEARING = [
        bounds="nonnegative", default=0.0, source="rows[].cage.land_clearance"),
     Field("rows[].cage.guidance", "choice", "bearing", choices=("outer-land", "ball"),
           doc="what guides the cage", source="rows[].cage.guidance"),
-    *_material("rows[].cage", "rows[].cage.material", "the cage"),
+    *_material("rows[].cage", "rows[].cage.material", "the cage", thermal=False),
     _q("rows[].cage.land_stiffness", "stiffness_hertz", "N/m^1.5",
        "cage-land contact stiffness (required and positive when outer-land guided)",
        bounds="nonnegative", default=0.0, source="rows[].cage.land_stiffness"),

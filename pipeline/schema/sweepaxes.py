@@ -203,7 +203,11 @@ def _key_kind(target: str, key: str):
 
 def _kind_of_quantity(text: str):
     """Kind of a unit string by its dimensionality; None if it is not a quantity."""
+    from .units import is_temperature_text
+
     ureg = registry()
+    if is_temperature_text(text):   # "40 degC": pint will not multiply a number by an offset unit
+        return "temperature"
     if not is_safe_text(text):   # "9**9**9 N" would not come back; the loader says why
         return None
     try:

@@ -38,8 +38,16 @@ SI_UNITS = {
     "inertia": "kg*m**2",
     "kinematic_viscosity": "m**2/s",
     "frequency": "Hz",
+    "temperature": "K",
+    "inverse_pressure": "1/Pa",
+    "thermal_expansion": "1/K",
     "dimensionless": "dimensionless",
 }
+
+#: A temperature as written: a number and one of these units (pint refuses to multiply a
+#: number by an offset unit such as degC, so temperatures are read here, not by pint).
+_TEMPERATURE = re.compile(r"^\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s*"
+                          r"(K|kelvin|degC|°C|degree_Celsius|celsius)\s*\Z")
 
 
 _TORQUE = re.compile(r"(?<![A-Za-z])([kM]?)Nm\b")
@@ -73,6 +81,8 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         raise ConfigError(file, key, value, f"expected a quantity in {target}, got a boolean")
     if isinstance(value, (int, float)):
         return float(value)
+    if kind == "temperature":
+        return _temperature(value, file, key)
     if not isinstance(value, str):
         raise ConfigError(file, key, value, f"expected a number or a string with units of {target}")
     ureg = registry()
@@ -104,6 +114,23 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         return float(q.to(target).magnitude)
     except pint.DimensionalityError:
         raise ConfigError(file, key, value, f"wrong units: expected something convertible to {target}, got {q.units:~}") from None
+
+
+def is_temperature_text(value) -> bool:
+    """Whether ``value`` is written as a temperature (``"40 degC"``, ``"313.15 K"``)."""
+    return isinstance(value, str) and _TEMPERATURE.match(value) is not None
+
+
+def _temperature(value, file, key) -> float:
+    """A temperature string (``"40 degC"``, ``"40 °C"``, ``"313.15 K"``) in K."""
+    m = _TEMPERATURE.match(value) if isinstance(value, str) else None
+    if m is None:
+        raise ConfigError(file, key, value, "not a temperature: expected a number and K or degC, "
+                                            "e.g. '40 degC' or '313.15 K'")
+    x = float(m.group(1))
+    if not math.isfinite(x):
+        raise ConfigError(file, key, value, "not a finite number")
+    return x if m.group(2) in ("K", "kelvin") else x + 273.15
 
 
 #: What a value is allowed to be made of: ASCII digits and letters, the arithmetic of a

@@ -38,6 +38,8 @@ from dataclasses import dataclass, field
 
 from ..hertz import INNER, OUTER  # noqa: F401 (the ring labels live with Hertz theory)
 from .imperfections import PERFECT, Imperfections
+from .lubricant import (BALL_ROUGHNESS_DEFAULT, DENSITY_DEFAULT, PRESSURE_VISCOSITY_DEFAULT,
+                        RACEWAY_ROUGHNESS_DEFAULT)
 
 #: Standard acceleration of gravity [m s^-2] (CGPM 1901).
 STANDARD_GRAVITY = 9.80665
@@ -60,11 +62,16 @@ class Material:
         [Pa]
     poisson_ratio : float
         [-]
+    thermal_expansion : float
+        Linear thermal expansion coefficient α_T [K^-1]; default 11.5e-6 K^-1, bearing
+        steel (:data:`rvcore.bearing.thermal.STEEL_THERMAL_EXPANSION`). It enters only the
+        operating clearance (:mod:`rvcore.bearing.thermal`).
     """
 
     density: float
     youngs_modulus: float
     poisson_ratio: float
+    thermal_expansion: float = 11.5e-6
 
 
 @dataclass(frozen=True)
@@ -228,24 +235,50 @@ class ContactLaw:
 
 @dataclass(frozen=True)
 class Lubricant:
-    """The lubricant, as the friction-moment estimate needs it (:mod:`rvcore.standards.palmgren`).
+    """The lubricant (of a grease: its base oil), :mod:`rvcore.bearing.lubricant` resolves it.
 
     Parameters
     ----------
-    kinematic_viscosity : float
-        Kinematic viscosity of the oil (of a grease: its base oil) at the operating
-        temperature [m^2 s^-1]. Default 68 mm²/s: ISO VG 68 at 40 °C, an assumption (the
-        study names no lubricant).
+    kinematic_viscosity : float or None
+        An override: the kinematic viscosity at the operating temperature [m^2 s^-1]. None
+        (the default): it follows from the base oil and the operating temperature
+        (ASTM D341 / Walther, :func:`rvcore.bearing.lubricant.operating_viscosity`).
     method : str
         How the bearing is lubricated: ``"grease"`` (the default, an assumption),
         ``"oil-mist"``, ``"oil-bath"`` or ``"oil-jet"`` (Palmgren's ``f_0`` table).
-
-    Neither value enters the dynamics: the model's contact friction law does not depend
-    on the lubricant.
+    grade : int or None
+        ISO VG grade of the base oil (ISO 3448: its ν40 midpoint in mm^2/s) [-]; None with
+        no ``viscosity_40``: ISO VG 68, an assumption (the study names no lubricant).
+    viscosity_40, viscosity_100 : float or None
+        Kinematic viscosities of the base oil at 40 °C and 100 °C [m^2 s^-1]; None: from
+        ``grade`` (ν40) and :data:`rvcore.bearing.lubricant.VG68_VISCOSITY_100` (ν100 of
+        the default VG 68, VI 94).
+    density : float
+        Density of the base oil [kg m^-3] (:data:`rvcore.bearing.lubricant.DENSITY_DEFAULT`).
+    pressure_viscosity : float
+        Pressure–viscosity coefficient α [Pa^-1]
+        (:data:`rvcore.bearing.lubricant.PRESSURE_VISCOSITY_DEFAULT`).
+    ep_additives : bool
+        EP additives proven effective (ISO 281's EP rule).
+    contamination : float or None
+        Contamination factor e_C [-] in [0, 1]; None: ISO 281 Table 13's "normal
+        cleanliness", lower bound (:func:`rvcore.bearing.lubricant.contamination_of`).
+    ball_roughness, raceway_roughness : float
+        rms roughnesses [m] (:data:`rvcore.bearing.lubricant.BALL_ROUGHNESS_DEFAULT`,
+        :data:`~rvcore.bearing.lubricant.RACEWAY_ROUGHNESS_DEFAULT`).
     """
 
-    kinematic_viscosity: float = 68e-6
+    kinematic_viscosity: float | None = None
     method: str = "grease"
+    grade: int | None = None
+    viscosity_40: float | None = None
+    viscosity_100: float | None = None
+    density: float = DENSITY_DEFAULT
+    pressure_viscosity: float = PRESSURE_VISCOSITY_DEFAULT
+    ep_additives: bool = False
+    contamination: float | None = None
+    ball_roughness: float = BALL_ROUGHNESS_DEFAULT
+    raceway_roughness: float = RACEWAY_ROUGHNESS_DEFAULT
 
 
 @dataclass(frozen=True)
@@ -262,7 +295,13 @@ class Bearing:
     the mounting (:data:`MOUNTINGS`; horizontal axis by default).
     ``dynamic_load_rating`` is the catalogue basic dynamic radial load rating C_r [N]
     (ISO 281); 0 means "from the geometry" (:mod:`rvcore.standards.iso16281`). ``lubricant`` is what
-    the friction-moment estimate takes (:class:`Lubricant`; not used by the dynamics). ``warnings`` carries caveats that every output of a run must repeat (for example a
+    the friction-moment estimate, ISO 281's κ and the film take (:class:`Lubricant`).
+    ``inner_ring_temperature`` and ``outer_ring_temperature`` are the rings' operating
+    temperatures [K] (default 40 °C both), ``reference_temperature`` the one the rows'
+    ``radial_clearance`` is given at [K] (20 °C); the loader
+    (:func:`rvcore.bearing.thermal.operating_bearing`) has already turned each row's
+    clearance into its operating value, ``nominal_radial_clearances`` keeping the given
+    ones (empty where nothing moved). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
     dotted keys whose values the source does not give.
     """
@@ -285,9 +324,21 @@ class Bearing:
     preload_offset: float = 0.0
     dynamic_load_rating: float = 0.0
     lubricant: Lubricant = Lubricant()
+    inner_ring_temperature: float = 313.15
+    outer_ring_temperature: float = 313.15
+    reference_temperature: float = 293.15
+    nominal_radial_clearances: tuple = ()
     source: str = ""
     description: str = ""
     extra: dict = field(default_factory=dict, compare=False, hash=False)
+
+    @property
+    def operating_viscosity(self) -> float:
+        """Kinematic viscosity of the lubricant at the operating temperature [m^2 s^-1]
+        (:func:`rvcore.bearing.lubricant.operating_viscosity`)."""
+        from .lubricant import operating_viscosity
+
+        return operating_viscosity(self)
 
 
 # --------------------------------------------------------------------------- derived

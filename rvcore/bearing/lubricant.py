@@ -4,8 +4,9 @@ roughness. Pure functions, SI in and out (kinematic viscosity in m² s⁻¹, tem
 K); where a standard writes its formula in its own units (mm² s⁻¹) the conversion is
 inside and said there.
 
-The dynamics reads the lubricant of a bearing through :func:`contact_lubricant` (the
-lubricated friction law, :func:`rvcore.bearing.layout.compile_bearing`).
+The bearing's lubricant (:class:`rvcore.bearing.geometry.Lubricant`) is resolved here into
+what the other layers take: :func:`operating_viscosity` (Palmgren's viscous term, ISO 281's
+κ, the film) and :func:`contact_lubricant` (η0, α and σ of the contacts).
 
 Notes
 -----
@@ -54,7 +55,12 @@ __all__ = [
     "kinematic_viscosity",
     "dynamic_viscosity",
     "composite_roughness",
+    "VG68_VISCOSITY_100",
     "DENSITY_DEFAULT",
+    "base_oil",
+    "lubricant_temperature",
+    "operating_viscosity",
+    "contamination_of",
     "contact_lubricant",
 ]
 
@@ -92,8 +98,18 @@ BALL_ROUGHNESS_DEFAULT = 0.0625e-6
 RACEWAY_ROUGHNESS_DEFAULT = 0.175e-6
 
 
-#: Density of the oil when none is given [kg m⁻³]: 880, a mineral base oil near 40 °C
-#: (the order of ISO VG 68–100 data sheets, 0.86–0.89 g/ml at 15 °C); an assumption.
+#: Default kinematic viscosity at 100 °C of the default base oil, ISO VG 68 [m² s⁻¹]:
+#: 8.5 mm² s⁻¹, a viscosity index of 94 by ASTM D2270 (its table gives, at
+#: ν100 = 8.5 mm² s⁻¹, L = 111.5 and H = 65.32 mm² s⁻¹, so
+#: VI = (L − 68)/(L − H)·100 = 94.2), i.e. a solvent-refined paraffinic mineral oil of the
+#: usual VI 95 rounded to the table's 0.1 mm² s⁻¹ row. The L and H values were read from the
+#: D2270 table as the open ``fluids`` library (C. Bell) reproduces it; the standard itself
+#: was not at hand. Give the oil maker's ν100 when you have it.
+VG68_VISCOSITY_100 = 8.5e-6
+
+#: Default density of the base oil [kg m⁻³]: 880, a paraffinic mineral oil of ISO VG 68 at
+#: 15 °C (data sheets give 0.87–0.89 kg/L). Its fall with temperature (about 0.06 % per K)
+#: is neglected: η0 = ρ·ν is low by at most about 2 % at 60 °C. An assumption.
 DENSITY_DEFAULT = 880.0
 
 
@@ -193,6 +209,10 @@ def kinematic_viscosity(temperature, nu40, nu100) -> float:
     """
     t = _finite_positive("temperature", temperature, "K")
     a, b = walther_coefficients(nu40, nu100)
+    if t == T40:      # the line's own data points, exactly (not through 10^10^x's rounding)
+        return float(nu40)
+    if t == T100:
+        return float(nu100)
     nu = 10.0 ** (10.0 ** (a - b * math.log10(t))) - WALTHER_SHIFT
     if not nu >= WALTHER_MIN_VISCOSITY:
         raise LubricantError(f"at {t:.6g} K the oil's viscosity would be {nu:.6g} mm^2/s, below "
@@ -235,13 +255,51 @@ def composite_roughness(sigma1=BALL_ROUGHNESS_DEFAULT, sigma2=RACEWAY_ROUGHNESS_
     return math.hypot(s[0], s[1])
 
 
-def contact_lubricant(bearing):
-    """The lubricant as the contacts see it: ``(η0, α, σ)``.
+# --------------------------------------------------------------------------- a bearing's lubricant
 
-    STUB (branch lube-law): built from today's ``Lubricant.kinematic_viscosity`` (the
-    operating viscosity as given) with :data:`DENSITY_DEFAULT`,
-    :data:`PRESSURE_VISCOSITY_DEFAULT` and the default roughnesses; the ``[lubricant]``
-    inputs of issue 40 replace it with the same signature.
+
+def base_oil(lubricant) -> tuple:
+    """``(ν40, ν100)`` [m² s⁻¹] of a :class:`rvcore.bearing.geometry.Lubricant`.
+
+    Parameters
+    ----------
+    lubricant : rvcore.bearing.geometry.Lubricant
+        Its ``viscosity_40`` and ``viscosity_100`` where given; else ``grade``'s midpoint
+        ν40 (ISO 3448; ISO VG 68 when no grade is given) and, for ν100, ``viscosity_100``
+        or :data:`VG68_VISCOSITY_100` (the only grade whose ν100 is built in).
+
+    Raises
+    ------
+    LubricantError
+        A grade other than 68 without ``viscosity_100``.
+    """
+    nu40 = lubricant.viscosity_40
+    if nu40 is None:
+        grade = 68 if lubricant.grade is None else lubricant.grade
+        nu40 = iso_vg_viscosity(grade)
+    nu100 = lubricant.viscosity_100
+    if nu100 is None:
+        if lubricant.viscosity_40 is not None or lubricant.grade not in (None, 68):
+            raise LubricantError("viscosity_100 is needed: the only built-in ν100 is ISO VG 68's "
+                                 "(8.5 mm^2/s, VI 94); give the oil's from its data sheet")
+        nu100 = VG68_VISCOSITY_100
+    return float(nu40), float(nu100)
+
+
+def lubricant_temperature(bearing) -> float:
+    """Temperature of the lubricant in the contacts' inlets [K]: the mean of the inner and
+    outer ring temperatures (``bearing.inner_ring_temperature``,
+    ``bearing.outer_ring_temperature``), an assumption (the ball runs between the two).
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+    """
+    return 0.5 * (bearing.inner_ring_temperature + bearing.outer_ring_temperature)
+
+
+def operating_viscosity(bearing) -> float:
+    """Kinematic viscosity of the lubricant at the operating temperature [m² s⁻¹].
 
     Parameters
     ----------
@@ -249,12 +307,54 @@ def contact_lubricant(bearing):
 
     Returns
     -------
-    eta0 : float
-        Dynamic viscosity at the operating temperature, ambient pressure [Pa s].
-    alpha : float
-        Pressure–viscosity coefficient [Pa⁻¹].
-    sigma : float
-        Composite rms roughness of ball and raceway [m].
+    float
+        ``lubricant.kinematic_viscosity`` where given (an override: the viscosity at the
+        operating temperature, as measured or from the oil maker), else the base oil's
+        ASTM D341 / Walther line (:func:`kinematic_viscosity`, :func:`base_oil`) at
+        :func:`lubricant_temperature`.
     """
-    nu = bearing.lubricant.kinematic_viscosity
-    return dynamic_viscosity(nu, DENSITY_DEFAULT), PRESSURE_VISCOSITY_DEFAULT, composite_roughness()
+    lub = bearing.lubricant
+    if lub.kinematic_viscosity is not None:
+        return float(lub.kinematic_viscosity)
+    nu40, nu100 = base_oil(lub)
+    return kinematic_viscosity(lubricant_temperature(bearing), nu40, nu100)
+
+
+def contamination_of(bearing) -> float:
+    """The contamination factor e_C of the bearing's lubricant [-].
+
+    ``lubricant.contamination`` where given (a number in [0, 1]); else the lower bound of
+    ISO 281:2007 Table 13's default level
+    (:data:`rvcore.standards.iso281_modified.CONTAMINATION_DEFAULT_LEVEL`, "normal
+    cleanliness") in the column of the first row's pitch diameter.
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+    """
+    from ..standards.iso281_modified import CONTAMINATION_DEFAULT_LEVEL, contamination_factor
+
+    ec = bearing.lubricant.contamination
+    if ec is not None:
+        return float(ec)
+    return contamination_factor(CONTAMINATION_DEFAULT_LEVEL, bearing.rows[0].pitch_diameter, "low")
+
+
+def contact_lubricant(bearing) -> tuple[float, float, float]:
+    """(η0 [Pa s] at the operating temperature, α [1/Pa], composite roughness σ [m]).
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+
+    Returns
+    -------
+    tuple of float
+        ``η0 = ρ·ν`` (:func:`operating_viscosity`, ``lubricant.density``), the
+        pressure–viscosity coefficient ``lubricant.pressure_viscosity`` and
+        ``σ = sqrt(σ_ball² + σ_raceway²)`` (:func:`composite_roughness`).
+    """
+    lub = bearing.lubricant
+    eta0 = dynamic_viscosity(operating_viscosity(bearing), lub.density)
+    return (eta0, float(lub.pressure_viscosity),
+            composite_roughness(lub.ball_roughness, lub.raceway_roughness))

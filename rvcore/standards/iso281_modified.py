@@ -3,7 +3,7 @@ bearing, and its Palmgren–Miner accumulation over a duty cycle. Pure functions
 out, except where the standard writes its formula in its own units (r/min, mm, mm² s⁻¹),
 said there; the conversion is inside.
 
-Not wired into the model yet (issue 40). Lives here are in revolutions of the inner ring
+Used by :mod:`rvcore.statics.lubrication` (the statics' and the steady point's L_nm). Lives here are in revolutions of the inner ring
 relative to the outer, as in :mod:`rvcore.standards.iso16281` (whose basic lives are in 10^6 rev: a
 caller multiplies by 1e6).
 

@@ -283,7 +283,9 @@ def friction_moment(bearing, radial_load: float, axial_load: float, speed: float
     speed : float
         Inner-ring speed relative to the outer ring [rad s^-1].
     kinematic_viscosity : float, optional
-        [m² s^-1]; by default the bearing's ``lubricant.kinematic_viscosity``.
+        [m² s^-1]; by default the bearing's ``operating_viscosity``
+        (:func:`rvcore.bearing.lubricant.operating_viscosity`: the base oil at the rings'
+        operating temperature, or ``lubricant.kinematic_viscosity`` where given).
     lubrication : str, optional
         One of :data:`LUBRICATIONS`; by default the bearing's ``lubricant.method``.
 
@@ -313,8 +315,8 @@ def friction_moment(bearing, radial_load: float, axial_load: float, speed: float
         raise FrictionMomentError(f"Palmgren's estimate here covers single-row deep-groove and angular-contact "
                                   f"bearings; this one has {g['rows']} rows"
                                   f"{' of four-point contact' if g['four_point'] else ''}")
-    lub = getattr(bearing, "lubricant", None)
-    nu = kinematic_viscosity if kinematic_viscosity is not None else lub.kinematic_viscosity
+    lub = bearing.lubricant
+    nu = kinematic_viscosity if kinematic_viscosity is not None else bearing.operating_viscosity
     method = lubrication if lubrication is not None else lub.method
     alpha, dm = g["contact_angle"], g["pitch_diameter"]
     c0 = bearing_static_load_rating(bearing)

@@ -66,6 +66,30 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     out["statically_stable"] = float(positive_definite(st.stiffness_matrix, 3 if st.tilt == "held" else 5))
     out.update(_steady_lives(bearing, st))
     out.update(_steady_ratings(bearing, st, abs(op.speed)))
+    out.update(steady_lubrication(bearing, st, abs(op.speed)))
+    return out
+
+
+def steady_lubrication(bearing, st: StaticResult, speed: float) -> dict:
+    """κ, a_ISO, L_nm, the operating viscosity and the film of the heaviest-loaded inner
+    contact at the equilibrium and ``speed`` [rad s^-1]
+    (:func:`rvcore.statics.lubrication.lubrication_at`); the rows' operating clearance
+    [m]. NaN where not defined (no speed, not rated)."""
+    from ..bearing.lubricant import LubricantError
+    from .lubrication import lubrication_at
+
+    nan = float("nan")
+    out = {"operating_clearance": float(bearing.rows[0].radial_clearance)}
+    names = {"modified_rating_life_L_nm": "modified_rating_life_L_nm", "a_iso_steady": "a_iso",
+             "kappa_steady": "kappa", "operating_viscosity": "operating_viscosity",
+             "film_thickness_min_steady": "film_thickness_min", "film_parameter_steady": "lambda"}
+    try:
+        r = lubrication_at(bearing, st, speed) if speed > 0.0 else {}
+    except (LubricantError, ValueError):
+        r = {}
+    for name, key in names.items():
+        v = r.get(key, nan)
+        out[name] = float(v) if v is not None and math.isfinite(v) else nan
     return out
 
 

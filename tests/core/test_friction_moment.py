@@ -78,14 +78,29 @@ def test_viscous_term_rises_as_the_two_thirds_power_of_speed_and_the_load_term_d
 
 
 def test_oil_bath_and_lubricant_from_the_bearing():
-    """The bearing's lubricant is the default: grease, 68 mm²/s; an oil bath's f_0 (3.3
-    for angular contact) raises the viscous term by 3.3/2."""
+    """The bearing's lubricant is the default: grease, ISO VG 68 at the default 40 °C, so
+    68 mm²/s; an oil bath's f_0 (3.3 for angular contact) raises the viscous term by 3.3/2."""
     b = _study()
-    assert b.lubricant.kinematic_viscosity == pytest.approx(68e-6) and b.lubricant.method == "grease"
+    assert b.operating_viscosity == pytest.approx(68e-6) and b.lubricant.method == "grease"
     w = math.radians(660.0)
     grease = fm.friction_moment(b, 30e3, 10e3, w)
     bath = fm.friction_moment(b, 30e3, 10e3, w, lubrication="oil-bath")
     assert bath["viscous_moment_N_m"] == pytest.approx(3.3 / 2.0 * grease["viscous_moment_N_m"], rel=1e-12)
+
+
+def test_the_viscous_term_takes_the_operating_viscosity():
+    """Issue 40: M_v ∝ (ν·n)^(2/3), ν at the rings' operating temperature (both at 60 °C here:
+    VG 68 thins), so the warm bearing's viscous term is the cold one's × (ν_60/ν_40)^(2/3)."""
+    import dataclasses
+
+    b = _study()
+    warm = dataclasses.replace(b, inner_ring_temperature=333.15, outer_ring_temperature=333.15)
+    assert warm.operating_viscosity < 0.6 * b.operating_viscosity     # VG 68: about 30 mm²/s at 60 °C
+    w = math.radians(660.0)
+    cold_mv = fm.friction_moment(b, 30e3, 10e3, w)["viscous_moment_N_m"]
+    warm_mv = fm.friction_moment(warm, 30e3, 10e3, w)["viscous_moment_N_m"]
+    ratio = (warm.operating_viscosity / b.operating_viscosity) ** (2.0 / 3.0)
+    assert warm_mv == pytest.approx(ratio * cold_mv, rel=1e-12)
 
 
 def test_bad_input_is_one_clear_error():

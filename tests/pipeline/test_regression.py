@@ -67,18 +67,19 @@ PINNED_MODEL_VERSION = 13
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
 #: with its 3 x 3 grid (the corners' ids did not move: an id hashes its own case only).
-#: Re-pinned when the bearing file gained ``friction.law`` (issue 40; the hashed
-#: configuration grew by that key, no result moved).
+#: Re-pinned by issue 40 (branch lube-inputs): the hashed bearing gained the lubricant's
+#: base oil, the ring temperatures and the materials' thermal expansion; the results at
+#: their defaults did not move (PINNED_METRICS unchanged, MODEL_VERSION 13 kept).
 PINNED_CASE_IDS = {
-    (120, 20): "cc2edc4088f47643",
-    (120, 30): "59269729536acb8f",
-    (120, 40): "78241e5f87754828",
-    (390, 20): "9cf066b6ec45469c",
-    (390, 30): "a8828a3ce2bf73a0",
-    (390, 40): "9594f283e20d713a",
-    (660, 20): "967b441ffb2b066c",
-    (660, 30): "df12a7d2dac72e72",
-    (660, 40): "ef627d63d4601146",
+    (120, 20): "cec7c1e7333eecfe",
+    (120, 30): "d25e448dcd414f08",
+    (120, 40): "a9aa2dcd75fee9ac",
+    (390, 20): "d28532d079751181",
+    (390, 30): "8d209706c35663a4",
+    (390, 40): "3f31a669aa7c5999",
+    (660, 20): "7a947d36603c1aca",
+    (660, 30): "e1ca71a894687e74",
+    (660, 40): "bfbf190e52e47d00",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,

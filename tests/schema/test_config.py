@@ -128,7 +128,10 @@ def test_negative_clearance_is_accepted_as_an_interference(buildable_raw):
     # a negative radial clearance is a radial preload (tests/schema/test_pair_file.py
     # checks the interference it gives); a clearance must still be a length
     raw = apply_override(buildable_raw, "rows[0].radial_clearance", "-0.01 mm")
-    assert bearing_from_dict(raw, file=FILE).rows[0].radial_clearance == pytest.approx(-1e-5)
+    b = bearing_from_dict(raw, file=FILE)
+    # the file's value at 20 degC; one steel at the default 40 degC scales it by 1 + alpha*20 K
+    assert b.nominal_radial_clearances[0] == pytest.approx(-1e-5)
+    assert b.rows[0].radial_clearance == pytest.approx(-1e-5 * (1 + 11.5e-6 * 20.0), rel=1e-9)
     raw = apply_override(buildable_raw, "rows[0].radial_clearance", "-0.01 kg")
     expect_error(bearing_from_dict, raw, "rows[0].radial_clearance", "-0.01 kg")
 

@@ -76,7 +76,9 @@ def _sample(f):
                     "outer_eccentricity_angle": "-30 deg"}
     if "imperfections" in f.path and leaf in imperfection:
         return imperfection[leaf]
-    return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s"}.get(f.path)
+    return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s",
+            "lubricant.kinematic_viscosity": "68 mm^2/s", "lubricant.viscosity_40": "100 mm^2/s",
+            "lubricant.viscosity_100": "8.5 mm^2/s"}.get(f.path)
 
 
 def _with_bearing_field(raw, f):
@@ -85,6 +87,8 @@ def _with_bearing_field(raw, f):
     if head in ("ring_material", "ball_material"):
         mat = raw.pop("material")
         raw["ring_material"], raw["ball_material"] = dict(mat), dict(mat)
+    if f.path == "lubricant.viscosity_40":   # the base oil's two points go together
+        raw["lubricant"] = {"viscosity_100": "11 mm^2/s"}
     if f.path == "gravity":
         raw.pop("mounting", None)
         raw["assumptions"] = [a for a in raw.get("assumptions", []) if a != "mounting"]

@@ -195,6 +195,7 @@ def test_negative_radial_clearance_is_an_interference():
     from rvcore.bearing.geometry import INNER, OUTER, arc_geometry
 
     raw = apply_override(read_toml(BUILDABLE), "rows[0].radial_clearance", "-0.01 mm")
+    raw["temperature"] = {"inner_ring": "20 degC", "outer_ring": "20 degC"}   # the file's clearance itself
     b = bearing_from_dict(raw, file=FILE)
     row = b.rows[0]
     assert row.radial_clearance == pytest.approx(-10e-6)
