@@ -230,6 +230,14 @@ def compiled_kernels() -> list[tuple[str, float]]:
     return list(_COMPILED)
 
 
+def cache_report() -> dict:
+    """Where this process's rvcore lives and caches, and what it compiled:
+    ``{"package": path, "cache_dir": path or None, "compiled": [(name, seconds), ...]}``
+    (what a cluster's workers are asked, ``client.run(cache_report)``)."""
+    return {"package": str(_PACKAGE), "cache_dir": str(_ACTIVE) if _ACTIVE else None,
+            "compiled": compiled_kernels()}
+
+
 @contextlib.contextmanager
 def compile_lock():
     """Hold an exclusive lock on ``<cache_dir()>/compile.lock`` (POSIX ``flock``) for the
