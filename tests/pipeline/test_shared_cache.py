@@ -10,15 +10,30 @@ import json
 import os
 import shutil
 import subprocess
+import sys
 import time
 from pathlib import Path
 
 import pytest
 
-from tests.pipeline.test_sweep import _dask_bin, _stop
 from tests.schema.test_sweepfile import make_sweep
 
 REPO = Path(__file__).resolve().parents[2]
+
+
+def _dask_bin() -> Path:
+    local = REPO / ".venv" / "bin" / "dask"
+    return local if local.exists() else Path(sys.executable).parent / "dask"
+
+
+def _stop(proc: subprocess.Popen):
+    if proc.poll() is None:
+        proc.terminate()
+        try:
+            proc.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait(timeout=15)
 
 #: Two real cases of the reduced 12-ball bearing, a little of the start of the short cycle.
 TINY_REAL = """
