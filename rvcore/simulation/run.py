@@ -168,7 +168,9 @@ def warm_up() -> None:
     """Compile (or load from the numba cache) every kernel by running a tiny case.
 
     Under :func:`rvcore._numba.compile_lock`: processes of one host that start together
-    (a sweep's workers) compile once, the others load what the first wrote.
+    (a sweep's workers) compile once, the others load what the first wrote. Each
+    method's step size is computed too: its kernels are called from Python by any case
+    that sets no ``time_step``, and two workers' first cases compiled them each.
     """
     from .._numba import compile_lock
 
@@ -180,3 +182,8 @@ def warm_up() -> None:
     with compile_lock():
         run_case(b, scaled_study_profile(0.002), OperatingPoint(1.0, 100.0, 50.0),
                  SolverSettings(output_rate=1e4, time_step=2e-6))
+        # the fixed step above skips the step-size kernels a case calls from Python
+        # (the friction law's slopes): compiled here too, under the lock
+        model = compile_bearing(b)
+        for name in NAMES:
+            METHODS[name].time_step(model, 100.0)
