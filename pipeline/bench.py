@@ -16,6 +16,12 @@ asserts a time (these machines are noisy).
   from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
   serial wall / (workers x parallel wall).
+- ``ball_scaling`` (``rvsweep bench --balls 51,102,204``): µs per ball-step of the
+  default method on the study bearing scaled to hold Z balls (:func:`scaled_study_bearing`:
+  its pitch circle and every radial dimension moved out so that the balls' spacing and
+  the rings' and cage's sections stay the study's), over a window of the short cycle
+  (:func:`ball_scaling`): ``us_per_ball_step_<Z>``, and the steps taken again in
+  substeps and the tangents' refreshes per step at each Z.
 - ``imperfection_cost_ratio``: the study case made to ISO 492's Normal class (its
   eccentricities, high points and ball sizes drawn from seed 0) against the perfect one,
   over the cycle's first 0.6 s (load ramp and start-up) with the default method, in
@@ -296,8 +302,97 @@ def lubricated_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
             "lubricated_cost_ratio": statistics.median([b / a for a, b in zip(dry_s, wet_s)])}
 
 
-def run_all(*, quick: bool = False) -> dict:
-    """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``)."""
+#: The balls of the study bearing [-] (``rows.balls.count`` of rv-main-study.toml).
+STUDY_BALLS = 51
+
+
+def scaled_study_bearing(balls: int):
+    """The study bearing scaled to hold ``balls`` balls at the study's spacing.
+
+    The pitch diameter is multiplied by ``s = balls/51`` and every other diameter (bore,
+    outside diameter, the inner ring's shoulder, the cage's inner and outer diameters)
+    moved by the same ``Δ = (s − 1)·d_m`` [m], so the balls' pitch ``π·d_m/Z``, the
+    ball size, the grooves and the sections of the rings and cage stay the study's
+    (51 balls: the study bearing itself). The inner ring's attached mass scales as s and
+    its attached inertia as s³ (zero on the study bearing).
+    """
+    import dataclasses
+
+    from .schema import load_bearing
+
+    bearing = load_bearing(STUDY_BEARING)
+    if balls == STUDY_BALLS:
+        return bearing
+    s = balls / STUDY_BALLS
+    rows = []
+    for row in bearing.rows:
+        delta = (s - 1.0) * row.pitch_diameter
+        cage = dataclasses.replace(row.cage, inner_diameter=row.cage.inner_diameter + delta,
+                                   outer_diameter=row.cage.outer_diameter + delta)
+        rows.append(dataclasses.replace(row, ball_count=int(balls), pitch_diameter=row.pitch_diameter + delta,
+                                        cage=cage))
+    delta = (s - 1.0) * bearing.rows[0].pitch_diameter
+    ring = bearing.inner_ring
+    ring = dataclasses.replace(ring, shoulder_diameter=ring.shoulder_diameter + delta,
+                               attached_mass=ring.attached_mass * s, attached_inertia=ring.attached_inertia * s ** 3)
+    return dataclasses.replace(bearing, name=f"{bearing.name}-{balls}-balls", bore=bearing.bore + delta,
+                               outer_diameter=bearing.outer_diameter + delta, rows=tuple(rows), inner_ring=ring)
+
+
+def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float = 0.1) -> dict:
+    """µs per ball-step of the default method at each ball count in ``balls`` [-].
+
+    The bearing of :func:`scaled_study_bearing` on the short cycle (the study's shape,
+    every time × 0.1; ``profiles/short.toml``) at 660 °/s, 30 kN radial and 10 kN axial
+    times ``Z/51`` (the same load a ball), from ``start_time`` (the loads applied, the
+    speed ramp starting) to ``end_time`` [s] (into steady running): start-up's impacts
+    and steady running. The figure is the CPU time of the run less that of a 0.2 ms run
+    of the same case (which also loads every kernel), over the steps between them times
+    the balls [µs]: the case's fixed costs and the machine's other load left out
+    (``ball_scaling_wall_us_per_ball_step_<Z>``: the integrator's wall time instead).
+    """
+    import dataclasses
+
+    from rvcore.profile import OperatingPoint
+    from rvcore.simulation.run import run_case, warm_up
+    from rvcore.simulation.settings import SolverSettings
+
+    from .schema import load_profile
+
+    warm_up()
+    profile = load_profile(shipped_file("profiles/short.toml"))
+    out = {"ball_scaling_counts": [int(z) for z in balls], "ball_scaling_window_s": [start_time, end_time]}
+    settings = SolverSettings(start_time=start_time, end_time=end_time)
+    for z in balls:
+        bearing = scaled_study_bearing(int(z))
+        s = z / STUDY_BALLS
+        op = OperatingPoint(math.radians(660.0), 30e3 * s, 10e3 * s)
+        c0 = time.thread_time()
+        short = run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4))
+        c1 = time.thread_time()
+        r = run_case(bearing, profile, op, settings)
+        c2 = time.thread_time()
+        steps = int(r.info["steps"])
+        # CPU time of this thread, the short run's taken off: what the extra steps cost,
+        # without the case's fixed costs (statics, outputs) and whatever else the machine runs
+        extra = max(steps - int(short.info["steps"]), 1)
+        out[f"us_per_ball_step_{z}"] = ((c2 - c1) - (c1 - c0)) / extra / z * 1e6
+        out[f"ball_scaling_wall_us_per_ball_step_{z}"] = r.info["wall_time"] / steps / z * 1e6
+        out[f"ball_scaling_wall_s_{z}"] = float(r.info["wall_time"])
+        out[f"ball_scaling_steps_{z}"] = steps
+        out[f"ball_scaling_substepped_per_step_{z}"] = int(r.info["substepped_steps"]) / steps
+        out[f"ball_scaling_refreshes_per_step_{z}"] = int(r.info["tangent_refreshes"]) / steps
+    first = out[f"us_per_ball_step_{balls[0]}"]
+    for z in balls:
+        out[f"ball_scaling_ratio_{z}"] = out[f"us_per_ball_step_{z}"] / first
+    return out
+
+
+def run_all(*, quick: bool = False, balls=None) -> dict:
+    """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``);
+    with ``balls`` (ball counts) only :func:`ball_scaling`'s."""
+    if balls:
+        return ball_scaling(tuple(balls))
     out = {}
     out.update(full_cycle())
     out.update(scipy_comparison("imex"))

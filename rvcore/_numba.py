@@ -13,16 +13,43 @@ is defined (:func:`use_source_keyed_cache`). A stamp beside one shared cache wou
 do: a process started from the old sources, still running (a sweep's workers, a test),
 can write kernels compiled from them after a process of the new sources has dropped the
 cache and stamped it, and every later run would compute with them.
+
+The directory is the same for every install of the same sources on the same CPU model
+(:func:`cache_dir`: a user-wide root / the sources' hash / the CPU's key), and the
+kernels are found in it by a locator that does not look at the install's path
+(:class:`SourceKeyedLocator`): numba's own locators name a sub-directory after the
+SHA-1 of the module's absolute path, so every clone, venv, CI run and cluster host
+compiled again (about a minute of CPU). That is safe because the directory is already
+named by the contents of every source: two installs that share it run the same code.
+Within it numba keys each kernel by its module's name, its qualified name and line, the
+module file's SHA-256 (numba's source stamp), the signature, and the CPU's name and
+features; a different numba version overwrites its own entries.
+
+The first process to compile holds :func:`compile_lock` while it does (rvcore's
+``warm_up``), so that workers started together on one host compile once and the others
+load; :func:`compiled_kernels` counts what this process compiled, and
+``RVSWEEP_COMPILE_NOTICES=1`` prints a line a kernel as it is compiled.
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
+import re
 import shutil
+import sys
 import time
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent
+
+#: The environment variable that sets the cache's root (:func:`cache_root`).
+CACHE_ENV = "RVSWEEP_CACHE_DIR"
+
+#: Kernels this process compiled (not loaded from the cache), by qualified name, with
+#: the seconds each took (:func:`compiled_kernels`).
+_COMPILED: list[tuple[str, float]] = []
+_LISTENING = False
 
 #: Cache directories of other sources older than this are removed [s].
 _KEEP_SECONDS = 86400.0
@@ -85,32 +112,187 @@ def sources_hash() -> str:
     return h.hexdigest()
 
 
+def cache_root() -> Path:
+    """The root of the kernels' cache, shared by every install of this user:
+    ``$RVSWEEP_CACHE_DIR``, else ``$NUMBA_CACHE_DIR``, else
+    ``$XDG_CACHE_HOME/rv-bearing-sweep``, else ``~/.cache/rv-bearing-sweep``."""
+    for name in (CACHE_ENV, "NUMBA_CACHE_DIR"):
+        if os.environ.get(name):
+            return Path(os.environ[name]).expanduser()
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    return (Path(xdg) if xdg else Path.home() / ".cache") / "rv-bearing-sweep"
+
+
+def cpu_key() -> str:
+    """The CPU model the kernels are compiled for, as a directory name: numba's target
+    CPU name (``NUMBA_CPU_NAME`` if set, else the host's), the first 8 hex digits of the
+    SHA-256 of its feature string (``NUMBA_CPU_FEATURES`` if set, else the host's), and
+    numba's version: ``znver3-1a2b3c4d-numba0.68.1``."""
+    import numba
+    from llvmlite import binding as ll
+    from numba.core.codegen import get_host_cpu_features
+
+    name = numba.config.CPU_NAME or ll.get_host_cpu_name()
+    features = numba.config.CPU_FEATURES if numba.config.CPU_FEATURES is not None else get_host_cpu_features()
+    digest = hashlib.sha256(str(features).encode()).hexdigest()[:8]
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", f"{name}-{digest}-numba{numba.__version__}")
+
+
 def cache_dir() -> Path:
-    """The numba cache directory of these sources: ``rvcore-<hash>`` in ``__pycache__``
-    beside them, or under ``NUMBA_CACHE_DIR`` when that is set."""
-    root = os.environ.get("NUMBA_CACHE_DIR")
-    base = Path(root) if root else _PACKAGE / "__pycache__"
-    return base / f"rvcore-{sources_hash()[:16]}"
+    """The numba cache directory of these sources on this CPU:
+    ``<cache_root()>/rvcore-<hash>/<cpu_key()>``, the hash that of every source
+    (:func:`sources_hash`), the same for every install of them."""
+    return cache_root() / f"rvcore-{sources_hash()[:16]}" / cpu_key()
+
+
+#: The directory :func:`use_source_keyed_cache` chose, read by :class:`SourceKeyedLocator`.
+_ACTIVE: Path | None = None
+
+
+def _make_locator_class():
+    """:class:`SourceKeyedLocator`, built on first use (numba is imported lazily)."""
+    from numba.core.caching import _CacheLocator, _SourceFileBackedLocatorMixin
+
+    class SourceKeyedLocator(_SourceFileBackedLocatorMixin, _CacheLocator):
+        """numba's cache locator for rvcore's kernels: ``<cache_dir()>/<sub-package>``,
+        with no trace of the install's path (module docstring). Functions outside
+        rvcore, or with no active directory, are left to numba's own locators."""
+
+        def __init__(self, py_func, py_file, sub):
+            self._py_file = py_file
+            self._lineno = py_func.__code__.co_firstlineno
+            self._cache_path = str(_ACTIVE / sub)
+
+        def get_cache_path(self):
+            return self._cache_path
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            if _ACTIVE is None:
+                return None
+            try:
+                rel = Path(py_file).resolve().relative_to(_PACKAGE)
+            except (ValueError, OSError):
+                return None
+            sub = "_".join(rel.parent.parts) or "_root"
+            self = cls(py_func, py_file, sub)
+            try:
+                self.ensure_cache_path()
+            except OSError:
+                return None
+            return self
+
+    return SourceKeyedLocator
+
+
+def _register_locator() -> None:
+    """Put :class:`SourceKeyedLocator` first among numba's locators (once)."""
+    from numba.core.caching import CacheImpl
+
+    if not any(getattr(c, "__name__", "") == "SourceKeyedLocator" and c.__module__ == __name__
+               for c in CacheImpl._locator_classes):
+        CacheImpl._locator_classes.insert(0, _make_locator_class())
+
+
+def _register_compile_listener() -> None:
+    """Count (and with ``RVSWEEP_COMPILE_NOTICES=1`` print) every rvcore kernel this
+    process compiles: numba's ``numba:compile`` event fires on a cache miss only."""
+    from numba.core import event
+
+    class _Notices(event.Listener):
+        def __init__(self):
+            self._start = {}
+
+        def on_start(self, ev):
+            self._start[id(ev.data["dispatcher"])] = time.perf_counter()
+
+        def on_end(self, ev):
+            d = ev.data["dispatcher"]
+            mod = getattr(d.py_func, "__module__", "") or ""
+            if not (mod == "rvcore" or mod.startswith("rvcore.")):
+                return
+            seconds = time.perf_counter() - self._start.pop(id(d), time.perf_counter())
+            name = f"{mod}.{d.py_func.__qualname__}"
+            _COMPILED.append((name, seconds))
+            if os.environ.get("RVSWEEP_COMPILE_NOTICES"):
+                print(f"rvcore: compiled {name} in {seconds:.1f} s (pid {os.getpid()})", file=sys.stderr,
+                      flush=True)
+
+    global _LISTENING
+    if not _LISTENING:
+        event.register("numba:compile", _Notices())
+        _LISTENING = True
+
+
+def compiled_kernels() -> list[tuple[str, float]]:
+    """The rvcore kernels this process compiled rather than loaded from the cache:
+    ``(module.qualname, seconds)`` in order [s]."""
+    return list(_COMPILED)
+
+
+def cache_report() -> dict:
+    """Where this process's rvcore lives and caches, and what it compiled:
+    ``{"package": path, "cache_dir": path or None, "compiled": [(name, seconds), ...]}``
+    (what a cluster's workers are asked, ``client.run(cache_report)``)."""
+    return {"package": str(_PACKAGE), "cache_dir": str(_ACTIVE) if _ACTIVE else None,
+            "compiled": compiled_kernels()}
+
+
+@contextlib.contextmanager
+def compile_lock():
+    """Hold an exclusive lock on ``<cache_dir()>/compile.lock`` (POSIX ``flock``) for the
+    block: processes of one host that compile the kernels together then compile once,
+    the others waiting and loading. Without ``fcntl`` or a writable directory, no lock."""
+    try:
+        import fcntl
+    except ImportError:       # not POSIX
+        yield
+        return
+    try:
+        f = open((_ACTIVE or cache_dir()) / "compile.lock", "a+b")
+    except OSError:
+        yield
+        return
+    with f:
+        try:
+            fcntl.flock(f.fileno(), fcntl.LOCK_EX)
+        except OSError:
+            pass
+        yield
 
 
 def use_source_keyed_cache() -> None:
-    """Point numba's cache at :func:`cache_dir` (call before any kernel is defined), and
-    remove the directories of other sources that nobody has written to for a day.
+    """Point numba's cache for rvcore's kernels at :func:`cache_dir` (call before any
+    kernel is defined), register the locator that finds them there whatever the
+    install's path, and remove the directories of other sources that nobody has used
+    for a day.
 
-    Where the directory cannot be made (a read-only install), numba keeps its default.
+    Where the directory cannot be made, the one beside the sources
+    (``rvcore/__pycache__/rvcore-<hash>/<cpu>``) is tried; where neither can, numba
+    keeps its default.
     """
+    global _ACTIVE
     import numba
 
     here = cache_dir()
-    try:
-        here.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        return
-    numba.config.CACHE_DIR = str(here)
-    now = time.time()
-    for other in here.parent.glob("rvcore-*"):
+    for candidate in (here, _PACKAGE / "__pycache__" / here.parent.name / here.name):
         try:
-            if other != here and now - other.stat().st_mtime > _KEEP_SECONDS:
+            candidate.mkdir(parents=True, exist_ok=True)
+            os.utime(candidate.parent)          # "used": kept by the clean-up below
+        except OSError:
+            continue
+        here = candidate
+        break
+    else:
+        return
+    _ACTIVE = here
+    numba.config.CACHE_DIR = str(here)
+    _register_locator()
+    _register_compile_listener()
+    now = time.time()
+    for other in here.parent.parent.glob("rvcore-*"):
+        try:
+            if other != here.parent and now - other.stat().st_mtime > _KEEP_SECONDS:
                 shutil.rmtree(other, ignore_errors=True)
         except OSError:
             continue

@@ -18,9 +18,30 @@ _CYCLE_ROWS = (
 )
 
 
+def _ball_counts(text: str) -> tuple:
+    """``--balls 51,102,204``: whole numbers from 12 (the scaled bore stays open) to the layout's limit, or a
+    :class:`pipeline.errors.UserError` (one line, before any work)."""
+    from rvcore.bearing.layout import MAX_ROW_BALLS
+
+    from ..errors import UserError
+
+    try:
+        counts = tuple(int(x) for x in text.split(","))
+    except ValueError:
+        counts = ()
+    if not counts or any(not 12 <= z <= MAX_ROW_BALLS for z in counts):
+        raise UserError(
+            f"--balls {text!r}: expected ball counts separated by commas, each from 12 to {MAX_ROW_BALLS} "
+            "(e.g. 51,102,204)")
+    return counts
+
+
 def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     parser.add_argument("--quick", action="store_true", help="skip the sweep parallel-efficiency run")
+    parser.add_argument("--balls", default=None, metavar="Z,Z,...",
+                        help="only the cost per ball-step of the study bearing scaled to these ball counts "
+                             "(e.g. 51,102,204), over 0.03-0.1 s of the short cycle")
 
 
 def run(args):
@@ -28,11 +49,23 @@ def run(args):
 
     from ..bench import run_all
 
-    figures = run_all(quick=args.quick)
+    balls = _ball_counts(args.balls) if args.balls is not None else None
+    figures = run_all(quick=args.quick, balls=balls)
     if args.json:
         print(json.dumps(figures, indent=1))
         return 0
     f = figures
+    if balls:
+        t0, t1 = f["ball_scaling_window_s"]
+        print(f"Study bearing scaled to Z balls (same spacing, same load a ball), short cycle {t0:g}-{t1:g} s, "
+              "660 deg/s, one core")
+        print(f"  {'balls':>6s} {'us/ball-step':>13s} {'x Z=' + str(balls[0]):>8s} {'steps':>8s} "
+              f"{'substepped/step':>16s} {'refreshes/step':>15s}")
+        for z in balls:
+            print(f"  {z:6d} {f[f'us_per_ball_step_{z}']:13.3f} {f[f'ball_scaling_ratio_{z}']:8.2f} "
+                  f"{f[f'ball_scaling_steps_{z}']:8d} {f[f'ball_scaling_substepped_per_step_{z}']:16.4f} "
+                  f"{f[f'ball_scaling_refreshes_per_step_{z}']:15.4f}")
+        return 0
     methods = [m for m in METHODS if f"{m}_full_cycle_wall_s" in f]
     print("Study bearing (51 balls), full 4.6 s cycle at 660 deg/s, 30 kN + 10 kN, one core "
           f"(default method: {f['method']})")

@@ -41,11 +41,20 @@ def warm_up(case_fn) -> float:
     return time.perf_counter() - t0
 
 
-def load_kernels_on_worker() -> None:
-    """Import the core and load its numba cache in a worker, once, before any case."""
+async def load_kernels_on_worker() -> None:
+    """Import the core and load its numba cache in a worker, once, before any case.
+
+    A coroutine, so that ``client.run`` awaits it on the worker's event loop while the
+    loading runs in a thread: a host whose cache is cold compiles here for minutes, and
+    a function run on the loop itself stops the worker's heartbeats (the scheduler
+    removed both workers of a fresh two-worker cluster after 552 s without one,
+    2026-11-27). Workers of one host compile once (``rvcore._numba.compile_lock``).
+    """
+    import asyncio
+
     from rvcore.simulation.run import warm_up
 
-    warm_up()
+    await asyncio.get_running_loop().run_in_executor(None, warm_up)
 
 
 #: Rough speed of each integrator relative to RK4's at the same ``step_safety`` [-]: the

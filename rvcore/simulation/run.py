@@ -165,11 +165,25 @@ def _most_energetic_state(model, y) -> int:
 
 
 def warm_up() -> None:
-    """Compile (or load from the numba cache) every kernel by running a tiny case."""
+    """Compile (or load from the numba cache) every kernel by running a tiny case.
+
+    Under :func:`rvcore._numba.compile_lock`: processes of one host that start together
+    (a sweep's workers) compile once, the others load what the first wrote. Each
+    method's step size is computed too: its kernels are called from Python by any case
+    that sets no ``time_step``, and two workers' first cases compiled them each.
+    """
+    from .._numba import compile_lock
+
     steel = Material(7800.0, 208e9, 0.3)
     cage = Cage(0.0545, 0.0575, 0.008, 0.3e-3, 0.3e-3, "outer-land", Material(8500.0, 100e9, 0.34), 1e9)
     row = Row(6, 0.008, 0.056, 0.0, (Arc(0.52, math.radians(15)),), (Arc(0.53, math.radians(15)),), cage)
     b = Bearing("warm-up", 0.045, 0.068, 0.012, (row,), steel, steel, InnerRing(0.050),
                 ContactLaw(50.0, 1e-6, 10.0, 10.0))
-    run_case(b, scaled_study_profile(0.002), OperatingPoint(1.0, 100.0, 50.0),
-             SolverSettings(output_rate=1e4, time_step=2e-6))
+    with compile_lock():
+        run_case(b, scaled_study_profile(0.002), OperatingPoint(1.0, 100.0, 50.0),
+                 SolverSettings(output_rate=1e4, time_step=2e-6))
+        # the fixed step above skips the step-size kernels a case calls from Python
+        # (the friction law's slopes): compiled here too, under the lock
+        model = compile_bearing(b)
+        for name in NAMES:
+            METHODS[name].time_step(model, 100.0)

@@ -92,3 +92,41 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     speedup = next(line for line in text.splitlines() if line.strip().startswith("speedup vs rk4"))
     assert float(speedup.split()[-1]) == pytest.approx(f["speedup_vs_rk4"], abs=0.005)
     assert "Imperfections:" in text and "1.050x" in text
+
+
+# --------------------------------------------------------------------------- ball scaling
+def test_the_scaled_study_bearing_keeps_the_study_spacing_and_sections():
+    """Z balls at the study's spacing: the pitch circle's circumference over Z is the
+    study's π·351.5 mm/51 (rv-main-study.toml), and the rings' and cage's radial
+    sections are the study's (Table 2: bore 320, outside 383, cage 354.5-366 mm)."""
+    from rvcore.bearing.layout import compile_bearing
+
+    for z in (51, 102, 204):
+        b = bench.scaled_study_bearing(z)
+        row = b.rows[0]
+        assert row.ball_count == z and compile_bearing(b).n_balls == z
+        assert math.isclose(math.pi * row.pitch_diameter / z, math.pi * 0.3515 / 51, rel_tol=1e-12)
+        assert math.isclose(b.outer_diameter - b.bore, 0.383 - 0.320, rel_tol=1e-9)
+        assert math.isclose(row.cage.outer_diameter - row.cage.inner_diameter, 0.366 - 0.3545, rel_tol=1e-9)
+        assert math.isclose(row.cage.inner_diameter - row.pitch_diameter, 0.3545 - 0.3515, abs_tol=1e-12)
+        assert row.ball_diameter == 0.023
+
+
+def test_ball_scaling_reports_a_cost_per_ball_step_at_each_count():
+    """A 0.5 ms window at 12 and 24 balls: each count's figures, the first count's ratio 1,
+    a whole number of steps over the window (no timing asserted)."""
+    f = bench.ball_scaling((12, 24), start_time=0.03, end_time=0.0305)
+    assert f["ball_scaling_counts"] == [12, 24]
+    for z in (12, 24):
+        assert math.isfinite(f[f"us_per_ball_step_{z}"]) and f[f"us_per_ball_step_{z}"] > 0
+        assert f[f"ball_scaling_steps_{z}"] >= 1
+        assert 0.0 <= f[f"ball_scaling_substepped_per_step_{z}"] <= 1.0
+        assert 0.0 < f[f"ball_scaling_refreshes_per_step_{z}"] <= 1.0     # the first step evaluates them
+    assert f["ball_scaling_ratio_12"] == 1.0
+
+
+@pytest.mark.parametrize("text", ["51,x", "300", "", "11", "51,,102"])
+def test_bench_balls_refuses_a_bad_list_in_one_line(text, capsys):
+    assert main(["bench", "--balls", text]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--balls" in err and repr(text) in err
