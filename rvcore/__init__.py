@@ -2,7 +2,7 @@
 
 The map of the code: one sub-package a concept, one job a module (docs/model.md describes
 the model they implement). The layers, lowest first: ``_numba``, ``hertz``, ``standards``,
-``output_table``, ``bearing``, ``contact``, ``profile``, ``dynamics``, ``statics``,
+``output_table``, ``bearing``, ``rings``, ``contact``, ``profile``, ``dynamics``, ``statics``,
 ``recording``, ``integrate``, ``simulation``. A module imports only from its own layer
 and those below it; ``hertz`` only from ``_numba``, and ``standards`` only from ``_numba`` and
 ``hertz`` (``tests/test_structure.py``).
@@ -27,6 +27,12 @@ Shared
 - ``bearing.lubricant``        ISO VG grades, Walther's viscosity-temperature law, roughness (not yet wired in)
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
+
+``rings``: flexible rings, their theory (issue 41; not wired into the statics or the dynamics yet)
+- ``rings.section``            a ring's section from its envelope and grooves, or given: area, centroid, second moments, torsion constant
+- ``rings.modes``              thin-ring Fourier modes, in plane and out of plane with twist: modal masses, stiffnesses, damping
+- ``rings.support``            what holds a ring: an elastic foundation, or a housing ring through a seat; the supported modes
+- ``rings.deflection``         a ring's static deflection under point loads by the Fourier sum over its modes
 
 ``contact``: the contact laws
 - ``contact.step``             the cubic STEP, the one smooth transition of the laws and the profiles
