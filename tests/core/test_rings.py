@@ -344,3 +344,111 @@ def test_modal_damping_from_the_ratio():
     assert rm.DEFAULT_DAMPING_RATIO == rm.free_ring_modes(sec, STEEL, 2).damping_ratio
     with pytest.raises(ValueError, match="damping ratio"):
         rm.free_ring_modes(sec, STEEL, 2, damping_ratio=-0.1)
+
+
+# --------------------------------------------------------------------------- statics coupling
+
+
+BUILDABLE = REPO / "sweeps" / "bearings" / "rv-main-buildable.toml"
+#: the outer ring's shoulder (bore) diameter the bearing file does not give: an assumption
+#: for these tests, 10.5 mm of wall under the 383 mm outside diameter
+OUTER_SHOULDER = 0.362
+
+
+def _statics(bearing, rings=None, **loads):
+    from rvcore.statics.equilibrium import solve_statics
+
+    return solve_statics(bearing, gravity=False, rings=rings, **loads)
+
+
+def test_a_very_stiff_support_gives_the_rigid_rings_statics():
+    """Both rings flexible in a seat of 1e16 N/m² (radially and axially): the raceways move by
+    picometres, and the load distribution, the pose and the stiffness are the rigid rings'
+    within 0.1 %."""
+    from rvcore.rings.flexible import flexible_rings
+
+    bearing = load_bearing(BUILDABLE)
+    seat = rsup.Foundation(1e16, 1e16)
+    rings = flexible_rings(bearing, inner=seat, outer=seat, outer_shoulder_diameter=OUTER_SHOULDER, max_order=40)
+    loads = dict(radial_load=30e3, axial_load=10e3, moment=500.0)
+    rigid, flexible = _statics(bearing, **loads), _statics(bearing, rings, **loads)
+    assert flexible.ring_iterations >= 1 and np.abs(flexible.ring_displacements).max() < 1e-9
+    np.testing.assert_allclose(flexible.displacement[:3], rigid.displacement[:3], rtol=1e-3, atol=1e-9)
+    np.testing.assert_allclose(flexible.displacement[3:], rigid.displacement[3:], rtol=1e-3, atol=1e-8)
+    assert flexible.max_contact_load == pytest.approx(rigid.max_contact_load, rel=1e-3)
+    np.testing.assert_allclose(flexible.ball_loads, rigid.ball_loads, rtol=0, atol=1e-3 * rigid.max_contact_load)
+    diag_rigid, diag_flex = np.diag(rigid.stiffness_matrix), np.diag(flexible.stiffness_matrix)
+    np.testing.assert_allclose(diag_flex, diag_rigid, rtol=1e-3)
+    assert flexible.loaded_ball_count == rigid.loaded_ball_count
+
+
+def _axial_sum(section, z, k_a, n_max):
+    """Σ over the orders a uniform set of Z axial loads excites, k = 0 and mZ, of 1/K_k,
+    K_k = π·EI·k²(k² − 1)²/(R³(k² + EI/GJ)) + π·k_a·R, K_0 = 2π·k_a·R (module Notes of
+    rvcore.rings.modes and support, written out)."""
+    r, ei, gj = section.centroid_radius, E * section.i_out_of_plane, G * section.torsion_constant
+    total = 1 / (2 * math.pi * k_a * r)
+    for k in range(z, n_max + 1, z):
+        total += 1 / (math.pi * ei * k * k * (k * k - 1) ** 2 / (r ** 3 * (k * k + ei / gj)) + math.pi * k_a * r)
+    return total
+
+
+def test_a_pure_axial_load_adds_the_rings_axial_deflection_in_series():
+    """Under a pure axial load F_a every ball carries F_a/Z alike, so a ring held radially
+    rigid but axially on a seat k_a moves each raceway by the same u = F_a·Σ_{k=0,mZ} 1/K_k
+    (the Z equal loads excite only k = 0 and k = mZ), the contacts meet the same geometry
+    and the inner ring's support must move u_inner + u_outer further than on rigid rings."""
+    from rvcore.rings.flexible import flexible_rings
+
+    bearing = load_bearing(BUILDABLE)
+    z, f_a, k_a, n_max = bearing.rows[0].ball_count, 20e3, 5e9, 80
+    rings = flexible_rings(bearing, inner=rsup.Foundation(math.inf, k_a), outer=rsup.Foundation(math.inf, k_a),
+                           outer_shoulder_diameter=OUTER_SHOULDER, max_order=n_max)
+    rigid = _statics(bearing, axial_load=f_a, stiffness=False)
+    flexible = _statics(bearing, rings, axial_load=f_a, stiffness=False)
+    inner = rs.ring_section(bearing, INNER)
+    outer = rs.ring_section(bearing, OUTER, other_diameter=OUTER_SHOULDER)
+    extra = f_a * (_axial_sum(inner, z, k_a, n_max) + _axial_sum(outer, z, k_a, n_max))
+    assert extra > 0.05 * rigid.axial_displacement     # a visible share, not round-off
+    assert flexible.axial_displacement == pytest.approx(rigid.axial_displacement + extra, rel=1e-6)
+    np.testing.assert_allclose(flexible.ball_loads, rigid.ball_loads, rtol=1e-6)
+    # the rings' own displacements: the inner raceway pushed back (−z), the outer one along +z
+    np.testing.assert_allclose(flexible.ring_displacements[:, 1], -f_a * _axial_sum(inner, z, k_a, n_max), rtol=1e-6)
+    np.testing.assert_allclose(flexible.ring_displacements[:, 3], f_a * _axial_sum(outer, z, k_a, n_max), rtol=1e-6)
+    assert np.all(flexible.ring_displacements[:, [0, 2]] == 0.0)
+
+
+def test_a_softer_seat_spreads_the_load_and_keeps_the_ring_in_balance():
+    """A flexible inner ring in a seat of 1e10 N/m² under a radial load: the ring still
+    balances the load (the residual), it yields more than the rigid one, and the load
+    spreads: the most loaded ball carries less (the raceway gives way under it most)."""
+    from rvcore.rings.flexible import flexible_rings
+
+    bearing = load_bearing(BUILDABLE)
+    rings = flexible_rings(bearing, inner=rsup.Foundation(1e10, 1e10), max_order=40)
+    rigid = _statics(bearing, radial_load=30e3, axial_load=10e3, stiffness=False)
+    flexible = _statics(bearing, rings, radial_load=30e3, axial_load=10e3, stiffness=False)
+    assert np.abs(flexible.residual[:3]).max() < 1e-6 * 30e3
+    assert flexible.radial_displacement > rigid.radial_displacement
+    assert flexible.max_contact_load < rigid.max_contact_load
+    # the inner raceway gives way inward (w < 0) most under the most loaded ball
+    j = int(np.argmax(flexible.ball_loads.sum(axis=1)))
+    assert flexible.ring_displacements[j, 0] == flexible.ring_displacements[:, 0].min() < 0
+
+
+def test_rigid_rings_leave_the_statics_bit_for_bit():
+    from rvcore.rings.flexible import RIGID_RINGS
+
+    bearing = load_bearing(BUILDABLE)
+    a = _statics(bearing, radial_load=30e3, axial_load=10e3)
+    b = _statics(bearing, RIGID_RINGS, radial_load=30e3, axial_load=10e3)
+    assert np.array_equal(a.displacement, b.displacement) and np.array_equal(a.ball_loads, b.ball_loads)
+    assert np.array_equal(a.stiffness_matrix, b.stiffness_matrix) and b.ring_displacements is None
+
+
+def test_a_flexible_ring_without_a_support_is_refused():
+    from rvcore.rings.flexible import FlexibleRings
+
+    free = rm.free_ring_modes(rectangle(), STEEL, 10, "radial")
+    with pytest.raises(ValueError, match="k = 1 has no stiffness"):
+        FlexibleRings(inner_radial=free)
