@@ -2,7 +2,7 @@
 
 The map of the code: one sub-package a concept, one job a module (docs/model.md describes
 the model they implement). The layers, lowest first: ``_numba``, ``hertz``, ``standards``,
-``output_table``, ``bearing``, ``contact``, ``profile``, ``dynamics``, ``statics``,
+``output_table``, ``bearing``, ``rings``, ``contact``, ``profile``, ``dynamics``, ``statics``,
 ``recording``, ``integrate``, ``simulation``. A module imports only from its own layer
 and those below it; ``hertz`` only from ``_numba``, and ``standards`` only from ``_numba`` and
 ``hertz`` (``tests/test_structure.py``).
@@ -30,6 +30,13 @@ Shared
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
 
+``rings``: flexible rings, their theory (issue 41; wired into the statics only, on request; rigid by default)
+- ``rings.section``            a ring's section from its envelope and grooves, or given: area, centroid, second moments, torsion constant
+- ``rings.modes``              thin-ring Fourier modes, in plane and out of plane with twist: modal masses, stiffnesses, damping
+- ``rings.support``            what holds a ring: an elastic foundation, or a housing ring through a seat; the supported modes
+- ``rings.deflection``         a ring's static deflection under point loads by the Fourier sum over its modes
+- ``rings.flexible``           a bearing's rings each rigid or flexible in its support; their raceways' displacements at the balls
+
 ``contact``: the contact laws
 - ``contact.step``             the cubic STEP, the one smooth transition of the laws and the profiles
 - ``contact.laws``             every contact law once: Hertz with its damper, friction dispatched on the law's kind, penetrations
@@ -46,7 +53,7 @@ Shared
 - ``dynamics.energy``          kinetic and potential energy (the conservation checks)
 
 ``statics``: rigid-ring statics
-- ``statics.equilibrium``      rigid-ring equilibrium under radial, axial and moment loads
+- ``statics.equilibrium``      the inner ring's equilibrium under radial, axial and moment loads, on rigid or flexible rings
 - ``statics.stiffness``        the tangent stiffness of the equilibrium
 - ``statics.preload``          mirrored pairs and the offset that gives a preload
 - ``statics.operating``        the steady operating point and the statics there

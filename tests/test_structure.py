@@ -101,7 +101,7 @@ def test_design_references_point_into_docs():
 
 #: rvcore's layers, lowest first: a module may import from its own layer and the layers
 #: below it, never from one above (docs: the map in rvcore/__init__.py).
-LAYERS = ("_numba", "hertz", "standards", "output_table", "bearing", "contact", "profile", "dynamics", "statics",
+LAYERS = ("_numba", "hertz", "standards", "output_table", "bearing", "rings", "contact", "profile", "dynamics", "statics",
           "recording", "integrate", "simulation")
 #: What a layer may import besides itself, where the rule is tighter than "any layer below".
 ONLY = {"hertz": {"_numba"}, "standards": {"_numba", "hertz"}}

@@ -1,1 +1,1 @@
-"""Rigid-ring statics: equilibrium, its stiffness, preloaded pairs, the operating point, runout."""
+"""Statics on rigid rings (or flexible ones, rvcore.rings.flexible): equilibrium, its stiffness, preloaded pairs, the operating point, runout."""

@@ -1,4 +1,5 @@
-"""Quasi-static equilibrium of the inner ring on rigid rings with Hertz contacts.
+"""Quasi-static equilibrium of the inner ring on rigid rings with Hertz contacts (or on
+flexible rings in their supports: ``solve_statics(..., rings=...)``, docs/model.md §16).
 
 Unknowns: the inner ring's x, y, z and tilts about x and y. Every ball sits at its pocket
 azimuth ψ_j = 2πj/Z and finds its own equilibrium in the meridian plane (radial and
@@ -29,7 +30,8 @@ import numpy as np
 from .._numba import kernel
 from scipy import optimize
 
-from ..bearing.geometry import Bearing
+from ..bearing.geometry import INNER, OUTER, Bearing
+from ..rings.flexible import FlexibleRings
 from .stiffness import free_stiffness_scalars, stiffness_scalars, tangent_stiffness
 from ..contact.laws import LOADED_BALL_LOAD, hertz_energy, hertz_load, race_arc_penetration
 from ..contact.pose import ring_rotation, ring_to_global, to_ring_frame
@@ -49,10 +51,12 @@ def _ring_transform(u):
 
 
 @kernel
-def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j):
+def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j, flex):
     """Forces of every arc on a ball at P; fills q_out[j, k] and n_out[j, k, :] (global normal).
     ``spin`` holds the cosine and sine of the inner ring's turn (an imperfect raceway's
-    place, :func:`rvcore.dynamics.raceway.ball_offsets`)."""
+    place, :func:`rvcore.dynamics.raceway.ball_offsets`). ``flex[j]`` holds the flexible
+    rings' raceway displacements at ball j (inner radial, inner axial, outer radial, outer
+    axial [m], :mod:`rvcore.rings.flexible`); an empty ``flex`` (rigid rings) reads nothing."""
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = rot
     h = rows[r, R_HALF_D]
     zrow = rows[r, R_ZROW]
@@ -64,11 +68,19 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     if rows[r, R_IMPERFECT] != 0.0:
         dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1],
                                           px / rho_b, py / rho_b)
+    pzr = pz - zrow
+    if flex.shape[0] > 0:
+        # each groove's centre displaced with its ring's raceway at this ball: the inner one
+        # in the ring frame (plz is read for inner arcs only), the outer one in the fixed frame
+        dr_i += flex[j, 0]
+        plz -= flex[j, 1]
+        dr_o += flex[j, 2]
+        pzr -= flex[j, 3]
     energy = 0.0
     for k in range(na):
         a = a0 + k
         inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                    px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
+                                                    px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
         if inner:
             nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
@@ -80,11 +92,13 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
 
 
 @kernel
-def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
+def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin, flex):
     """Equilibrate every ball for ring pose ``u``; return the balls' force/moment on the ring.
 
     ``ball_rz[j]`` (radial, axial position of ball j) is the warm start and the result.
     ``spin``: cosine and sine of the angle the ring has turned through (imperfections).
+    ``flex``: the flexible rings' raceway displacements per ball, ``(n_balls, 4)`` [m], or
+    ``(0, 4)`` for rigid rings (:func:`_ball_contacts`).
     Returns ``(fx, fy, fz, mx, my, potential_energy)``.
     """
     rot = _ring_transform(u)
@@ -100,7 +114,7 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
             rho, z = ball_rz[j, 0], ball_rz[j, 1]
             # damped Newton on the convex ball energy in the meridian plane (e, ẑ)
             for it in range(200):
-                e0 = _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j)
+                e0 = _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j, flex)
                 g0 = g1 = 0.0
                 h00 = h01 = h11 = 0.0
                 for k in range(na):
@@ -128,7 +142,7 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
                 for _ in range(60):
                     e1 = _ball_contacts((rho + step_len * s0) * ex, (rho + step_len * s0) * ey,
                                         z + step_len * s1, u, rot, r, rows, arcs, pockets, spin, q_out,
-                                        n_out, j)
+                                        n_out, j, flex)
                     if e1 <= e0:
                         break
                     step_len *= 0.5
@@ -137,7 +151,7 @@ def ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, tol, spin):
                 if abs(step_len * s0) + abs(step_len * s1) < tol:
                     break
             ball_rz[j, 0], ball_rz[j, 1] = rho, z
-            energy += _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j)
+            energy += _ball_contacts(rho * ex, rho * ey, z, u, rot, r, rows, arcs, pockets, spin, q_out, n_out, j, flex)
             # reactions on the inner ring at its contact points
             h = rows[r, R_HALF_D]
             for k in range(na):
@@ -184,6 +198,10 @@ class StaticResult:
     reaction_moment: np.ndarray = field(default_factory=lambda: np.zeros(2))
     # the moment about x and y [N m] that the support of a "held" ring applies to keep it
     # square (0 when free)
+    ring_displacements: np.ndarray | None = None
+    # flexible rings (rvcore.rings.flexible): (n_balls, 4) displacement of the inner ring's
+    # raceway (radial outward, axial) and of the outer ring's at each ball [m]; None when rigid
+    ring_iterations: int = 0      # iterations of the rings' fixed point (0 when rigid)
 
     @property
     def row_axial_loads(self) -> np.ndarray:
@@ -214,7 +232,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
                   moment: float = 0.0, load_angle: float = 0.0, *, moment_x: float = 0.0,
                   moment_y: float = 0.0, x0=None, gravity: bool = True,
                   stiffness: bool = True, tilt: str | None = None, ring_angle: float = 0.0,
-                  ball_angle: float = 0.0) -> StaticResult:
+                  ball_angle: float = 0.0, rings: FlexibleRings | None = None) -> StaticResult:
     """Equilibrium of the inner ring under the given loads and its own weight.
 
     The applied load vector is ``(F_r·cos ψ, F_r·sin ψ, F_a, M_x, M_y)`` with
@@ -256,6 +274,14 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         Angle the balls (the cage) have turned through from their pockets' places at
         2πj/Z [rad]: where the balls stand against the load, which a few balls' varying
         compliance depends on (the quasi-static reference of a turning bearing).
+    rings : rvcore.rings.flexible.FlexibleRings, optional
+        Flexible rings in their supports (docs/model.md §16); rigid by default. Each ball's
+        contact then meets its rings' raceways displaced by the rings' deformation at its
+        azimuth, and the load distribution and the deformation are solved together (a
+        fixed point with Anderson's mixing: the contact forces give the rings' modal
+        amplitudes, which move the raceways, which give the forces). The pose is then the supports' (a
+        flexible ring's rigid-body orders are its support's), the stiffness the
+        assembly's (the deformation settles at every pose of the difference quotient).
 
     Raises
     ------
@@ -299,9 +325,53 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         u[:n_free] = v[:n_free] * _SCALE[:n_free]
         return u
 
+    # flexible rings: each ring's raceway displacement at every ball, (0, 4) when all are rigid
+    ring_model = rings   # (the name ``rings`` is the arcs' rings below)
+    flexing = ring_model is not None and not ring_model.rigid
+    flex = np.zeros((nb if flexing else 0, 4))
+    azim_now = np.arctan2(pockets[:, 1], pockets[:, 0])
+
     def balance(v):
-        fx, fy, fz, mx, my, e = ring_balance(pose(v), rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin)
+        fx, fy, fz, mx, my, e = ring_balance(pose(v), rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin,
+                                             flex)
         return np.array([fx, fy, fz, mx, my])[:n_free] + applied[:n_free], e
+
+    def ring_offsets():
+        """The raceways' displacements at every ball under the contact forces now in
+        ``q_out``/``n_out`` (:meth:`rvcore.rings.flexible.FlexibleRings.raceway_displacements`)."""
+        radial, axial = _ring_forces(rows, arcs, pockets, q_out, n_out)
+        out = np.zeros((nb, 4))
+        out[:, 0], out[:, 1] = ring_model.raceway_displacements(INNER, radial[:, 0], axial[:, 0], azim_now)
+        out[:, 2], out[:, 3] = ring_model.raceway_displacements(OUTER, radial[:, 1], axial[:, 1], azim_now)
+        return out
+
+    def settle(solve):
+        """Fixed point of the rings' deformation and the load distribution: ``G(x)``, the
+        offsets the contact forces give when the raceways stand at ``x`` (``solve()``
+        refreshes the forces after ``flex`` is set), iterated with Anderson's mixing (the
+        last :data:`_FLEX_MEMORY` steps; Walker & Ni 2011) until ``G(x) = x``. Returns the
+        iteration count."""
+        xs, gs, fs = [], [], []
+        last = math.inf
+        for it in range(1, _FLEX_ITERATIONS + 1):
+            x = flex.ravel().copy()
+            g = ring_offsets().ravel()
+            f = g - x
+            last = float(np.abs(f).max(initial=0.0))
+            if last <= _FLEX_TOL + _FLEX_RTOL * float(np.abs(g).max(initial=0.0)):
+                return it
+            xs.append(x), gs.append(g), fs.append(f)
+            del xs[:-_FLEX_MEMORY - 1], gs[:-_FLEX_MEMORY - 1], fs[:-_FLEX_MEMORY - 1]
+            if len(fs) > 1:
+                d_f = np.array([fs[i + 1] - fs[i] for i in range(len(fs) - 1)]).T
+                d_g = np.array([gs[i + 1] - gs[i] for i in range(len(gs) - 1)]).T
+                gamma = np.linalg.lstsq(d_f, f, rcond=None)[0]
+                g = g - d_g @ gamma
+            flex[:] = g.reshape(flex.shape)
+            solve()
+        raise NoEquilibriumError(
+            f"no equilibrium: the flexible rings' deformation and the load distribution did not settle in "
+            f"{_FLEX_ITERATIONS} iterations (last change {last:.3g} m): the rings are too soft for their support")
 
     # a preloaded bearing carries internal loads at rest: they set the scale too
     v_start = np.zeros(n_free) if x0 is None else np.asarray(x0, float)[:n_free] / _SCALE[:n_free]
@@ -316,6 +386,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
 
     # Below a micronewton a contact load is the round-off of a closed groove's geometry
     # (δ ~ 1e-11 m at K ~ 4e10 N/m^1.5), not a preload, and does not move the ring.
+    flex_iterations = 0
     if not np.any(applied) and internal < 1e-6:
         v = v_start   # nothing loads the ring: it stays where it is
     else:
@@ -326,14 +397,17 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
             v0[:3] = f * 1.0
         # a ring that finds no support runs away: overflow there is expected, and reported below
         with np.errstate(over="ignore", invalid="ignore"):
-            opt = optimize.minimize(objective, v0, jac=True, method="BFGS",
-                                    options={"gtol": 1e-10, "maxiter": 2000})
-            v = opt.x
-            if np.all(np.isfinite(v)) and np.linalg.norm(pose(v)[:3]) <= d_max:
-                sol = optimize.root(lambda x: balance(x)[0] / load_scale, v, method="hybr",
-                                    options={"xtol": 1e-14, "maxfev": 2000})
-                if np.all(np.isfinite(sol.x)) and np.abs(balance(sol.x)[0]).max() <= np.abs(balance(v)[0]).max():
-                    v = sol.x
+            v = _solve_pose(objective, balance, pose, v0, d_max, load_scale)
+            if flexing and np.all(np.isfinite(v)) and np.linalg.norm(pose(v)[:3]) <= d_max:
+                state = {"v": v}
+
+                def resolve():
+                    state["v"] = _solve_pose(objective, balance, pose, state["v"], d_max, load_scale)
+                    balance(state["v"])
+
+                balance(v)
+                flex_iterations = settle(resolve)
+                v = state["v"]
     u = pose(v) if np.all(np.isfinite(v)) else np.full(5, np.nan)
     if not np.all(np.isfinite(u)) or np.linalg.norm(u[:3]) > d_max:
         raise NoEquilibriumError(
@@ -343,7 +417,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     res, _ = balance(v)
     # a held ring's moment balance is its support's: the reaction is what the contacts
     # and the applied moment leave
-    full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin)[:5]) + applied
+    full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin, flex)[:5]) + applied
     reaction = -full[3:5] if tilt == "held" else np.zeros(2)
     res = np.concatenate([res, full[3:5] + reaction]) if tilt == "held" else res
     loaded = (q_out > 0).any(axis=1)
@@ -380,22 +454,69 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     k_matrix, k_change = None, float("nan")
     if stiffness:
         base = ball_rz.copy()
+        flex_base = flex.copy()
 
         def ball_forces(uu):
             ball_rz[:] = base   # every pose starts from the equilibrium's balls
-            return np.array(ring_balance(np.asarray(uu, dtype=float), rows, arcs, pockets, ball_rz, q_out,
-                                         n_out, 1e-15, spin)[:5])
+            flex[:] = flex_base
+
+            def at_pose():
+                return np.array(ring_balance(np.asarray(uu, dtype=float), rows, arcs, pockets, ball_rz, q_out,
+                                             n_out, 1e-15, spin, flex)[:5])
+
+            forces = at_pose()
+            if flexing:   # the rings' deformation settles at this pose too: the stiffness is the assembly's
+                settle(at_pose)
+                forces = at_pose()
+            return forces
 
         k_matrix, k_change = tangent_stiffness(ball_forces, u, float(rows[:, R_PITCH_R].max()))
         ball_rz[:] = base
+        flex[:] = flex_base
     return StaticResult(
         displacement=u, radial_displacement=float(u[0] * c + u[1] * s), axial_displacement=float(u[2]),
         azimuths=azim, contact_angles=angles, arc_rings=rings, loaded_ball_count=_loaded_balls(q_out, rings),
         max_contact_pressure=p_max, residual=res,
         applied=applied, row_of_ball=row_of_ball, row_forces=row_forces,
         stiffness_matrix=k_matrix, stiffness_change=k_change, load_angle=float(load_angle), tilt=tilt,
-        reaction_moment=reaction, **result,
+        reaction_moment=reaction, ring_displacements=flex.copy() if flexing else None,
+        ring_iterations=flex_iterations, **result,
     )
+
+
+#: The flexible rings' fixed point: at most this many iterations, until the raceways'
+#: displacements change by less than _FLEX_TOL [m] plus _FLEX_RTOL of their largest.
+_FLEX_ITERATIONS = 200
+_FLEX_MEMORY = 6
+_FLEX_TOL = 1e-12
+_FLEX_RTOL = 1e-8
+
+
+def _solve_pose(objective, balance, pose, v0, d_max, load_scale):
+    """The ring's pose that minimises ``objective`` from ``v0`` (BFGS), polished by a root
+    finder on the force balance (MINPACK hybrd) where that balances better."""
+    opt = optimize.minimize(objective, v0, jac=True, method="BFGS", options={"gtol": 1e-10, "maxiter": 2000})
+    v = opt.x
+    if np.all(np.isfinite(v)) and np.linalg.norm(pose(v)[:3]) <= d_max:
+        sol = optimize.root(lambda x: balance(x)[0] / load_scale, v, method="hybr",
+                            options={"xtol": 1e-14, "maxfev": 2000})
+        if np.all(np.isfinite(sol.x)) and np.abs(balance(sol.x)[0]).max() <= np.abs(balance(v)[0]).max():
+            v = sol.x
+    return v
+
+
+def _ring_forces(rows, arcs, pockets, q_out, n_out):
+    """The balls' forces on each ring at every ball: ``radial[j, ring]`` (along the ball's
+    azimuth, outward positive) and ``axial[j, ring]`` [N], ring 0 inner, 1 outer."""
+    nb = pockets.shape[0]
+    force = np.zeros((nb, 2, 3))
+    for r in range(rows.shape[0]):
+        p0, z, a0, na = (int(rows[r, R_POCKET0]), int(rows[r, R_Z]), int(rows[r, R_ARC0]), int(rows[r, R_NARC]))
+        for k in range(na):
+            ring = int(arcs[a0 + k, A_RING])
+            force[p0:p0 + z, ring] += q_out[p0:p0 + z, k, None] * n_out[p0:p0 + z, k, :3]
+    radial = force[:, :, 0] * pockets[:, 0, None] + force[:, :, 1] * pockets[:, 1, None]
+    return radial, force[:, :, 2]
 
 
 def _loaded_balls(ball_loads, arc_rings) -> int:

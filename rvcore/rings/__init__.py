@@ -1,0 +1,1 @@
+"""Flexible rings (issue 41): a ring's section, its thin-ring Fourier modes and their support; the static deflection under point loads. Pure functions, SI; wired into the statics on request (rvcore.statics.equilibrium's ``rings``), not into the dynamics yet."""
