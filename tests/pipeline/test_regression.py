@@ -62,24 +62,24 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 13
+PINNED_MODEL_VERSION = 14
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
 #: with its 3 x 3 grid (the corners' ids did not move: an id hashes its own case only).
-#: Re-pinned by issue 40 (branch lube-inputs): the hashed bearing gained the lubricant's
-#: base oil, the ring temperatures and the materials' thermal expansion; the results at
-#: their defaults did not move (PINNED_METRICS unchanged, MODEL_VERSION 13 kept).
+#: Re-pinned at MODEL_VERSION 14 (issue 40): the hashed bearing gained the lubricant's
+#: base oil, the ring temperatures, the materials' thermal expansion and ``friction.law``;
+#: the results at their defaults did not move (PINNED_METRICS unchanged).
 PINNED_CASE_IDS = {
-    (120, 20): "cec7c1e7333eecfe",
-    (120, 30): "d25e448dcd414f08",
-    (120, 40): "a9aa2dcd75fee9ac",
-    (390, 20): "d28532d079751181",
-    (390, 30): "8d209706c35663a4",
-    (390, 40): "3f31a669aa7c5999",
-    (660, 20): "7a947d36603c1aca",
-    (660, 30): "e1ca71a894687e74",
-    (660, 40): "bfbf190e52e47d00",
+    (120, 20): "99cad16be9d043a0",
+    (120, 30): "616f5479addefc7f",
+    (120, 40): "f88414649ce9659e",
+    (390, 20): "9adf7b5ada4a520d",
+    (390, 30): "eabaf17de91469e8",
+    (390, 40): "6b29b3c47ba128d0",
+    (660, 20): "f99263cc7a2f4d48",
+    (660, 30): "f48b9ce7b1ded9bf",
+    (660, 40): "50f72ace48b35de9",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
