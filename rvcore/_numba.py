@@ -268,7 +268,7 @@ def use_source_keyed_cache() -> None:
     for a day.
 
     Where the directory cannot be made, the one beside the sources
-    (``rvcore/__pycache__/rvcore-<hash>/<cpu>``) is tried; where neither can, numba
+    (``__pycache__/rvcore-<hash>/<cpu>`` inside the package) is tried; where neither can, numba
     keeps its default.
     """
     global _ACTIVE
