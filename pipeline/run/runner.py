@@ -48,6 +48,8 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
+from ..io.combine import CaseFileError, scan_case_files, write_streamed
+from ..io.files import netcdf_atomic
 from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   write_atomic, write_status)
@@ -498,25 +500,29 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
                                         reason=entry.get("reason", ""))
     dims = _dimension_values(sweep)
     axes = [GridAxis(name, values, _coordinate(name, key, values, axis)) for name, key, values, axis in dims]
-    entries, loaded = [], 0
+    entries = []
     for spec in sweep.cases:
         st = states.get(spec.case_id) if states else None
         entry = CaseEntry(tuple(a.index(spec.point[key]) for a, (_, key, _, _) in zip(axes, dims)),
                           state=st.state if st is not None else "not_run")
         p = cases_dir / f"{spec.case_id}.nc"
         if p.is_file():
-            try:
-                with xr.open_dataset(p, engine="netcdf4") as ds:
-                    entry.data = ds.load()
-            except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError
-                raise UserError(f"{p}: cannot be read ({_first_line(exc)}); move it away and run "
-                                "the sweep again to compute that case again") from None
-            loaded += 1
+            entry.path = p
         entries.append(entry)
+    # one pass over the files for the grid (sample times, sensors, rows, spectra,
+    # attributes), one case at a time; a file that does not read stops here, before
+    # sweep.nc is touched
+    try:
+        scan = scan_case_files(e.path for e in entries if e.path is not None)
+    except CaseFileError as exc:
+        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
+                        "the sweep again to compute that case again") from None
+    loaded = scan.n_files
     fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
                                                     "long_name": _OP_LONG_NAMES[key]})
              for key, value in sweep.fixed.items() if key in OPERATING_POINT and key not in LEADING}
-    ds, resampled = combine_cases(axes, entries, output_rate=_output_rate(sweep), scalars=fixed)
+    output_rate = _output_rate(sweep)
+    _, resampled = scan.elapsed(output_rate)
     case_dims = tuple(a.name for a in axes)
 
     previous = []
@@ -528,7 +534,6 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
         f"pipeline.run.runner.write_combined_sweep: {loaded} of {len(sweep.cases)} case files into sweep.nc"
         + ("; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""))]
 
-    first = next((e.data for e in entries if e.data is not None), None)
     caveats = " | ".join(sweep.bearing.warnings)
     attrs = {
         "Conventions": "CF-1.8",
@@ -539,7 +544,7 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
         "references": REFERENCES,
         "configuration": sweep.configuration,
         "configuration_hash": sweep.configuration_hash,
-        "git_commit": first.attrs.get("git_commit", "") if first is not None else git_commit(),
+        "git_commit": str(scan.global_attrs.get("git_commit", "")) if loaded else git_commit(),
         "bearing": sweep.bearing.name,
         "profile": sweep.profile.name,
         "caveats": caveats,
@@ -552,6 +557,12 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
     }
     if sweep.description:
         attrs["comment"] = sweep.description
-    ds.attrs = attrs
-    write_atomic(ds, target, encoding=combined_encoding(ds, case_dims))
+    # each case's slab is read and written in turn: memory does not grow with the cases
+    try:
+        with netcdf_atomic(target) as tmp:
+            write_streamed(tmp, axes, entries, scan, output_rate=output_rate, scalars=fixed, attrs=attrs,
+                           encoding_of=combined_encoding)
+    except CaseFileError as exc:
+        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
+                        "the sweep again to compute that case again") from None
     return target
