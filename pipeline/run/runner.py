@@ -4,6 +4,8 @@ Layout of a sweep's folder (docs/outputs.md, "What a sweep writes")::
 
     <out>/cases/<case id>.nc   one file per finished case (atomic: temp name, os.replace)
     <out>/status.json          case id -> its values (SI), ok / failed + reason / not_run
+    <out>/status.jsonl         while a sweep runs: one line per case finished since
+                               status.json was written whole (folded in at the end)
     <out>/sweep.nc             all cases on the grid (speed, radial_load, [extra axes],
                                elapsed_time | phase), with ``case_status``
 
@@ -25,8 +27,9 @@ How a run goes
    failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
    it, so the files do not depend on where a case ran and workers need no access to
    the output folder.
-5. As each case finishes its file and ``status.json`` are written, and one progress
-   bar advances. A case that raises is recorded with its reason; a case that kills its
+5. As each case finishes its file is written, one line recording it is appended to
+   ``status.jsonl`` (``status.json`` is written whole only when the run starts and ends:
+   :mod:`pipeline.io.status`), and one progress bar advances. A case that raises is recorded with its reason; a case that kills its
    worker is retried (``allowed_failures`` times on a local cluster) and then recorded.
    Ctrl-C (or a kill) loses no finished case.
 6. The case files are combined into ``sweep.nc`` by the one combiner,
@@ -52,7 +55,7 @@ from ..io.combine import CaseFileError, scan_case_files, write_streamed
 from ..io.files import netcdf_atomic
 from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
-                  write_atomic, write_status)
+                  StatusLog, write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
@@ -335,8 +338,10 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     from tqdm.auto import tqdm
 
     bar = None
+    log = StatusLog(out)   # one line per finished case; status.json is written whole at the end
     try:
         with contextlib.ExitStack() as stack:
+            stack.callback(log.close)
             if serial or not todo:
                 outcomes = cluster.serial(todo, case_fn)
             else:
@@ -376,7 +381,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     if st.state == "failed":
                         n_failed += 1
                         bar.set_postfix(failed=n_failed, refresh=False)
-                    write_status(out, states)
+                    log.append(st)
                     bar.update(1)
             finally:
                 wall = time.perf_counter() - t0
