@@ -314,6 +314,11 @@ class CaseScan:
     spectrum: dict | None = None
     attrs: dict = None
     global_attrs: dict = None
+    #: a scan of the first file only (:func:`first_file_scan`): the write checks that every
+    #: other file agrees with it (:class:`NeedsFullScan` otherwise)
+    partial: bool = False
+    names: frozenset = frozenset()
+    dims: frozenset = frozenset()
 
     def elapsed(self, output_rate: float | None):
         """``(elapsed_time [s], resampled)`` as :func:`combine_cases` chooses them."""
@@ -359,6 +364,8 @@ def scan_case_files(paths) -> CaseScan:
                 if len(t) > 1:
                     scan.min_step = min(scan.min_step, float(np.median(np.diff(t))))
                 dims = nc.dimensions
+                scan.names |= frozenset(nc.variables)
+                scan.dims |= frozenset(dims)
                 if scan.sensor is None and "sensor" in dims:
                     scan.sensor = {k: c for k, c in _coords_over(nc, "sensor").items() if k not in VARIABLES}
                 if scan.row is None and "row" in dims:
@@ -372,6 +379,24 @@ def scan_case_files(paths) -> CaseScan:
         except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, KeyError, ...
             raise CaseFileError(path, str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
         scan.n_files += 1
+    return scan
+
+
+class NeedsFullScan(Exception):
+    """A case file does not agree with the first (other sample times, another variable or
+    dimension): the grid needs :func:`scan_case_files` of every file."""
+
+
+def first_file_scan(paths) -> CaseScan:
+    """:func:`scan_case_files` of the first of ``paths`` only, counting them all.
+
+    In a sweep every case usually has the first's sample times and variables; then this
+    is the full scan's result, and :func:`write_streamed` opens each file once. It checks
+    each file against it and raises :class:`NeedsFullScan` when one differs.
+    """
+    paths = list(paths)
+    scan = scan_case_files(paths[:1])
+    scan.n_files, scan.partial = len(paths), True
     return scan
 
 
@@ -490,22 +515,27 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
             var.set_var_chunk_cache(size=max(_WRITE_CACHE_CHUNKS * chunk, 1 << 16), nelems=521, preemption=1.0)
             targets[k] = var
         spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
-        for entry in entries:
-            case = _case_slabs(entry.path, kept, dims_of, elapsed, resampled, spectrum_freq) \
-                if entry.path is not None else {}
+        files = {e.at: e.path for e in entries if e.path is not None}
+        for at in np.ndindex(*shape):   # every grid point, asked or not: each chunk written once
+            path = files.get(at)
+            case = _case_slabs(path, kept, dims_of, elapsed, resampled, spectrum_freq,
+                               scan if scan.partial else None) if path is not None else {}
             for k, var in targets.items():
                 v = case.get(k)
                 if v is None:
                     v = np.full(tuple(sizes[d] for d in dims_of[k]), np.nan)
-                var[entry.at] = v
+                var[at] = v
     finally:
         store.close()
     return resampled
 
 
-def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq) -> dict:
+def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first=None) -> dict:
     """name -> the case's array in the combined variable's trailing dims (on the common
-    time grid when ``resampled``); absent when the file lacks it or its spectrum differs."""
+    time grid when ``resampled``); absent when the file lacks it or its spectrum differs.
+
+    With ``first`` (a :func:`first_file_scan`), raises :class:`NeedsFullScan` when the file
+    has other sample times, or a variable or dimension the first file has not."""
     import netCDF4
 
     out = {}
@@ -513,6 +543,10 @@ def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq) -> dict
         with netCDF4.Dataset(path, "r") as nc:
             nc.set_auto_mask(False)
             t = np.asarray(nc.variables["elapsed_time"][...], dtype=np.float64)
+            if first is not None and not (t.shape == first.times.shape and np.array_equal(t, first.times)
+                                          and set(nc.variables) <= first.names
+                                          and set(nc.dimensions) <= first.dims):
+                raise NeedsFullScan(str(path))
             same_spectrum = (spectrum_freq is not None and "frequency" in nc.variables
                              and np.array_equal(np.asarray(nc.variables["frequency"][...]), spectrum_freq))
             for k in names:
@@ -528,6 +562,8 @@ def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq) -> dict
                     v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
                                   for col in v.reshape(len(t), -1).T], axis=-1).reshape((len(elapsed),) + v.shape[1:])
                 out[k] = v
+    except NeedsFullScan:
+        raise
     except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
         raise CaseFileError(path, str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
     return out

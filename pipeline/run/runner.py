@@ -22,11 +22,14 @@ How a run goes
 3. The numba kernels are compiled in this process (``rvcore.simulation.run.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
-   process per core, one thread each), or on an existing cluster. Workers only
-   compute: each returns its :class:`rvcore.simulation.run.CaseResult` (or the reason it
-   failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
-   it, so the files do not depend on where a case ran and workers need no access to
-   the output folder.
+   process per core, one thread each), or on an existing cluster. A worker that sees
+   the ``cases/`` folder (a local cluster; a cluster on a shared file system) labels
+   its case (:func:`pipeline.io.case.case_dataset`), writes its file and returns only
+   its SHA-256 (:func:`pipeline.run.cases.compute_and_write`), so this process's cost
+   per case is a status line; a worker that does not see it returns its
+   :class:`rvcore.simulation.run.CaseResult` (or the reason it failed), and this process
+   labels and writes it. The files do not depend on where a case ran, and workers need
+   no access to the output folder.
 5. As each case finishes its file is written, one line recording it is appended to
    ``status.jsonl`` (``status.json`` is written whole only when the run starts and ends:
    :mod:`pipeline.io.status`), and one progress bar advances. A case that raises is recorded with its reason; a case that kills its
@@ -51,7 +54,7 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
-from ..io.combine import CaseFileError, scan_case_files, write_streamed
+from ..io.combine import CaseFileError, NeedsFullScan, first_file_scan, scan_case_files, write_streamed
 from ..io.files import netcdf_atomic
 from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
@@ -293,6 +296,28 @@ def _reusable(path: Path, case_id: str, recorded: str = "") -> str:
     return digest
 
 
+#: The file that shows a worker it sees this run's ``cases/`` folder: ``.rvsweep-<random>.here``.
+_MARKER = ".rvsweep-{}.here"
+
+
+def _here_marker(cases_dir: Path, stack) -> str:
+    """Make this run's marker file in ``cases_dir`` (removed when ``stack`` closes; those
+    of killed runs first) and return its name; '' when it cannot be made (the parent then
+    writes every case file)."""
+    import uuid
+
+    for old in cases_dir.glob(_MARKER.format("*")):
+        with contextlib.suppress(OSError):
+            old.unlink()
+    name = _MARKER.format(uuid.uuid4().hex)
+    try:
+        (cases_dir / name).touch()
+    except OSError:
+        return ""
+    stack.callback(lambda: (cases_dir / name).unlink(missing_ok=True))
+    return name
+
+
 def _recorded_digests(out: Path) -> dict:
     """case id -> the SHA-256 recorded in ``status.json`` when its file was written."""
     try:
@@ -342,8 +367,10 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     try:
         with contextlib.ExitStack() as stack:
             stack.callback(log.close)
+            write = {"cases_dir": str(cases_dir), "source": source, "sweep_name": sweep.name,
+                     "marker": _here_marker(cases_dir, stack)}
             if serial or not todo:
-                outcomes = cluster.serial(todo, case_fn)
+                outcomes = cluster.serial(todo, case_fn, **write)
             else:
                 client, scheduler_text = stack.enter_context(cluster.client(
                     workers=workers, scheduler=scheduler, scheduler_file=scheduler_file,
@@ -353,7 +380,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     # every worker loads the kernels now (part of starting the cluster),
                     # not inside its first case
                     client.run(cluster.load_kernels_on_worker)
-                outcomes = cluster.on_cluster(client, todo, case_fn, allowed_failures)
+                outcomes = cluster.on_cluster(client, todo, case_fn, allowed_failures, **write)
             # One bar, whatever runs the cases; its rate and ETA count this run's cases.
             bar = tqdm(total=len(sweep.cases), initial=n_reused, desc=sweep.name, unit="case",
                        disable=not progress or not todo, file=sys.stderr, smoothing=0.0,
@@ -365,7 +392,12 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     st = states[spec.case_id]
                     st.seconds = outcome.seconds
                     st.computed = True
-                    if outcome.ok:
+                    if outcome.write_error:   # the worker's full disk, read-only folder: stop, in one line
+                        raise WriteError(outcome.write_error)
+                    if outcome.ok and outcome.written:   # the worker wrote the file
+                        st.sha256 = outcome.sha256
+                        st.state, st.reason, st.traceback = "ok", "", ""
+                    elif outcome.ok:   # a worker that does not see the folder: written here
                         try:
                             ds = label_case(spec, outcome.result, source=source, sweep_name=sweep.name)
                             path = write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
@@ -514,27 +546,41 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
         if p.is_file():
             entry.path = p
         entries.append(entry)
-    # one pass over the files for the grid (sample times, sensors, rows, spectra,
-    # attributes), one case at a time; a file that does not read stops here, before
-    # sweep.nc is touched
-    try:
-        scan = scan_case_files(e.path for e in entries if e.path is not None)
-    except CaseFileError as exc:
-        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
-                        "the sweep again to compute that case again") from None
-    loaded = scan.n_files
+    paths = [e.path for e in entries if e.path is not None]
     fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
                                                     "long_name": _OP_LONG_NAMES[key]})
              for key, value in sweep.fixed.items() if key in OPERATING_POINT and key not in LEADING}
     output_rate = _output_rate(sweep)
-    _, resampled = scan.elapsed(output_rate)
     case_dims = tuple(a.name for a in axes)
-
     previous = []
     target = out / "sweep.nc"
     if target.is_file():
         with contextlib.suppress(Exception), xr.open_dataset(target, engine="netcdf4") as old:
             previous = [line for line in str(old.attrs.get("history", "")).splitlines() if line.strip()]
+    # The grid (sample times, sensors, rows, spectra, attributes) is first taken from the
+    # first case file, and every file opened once: its slab is read and written into its
+    # one-case chunk, so memory does not grow with the cases. A file that disagrees with
+    # the first (other sample times: the series are resampled) restarts the write after a
+    # pass over every file for the grid. A file that does not read stops it; sweep.nc is
+    # then untouched.
+    try:
+        try:
+            scan = first_file_scan(paths)
+            _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history)
+        except NeedsFullScan:
+            scan = scan_case_files(paths)
+            _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history)
+    except CaseFileError as exc:
+        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
+                        "the sweep again to compute that case again") from None
+    return target
+
+
+def _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history):
+    """sweep.nc's global attributes for ``scan``, and the file written by
+    :func:`pipeline.io.combine.write_streamed` (atomically)."""
+    loaded = scan.n_files
+    _, resampled = scan.elapsed(output_rate)
     lines = previous + list(history) + [history_line(
         f"pipeline.run.runner.write_combined_sweep: {loaded} of {len(sweep.cases)} case files into sweep.nc"
         + ("; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""))]
@@ -562,12 +608,6 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
     }
     if sweep.description:
         attrs["comment"] = sweep.description
-    # each case's slab is read and written in turn: memory does not grow with the cases
-    try:
-        with netcdf_atomic(target) as tmp:
-            write_streamed(tmp, axes, entries, scan, output_rate=output_rate, scalars=fixed, attrs=attrs,
-                           encoding_of=combined_encoding)
-    except CaseFileError as exc:
-        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
-                        "the sweep again to compute that case again") from None
-    return target
+    with netcdf_atomic(target) as tmp:
+        write_streamed(tmp, axes, entries, scan, output_rate=output_rate, scalars=fixed, attrs=attrs,
+                       encoding_of=combined_encoding)
