@@ -492,7 +492,9 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
             a["comment"] = RESAMPLED_COMMENT
         data[k] = xr.DataArray(_placeholder(shape + tuple(sizes[d] for d in dims_of[k])),
                                dims=case_dims + dims_of[k], attrs=a)
-    data["case_status"] = case_status_variable(status, case_dims)
+    # written one grid point at a time too: HDF5 holds a written chunk (here one byte) in
+    # about 7 kB until the file closes, so a whole write of it grew with the cases
+    data["case_status"] = case_status_variable(status, case_dims).copy(data=_placeholder(shape, np.int8))
     layout = xr.Dataset(data_vars=data, coords=coords, attrs=dict(attrs or {}))
     encoding = (encoding_of or combined_encoding)(layout, case_dims)
 
@@ -514,6 +516,9 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
             chunk = 8 * int(np.prod([sizes[d] for d in dims_of[k]]))
             var.set_var_chunk_cache(size=max(_WRITE_CACHE_CHUNKS * chunk, 1 << 16), nelems=521, preemption=1.0)
             targets[k] = var
+        flags = nc.variables["case_status"]
+        flags.set_auto_maskandscale(False)
+        flags.set_var_chunk_cache(size=1 << 16, nelems=521, preemption=1.0)
         spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
         files = {e.at: e.path for e in entries if e.path is not None}
         for at in np.ndindex(*shape):   # every grid point, asked or not: each chunk written once
@@ -525,6 +530,7 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
                 if v is None:
                     v = np.full(tuple(sizes[d] for d in dims_of[k]), np.nan)
                 var[at] = v
+            flags[at] = status[at]
     finally:
         store.close()
     return resampled
