@@ -43,7 +43,8 @@ class WriteError(UserError):
     rerun resumes."""
 
 
-def _write_error(path: Path, exc: BaseException) -> WriteError:
+def write_error(path: Path, exc: BaseException) -> WriteError:
+    """The one-line :class:`WriteError` for ``exc`` raised while writing ``path``."""
     if isinstance(exc, OSError) and exc.errno:
         why = os.strerror(exc.errno)
     elif _disk_full(path.parent):   # HDF5's word for it is "NetCDF: HDF error"
@@ -204,7 +205,7 @@ def netcdf_atomic(path):
             _fsync(tmp)
     except (OSError, RuntimeError) as exc:
         if _place_fault(path, exc):
-            raise _write_error(path, exc) from None
+            raise write_error(path, exc) from None
         raise
 
 
@@ -263,5 +264,5 @@ def write_bytes_atomic(path, data: bytes) -> Path:
             fh.flush()
             os.fsync(fh.fileno())
     except OSError as exc:
-        raise _write_error(path, exc) from None
+        raise write_error(path, exc) from None
     return path

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import UserError
-from .files import _write_error, write_text_atomic
+from .files import write_error, write_text_atomic
 from .netcdf import CASE_STATUS
 
 STATUS_FILE = "status.json"
@@ -112,7 +112,7 @@ class StatusLog:
             self._fh.flush()
             os.fsync(self._fh.fileno())
         except OSError as exc:
-            raise _write_error(self.path, exc) from None
+            raise write_error(self.path, exc) from None
 
     def close(self) -> None:
         if self._fh is not None:
