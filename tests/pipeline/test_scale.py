@@ -209,9 +209,10 @@ def test_a_sweep_killed_before_its_compaction_resumes_from_the_log(tmp_path, mon
     ids = [c.case_id for c in read_sweep_file(path).cases]
     assert all(read_status(out)[cid]["state"] == "ok" for cid in ids)
 
-    counter = OpenCounter(monkeypatch)
     again = Counting()
-    result = run_sweep(path, out, serial=True, case_fn=again, progress=False, combine_at_end=False)
+    with pytest.MonkeyPatch.context() as patch:   # no counted file outlives the count
+        counter = OpenCounter(patch)
+        result = run_sweep(path, out, serial=True, case_fn=again, progress=False, combine_at_end=False)
     assert result.ok and again.calls == [] and len(result.reused) == 4
     assert counter.opened == []
     assert not log.exists() and json.loads((out / "status.json").read_text())[ids[0]]["state"] == "ok"
@@ -230,9 +231,10 @@ def test_a_resume_opens_no_netcdf_file(tmp_path, monkeypatch):
     path = make_sweep(tmp_path, _grid(2, 3))
     first = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False)
     assert first.ok
-    counter = OpenCounter(monkeypatch)
     again = Counting()
-    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=again, progress=False, combine_at_end=False)
+    with pytest.MonkeyPatch.context() as patch:
+        counter = OpenCounter(patch)
+        result = run_sweep(path, tmp_path / "s", serial=True, case_fn=again, progress=False, combine_at_end=False)
     assert len(result.reused) == 6 and again.calls == [] and counter.opened == []
 
 
