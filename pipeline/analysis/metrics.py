@@ -58,8 +58,8 @@ DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
 SCALARS = {**STIFFNESS, **COMPLIANT_STIFFNESS, **DESIGNER_SCALARS}
 
 
-def open_results(directory) -> xr.Dataset:
-    """The combined sweep of a results folder, loaded into memory.
+def open_results(directory, *, lazy: bool = False) -> xr.Dataset:
+    """The combined sweep of a results folder, loaded into memory (or opened lazily).
 
     Reads ``sweep.nc``; when it is absent (a sweep killed before combining), combines the
     finished ``cases/*.nc`` over ``speed`` and ``radial_load`` (and ``axial_load`` when it
@@ -69,6 +69,11 @@ def open_results(directory) -> xr.Dataset:
     ----------
     directory : path-like
         The sweep's output folder.
+    lazy : bool
+        Open ``sweep.nc`` without reading its variables: each is read when used, and a
+        selection reads only its slab (one case's time series is one chunk), so that what
+        the report holds does not grow with the time series of every case. The caller
+        closes the dataset. (Without ``sweep.nc`` the case files are read in full.)
 
     Raises
     ------
@@ -81,6 +86,11 @@ def open_results(directory) -> xr.Dataset:
     path = directory / "sweep.nc"
     if path.exists():
         try:
+            if lazy:
+                ds = xr.open_dataset(path, engine="netcdf4")
+                lazy_ds = strip_encoding(ds)
+                lazy_ds.set_close(ds.close)
+                return lazy_ds
             with xr.open_dataset(path, engine="netcdf4") as ds:
                 return strip_encoding(ds.load())
         except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError

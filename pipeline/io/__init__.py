@@ -13,5 +13,5 @@ from .files import (WriteError, file_digest, history_line, remove_stale_temporar
                     write_atomic, write_bytes_atomic, write_text_atomic)
 from .netcdf import (CASE_STATUS, case_status_variable, cf_name, combined_encoding, encoding_for,
                      strip_encoding)
-from .status import STATUS_FILE, CaseState, read_status, status_counts, write_status
+from .status import STATUS_FILE, STATUS_LOG, CaseState, StatusLog, read_status, status_counts, write_status
 from .combine import CaseEntry, GridAxis, combine_cases, common_time_grid, grid_from_cases

@@ -46,11 +46,13 @@ class GridAxis:
 
 @dataclass
 class CaseEntry:
-    """One grid point: its position, its dataset (None when no file) and its state."""
+    """One grid point: its position, its dataset or file (None when no file) and its state."""
 
     at: tuple
     data: xr.Dataset | None = None
     state: str = "not_run"
+    #: its case file, for :func:`write_streamed` (which reads it when it writes its slab)
+    path: object = None
 
 
 def common_time_grid(times, output_rate: float) -> np.ndarray:
@@ -267,3 +269,307 @@ def grid_from_cases(cases, asked=()) -> tuple:
             taken.add(at)
             entries.append(CaseEntry(at, None, "failed" if state == "failed" else "not_run"))
     return axes, entries, fixed
+
+
+# --------------------------------------------------------------------------- streaming
+
+
+class CaseFileError(Exception):
+    """A case file that cannot be read while combining: ``path`` and the first line of why."""
+
+    def __init__(self, path, why: str):
+        super().__init__(f"{path}: {why}")
+        self.path, self.why = path, why
+
+
+#: Attributes netCDF4 shows that xarray moves into ``encoding`` when it reads a file.
+_ENCODING_ATTRS = ("coordinates", "_FillValue", "missing_value")
+
+
+def _nc_attrs(var) -> dict:
+    return {k: var.getncattr(k) for k in var.ncattrs() if k not in _ENCODING_ATTRS}
+
+
+@dataclass
+class CaseScan:
+    """What the combined grid needs to know of its case files, gathered one file at a time
+    in memory bounded by one case (:func:`scan_case_files`).
+
+    ``times`` are the first file's sample times [s]; ``same_times`` whether every file has
+    them; ``t_first``/``t_last`` the earliest first and latest last sample [s];
+    ``min_step`` the smallest median sample spacing [s]; ``sensor``/``row``/``spectrum``
+    the coordinates (name -> (values, attrs)) of the first file with that dimension;
+    ``attrs`` each variable's attributes from the first file that has it; ``global_attrs``
+    the first file's global attributes.
+    """
+
+    n_files: int = 0
+    times: np.ndarray | None = None
+    same_times: bool = True
+    t_first: float = math.inf
+    t_last: float = -math.inf
+    min_step: float = math.inf
+    sensor: dict | None = None
+    row: dict | None = None
+    spectrum: dict | None = None
+    attrs: dict = None
+    global_attrs: dict = None
+    #: a scan of the first file only (:func:`first_file_scan`): the write checks that every
+    #: other file agrees with it (:class:`NeedsFullScan` otherwise)
+    partial: bool = False
+    names: frozenset = frozenset()
+    dims: frozenset = frozenset()
+
+    def elapsed(self, output_rate: float | None):
+        """``(elapsed_time [s], resampled)`` as :func:`combine_cases` chooses them."""
+        if not self.n_files:
+            return np.zeros(0), False
+        if self.same_times:
+            return self.times, False
+        rate = output_rate or (1.0 / self.min_step if math.isfinite(self.min_step) else 1.0)
+        n = int(math.floor((self.t_last - self.t_first) * rate + 1e-9))
+        return self.t_first + np.arange(n + 1, dtype=np.float64) / rate, True
+
+
+def _coords_over(nc, dim: str) -> dict:
+    """name -> (values, attrs) of the variables of ``nc`` over ``(dim,)`` alone, in file order."""
+    return {name: (np.asarray(v[...]), _nc_attrs(v)) for name, v in nc.variables.items()
+            if v.dimensions == (dim,)}
+
+
+def scan_case_files(paths) -> CaseScan:
+    """Scan case files, one open at a time, for what the combined grid needs (:class:`CaseScan`).
+
+    Raises
+    ------
+    CaseFileError
+        For the first file that cannot be read.
+    """
+    import netCDF4
+
+    scan = CaseScan(attrs={}, global_attrs={})
+    for path in paths:
+        try:
+            with netCDF4.Dataset(path, "r") as nc:
+                nc.set_auto_mask(False)
+                t = np.asarray(nc.variables["elapsed_time"][...], dtype=np.float64)
+                if scan.n_files == 0:
+                    scan.times = t
+                    scan.global_attrs = {k: nc.getncattr(k) for k in nc.ncattrs()}
+                elif scan.same_times and not (t.shape == scan.times.shape and np.array_equal(t, scan.times)):
+                    scan.same_times = False
+                if len(t):
+                    scan.t_first = min(scan.t_first, float(t[0]))
+                    scan.t_last = max(scan.t_last, float(t[-1]))
+                if len(t) > 1:
+                    scan.min_step = min(scan.min_step, float(np.median(np.diff(t))))
+                dims = nc.dimensions
+                scan.names |= frozenset(nc.variables)
+                scan.dims |= frozenset(dims)
+                if scan.sensor is None and "sensor" in dims:
+                    scan.sensor = {k: c for k, c in _coords_over(nc, "sensor").items() if k not in VARIABLES}
+                if scan.row is None and "row" in dims:
+                    scan.row = {"row": _coords_over(nc, "row")["row"]}
+                if scan.spectrum is None and "frequency" in dims:
+                    scan.spectrum = {"frequency": _coords_over(nc, "frequency")["frequency"],
+                                     "kinematic": _coords_over(nc, "kinematic")["kinematic"]}
+                for name in VARIABLES:
+                    if name not in scan.attrs and name in nc.variables:
+                        scan.attrs[name] = _nc_attrs(nc.variables[name])
+        except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, KeyError, ...
+            raise CaseFileError(path, str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
+        scan.n_files += 1
+    return scan
+
+
+class NeedsFullScan(Exception):
+    """A case file does not agree with the first (other sample times, another variable or
+    dimension): the grid needs :func:`scan_case_files` of every file."""
+
+
+def first_file_scan(paths) -> CaseScan:
+    """:func:`scan_case_files` of the first of ``paths`` only, counting them all.
+
+    In a sweep every case usually has the first's sample times and variables; then this
+    is the full scan's result, and :func:`write_streamed` opens each file once. It checks
+    each file against it and raises :class:`NeedsFullScan` when one differs.
+    """
+    paths = list(paths)
+    scan = scan_case_files(paths[:1])
+    scan.n_files, scan.partial = len(paths), True
+    return scan
+
+
+def _placeholder(shape, dtype=np.float64):
+    """A lazy array of ``shape`` that is never computed: it declares a variable whose
+    data :func:`write_streamed` writes itself, one case at a time."""
+    import dask.array as da
+
+    return da.empty(shape, dtype=dtype, chunks=shape or -1)
+
+
+#: Bytes of HDF5 chunk cache a combined variable keeps while it is written: a few
+#: one-case chunks, so that memory does not grow with the number of cases.
+_WRITE_CACHE_CHUNKS = 4
+
+
+def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | None = None,
+                   scalars=None, attrs=None, encoding_of=None) -> bool:
+    """Write the combined grid of ``entries`` to the netCDF file ``path``, one case at a time.
+
+    The result is the file that :func:`combine_cases` followed by a write of its dataset
+    gives (the same variables, dimensions, coordinates, attributes, chunking and values),
+    but no more than one case's data is held at a time: the variables are declared (by
+    xarray, so that names, attributes and encodings are those of any write), then each
+    case's slab is read from its file and written into its one-case chunk.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to write (a temporary name; the caller renames it) [-].
+    axes : sequence of GridAxis
+    entries : sequence of CaseEntry
+        One per grid point, with ``path`` the case file (None when it has none).
+    scan : CaseScan
+        :func:`scan_case_files` of the entries' files.
+    output_rate : float, optional
+        Samples per second of the common time grid when the cases' times differ [Hz].
+    scalars : dict, optional
+        Scalar coordinates (name -> DataArray).
+    attrs : dict, optional
+        Global attributes.
+    encoding_of : callable, optional
+        ``encoding_of(dataset, case_dims) -> dict`` (default :func:`pipeline.io.netcdf.combined_encoding`).
+
+    Returns
+    -------
+    bool
+        Whether the time series were interpolated onto :func:`common_time_grid`.
+
+    Notes
+    -----
+    A case's time series on the common grid: ``x(t_k) = interp(t_k; t_case, x_case)``,
+    NaN outside the case's window, exactly as :func:`combine_cases`.
+    """
+    import dask
+    import netCDF4
+
+    from .netcdf import combined_encoding
+
+    axes = list(axes)
+    shape = tuple(len(a.values) for a in axes)
+    elapsed, resampled = scan.elapsed(output_rate)
+    n_t, n_p = len(elapsed), len(phase_coordinate())
+    n_s = len(scan.sensor["sensor"][0]) if scan.sensor else 0
+    n_r = len(scan.row["row"][0]) if scan.row else 0
+    n_f = len(scan.spectrum["frequency"][0]) if scan.spectrum else 0
+    sizes = {"elapsed_time": n_t, "phase": n_p, "sensor": n_s, "row": n_r, "frequency": n_f,
+             "kinematic": len(scan.spectrum["kinematic"][0]) if scan.spectrum else 0}
+    dims_of = {k: dims + (("row",) if n_r and k in PER_ROW else ()) for k, (dims, _, _) in VARIABLES.items()}
+    kept = [k for k, dims in dims_of.items() if all(sizes[d] for d in dims)]
+    status = np.full(shape, CASE_STATUS.index("not_run"), dtype=np.int8)
+    for entry in entries:
+        if entry.path is not None:
+            status[entry.at] = CASE_STATUS.index("ok")
+        elif entry.state == "failed":
+            status[entry.at] = CASE_STATUS.index("failed")
+
+    case_dims = tuple(a.name for a in axes)
+    coords = {a.name: a.coord for a in axes}
+    coords["phase"] = phase_coordinate()
+    if n_t:
+        coords["elapsed_time"] = xr.DataArray(
+            np.asarray(elapsed, dtype=np.float64), dims="elapsed_time",
+            attrs={"units": "s", "long_name": "simulated time since the start of the cycle"})
+    coords.update(scalars or {})
+    for group, dim in ((scan.row, "row"), (scan.spectrum, None), (scan.sensor, "sensor")):
+        for name, (values, a) in (group or {}).items():
+            coords[name] = xr.DataArray(values, dims=dim or name, attrs=dict(a))
+    data = {}
+    for k in kept:
+        a = dict(scan.attrs[k]) if k in scan.attrs else {"units": VARIABLES[k][1], "long_name": VARIABLES[k][2]}
+        if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
+            a["comment"] = RESAMPLED_COMMENT
+        data[k] = xr.DataArray(_placeholder(shape + tuple(sizes[d] for d in dims_of[k])),
+                               dims=case_dims + dims_of[k], attrs=a)
+    # written one grid point at a time too: HDF5 holds a written chunk (here one byte) in
+    # about 7 kB until the file closes, so a whole write of it grew with the cases
+    data["case_status"] = case_status_variable(status, case_dims).copy(data=_placeholder(shape, np.int8))
+    layout = xr.Dataset(data_vars=data, coords=coords, attrs=dict(attrs or {}))
+    encoding = (encoding_of or combined_encoding)(layout, case_dims)
+
+    try:
+        from xarray.backends.writers import to_netcdf as _declare
+    except ImportError:   # xarray before 2025.x
+        from xarray.backends.api import to_netcdf as _declare
+    # the data are written here, not by dask: the synchronous scheduler keeps xarray from
+    # taking a distributed lock while a Client is active
+    with dask.config.set(scheduler="synchronous"):
+        _, store = _declare(layout, str(path), engine="netcdf4", format="NETCDF4",
+                            encoding=encoding, multifile=True)
+    try:
+        nc = store.ds
+        targets = {}
+        for k in kept:
+            var = nc.variables[k]
+            var.set_auto_maskandscale(False)
+            chunk = 8 * int(np.prod([sizes[d] for d in dims_of[k]]))
+            var.set_var_chunk_cache(size=max(_WRITE_CACHE_CHUNKS * chunk, 1 << 16), nelems=521, preemption=1.0)
+            targets[k] = var
+        flags = nc.variables["case_status"]
+        flags.set_auto_maskandscale(False)
+        flags.set_var_chunk_cache(size=1 << 16, nelems=521, preemption=1.0)
+        spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
+        files = {e.at: e.path for e in entries if e.path is not None}
+        for at in np.ndindex(*shape):   # every grid point, asked or not: each chunk written once
+            path = files.get(at)
+            case = _case_slabs(path, kept, dims_of, elapsed, resampled, spectrum_freq,
+                               scan if scan.partial else None) if path is not None else {}
+            for k, var in targets.items():
+                v = case.get(k)
+                if v is None:
+                    v = np.full(tuple(sizes[d] for d in dims_of[k]), np.nan)
+                var[at] = v
+            flags[at] = status[at]
+    finally:
+        store.close()
+    return resampled
+
+
+def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first=None) -> dict:
+    """name -> the case's array in the combined variable's trailing dims (on the common
+    time grid when ``resampled``); absent when the file lacks it or its spectrum differs.
+
+    With ``first`` (a :func:`first_file_scan`), raises :class:`NeedsFullScan` when the file
+    has other sample times, or a variable or dimension the first file has not."""
+    import netCDF4
+
+    out = {}
+    try:
+        with netCDF4.Dataset(path, "r") as nc:
+            nc.set_auto_mask(False)
+            t = np.asarray(nc.variables["elapsed_time"][...], dtype=np.float64)
+            if first is not None and not (t.shape == first.times.shape and np.array_equal(t, first.times)
+                                          and set(nc.variables) <= first.names
+                                          and set(nc.dimensions) <= first.dims):
+                raise NeedsFullScan(str(path))
+            same_spectrum = (spectrum_freq is not None and "frequency" in nc.variables
+                             and np.array_equal(np.asarray(nc.variables["frequency"][...]), spectrum_freq))
+            for k in names:
+                if k not in nc.variables:
+                    continue
+                if "frequency" in dims_of[k] and not same_spectrum:   # another window or rate: left NaN
+                    continue
+                var = nc.variables[k]
+                v = np.asarray(var[...], dtype=np.float64)
+                order = [var.dimensions.index(d) for d in dims_of[k]]
+                v = np.transpose(v, order) if order != sorted(order) else v
+                if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
+                    v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
+                                  for col in v.reshape(len(t), -1).T], axis=-1).reshape((len(elapsed),) + v.shape[1:])
+                out[k] = v
+    except NeedsFullScan:
+        raise
+    except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
+        raise CaseFileError(path, str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
+    return out

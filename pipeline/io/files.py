@@ -43,7 +43,8 @@ class WriteError(UserError):
     rerun resumes."""
 
 
-def _write_error(path: Path, exc: BaseException) -> WriteError:
+def write_error(path: Path, exc: BaseException) -> WriteError:
+    """The one-line :class:`WriteError` for ``exc`` raised while writing ``path``."""
     if isinstance(exc, OSError) and exc.errno:
         why = os.strerror(exc.errno)
     elif _disk_full(path.parent):   # HDF5's word for it is "NetCDF: HDF error"
@@ -180,22 +181,32 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     import dask
 
     path = Path(path)
+    with netcdf_atomic(path) as tmp:
+        _pause_for_tests()
+        # The data are numpy arrays in this process. While a distributed Client is
+        # active, xarray would take a scheduler-wide write lock (a round trip to the
+        # scheduler, and where a signal could leave the write hung); the synchronous
+        # scheduler gives it a plain in-process lock instead.
+        with dask.config.set(scheduler="synchronous"):
+            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
+                         encoding=encoding_for(ds) if encoding is None else encoding)
+    return path
+
+
+@contextlib.contextmanager
+def netcdf_atomic(path):
+    """Yield a temporary name beside ``path`` for a netCDF writer; when the block ends the
+    file is fsync'ed and renamed onto ``path`` (as :func:`write_atomic`, whose errors it
+    raises: :class:`WriteError` when the place is at fault)."""
+    path = Path(path)
     try:
         with _replacing(path) as tmp:
-            _pause_for_tests()
-            # The data are numpy arrays in this process. While a distributed Client is
-            # active, xarray would take a scheduler-wide write lock (a round trip to the
-            # scheduler, and where a signal could leave the write hung); the synchronous
-            # scheduler gives it a plain in-process lock instead.
-            with dask.config.set(scheduler="synchronous"):
-                ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                             encoding=encoding_for(ds) if encoding is None else encoding)
+            yield tmp
             _fsync(tmp)
     except (OSError, RuntimeError) as exc:
         if _place_fault(path, exc):
-            raise _write_error(path, exc) from None
+            raise write_error(path, exc) from None
         raise
-    return path
 
 
 def write_text_atomic(path, text: str) -> Path:
@@ -253,5 +264,5 @@ def write_bytes_atomic(path, data: bytes) -> Path:
             fh.flush()
             os.fsync(fh.fileno())
     except OSError as exc:
-        raise _write_error(path, exc) from None
+        raise write_error(path, exc) from None
     return path

@@ -160,8 +160,10 @@ def load_context(directory: Path, reference=None, targets=None) -> Context:
     """The results folder read for the report: the sweep, its metrics and fits (written as
     ``metrics.nc`` and ``fits.nc``), the status, the references, the stored configuration
     and statics, and what the sections share (phase windows, the study comparison, the
-    summary values)."""
-    sweep = open_results(directory)
+    summary values). ``sweep.nc`` is opened lazily (:func:`pipeline.analysis.open_results`):
+    the metrics are read in full, a time series only for the cases a section draws; the
+    caller closes ``ctx.sweep``."""
+    sweep = open_results(directory, lazy=True)
     metrics = phase_metrics(sweep)
     fits = fit_metrics(metrics)
     write_metrics(metrics, directory / "metrics.nc")
@@ -205,11 +207,14 @@ def build_report(directory, reference=None, targets=None) -> ReportFiles:
     """
     directory = Path(directory)
     ctx = load_context(directory, reference, targets)
-    (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
-    blocks = [block for section in SECTIONS for block in section(ctx)]
-    title = f"Sweep report: {directory.name}"
-    md = write_text_atomic(ctx.report_dir / "report.md", render_markdown(blocks))
-    ht = write_text_atomic(ctx.report_dir / "report.html", render_html(blocks, title))
-    missing = int((base_states(ctx) != "ok").sum())
+    try:
+        (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
+        blocks = [block for section in SECTIONS for block in section(ctx)]
+        title = f"Sweep report: {directory.name}"
+        md = write_text_atomic(ctx.report_dir / "report.md", render_markdown(blocks))
+        ht = write_text_atomic(ctx.report_dir / "report.html", render_html(blocks, title))
+        missing = int((base_states(ctx) != "ok").sum())
+    finally:
+        ctx.sweep.close()
     return ReportFiles(markdown=md, html=ht, figures=ctx.figures, metrics=directory / "metrics.nc",
                        fits=directory / "fits.nc", missing=missing, summary=ctx.summary_path)

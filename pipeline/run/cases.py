@@ -1,8 +1,12 @@
-"""One case of a sweep: compute it (on any worker) and label it (in the parent).
+"""One case of a sweep: compute it (on any worker), label it and write its file.
 
-Workers only compute: :func:`compute_case` returns the :class:`rvcore.simulation.run.CaseResult`
-(or the reason it failed) as a :class:`CaseOutcome`, and the parent labels it with
-:func:`label_case`, so that the files do not depend on where a case ran.
+:func:`compute_and_write` computes a case, labels it (:func:`label_case`) and writes its
+file where the worker can reach the sweep's ``cases/`` folder (a local cluster, a serial
+run, a cluster on a shared file system), returning only the file's SHA-256: the parent
+then records a line of status per case, a cost that does not depend on the case. A worker
+that cannot reach the folder returns the :class:`rvcore.simulation.run.CaseResult`, and
+the parent labels and writes it as before. Either way the labelling is the same
+function, so the files do not depend on where a case ran.
 """
 from __future__ import annotations
 
@@ -45,6 +49,15 @@ class CaseOutcome:
     reason: str = ""
     traceback: str = ""
     seconds: float = 0.0
+    #: the SHA-256 of the case file when the worker wrote it ('' when it did not)
+    sha256: str = ""
+    #: one line when the worker could not write the file because of where it goes
+    #: (a full disk, a read-only folder): the sweep stops with it
+    write_error: str = ""
+
+    @property
+    def written(self) -> bool:
+        return bool(self.sha256)
 
 
 def _default_case_fn():
@@ -79,6 +92,55 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
         return CaseOutcome(spec.case_id, False, None, failure_reason(exc), traceback.format_exc(),
                            time.perf_counter() - t0)
     return CaseOutcome(spec.case_id, True, result, seconds=time.perf_counter() - t0)
+
+
+def compute_and_write(spec: CaseSpec, case_fn=None, cases_dir=None, source: str = "",
+                      sweep_name: str = "", marker: str = "") -> CaseOutcome:
+    """:func:`compute_case`, then, where this process sees the sweep's ``cases_dir`` (its
+    ``marker`` file is there), label the result and write ``<cases_dir>/<case id>.nc``
+    atomically here.
+
+    Parameters
+    ----------
+    spec : pipeline.schema.sweepfile.CaseSpec
+    case_fn : callable, optional
+        As for :func:`compute_case`.
+    cases_dir : str or Path, optional
+        The sweep's ``cases/`` folder [-]; None, or a folder not seen from here (a worker
+        on another host), returns the result for the parent to write.
+    source, sweep_name : str
+        For the file's ``history`` line (:func:`label_case`).
+    marker : str
+        A file the parent made in ``cases_dir`` for this run: a worker on another host
+        that has a folder of the same name, but not this one, does not see it and
+        returns the result.
+
+    Returns
+    -------
+    CaseOutcome
+        ``sha256`` set and no result when the file was written here; ``write_error`` set
+        when the place is at fault (nothing else is wrong with the case); a case whose
+        arrays cannot be written fails with the reason.
+    """
+    from pathlib import Path
+
+    from ..io import WriteError, file_digest, write_atomic
+
+    outcome = compute_case(spec, case_fn)
+    if not outcome.ok or cases_dir is None or not marker or not (Path(cases_dir) / marker).is_file():
+        return outcome
+    try:
+        ds = label_case(spec, outcome.result, source=source or source_name(case_fn), sweep_name=sweep_name)
+        path = write_atomic(ds, Path(cases_dir) / f"{spec.case_id}.nc")
+        outcome.sha256 = file_digest(path)
+    except WriteError as exc:   # a full disk, a read-only folder: the sweep stops
+        outcome.write_error = str(exc)
+    except Exception as exc:  # bad result arrays: this case fails
+        outcome.ok = False
+        outcome.reason = f"could not write the case file: {failure_reason(exc)}"
+        outcome.traceback = traceback.format_exc()
+    outcome.result = None   # the file holds it; nothing large goes back to the parent
+    return outcome
 
 
 def label_case(spec: CaseSpec, result, *, source: str = "rvcore.simulation.run.run_case",

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..errors import UserError
 from ..schema import CaseSpec
-from .cases import CaseOutcome, compute_case, failure_reason
+from .cases import CaseOutcome, compute_and_write, compute_case, failure_reason
 
 #: The only interface a local cluster listens on.
 LOCAL_HOST = "127.0.0.1"
@@ -133,9 +133,10 @@ def check_scheduler(args) -> None:
         scheduler_file_address(args.scheduler_file)
 
 
-def serial(todo, case_fn):
+def serial(todo, case_fn, **write):
+    """Run the cases here, one after the other; ``write`` as for :func:`on_cluster`."""
     for spec in todo:
-        yield spec, compute_case(spec, case_fn)
+        yield spec, compute_and_write(spec, case_fn, **write)
 
 
 @contextlib.contextmanager
@@ -211,8 +212,12 @@ def _kill_workers(cluster) -> None:
                 os.kill(pid, signal.SIGKILL)
 
 
-def on_cluster(client, todo, case_fn, allowed_failures):
-    """Submit every case; yield (spec, outcome) as they finish, in completion order."""
+def on_cluster(client, todo, case_fn, allowed_failures, **write):
+    """Submit every case; yield (spec, outcome) as they finish, in completion order.
+
+    ``write`` (``cases_dir``, ``source``, ``sweep_name``) goes to
+    :func:`pipeline.run.cases.compute_and_write`: a worker that sees ``cases_dir`` writes
+    its case's file itself."""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
@@ -220,8 +225,8 @@ def on_cluster(client, todo, case_fn, allowed_failures):
     futures = {}
     # longest cases first: with one case per worker at a time, this balances the load
     for spec in sorted(todo, key=estimated_cost, reverse=True):
-        fut = client.submit(compute_case, spec, case_fn, key=f"rvsweep-{spec.case_id}-{token}",
-                            pure=False)
+        fut = client.submit(compute_and_write, spec, case_fn, key=f"rvsweep-{spec.case_id}-{token}",
+                            pure=False, **write)
         futures[fut] = spec
     try:
         for fut in as_completed(list(futures)):

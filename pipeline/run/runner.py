@@ -4,6 +4,8 @@ Layout of a sweep's folder (docs/outputs.md, "What a sweep writes")::
 
     <out>/cases/<case id>.nc   one file per finished case (atomic: temp name, os.replace)
     <out>/status.json          case id -> its values (SI), ok / failed + reason / not_run
+    <out>/status.jsonl         while a sweep runs: one line per case finished since
+                               status.json was written whole (folded in at the end)
     <out>/sweep.nc             all cases on the grid (speed, radial_load, [extra axes],
                                elapsed_time | phase), with ``case_status``
 
@@ -20,13 +22,17 @@ How a run goes
 3. The numba kernels are compiled in this process (``rvcore.simulation.run.warm_up``) so that
    workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
-   process per core, one thread each), or on an existing cluster. Workers only
-   compute: each returns its :class:`rvcore.simulation.run.CaseResult` (or the reason it
-   failed), and this process labels it (:func:`pipeline.io.case.case_dataset`) and writes
-   it, so the files do not depend on where a case ran and workers need no access to
-   the output folder.
-5. As each case finishes its file and ``status.json`` are written, and one progress
-   bar advances. A case that raises is recorded with its reason; a case that kills its
+   process per core, one thread each), or on an existing cluster. A worker that sees
+   the ``cases/`` folder (a local cluster; a cluster on a shared file system) labels
+   its case (:func:`pipeline.io.case.case_dataset`), writes its file and returns only
+   its SHA-256 (:func:`pipeline.run.cases.compute_and_write`), so this process's cost
+   per case is a status line; a worker that does not see it returns its
+   :class:`rvcore.simulation.run.CaseResult` (or the reason it failed), and this process
+   labels and writes it. The files do not depend on where a case ran, and workers need
+   no access to the output folder.
+5. As each case finishes its file is written, one line recording it is appended to
+   ``status.jsonl`` (``status.json`` is written whole only when the run starts and ends:
+   :mod:`pipeline.io.status`), and one progress bar advances. A case that raises is recorded with its reason; a case that kills its
    worker is retried (``allowed_failures`` times on a local cluster) and then recorded.
    Ctrl-C (or a kill) loses no finished case.
 6. The case files are combined into ``sweep.nc`` by the one combiner,
@@ -48,9 +54,11 @@ import xarray as xr
 from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
+from ..io.combine import CaseFileError, NeedsFullScan, first_file_scan, scan_case_files, write_streamed
+from ..io.files import netcdf_atomic
 from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
-                  write_atomic, write_status)
+                  StatusLog, write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
@@ -288,6 +296,28 @@ def _reusable(path: Path, case_id: str, recorded: str = "") -> str:
     return digest
 
 
+#: The file that shows a worker it sees this run's ``cases/`` folder: ``.rvsweep-<random>.here``.
+_MARKER = ".rvsweep-{}.here"
+
+
+def _here_marker(cases_dir: Path, stack) -> str:
+    """Make this run's marker file in ``cases_dir`` (removed when ``stack`` closes; those
+    of killed runs first) and return its name; '' when it cannot be made (the parent then
+    writes every case file)."""
+    import uuid
+
+    for old in cases_dir.glob(_MARKER.format("*")):
+        with contextlib.suppress(OSError):
+            old.unlink()
+    name = _MARKER.format(uuid.uuid4().hex)
+    try:
+        (cases_dir / name).touch()
+    except OSError:
+        return ""
+    stack.callback(lambda: (cases_dir / name).unlink(missing_ok=True))
+    return name
+
+
 def _recorded_digests(out: Path) -> dict:
     """case id -> the SHA-256 recorded in ``status.json`` when its file was written."""
     try:
@@ -333,10 +363,14 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
     from tqdm.auto import tqdm
 
     bar = None
+    log = StatusLog(out)   # one line per finished case; status.json is written whole at the end
     try:
         with contextlib.ExitStack() as stack:
+            stack.callback(log.close)
+            write = {"cases_dir": str(cases_dir), "source": source, "sweep_name": sweep.name,
+                     "marker": _here_marker(cases_dir, stack)}
             if serial or not todo:
-                outcomes = cluster.serial(todo, case_fn)
+                outcomes = cluster.serial(todo, case_fn, **write)
             else:
                 client, scheduler_text = stack.enter_context(cluster.client(
                     workers=workers, scheduler=scheduler, scheduler_file=scheduler_file,
@@ -346,7 +380,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     # every worker loads the kernels now (part of starting the cluster),
                     # not inside its first case
                     client.run(cluster.load_kernels_on_worker)
-                outcomes = cluster.on_cluster(client, todo, case_fn, allowed_failures)
+                outcomes = cluster.on_cluster(client, todo, case_fn, allowed_failures, **write)
             # One bar, whatever runs the cases; its rate and ETA count this run's cases.
             bar = tqdm(total=len(sweep.cases), initial=n_reused, desc=sweep.name, unit="case",
                        disable=not progress or not todo, file=sys.stderr, smoothing=0.0,
@@ -358,7 +392,12 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     st = states[spec.case_id]
                     st.seconds = outcome.seconds
                     st.computed = True
-                    if outcome.ok:
+                    if outcome.write_error:   # the worker's full disk, read-only folder: stop, in one line
+                        raise WriteError(outcome.write_error)
+                    if outcome.ok and outcome.written:   # the worker wrote the file
+                        st.sha256 = outcome.sha256
+                        st.state, st.reason, st.traceback = "ok", "", ""
+                    elif outcome.ok:   # a worker that does not see the folder: written here
                         try:
                             ds = label_case(spec, outcome.result, source=source, sweep_name=sweep.name)
                             path = write_atomic(ds, cases_dir / f"{spec.case_id}.nc")
@@ -374,7 +413,7 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     if st.state == "failed":
                         n_failed += 1
                         bar.set_postfix(failed=n_failed, refresh=False)
-                    write_status(out, states)
+                    log.append(st)
                     bar.update(1)
             finally:
                 wall = time.perf_counter() - t0
@@ -498,37 +537,54 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
                                         reason=entry.get("reason", ""))
     dims = _dimension_values(sweep)
     axes = [GridAxis(name, values, _coordinate(name, key, values, axis)) for name, key, values, axis in dims]
-    entries, loaded = [], 0
+    entries = []
     for spec in sweep.cases:
         st = states.get(spec.case_id) if states else None
         entry = CaseEntry(tuple(a.index(spec.point[key]) for a, (_, key, _, _) in zip(axes, dims)),
                           state=st.state if st is not None else "not_run")
         p = cases_dir / f"{spec.case_id}.nc"
         if p.is_file():
-            try:
-                with xr.open_dataset(p, engine="netcdf4") as ds:
-                    entry.data = ds.load()
-            except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError
-                raise UserError(f"{p}: cannot be read ({_first_line(exc)}); move it away and run "
-                                "the sweep again to compute that case again") from None
-            loaded += 1
+            entry.path = p
         entries.append(entry)
+    paths = [e.path for e in entries if e.path is not None]
     fixed = {key: xr.DataArray(float(value), attrs={"units": si_udunits(OPERATING_POINT[key]),
                                                     "long_name": _OP_LONG_NAMES[key]})
              for key, value in sweep.fixed.items() if key in OPERATING_POINT and key not in LEADING}
-    ds, resampled = combine_cases(axes, entries, output_rate=_output_rate(sweep), scalars=fixed)
+    output_rate = _output_rate(sweep)
     case_dims = tuple(a.name for a in axes)
-
     previous = []
     target = out / "sweep.nc"
     if target.is_file():
         with contextlib.suppress(Exception), xr.open_dataset(target, engine="netcdf4") as old:
             previous = [line for line in str(old.attrs.get("history", "")).splitlines() if line.strip()]
+    # The grid (sample times, sensors, rows, spectra, attributes) is first taken from the
+    # first case file, and every file opened once: its slab is read and written into its
+    # one-case chunk, so memory does not grow with the cases. A file that disagrees with
+    # the first (other sample times: the series are resampled) restarts the write after a
+    # pass over every file for the grid. A file that does not read stops it; sweep.nc is
+    # then untouched.
+    try:
+        try:
+            scan = first_file_scan(paths)
+            _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history)
+        except NeedsFullScan:
+            scan = scan_case_files(paths)
+            _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history)
+    except CaseFileError as exc:
+        raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
+                        "the sweep again to compute that case again") from None
+    return target
+
+
+def _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history):
+    """sweep.nc's global attributes for ``scan``, and the file written by
+    :func:`pipeline.io.combine.write_streamed` (atomically)."""
+    loaded = scan.n_files
+    _, resampled = scan.elapsed(output_rate)
     lines = previous + list(history) + [history_line(
         f"pipeline.run.runner.write_combined_sweep: {loaded} of {len(sweep.cases)} case files into sweep.nc"
         + ("; time series linearly interpolated onto a common elapsed_time grid" if resampled else ""))]
 
-    first = next((e.data for e in entries if e.data is not None), None)
     caveats = " | ".join(sweep.bearing.warnings)
     attrs = {
         "Conventions": "CF-1.8",
@@ -539,7 +595,7 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
         "references": REFERENCES,
         "configuration": sweep.configuration,
         "configuration_hash": sweep.configuration_hash,
-        "git_commit": first.attrs.get("git_commit", "") if first is not None else git_commit(),
+        "git_commit": str(scan.global_attrs.get("git_commit", "")) if loaded else git_commit(),
         "bearing": sweep.bearing.name,
         "profile": sweep.profile.name,
         "caveats": caveats,
@@ -552,6 +608,6 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
     }
     if sweep.description:
         attrs["comment"] = sweep.description
-    ds.attrs = attrs
-    write_atomic(ds, target, encoding=combined_encoding(ds, case_dims))
-    return target
+    with netcdf_atomic(target) as tmp:
+        write_streamed(tmp, axes, entries, scan, output_rate=output_rate, scalars=fixed, attrs=attrs,
+                       encoding_of=combined_encoding)

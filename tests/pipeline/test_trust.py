@@ -192,7 +192,18 @@ def test_a_full_disk_in_the_combine_stops_in_one_line(finished, monkeypatch, cap
     """Every case done, ``sweep.nc`` cannot be written: one line naming sweep.nc."""
     path, out, _ = finished
     (out / "sweep.nc").unlink()
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", _enospc)
+    import netCDF4
+
+    real = netCDF4.Dataset
+
+    class NoSpaceToCreate(real):   # reading still works
+        def __init__(self, filename, mode="r", *args, **kwargs):
+            if mode != "r":
+                _enospc()
+            super().__init__(filename, mode, *args, **kwargs)
+
+    # every netCDF writer (xarray's or the streaming combine's) creates its file here
+    monkeypatch.setattr(netCDF4, "Dataset", NoSpaceToCreate)
     _synthetic_cli(monkeypatch)
     code = main(["sweep", str(path), "--out", str(out.parent), "--serial", "--no-progress"])
     err = _one_line(capsys.readouterr().err)

@@ -1,0 +1,297 @@
+"""The pipeline at scale (issue 42), guarded at small size without timings: the combine's
+memory does not grow with the cases, status is appended per case and written whole a
+fixed number of times, a resume opens no netCDF file, the streamed ``sweep.nc`` is the
+in-memory combiner's, workers write their own case files and the report opens
+``sweep.nc`` lazily.
+
+Synthetic case functions stand in for the dynamics (as in test_sweep.py). Each fact is
+checked against an independent path (the in-memory combiner, file counts made here),
+never against numbers taken from the code under test.
+"""
+from __future__ import annotations
+
+import json
+import tracemalloc
+from pathlib import Path
+
+import netCDF4
+import numpy as np
+import pytest
+import xarray as xr
+
+import pipeline.io.status
+import pipeline.run.runner
+from pipeline.io import (STATUS_LOG, StatusLog, combine_cases, combined_encoding, grid_from_cases,
+                         read_status, write_atomic)
+from pipeline.run import run_sweep
+from pipeline.run.runner import write_combined_sweep
+from pipeline.schema import read_sweep_file
+from tests.pipeline.synthetic import synthetic_result
+from tests.pipeline.test_sweep import Counting, failing_case, synthetic_case
+from tests.schema.test_sweepfile import GRID, make_sweep
+
+
+def _grid(n_speeds: int, n_loads: int) -> str:
+    speeds = ", ".join(f'"{120 + 60 * k} deg/s"' for k in range(n_speeds))
+    loads = ", ".join(f'"{20 + k} kN"' for k in range(n_loads))
+    return f'[axes]\nspeed = [{speeds}]\nradial_load = [{loads}]\n[fixed]\naxial_load = "10 kN"\n'
+
+
+def uneven_case(bearing, profile, op, settings, sensors=()):
+    """Like failing_case, but the sample times differ between speeds (the combine resamples)."""
+    if op.speed > 10 and op.radial_load > 30e3:
+        return failing_case(bearing, profile, op, settings)
+    return synthetic_result(op.speed, op.radial_load, op.axial_load, n=47 if op.speed < 3 else 53)
+
+
+def long_case(bearing, profile, op, settings, sensors=()):
+    """A synthetic case with 4000 samples (about 0.5 MB of series): memory per case shows."""
+    return synthetic_result(op.speed, op.radial_load, op.axial_load, n=4000)
+
+
+class OpenCounter:
+    """Counts the netCDF files opened (``netCDF4.Dataset``, which xarray's engine also uses)."""
+
+    def __init__(self, monkeypatch):
+        self.opened = []
+        real = netCDF4.Dataset
+        counter = self
+
+        class Counted(real):
+            def __init__(self, filename, *args, **kwargs):
+                counter.opened.append(str(filename))
+                super().__init__(filename, *args, **kwargs)
+
+        monkeypatch.setattr(netCDF4, "Dataset", Counted)
+
+
+def _header(path) -> list:
+    """What ``ncdump -h -s`` shows, read with netCDF4: dimensions, and per variable its
+    type, dimensions, chunking, filters and attributes; the global attributes but history."""
+    out = []
+    with netCDF4.Dataset(path) as nc:
+        out += [f"{k} = {len(d)}" for k, d in nc.dimensions.items()]
+        for k, v in nc.variables.items():
+            out.append(f"{v.dtype} {k}{v.dimensions} {v.chunking()} {v.filters()}")
+            out += [f"{k}:{a} = {v.getncattr(a)!r}" for a in v.ncattrs()]
+        out += [f":{a}" for a in nc.ncattrs() if a != "history"]
+    return out
+
+
+# --------------------------------------------------------------------------- the combine
+
+
+@pytest.mark.parametrize("case_fn", [failing_case, uneven_case], ids=["same-times", "resampled"])
+def test_the_streamed_sweep_nc_is_the_in_memory_combiners(tmp_path, case_fn):
+    """sweep.nc, written one case at a time, holds what the in-memory combiner
+    (combine_cases, the path of a folder without sweep.nc) makes of the same case files:
+    the same variables, values, attributes and coordinates; and written with the
+    combined encoding, the same chunking and filters. One case failed (NaN, flagged 1);
+    in the second variant the cases' sample times differ, so both resample."""
+    path = make_sweep(tmp_path, GRID)
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=case_fn, progress=False)
+    assert len(result.failed) == 1
+    streamed = xr.open_dataset(result.combined).load()
+
+    files = sorted((result.out_dir / "cases").glob("*.nc"))
+    cases = [xr.open_dataset(f).load() for f in files]
+    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
+    axes, entries, fixed = grid_from_cases(cases, asked)
+    memory, resampled = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate,
+                                      scalars=fixed)
+    assert resampled == (case_fn is uneven_case)
+    assert int((streamed["case_status"] == 1).sum()) == 1
+    bare = streamed.copy()
+    bare.attrs = {}                      # the global attributes are the runner's, not the combiner's
+    assert memory.identical(bare), "the streamed variables differ from the in-memory combine"
+
+    memory.attrs = dict(streamed.attrs)
+    reference = tmp_path / "in-memory.nc"
+    write_atomic(memory, reference, encoding=combined_encoding(memory, [a.name for a in axes]))
+    assert _header(reference) == _header(result.combined)
+
+
+def _combine_peak(tmp_path, n_speeds, n_loads) -> int:
+    """tracemalloc's peak [bytes] of write_combined_sweep over a finished grid of long cases."""
+    folder = tmp_path / f"g{n_speeds}x{n_loads}"
+    folder.mkdir()
+    path = make_sweep(folder, _grid(n_speeds, n_loads))
+    result = run_sweep(path, folder / "s", serial=True, case_fn=long_case, progress=False, combine_at_end=False)
+    assert result.ok and len(result.computed) == n_speeds * n_loads
+    sweep = read_sweep_file(path)
+    write_combined_sweep(sweep, folder / "s")          # imports and caches warmed
+    tracemalloc.start()
+    try:
+        write_combined_sweep(sweep, folder / "s")
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    return peak
+
+
+def test_the_combines_memory_does_not_grow_with_the_cases(tmp_path):
+    """8 cases against 32 of about 0.5 MB of series each: the combine's peak allocation
+    (tracemalloc) stays within 1.3x; holding every case, as the combine once did, the
+    32-case peak would be about 4x the 8-case one."""
+    small = _combine_peak(tmp_path, 2, 4)
+    large = _combine_peak(tmp_path, 4, 8)
+    per_case = 4000 * 8 * 15            # samples x bytes x the synthetic series, one case
+    assert small > per_case             # a case's data passes through memory
+    assert large < 1.3 * small, (small, large)
+
+
+# --------------------------------------------------------------------------- status
+
+
+def _count_status_writes(monkeypatch):
+    whole, lines = [], []
+    real_write, real_append = pipeline.io.status.write_text_atomic, StatusLog.append
+
+    def counted_write(path, text):
+        if Path(path).name == "status.json":
+            whole.append(path)
+        return real_write(path, text)
+
+    def counted_append(self, state):
+        lines.append(state.case_id)
+        return real_append(self, state)
+
+    monkeypatch.setattr(pipeline.io.status, "write_text_atomic", counted_write)
+    monkeypatch.setattr(StatusLog, "append", counted_append)
+    return whole, lines
+
+
+@pytest.mark.parametrize("n_speeds,n_loads", [(2, 2), (3, 4)])
+def test_status_is_appended_once_per_case_and_written_whole_twice(tmp_path, monkeypatch, n_speeds, n_loads):
+    """4 and 12 cases: one appended line per computed case, status.json written whole
+    twice (start and end), whatever the number of cases; afterwards status.json records
+    every case with the SHA-256 of its file, and the log is gone (folded in)."""
+    import hashlib
+
+    whole, lines = _count_status_writes(monkeypatch)
+    path = make_sweep(tmp_path, _grid(n_speeds, n_loads))
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False)
+    n = n_speeds * n_loads
+    assert result.ok and len(result.computed) == n
+    assert sorted(lines) == sorted(result.computed) and len(whole) == 2
+    assert not (result.out_dir / STATUS_LOG).exists()
+    status = json.loads((result.out_dir / "status.json").read_text())
+    for cid in result.computed:
+        f = result.out_dir / "cases" / f"{cid}.nc"
+        assert status[cid]["state"] == "ok" and status[cid]["sha256"] == hashlib.sha256(f.read_bytes()).hexdigest()
+
+
+def test_a_sweep_killed_before_its_compaction_resumes_from_the_log(tmp_path, monkeypatch):
+    """Killed after every case but before status.json is written again (its cases are
+    in status.jsonl only, the last line torn): the rerun computes nothing, opens no
+    netCDF file to check them, and a case file changed since is still caught."""
+    path = make_sweep(tmp_path, GRID)
+    out = tmp_path / "s"
+    real = pipeline.run.runner.write_status
+    calls = []
+
+    def killed_at_the_end(folder, states):
+        calls.append(1)
+        if len(calls) == 2:
+            raise SystemExit("killed")          # not an exception the runner handles
+        return real(folder, states)
+
+    monkeypatch.setattr(pipeline.run.runner, "write_status", killed_at_the_end)
+    with pytest.raises(SystemExit):
+        run_sweep(path, out, serial=True, case_fn=synthetic_case, progress=False)
+    monkeypatch.setattr(pipeline.run.runner, "write_status", real)
+    on_disk = json.loads((out / "status.json").read_text())
+    assert all(e["state"] == "not_run" for e in on_disk.values())       # the start's whole write
+    log = out / STATUS_LOG
+    assert len(log.read_text().splitlines()) == 4
+    with open(log, "a") as fh:
+        fh.write('{"case": "0123456789abcdef", "status": {"sta')         # a torn last line
+    ids = [c.case_id for c in read_sweep_file(path).cases]
+    assert all(read_status(out)[cid]["state"] == "ok" for cid in ids)
+
+    again = Counting()
+    with pytest.MonkeyPatch.context() as patch:   # no counted file outlives the count
+        counter = OpenCounter(patch)
+        result = run_sweep(path, out, serial=True, case_fn=again, progress=False, combine_at_end=False)
+    assert result.ok and again.calls == [] and len(result.reused) == 4
+    assert counter.opened == []
+    assert not log.exists() and json.loads((out / "status.json").read_text())[ids[0]]["state"] == "ok"
+
+    victim = out / "cases" / f"{ids[1]}.nc"
+    data = bytearray(victim.read_bytes())
+    data[len(data) // 2] ^= 0xFF
+    victim.write_bytes(bytes(data))
+    result = run_sweep(path, out, serial=True, case_fn=again, progress=False, combine_at_end=False)
+    assert result.computed == [ids[1]]
+
+
+def test_a_resume_opens_no_netcdf_file(tmp_path, monkeypatch):
+    """A finished sweep run again: every case reused on its recorded SHA-256, no netCDF
+    file opened (before the combine)."""
+    path = make_sweep(tmp_path, _grid(2, 3))
+    first = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False)
+    assert first.ok
+    again = Counting()
+    with pytest.MonkeyPatch.context() as patch:
+        counter = OpenCounter(patch)
+        result = run_sweep(path, tmp_path / "s", serial=True, case_fn=again, progress=False, combine_at_end=False)
+    assert len(result.reused) == 6 and again.calls == [] and counter.opened == []
+
+
+# --------------------------------------------------------------------------- who writes
+
+
+def test_workers_write_their_own_case_files(tmp_path, monkeypatch):
+    """The process that computes a case writes its file; the parent only records it (its
+    labelling and writing are never called)."""
+    import pipeline.run.runner as runner
+
+    def not_here(*args, **kwargs):
+        raise AssertionError("the parent labelled or wrote a case")
+
+    monkeypatch.setattr(runner, "label_case", not_here)
+    monkeypatch.setattr(runner, "write_atomic", not_here)
+    path = make_sweep(tmp_path, GRID)
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False)
+    assert result.ok and len(list((tmp_path / "s" / "cases").glob("*.nc"))) == 4
+    assert not list((tmp_path / "s" / "cases").glob(".rvsweep-*"))      # the run's marker removed
+
+
+def test_a_worker_that_does_not_see_the_folder_returns_the_result(tmp_path):
+    """A folder of the same name without this run's marker (another host): the worker
+    writes nothing there and sends the result back for the parent to write."""
+    from pipeline.run.cases import compute_and_write
+
+    spec = read_sweep_file(make_sweep(tmp_path, GRID)).cases[0]
+    elsewhere = tmp_path / "cases"
+    elsewhere.mkdir()
+    outcome = compute_and_write(spec, synthetic_case, cases_dir=str(elsewhere), marker=".rvsweep-x.here")
+    assert outcome.ok and outcome.result is not None and not outcome.written
+    assert list(elsewhere.iterdir()) == []
+    (elsewhere / ".rvsweep-x.here").touch()
+    outcome = compute_and_write(spec, synthetic_case, cases_dir=str(elsewhere), marker=".rvsweep-x.here")
+    assert outcome.ok and outcome.result is None and outcome.written
+    assert (elsewhere / f"{spec.case_id}.nc").is_file()
+
+
+# --------------------------------------------------------------------------- the report
+
+
+def test_the_report_opens_sweep_nc_lazily(tmp_path):
+    """The report's context holds the metrics in memory and leaves every time series of
+    sweep.nc on disk (a section reads only the cases it draws)."""
+    from pipeline.report.build import load_context
+
+    path = make_sweep(tmp_path, GRID)
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False)
+    ctx = load_context(result.out_dir)
+    try:
+        series = [k for k, v in ctx.sweep.data_vars.items() if "elapsed_time" in v.dims]
+        assert "radial_displacement" in series
+        assert not any(ctx.sweep[k].variable._in_memory for k in series)
+        assert ctx.metrics["radial_displacement_range"].variable._in_memory
+        one = ctx.sweep["radial_displacement"].isel(speed=0, radial_load=0).values
+        with xr.open_dataset(result.combined) as ds:
+            assert np.array_equal(one, ds["radial_displacement"].values[0, 0])
+    finally:
+        ctx.sweep.close()
