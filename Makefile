@@ -7,6 +7,8 @@ STAMP  := $(VENV)/.installed
 SWEEP  ?= sweeps/study.toml
 OUT    ?= results
 TESTARGS ?=
+# make test spreads the tests over this many processes (pytest-xdist); 1 runs them in one.
+TESTWORKERS ?= 2
 REPORTARGS ?=  # options of rvsweep report, e.g. REPORTARGS='--target-s0 2 --target-life 50'
 
 .DEFAULT_GOAL := help
@@ -33,11 +35,11 @@ smoke:  ## the 3x3 smoke sweep (9 cases, about 20 s; a first run compiles numba 
 report: $(STAMP)  ## the report for the last sweep of SWEEP (REPORTARGS: e.g. '--target-s0 2')
 	$(BIN)/rvsweep report $(OUT)/$$($(BIN)/python -c "import sys,tomllib;print(tomllib.load(open(sys.argv[1],'rb')).get('name'))" $(SWEEP)) $(REPORTARGS)
 
-test: $(STAMP)  ## the default test run (slow tests excluded)
-	$(BIN)/python -m pytest -q $(TESTARGS)
+test: $(STAMP)  ## the default test run (slow tests excluded), on TESTWORKERS processes
+	$(BIN)/python -m pytest -q -n $(TESTWORKERS) --dist loadgroup $(TESTARGS)
 
 test-all: $(STAMP)  ## every test, the slow physics checks included
-	$(BIN)/python -m pytest -q -m "" $(TESTARGS)
+	$(BIN)/python -m pytest -q -n $(TESTWORKERS) --dist loadgroup -m "" $(TESTARGS)
 
 bench: $(STAMP)  ## performance figures of the core and the sweep
 	$(BIN)/rvsweep bench

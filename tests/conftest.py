@@ -4,6 +4,9 @@
 reduced bearing (about 20 s serial once numba has compiled). Serial, so the default run
 starts no cluster for it; the same sweep on a local cluster is compared with a serial
 run in ``tests/pipeline/test_sweep.py`` (marked slow).
+
+``make test`` spreads the tests over processes (pytest-xdist, ``--dist loadgroup``): every
+test that reads the smoke run is put in one group, so one process runs the sweep once.
 """
 from __future__ import annotations
 
@@ -22,6 +25,12 @@ class SmokeRun:
     sweep_printed: str
     report_code: int
     report_printed: str
+
+
+def pytest_collection_modifyitems(config, items):
+    for item in items:
+        if "smoke_run" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.xdist_group("smoke"))
 
 
 @pytest.fixture(scope="session")
