@@ -24,9 +24,11 @@ import math
 import numpy as np
 import pytest
 
+from rvcore.bearing.lubricant import operating_viscosity
+
 from rvcore.bearing import laws as bl
 from rvcore.bearing.layout import A_EEFF, A_ELL, A_PC3, A_RX, P_LAW, R_ARC0, R_NARC, R_Z, compile_bearing
-from rvcore.bearing.lubricant import DENSITY_DEFAULT, PRESSURE_VISCOSITY_DEFAULT
+from rvcore.bearing.lubricant import PRESSURE_VISCOSITY_DEFAULT
 from rvcore.contact import laws as contact
 from rvcore.contact import traction_ehl as tr
 from rvcore.dynamics import races
@@ -112,7 +114,7 @@ def test_compile_bearing_packs_the_law_and_each_arc_s_film_geometry():
     assert bl.FRICTION_LAWS[int(law[bl.LAW_KIND])] == "ehl_bair_winer"
     sub = law[bl.LAW_EHL0:]
     c = bearing.contact
-    assert sub[bl.EHL_ETA0] == pytest.approx(DENSITY_DEFAULT * bearing.lubricant.kinematic_viscosity)
+    assert sub[bl.EHL_ETA0] == pytest.approx(bearing.lubricant.density * operating_viscosity(bearing))
     assert sub[bl.EHL_ALPHA] == PRESSURE_VISCOSITY_DEFAULT
     assert (sub[bl.EHL_MU_B], sub[bl.EHL_V_B]) == (c.mu_static, c.v_static)
     assert sub[bl.EHL_SLOPE_CAP] == pytest.approx(1.5 * c.mu_static / c.v_static)

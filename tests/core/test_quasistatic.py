@@ -414,7 +414,10 @@ def test_four_point_axial_load_uses_one_diagonal(f_a):
     assert np.all(q[:, ~carrying] == 0.0)
     assert np.all(q[:, carrying] > 0.0)
     assert res.loaded_ball_count == z
-    assert np.ptp(q[:, carrying]) / q[:, carrying].mean() < 1e-7
+    # equal by symmetry, to the pose solver's convergence (BFGS, gtol 1e-10): the spread
+    # is 1e-8 to 1.3e-6 of the mean (1 mN in 887 N), by the clearance (40 µm nominal or its
+    # 40 °C operating value); an unequal share would be percent
+    assert np.ptp(q[:, carrying]) / q[:, carrying].mean() < 1e-5
     alpha = np.abs(res.contact_angles[:, carrying])
     assert z * q[:, carrying][:, 0].mean() * math.sin(alpha.mean()) == pytest.approx(abs(f_a), rel=1e-6)
     assert abs(res.radial_displacement) < 1e-12
