@@ -24,6 +24,7 @@ from rvcore.profile import PHASES
 
 from ..errors import ConfigError, UserError
 from ..io import VARIABLES, history_line, phase_coordinate
+from ..io.case import kinematic_coordinate
 
 #: Phase metrics of a displacement compared (those the core's reductions give).
 METRIC_KINDS = ("range", "mean", "std", "min_time", "max_time", "range_at_edge")
@@ -204,27 +205,49 @@ def find_lag(simulated: dict, measured: dict, interval: float) -> float:
     """The lag [s] of the measured series behind the simulated ones, by cross-correlation.
 
     Both on the same uniform ``interval`` [s], times from their first samples; ``measured(t)
-    ≈ simulated(t − lag)``. The normalised cross-correlations of the mean-removed series
-    (scipy.signal.correlate) are summed over the channels; the peak is refined by a parabola
-    through its three samples.
+    ≈ simulated(t − lag)``.
+
+    Notes
+    -----
+    At each lag k the correlation coefficient of the overlapping samples,
+
+    .. math:: r(k) = \\frac{Σ ab − Σa Σb / n}{\\sqrt{(Σa^2 − (Σa)^2/n)(Σb^2 − (Σb)^2/n)}}
+
+    over the n samples where ``a[i + k]`` (measured) and ``b[i]`` (simulated) overlap, the
+    sums Σab from scipy.signal.correlate and the others from cumulative sums; only lags
+    overlapping at least half the shorter series count. The raw correlation (without the
+    per-overlap normalisation) is biased towards the lag of largest overlap for a cycle
+    that starts and ends unloaded. ``r`` is summed over the channels; its peak is refined
+    by a parabola through its three samples.
     """
     from scipy.signal import correlate, correlation_lags
 
-    total = None
-    for name, m in measured.items():
-        s = simulated[name]
-        a, b = m - m.mean(), s - s.mean()
-        norm = np.linalg.norm(a) * np.linalg.norm(b)
-        if norm == 0:
-            continue
-        c = correlate(a, b, mode="full") / norm
-        total = c if total is None else total + c
-    lags = correlation_lags(len(next(iter(measured.values()))), len(next(iter(simulated.values()))), mode="full")
-    if total is None:
+    total, lags = None, None
+    for name, a in measured.items():
+        b = simulated[name]
+        na, nb = a.size, b.size
+        lags = correlation_lags(na, nb, mode="full")
+        sab = correlate(a, b, mode="full", method="auto")
+        ca = np.concatenate([[0.0], np.cumsum(a)])
+        ca2 = np.concatenate([[0.0], np.cumsum(a * a)])
+        cb = np.concatenate([[0.0], np.cumsum(b)])
+        cb2 = np.concatenate([[0.0], np.cumsum(b * b)])
+        b_lo = np.maximum(0, -lags)
+        b_hi = np.minimum(nb, na - lags)
+        n = (b_hi - b_lo).astype(float)
+        a_lo, a_hi = b_lo + lags, b_hi + lags
+        with np.errstate(invalid="ignore", divide="ignore"):
+            sa, sa2 = ca[a_hi] - ca[a_lo], ca2[a_hi] - ca2[a_lo]
+            sb, sb2 = cb[b_hi] - cb[b_lo], cb2[b_hi] - cb2[b_lo]
+            num = sab - sa * sb / n
+            den = np.sqrt(np.maximum(sa2 - sa * sa / n, 0.0) * np.maximum(sb2 - sb * sb / n, 0.0))
+            r = np.where((n >= max(4.0, 0.5 * min(na, nb))) & (den > 0), num / den, np.nan)
+        total = r if total is None else total + r
+    if total is None or not np.any(np.isfinite(total)):
         return 0.0
-    k = int(np.argmax(total))
+    k = int(np.nanargmax(total))
     shift = 0.0
-    if 0 < k < len(total) - 1:
+    if 0 < k < len(total) - 1 and np.isfinite(total[k - 1]) and np.isfinite(total[k + 1]):
         y0, y1, y2 = total[k - 1], total[k], total[k + 1]
         den = y0 - 2 * y1 + y2
         if den < 0:
@@ -361,7 +384,8 @@ def case_of_sweep(directory, speed: float, radial_load: float, source: str) -> P
     return best
 
 
-def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float = math.nan) -> dict:
+def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float = math.nan,
+            kinematic=None) -> dict:
     """Condition a trace, align it to a simulated case and compute both sides' metrics.
 
     Parameters
@@ -374,6 +398,10 @@ def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float 
         ``(phase, 2)`` windows [s] of the cycle; None: the case's ``phase_start``/``phase_end``.
     cycle : float
         The cycle's length [s] (the profile's duration); NaN: the case's last output time.
+    kinematic : ndarray or None
+        The bearing's kinematic frequencies [Hz]
+        (:func:`rvcore.recording.spectra.kinematic_frequencies`) for the measured tone
+        amplitudes; None: none.
 
     Returns
     -------
@@ -445,7 +473,8 @@ def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float 
                 rows.append(sprague_geers(sim[n][w], meas[n][w]))
             sg[n] = np.array(rows)
     out["sprague_geers"] = sg
-    kinematic = np.zeros(0)
+    kinematic = np.zeros(0) if kinematic is None else np.asarray(kinematic, dtype=np.float64)
+    out["kinematic"] = kinematic
     out["spectra"] = steady_spectra(t, meas, tuple(phases[1]), kinematic) if len(phases) > 1 else {}
     return out
 
@@ -482,6 +511,14 @@ def comparison_dataset(trace, result: dict, *, case_name: str = "") -> xr.Datase
                 _, units, long_name = VARIABLES[f"{n}_spectrum"]
                 data[f"{n}_spectrum"] = ("frequency", spectra[f"{n}_spectrum"],
                                          {"units": units, "long_name": f"measured: {long_name}"})
+            if f"{n}_kinematic_amplitude" in spectra and result["kinematic"].size:
+                _, units, long_name = VARIABLES[f"{n}_kinematic_amplitude"]
+                data[f"{n}_kinematic_amplitude"] = ("kinematic", spectra[f"{n}_kinematic_amplitude"],
+                                                    {"units": units, "long_name": f"measured: {long_name}"})
+        if result["kinematic"].size:
+            coords["kinematic"] = kinematic_coordinate()
+            data["kinematic_frequency"] = ("kinematic", result["kinematic"], {
+                "units": "Hz", "long_name": "kinematic frequency of the bearing at the trace's speed"})
     ds = xr.Dataset(data, coords=coords)
     ds.attrs = {"Conventions": "CF-1.8",
                 "title": f"RV main-bearing rig trace '{trace.name}' beside the simulated case {case_name}".strip(),

@@ -37,7 +37,20 @@ def run(args) -> int:
     case = simulated_case(case_path) if case_path is not None else None
     out = args.out or Path(f"compare-{trace.name}")
     writable_folder(out, f"--out {out}")
-    result = compare(trace, case, phases=phases, cycle=cycle)
+    kinematic = None
+    if trace.bearing is not None:
+        from rvcore.recording.spectra import kinematic_frequencies
+
+        from ..schema.bearingfile import load_bearing
+
+        speed = trace.speed
+        if not math.isfinite(speed) and case is not None and "speed" in case.coords:
+            speed = math.radians(float(case["speed"]))     # the case file's speed is in degree s-1
+        if math.isfinite(speed):
+            row0 = load_bearing(trace.bearing).rows[0]
+            kinematic = kinematic_frequencies(row0.ball_count, row0.ball_diameter, row0.pitch_diameter,
+                                              row0.nominal_contact_angle, speed)
+    result = compare(trace, case, phases=phases, cycle=cycle, kinematic=kinematic)
     ds = comparison_dataset(trace, result, case_name=str(case_path or ""))
     write_atomic(ds, out / "comparison.nc")
     summary = {"trace": trace.source, "case": str(case_path) if case_path else None, "lag_s": result["lag"],

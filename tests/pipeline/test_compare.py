@@ -8,6 +8,7 @@ Sprague–Geers definitions), not taken from the code's output.
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ from tests.pipeline.synthetic import synthetic_result
 
 NAMES = ("radial_displacement", "axial_displacement")
 PHASE_WINDOWS = np.array([(s, e) for _, s, e in study_profile().phases])
-UM = 1e-6
+REPO = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -284,3 +285,37 @@ def test_a_file_the_library_cannot_read(case, tmp_path, capsys):
     (tmp_path / "trace-hdf5.h5").write_bytes(b"not an HDF5 file at all")
     err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
     assert "cannot read as HDF5" in err
+
+
+def test_sweep_picks_the_case_at_the_traces_operating_point(case, tmp_path, capsys):
+    """Two cases in a sweep folder, 120 and 660 °/s: the trace made from the 660 one and
+    saying so is compared with it (Sprague–Geers errors 0), not with the other."""
+    import json
+
+    _, t, series = case
+    sweep = tmp_path / "sweep"
+    (sweep / "cases").mkdir(parents=True)
+    for deg in (120, 660):
+        r = synthetic_result(math.radians(deg), 30e3)
+        ds = case_dataset(r, speed=math.radians(deg), radial_load=30e3, axial_load=10e3)
+        write_case(ds, sweep / "cases" / f"case{deg}.nc")
+    toml = write_trace(tmp_path, "csv", t, series,
+                       extra='profile = "' + str(REPO / "sweeps/profiles/study.toml") + '"\n'
+                             'speed = "660 deg/s"\nradial_load = "30 kN"')
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--sweep", str(sweep), "--out", str(out)]) == 0
+    summary = json.loads((out / "comparison.json").read_text())
+    assert summary["case"].endswith("case660.nc")
+    for n in NAMES:
+        assert np.all(np.abs(summary["variables"][f"{n}_sprague_geers_combined"]) < 1e-6)
+
+
+def test_the_shipped_example_reads_and_says_it_is_not_a_measurement():
+    from pipeline.analysis.compare import read_trace
+
+    trace = load_trace(REPO / "sweeps/traces/example.toml")
+    data = read_trace(trace)
+    assert "NOT A MEASUREMENT" in trace.file.read_text().splitlines()[0]
+    assert np.all(np.diff(data["time"]) > 0)
+    assert {c.measures for c in trace.channels} == set(NAMES)
+    assert trace.profile is not None and trace.bearing is not None
