@@ -232,6 +232,13 @@ def test_the_command_writes_netcdf_and_json_with_units(case, tmp_path, capsys):
         assert "axial_displacement_range_difference" in ds
     summary = json.loads((out / "comparison.json").read_text())
     assert abs(summary["lag_s"]) < t[1] - t[0]
+    from compliance_checker.runner import CheckSuite
+
+    from tests.pipeline.test_cf import cf_problems
+
+    suite = CheckSuite()
+    suite.load_all_available_checkers()
+    assert cf_problems(suite, out / "comparison.nc") == []
 
 
 # ------------------------------------------------------------------------------- bad input
