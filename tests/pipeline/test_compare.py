@@ -326,3 +326,28 @@ def test_the_shipped_example_reads_and_says_it_is_not_a_measurement():
     assert np.all(np.diff(data["time"]) > 0)
     assert {c.measures for c in trace.channels} == set(NAMES)
     assert trace.profile is not None and trace.bearing is not None
+
+
+def test_the_low_pass_removes_a_tone_above_its_cut_off(case, tmp_path):
+    """A 1 µm tone at 230 Hz on a 1 kHz trace of the case, whose steady phase is flat: read
+    at the case's 100 Hz unfiltered it aliases into a steady range of about 2 µm; a 20 Hz
+    4th-order Butterworth, applied forwards and backwards, passes |H|² = 1/(1 + (230/20)^8)²
+    of it, below 1e-16, so the steady range is the flat signal's 0 within the filter's own
+    settling (bounded here by 1 % of the tone)."""
+    import xarray as xr
+
+    path, t, series = case
+    tm = np.arange(0.0, t[-1] + 1e-9, 1e-3)
+    tone = 1e-6 * np.sin(2 * np.pi * 230 * tm)
+    meas = {n: np.interp(tm, t, series[n]) + tone for n in NAMES}
+    assert np.ptp(series["radial_displacement"][(t >= 0.8) & (t < 3.8)]) == 0.0   # flat steady phase
+    ranges = {}
+    for low in ("", 'low_pass = "20 Hz"'):
+        folder = tmp_path / (low and "lp" or "raw")
+        folder.mkdir()
+        trace = load_trace(write_trace(folder, "csv", tm, meas, extra=low))
+        with xr.open_dataset(path) as ds:
+            result = compare(trace, ds.load())
+        ranges[bool(low)] = result["measured_metrics"]["radial_displacement_range"][1]
+    assert ranges[False] > 1e-6
+    assert ranges[True] < 1e-8
