@@ -14,7 +14,7 @@ import sys
 from .commands.common import accept_negative_values
 from .errors import UserError
 
-COMMANDS = ("check", "statics", "simulate", "sweep", "report", "bench")
+COMMANDS = ("check", "statics", "simulate", "sweep", "report", "compare", "bench")
 
 
 def build_parser() -> argparse.ArgumentParser:

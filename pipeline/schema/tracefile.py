@@ -1,0 +1,226 @@
+"""The trace file: a measured rig test described in TOML (``rvsweep compare``).
+
+A trace file names the data file and its format, each channel (name in the file, unit,
+which displacement of the inner ring it measures, the sensor's position, its sign), the
+time base (a time channel or a sample rate), the duty cycle the rig ran (a profile file)
+and the bearing. Every bad value is one :class:`pipeline.errors.ConfigError` naming the
+file, the key, the value as typed and the reason, raised before any data is read. The
+layout is in docs/outputs.md ("Measured traces").
+
+Example::
+
+    [trace]
+    name = "rig-660"
+    file = "example.csv"            # relative to this file
+    format = "csv"                  # csv | tdms | hdf5 | mat
+    time = { channel = "time", unit = "s" }     # or { rate = "2 kHz" }
+    profile = "../profiles/study.toml"          # optional: the phase windows, the cycle's length
+    bearing = "../bearings/study.toml"          # optional: the kinematic lines
+    speed = "660 deg/s"                         # the operating point, for the kinematic lines
+    radial_load = "30 kN"
+
+    [[trace.channel]]
+    name = "laser_r"
+    unit = "um"
+    measures = "radial_displacement"           # or axial_displacement
+    position = "outer ring, 0 deg, on the load line"
+    sign = 1
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import ConfigError
+from .tomlfile import read_toml, resolve_path
+from .units import parse_quantity, registry
+
+#: Formats a trace's data file may have; MAT files of version 7.3 are HDF5 (read by h5py),
+#: earlier ones by scipy.io.loadmat.
+FORMATS = ("csv", "tdms", "hdf5", "mat")
+#: The simulated series a channel may measure.
+MEASURES = ("radial_displacement", "axial_displacement")
+
+_TOP_KEYS = {"name", "description", "file", "format", "time", "profile", "bearing", "speed", "radial_load",
+             "axial_load", "channel", "low_pass"}
+_CHANNEL_KEYS = {"name", "unit", "measures", "position", "sign", "group"}
+_TIME_KEYS = {"channel", "unit", "rate", "group"}
+
+
+@dataclass(frozen=True)
+class TraceChannel:
+    """One measured channel.
+
+    Parameters
+    ----------
+    name : str
+        Its name in the data file (CSV column, TDMS channel, HDF5 dataset path, MAT variable).
+    scale : float
+        Metres per unit of the file's numbers [m/unit], from ``unit``.
+    unit : str
+        The unit as typed [-].
+    measures : str
+        One of :data:`MEASURES`.
+    sign : float
+        +1 or −1: −1 where the sensor reads positive for a displacement towards −r or −z [-].
+    position : str
+        Where the sensor stands, as the rig engineer describes it [-].
+    group : str
+        The TDMS group holding the channel ('' for the first group) [-].
+    """
+
+    name: str
+    scale: float
+    unit: str
+    measures: str
+    sign: float = 1.0
+    position: str = ""
+    group: str = ""
+
+
+@dataclass(frozen=True)
+class Trace:
+    """A measured test, validated (:func:`load_trace`). Quantities SI."""
+
+    source: str
+    name: str
+    file: Path
+    format: str
+    channels: tuple
+    time_channel: str = ""
+    time_scale: float = 1.0       # [s per unit of the time channel]
+    time_group: str = ""
+    rate: float = math.nan        # [Hz] when no time channel
+    profile: Path | None = None
+    bearing: Path | None = None
+    speed: float = math.nan       # [rad s-1]
+    radial_load: float = math.nan # [N]
+    axial_load: float = math.nan  # [N]
+    low_pass: float = math.nan    # [Hz], NaN: none
+    description: str = ""
+    extra: dict = field(default_factory=dict)
+
+
+def _string(t: dict, key: str, file, where: str, required=True, default="") -> str:
+    if key not in t:
+        if required:
+            raise ConfigError(file, where + key, None, "missing (required)")
+        return default
+    v = t[key]
+    if not isinstance(v, str) or not v.strip():
+        raise ConfigError(file, where + key, v, "expected a non-empty string")
+    return v
+
+
+def _unknown(t: dict, allowed: set, file, where: str) -> None:
+    for k in t:
+        if k not in allowed:
+            raise ConfigError(file, where + k, t[k], f"unknown key (allowed: {', '.join(sorted(allowed))})")
+
+
+def _scale(unit, kind: str, file, key: str) -> float:
+    """Size of one ``unit`` in the SI unit of ``kind`` (``"length"`` or ``"time"``)."""
+    if not isinstance(unit, str) or not unit.strip():
+        raise ConfigError(file, key, unit, f"expected a unit of {kind}, e.g. 'um' or 'mm'"
+                          if kind == "length" else f"expected a unit of {kind}, e.g. 's' or 'ms'")
+    ureg = registry()
+    try:
+        q = ureg.Quantity(1.0, unit.strip())
+    except Exception:
+        raise ConfigError(file, key, unit, "not a unit") from None
+    target = "m" if kind == "length" else "s"
+    if q.dimensionality != ureg.Quantity(1.0, target).dimensionality:
+        raise ConfigError(file, key, unit, f"not a {kind}: the channel must be in a unit convertible to {target}")
+    return float(q.to(target).magnitude)
+
+
+def trace_from_dict(raw: dict, file="<input>") -> Trace:
+    """Validate a trace file's contents (see the module docstring).
+
+    Raises
+    ------
+    ConfigError
+        Unknown keys, a missing ``file``/``format``/``time``/channel, an unknown format, a
+        channel unit that is not a length, a time unit that is not a time, a sample rate
+        that is not positive, a sign other than ±1, a missing data or profile file.
+    """
+    if set(raw) != {"trace"}:
+        extra = sorted(set(raw) - {"trace"})
+        raise ConfigError(file, extra[0] if extra else "trace", None,
+                          "a trace file holds one table, [trace]" if extra else "missing table [trace]")
+    top = raw["trace"]
+    if not isinstance(top, dict):
+        raise ConfigError(file, "trace", top, "expected a table")
+    _unknown(top, _TOP_KEYS, file, "trace.")
+    name = _string(top, "name", file, "trace.", required=False, default=Path(str(file)).stem)
+    data = resolve_path(file, _string(top, "file", file, "trace."))
+    fmt = _string(top, "format", file, "trace.")
+    if fmt.lower() not in FORMATS:
+        raise ConfigError(file, "trace.format", fmt, f"unknown format (known: {', '.join(FORMATS)})")
+    if not data.is_file():
+        raise ConfigError(file, "trace.file", top["file"], f"no such data file ({data})")
+    time = top.get("time")
+    if not isinstance(time, dict):
+        raise ConfigError(file, "trace.time", time, "missing or not a table: give { channel = ..., unit = ... } "
+                                                     "or { rate = '2 kHz' }")
+    _unknown(time, _TIME_KEYS, file, "trace.time.")
+    kw = {}
+    if "channel" in time:
+        if "rate" in time:
+            raise ConfigError(file, "trace.time.rate", time["rate"], "give either a time channel or a rate, not both")
+        kw["time_channel"] = _string(time, "channel", file, "trace.time.")
+        kw["time_scale"] = _scale(time.get("unit", "s"), "time", file, "trace.time.unit")
+        kw["time_group"] = _string(time, "group", file, "trace.time.", required=False)
+    elif "rate" in time:
+        rate = parse_quantity(time["rate"], "frequency", file=file, key="trace.time.rate")
+        if not (rate > 0 and math.isfinite(rate)):
+            raise ConfigError(file, "trace.time.rate", time["rate"], "must be positive")
+        kw["rate"] = rate
+    else:
+        raise ConfigError(file, "trace.time", time, "give a time channel (channel, unit) or a sample rate (rate)")
+    chans = top.get("channel")
+    if not isinstance(chans, list) or not chans:
+        raise ConfigError(file, "trace.channel", chans, "missing: give at least one [[trace.channel]]")
+    channels = []
+    for i, c in enumerate(chans):
+        where = f"trace.channel[{i}]."
+        if not isinstance(c, dict):
+            raise ConfigError(file, where[:-1], c, "expected a table")
+        _unknown(c, _CHANNEL_KEYS, file, where)
+        cname = _string(c, "name", file, where)
+        if "unit" not in c:
+            raise ConfigError(file, where + "unit", None, "missing: every measured series carries its unit")
+        scale = _scale(c["unit"], "length", file, where + "unit")
+        measures = _string(c, "measures", file, where)
+        if measures not in MEASURES:
+            raise ConfigError(file, where + "measures", measures, f"unknown (known: {', '.join(MEASURES)})")
+        sign = c.get("sign", 1)
+        if isinstance(sign, bool) or sign not in (1, -1):
+            raise ConfigError(file, where + "sign", sign, "must be 1 or -1")
+        if any(ch.measures == measures for ch in channels):
+            raise ConfigError(file, where + "measures", measures, "a second channel for the same displacement")
+        channels.append(TraceChannel(cname, scale, c["unit"], measures, float(sign),
+                                     _string(c, "position", file, where, required=False),
+                                     _string(c, "group", file, where, required=False)))
+    for key in ("profile", "bearing"):
+        if key in top:
+            p = resolve_path(file, _string(top, key, file, "trace."))
+            if not p.is_file():
+                raise ConfigError(file, f"trace.{key}", top[key], f"no such file ({p})")
+            kw[key] = p
+    for key, kind in (("speed", "angular_speed"), ("radial_load", "force"), ("axial_load", "force")):
+        if key in top:
+            kw[key] = parse_quantity(top[key], kind, file=file, key=f"trace.{key}")
+    if "low_pass" in top:
+        f = parse_quantity(top["low_pass"], "frequency", file=file, key="trace.low_pass")
+        if not (f > 0 and math.isfinite(f)):
+            raise ConfigError(file, "trace.low_pass", top["low_pass"], "must be a positive frequency")
+        kw["low_pass"] = f
+    return Trace(source=str(file), name=name, file=data, format=fmt.lower(), channels=tuple(channels),
+                 description=str(top.get("description", "")), **kw)
+
+
+def load_trace(path) -> Trace:
+    """Read and validate a trace file (:func:`read_toml` + :func:`trace_from_dict`)."""
+    return trace_from_dict(read_toml(path), file=str(path))

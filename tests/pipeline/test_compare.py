@@ -1,0 +1,353 @@
+"""``rvsweep compare``: measured traces the test makes from a simulated case, read back.
+
+The simulated case is synthetic (tests/pipeline/synthetic.py: δ_r and δ_a follow the study
+profile's loads and speed; no dynamics). Each expectation is computed here from the
+series the test wrote (numpy ranges, means and standard deviations, the noise's bound, the
+Sprague–Geers definitions), not taken from the code's output.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipeline.analysis.compare import compare, phase_metrics_of, sprague_geers
+from pipeline.cli import main
+from pipeline.io.case import case_dataset, write_case
+from pipeline.schema.tracefile import load_trace
+from rvcore.profile import study_profile
+from tests.pipeline.synthetic import synthetic_result
+
+NAMES = ("radial_displacement", "axial_displacement")
+PHASE_WINDOWS = np.array([(s, e) for _, s, e in study_profile().phases])
+REPO = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    """A synthetic 660 °/s, 30 kN case written as a case file, with its phase windows."""
+    r = synthetic_result(math.radians(660), 30e3)
+    ds = case_dataset(r, speed=math.radians(660), radial_load=30e3, axial_load=10e3)
+    ds["phase_start"] = ("phase", PHASE_WINDOWS[:, 0], {"units": "s", "long_name": "start of the phase window"})
+    ds["phase_end"] = ("phase", PHASE_WINDOWS[:, 1], {"units": "s", "long_name": "end of the phase window"})
+    path = tmp_path_factory.mktemp("case") / "case.nc"
+    write_case(ds, path)
+    return path, r.time, {n: r.series[n] for n in NAMES}
+
+
+def _write_mat73(path, columns):
+    """A MAT 7.3 file: HDF5 behind MATLAB's 512-byte header (what MATLAB's -v7.3 writes)."""
+    import h5py
+
+    with h5py.File(path, "w", userblock_size=512) as f:
+        for k, v in columns.items():
+            f[k] = v.reshape(1, -1)
+    head = b"MATLAB 7.3 MAT-file, Platform: GLNXA64, Created by: test_compare HDF5 schema 1.00 ."
+    with open(path, "r+b") as fh:
+        fh.write(head.ljust(116) + b"\0" * 8 + b"\x00\x02" + b"IM")
+
+
+def write_trace(folder, fmt, t, series, *, unit="um", scale=1e6, extra="", time_unit="s", with_time=True):
+    """Write ``series`` [m] (over ``t`` [s]) in ``fmt`` and a trace TOML describing it."""
+    cols = {"dr": series["radial_displacement"] * scale, "da": -series["axial_displacement"] * scale}
+    if with_time:
+        cols = {"time": np.asarray(t) * (1e3 if time_unit == "ms" else 1.0), **cols}
+    ext = {"csv": "csv", "tdms": "tdms", "hdf5": "h5", "mat": "mat", "mat73": "mat"}[fmt]
+    data = folder / f"trace-{fmt}.{ext}"
+    if fmt == "csv":
+        with data.open("w") as fh:
+            fh.write(",".join(cols) + "\n")
+            for row in zip(*cols.values()):
+                fh.write(",".join(repr(float(v)) for v in row) + "\n")
+    elif fmt == "tdms":
+        from nptdms import ChannelObject, TdmsWriter
+
+        with TdmsWriter(data) as w:
+            w.write_segment([ChannelObject("rig", k, v) for k, v in cols.items()])
+    elif fmt == "hdf5":
+        import h5py
+
+        with h5py.File(data, "w") as f:
+            for k, v in cols.items():
+                f[f"lasers/{k}"] = v
+        cols = {f"lasers/{k}": v for k, v in cols.items()}
+    elif fmt == "mat":
+        import scipy.io
+
+        scipy.io.savemat(data, cols)
+    else:
+        _write_mat73(data, cols)
+    pre = "lasers/" if fmt == "hdf5" else ""
+    time = f'{{ channel = "{pre}time", unit = "{time_unit}" }}' if with_time else '{ rate = "100 Hz" }'
+    toml = folder / f"trace-{fmt}.toml"
+    toml.write_text(f"""[trace]
+name = "test-{fmt}"
+file = "{data.name}"
+format = "{'mat' if fmt == 'mat73' else fmt}"
+time = {time}
+{extra}
+[[trace.channel]]
+name = "{pre}dr"
+unit = "{unit}"
+measures = "radial_displacement"
+position = "outer ring, on the load line"
+
+[[trace.channel]]
+name = "{pre}da"
+unit = "{unit}"
+measures = "axial_displacement"
+position = "ring face"
+sign = -1
+""")
+    return toml
+
+
+def numpy_metrics(t, x, windows):
+    """Range, mean and population std per window, by numpy."""
+    out = {"range": [], "mean": [], "std": []}
+    for a, b in windows:
+        w = (t >= a) & (t < b)
+        out["range"].append(np.ptp(x[w]))
+        out["mean"].append(x[w].mean())
+        out["std"].append(x[w].std())
+    return {k: np.array(v) for k, v in out.items()}
+
+
+# --------------------------------------------------------------------------- Sprague–Geers
+
+def test_sprague_geers_of_a_scaled_and_of_a_quarter_period_shifted_signal():
+    t = np.linspace(0.0, 1.0, 1000, endpoint=False)
+    x = np.sin(2 * np.pi * 5 * t)
+    for a in (0.8, 1.0, 1.25):
+        m, p, c = sprague_geers(a * x, x)
+        assert m == pytest.approx(a - 1.0, abs=1e-12)     # sqrt(a²Σx²/Σx²) − 1
+        assert p == pytest.approx(0.0, abs=1e-6)
+        assert c == pytest.approx(abs(a - 1.0), abs=1e-6)
+    # sin and cos over whole periods are orthogonal: arccos(0)/π = 1/2; equal energy: M = 0
+    m, p, _ = sprague_geers(np.cos(2 * np.pi * 5 * t), x)
+    assert m == pytest.approx(0.0, abs=1e-12)
+    assert p == pytest.approx(0.5, abs=1e-12)
+    assert sprague_geers(-x, x)[1] == pytest.approx(1.0)
+
+
+# ------------------------------------------------------------------------ metrics, same code
+
+def test_phase_metrics_of_a_series_are_numpys_range_mean_and_std(case):
+    _, t, series = case
+    got = phase_metrics_of(t, series, PHASE_WINDOWS)
+    for n in NAMES:
+        want = numpy_metrics(t, series[n], PHASE_WINDOWS)
+        for k in ("range", "mean", "std"):
+            np.testing.assert_allclose(got[f"{n}_{k}"], want[k], rtol=1e-9, atol=1e-15)
+
+
+# --------------------------------------------------------------------------- every format
+
+@pytest.mark.parametrize("fmt", ["csv", "tdms", "hdf5", "mat", "mat73"])
+def test_each_format_reads_back_the_simulated_case(case, tmp_path, fmt):
+    path, t, series = case
+    import xarray as xr
+
+    trace = load_trace(write_trace(tmp_path, fmt, t, series))
+    with xr.open_dataset(path) as ds:
+        result = compare(trace, ds.load())
+    dt = t[1] - t[0]
+    assert abs(result["lag"]) < dt
+    for n in NAMES:
+        np.testing.assert_allclose(result["measured"][n], series[n][:result["measured"][n].size], rtol=1e-9, atol=1e-15)
+        sg = result["sprague_geers"][n]
+        assert np.all(np.abs(sg) < 1e-6), (n, sg)
+        want = numpy_metrics(t, series[n], PHASE_WINDOWS)
+        np.testing.assert_allclose(result["measured_metrics"][f"{n}_range"], want["range"], rtol=1e-6, atol=1e-13)
+
+
+def test_a_resampled_shifted_noisy_trace_with_a_gain_error(case, tmp_path):
+    """Rig at 333 Hz (the case samples at 100 Hz), starting 0.237 s before the cycle,
+    uniform noise of ±20 nm and a gain of 1.1: the lag within one sample, each phase
+    metric within what the noise and the resampling can move it."""
+    import xarray as xr
+
+    path, t, series = case
+    dt = t[1] - t[0]
+    lag, gain, eps = 0.237, 1.1, 20e-9
+    rng = np.random.default_rng(7)
+    tm = np.arange(0.0, t[-1] + 0.6, 1 / 333.0)
+    meas = {n: gain * np.interp(tm - lag, t, series[n]) + rng.uniform(-eps, eps, tm.size) for n in NAMES}
+    trace = load_trace(write_trace(tmp_path, "tdms", tm, meas))
+    with xr.open_dataset(path) as ds:
+        result = compare(trace, ds.load())
+    assert abs(result["lag"] - lag) <= dt
+    for n in NAMES:
+        x = series[n]
+        slope = np.max(np.abs(np.diff(x))) / dt
+        # linear interpolation of a piecewise-linear series misses a knot by at most its
+        # slope change over one interval; the lag's error moves every sample by slope·δ
+        interp = np.max(np.abs(np.diff(x, 2)))
+        shift = slope * abs(result["lag"] - lag)
+        tol = gain * (interp + shift) + eps
+        want = numpy_metrics(t, x, PHASE_WINDOWS)
+        got = result["measured_metrics"]
+        np.testing.assert_array_less(np.abs(got[f"{n}_range"] - gain * want["range"]), 2 * tol + 1e-15)
+        np.testing.assert_array_less(np.abs(got[f"{n}_mean"] - gain * want["mean"]), tol + 1e-15)
+        np.testing.assert_array_less(np.abs(got[f"{n}_std"] - gain * want["std"]), tol + 1e-15)
+
+
+def test_the_sprague_geers_magnitude_error_of_a_gain_error(case, tmp_path):
+    """Measured = a·simulated: the simulation's magnitude error is 1/a − 1 (SG's M with
+    c the simulation and m the measurement), its phase error 0."""
+    import xarray as xr
+
+    path, t, series = case
+    a = 1.1
+    trace = load_trace(write_trace(tmp_path, "hdf5", t, {n: a * series[n] for n in NAMES}))
+    with xr.open_dataset(path) as ds:
+        result = compare(trace, ds.load())
+    for n in NAMES:
+        sg = result["sprague_geers"][n]
+        np.testing.assert_allclose(sg[:, 0], 1 / a - 1, atol=1e-9)
+        np.testing.assert_allclose(sg[:, 1], 0.0, atol=1e-6)
+        d = result["simulated_metrics"][f"{n}_range"] - result["measured_metrics"][f"{n}_range"]
+        np.testing.assert_allclose(d, (1 - a) * numpy_metrics(t, series[n], PHASE_WINDOWS)["range"], atol=1e-13)
+
+
+# ------------------------------------------------------------------------------ the command
+
+def test_the_command_writes_netcdf_and_json_with_units(case, tmp_path, capsys):
+    import json
+
+    import xarray as xr
+
+    path, t, series = case
+    toml = write_trace(tmp_path, "csv", t, series)
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--case", str(path), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "lag" in printed and "radial_displacement" in printed
+    with xr.open_dataset(out / "comparison.nc") as ds:
+        for name, v in ds.data_vars.items():
+            assert v.attrs.get("units") is not None and v.attrs.get("long_name"), name
+        assert "radial_displacement_sprague_geers_combined" in ds
+        assert "axial_displacement_range_difference" in ds
+    summary = json.loads((out / "comparison.json").read_text())
+    assert abs(summary["lag_s"]) < t[1] - t[0]
+    from compliance_checker.runner import CheckSuite
+
+    from tests.pipeline.test_cf import cf_problems
+
+    suite = CheckSuite()
+    suite.load_all_available_checkers()
+    assert cf_problems(suite, out / "comparison.nc") == []
+
+
+# ------------------------------------------------------------------------------- bad input
+
+def _one_line_error(capsys, argv):
+    rc = main(argv)
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1, err
+    return err
+
+
+@pytest.mark.parametrize("edit, expect", [
+    (lambda s: s.replace('unit = "um"', 'unit = "N"', 1), "not a length"),
+    (lambda s: s.replace('format = "csv"', 'format = "xlsx"'), "unknown format"),
+    (lambda s: s.replace('file = "trace-csv.csv"', 'file = "nowhere.csv"'), "no such data file"),
+    (lambda s: s.replace('name = "dr"', 'name = "laser_9"'), "no such channel"),
+    (lambda s: s.replace('unit = "s" }', 'unit = "mm" }'), "not a time"),
+    (lambda s: s.replace('sign = -1', 'sign = 2'), "must be 1 or -1"),
+    (lambda s: s.replace('measures = "radial_displacement"', 'measures = "force"'), "unknown"),
+])
+def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect):
+    path, t, series = case
+    toml = write_trace(tmp_path, "csv", t, series)
+    toml.write_text(edit(toml.read_text()))
+    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
+    assert expect in err and str(toml) in err
+
+
+def test_a_time_base_that_goes_backwards(case, tmp_path, capsys):
+    path, t, series = case
+    tb = t.copy()
+    tb[100], tb[101] = tb[101], tb[100]
+    toml = write_trace(tmp_path, "csv", tb, series)
+    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
+    assert "goes backwards or stands still at sample 101" in err   # the 0-based index of 1.00 s after 1.01 s
+
+
+def test_a_trace_shorter_than_the_cycle(case, tmp_path, capsys):
+    path, t, series = case
+    k = t.size // 2
+    toml = write_trace(tmp_path, "mat", t[:k], {n: v[:k] for n, v in series.items()})
+    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
+    assert "shorter than the" in err
+
+
+def test_a_file_the_library_cannot_read(case, tmp_path, capsys):
+    path, t, series = case
+    toml = write_trace(tmp_path, "hdf5", t, series)
+    (tmp_path / "trace-hdf5.h5").write_bytes(b"not an HDF5 file at all")
+    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
+    assert "cannot read as HDF5" in err
+
+
+def test_sweep_picks_the_case_at_the_traces_operating_point(case, tmp_path, capsys):
+    """Two cases in a sweep folder, 120 and 660 °/s: the trace made from the 660 one and
+    saying so is compared with it (Sprague–Geers errors 0), not with the other."""
+    import json
+
+    _, t, series = case
+    sweep = tmp_path / "sweep"
+    (sweep / "cases").mkdir(parents=True)
+    for deg in (120, 660):
+        r = synthetic_result(math.radians(deg), 30e3)
+        ds = case_dataset(r, speed=math.radians(deg), radial_load=30e3, axial_load=10e3)
+        write_case(ds, sweep / "cases" / f"case{deg}.nc")
+    toml = write_trace(tmp_path, "csv", t, series,
+                       extra='profile = "' + str(REPO / "sweeps/profiles/study.toml") + '"\n'
+                             'speed = "660 deg/s"\nradial_load = "30 kN"')
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--sweep", str(sweep), "--out", str(out)]) == 0
+    summary = json.loads((out / "comparison.json").read_text())
+    assert summary["case"].endswith("case660.nc")
+    for n in NAMES:
+        assert np.all(np.abs(summary["variables"][f"{n}_sprague_geers_combined"]) < 1e-6)
+
+
+def test_the_shipped_example_reads_and_says_it_is_not_a_measurement():
+    from pipeline.analysis.compare import read_trace
+
+    trace = load_trace(REPO / "sweeps/traces/example.toml")
+    data = read_trace(trace)
+    assert "NOT A MEASUREMENT" in trace.file.read_text().splitlines()[0]
+    assert np.all(np.diff(data["time"]) > 0)
+    assert {c.measures for c in trace.channels} == set(NAMES)
+    assert trace.profile is not None and trace.bearing is not None
+
+
+def test_the_low_pass_removes_a_tone_above_its_cut_off(case, tmp_path):
+    """A 1 µm tone at 230 Hz on a 1 kHz trace of the case, whose steady phase is flat: read
+    at the case's 100 Hz unfiltered it aliases into a steady range of about 2 µm; a 20 Hz
+    4th-order Butterworth, applied forwards and backwards, passes |H|² = 1/(1 + (230/20)^8)²
+    of it, below 1e-16, so the steady range is the flat signal's 0 within the filter's own
+    settling (bounded here by 1 % of the tone)."""
+    import xarray as xr
+
+    path, t, series = case
+    tm = np.arange(0.0, t[-1] + 1e-9, 1e-3)
+    tone = 1e-6 * np.sin(2 * np.pi * 230 * tm)
+    meas = {n: np.interp(tm, t, series[n]) + tone for n in NAMES}
+    assert np.ptp(series["radial_displacement"][(t >= 0.8) & (t < 3.8)]) == 0.0   # flat steady phase
+    ranges = {}
+    for low in ("", 'low_pass = "20 Hz"'):
+        folder = tmp_path / (low and "lp" or "raw")
+        folder.mkdir()
+        trace = load_trace(write_trace(folder, "csv", tm, meas, extra=low))
+        with xr.open_dataset(path) as ds:
+            result = compare(trace, ds.load())
+        ranges[bool(low)] = result["measured_metrics"]["radial_displacement_range"][1]
+    assert ranges[False] > 1e-6
+    assert ranges[True] < 1e-8
