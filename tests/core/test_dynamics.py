@@ -328,6 +328,7 @@ def _convergence(scale, z, method="rk4", gravity=False):
     return phase_metric_changes(coarse, fine)
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_convergence_tenfold_smaller_step():
     """Study loads (30 kN + 10 kN) and top speed on 12 balls, the cycle at 1/20 (0.23 s).
 

@@ -104,6 +104,7 @@ axial_load = "10 kN"
     assert_cf_clean(suite, result.combined)
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_real_smoke_sweep_end_to_end_is_cf(suite, smoke_run, capsys):
     """``rvsweep sweep sweeps/smoke.toml`` with ``rvcore.simulation.run.run_case`` (the session's
     serial smoke run, ``conftest.smoke_run``)."""

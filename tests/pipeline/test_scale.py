@@ -129,6 +129,7 @@ def _combine_peak(tmp_path, n_speeds, n_loads) -> int:
     return peak
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_the_combines_memory_does_not_grow_with_the_cases(tmp_path):
     """8 cases against 32 of about 0.5 MB of series each: the combine's peak allocation
     (tracemalloc) stays within 1.3x; holding every case, as the combine once did, the

@@ -348,6 +348,7 @@ def test_local_cluster_gives_the_serial_case_files(serial_reference, tmp_path):
     assert_same_case_data(reference.out_dir / "sweep.nc", tmp_path / "local" / "sweep.nc")
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_a_case_that_kills_its_worker_is_retried_then_recorded(grid_sweep, tmp_path, monkeypatch):
     # The retry is counted, not timed: with allowed_failures=1 the case runs once, is
     # retried once on a fresh worker process, and is then recorded as failed (a sweep that
@@ -413,6 +414,7 @@ def external_cluster(tmp_path):
             _stop(p)
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_external_cluster_gives_the_serial_case_files(serial_reference, external_cluster, tmp_path):
     path, reference = serial_reference
     address = json.loads(external_cluster.read_text())["address"]
@@ -464,6 +466,7 @@ end_time = "0.1 s"
 """
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_real_reduced_cases_do_not_depend_on_the_scheduler(tmp_path):
     """The real core on the reduced bearing, serial and on a 2-process local cluster:
     the same case files (data, coordinates, encodings, attributes; history apart)."""

@@ -77,6 +77,7 @@ def _rvsweep():
     return [str(exe)] if exe.exists() else [sys.executable, "-m", "pipeline.cli"]
 
 
+@pytest.mark.slow  # over 25 s of CPU: make test-all
 def test_subprocess_exit_status_and_no_traceback(no_flag_copy):
     env = dict(os.environ, PYTHONWARNINGS="ignore")
     bad = subprocess.run(_rvsweep() + ["check", str(no_flag_copy)], capture_output=True,
