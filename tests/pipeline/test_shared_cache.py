@@ -10,30 +10,16 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 import time
 from pathlib import Path
 
 import pytest
 
+from tests.pipeline.processes import dask_bin, stop
 from tests.schema.test_sweepfile import make_sweep
 
 REPO = Path(__file__).resolve().parents[2]
 
-
-def _dask_bin() -> Path:
-    local = REPO / ".venv" / "bin" / "dask"
-    return local if local.exists() else Path(sys.executable).parent / "dask"
-
-
-def _stop(proc: subprocess.Popen):
-    if proc.poll() is None:
-        proc.terminate()
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(timeout=15)
 
 #: Two real cases of the reduced 12-ball bearing, a little of the start of the short cycle.
 TINY_REAL = """
@@ -79,7 +65,7 @@ def test_two_workers_installed_at_different_paths_compile_the_kernels_once(tmp_p
     procs = []
     try:
         procs.append(subprocess.Popen(
-            [str(_dask_bin()), "scheduler", "--host", "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
+            [str(dask_bin()), "scheduler", "--host", "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
              "--scheduler-file", str(scheduler_file)],
             cwd=tmp_path, env=dict(env, PYTHONPATH=str(installs[0])), stdout=subprocess.DEVNULL,
             stderr=open(logs / "scheduler.log", "wb")))
@@ -89,7 +75,7 @@ def test_two_workers_installed_at_different_paths_compile_the_kernels_once(tmp_p
             time.sleep(0.2)
         for k, install in enumerate(installs):
             procs.append(subprocess.Popen(
-                [str(_dask_bin()), "worker", "--scheduler-file", str(scheduler_file), "--nthreads", "1",
+                [str(dask_bin()), "worker", "--scheduler-file", str(scheduler_file), "--nthreads", "1",
                  "--no-nanny", "--no-dashboard", "--host", "127.0.0.1", "--name", f"w{k}"],
                 cwd=tmp_path, env=dict(env, PYTHONPATH=str(install)), stdout=open(logs / f"w{k}.out", "wb"),
                 stderr=open(logs / f"w{k}.log", "wb")))
@@ -103,7 +89,7 @@ def test_two_workers_installed_at_different_paths_compile_the_kernels_once(tmp_p
             reports = sorted(client.run(cache_report).values(), key=lambda r: r["package"])
     finally:
         for p in reversed(procs):
-            _stop(p)
+            stop(p)
     # each worker ran its own install, and both cached in the one directory under the root
     assert [Path(r["package"]) for r in reports] == [i / "rvcore" for i in installs]
     assert reports[0]["cache_dir"] == reports[1]["cache_dir"]

@@ -24,6 +24,7 @@ from pipeline.io import read_status, status_counts
 from pipeline.run import run_sweep
 from pipeline.schema import read_sweep_file
 from tests.pipeline.synthetic import synthetic_result
+from tests.pipeline.processes import dask_bin, stop
 from tests.schema.test_sweepfile import GRID, make_sweep
 
 REPO = Path(__file__).resolve().parents[2]
@@ -368,21 +369,6 @@ def test_a_case_that_kills_its_worker_is_retried_then_recorded(grid_sweep, tmp_p
     assert read_status(tmp_path / "out")[killer[0]]["state"] == "failed"
 
 
-def _dask_bin() -> Path:
-    local = REPO / ".venv" / "bin" / "dask"
-    return local if local.exists() else Path(sys.executable).parent / "dask"
-
-
-def _stop(proc: subprocess.Popen):
-    if proc.poll() is None:
-        proc.terminate()
-        try:
-            proc.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait(timeout=15)
-
-
 @pytest.fixture
 def external_cluster(tmp_path):
     """``dask scheduler`` and ``dask worker`` (2 processes, 1 thread each) as subprocesses."""
@@ -394,7 +380,7 @@ def external_cluster(tmp_path):
     procs = []
     try:
         procs.append(subprocess.Popen(
-            [str(_dask_bin()), "scheduler", "--host", "127.0.0.1", "--port", "0",
+            [str(dask_bin()), "scheduler", "--host", "127.0.0.1", "--port", "0",
              "--dashboard-address", ":0", "--scheduler-file", str(scheduler_file)],
             cwd=tmp_path, env=env, stdout=subprocess.DEVNULL,
             stderr=open(logs / "scheduler.log", "wb")))
@@ -404,14 +390,14 @@ def external_cluster(tmp_path):
                 pytest.fail("dask scheduler did not start: " + (logs / "scheduler.log").read_text())
             time.sleep(0.2)
         procs.append(subprocess.Popen(
-            [str(_dask_bin()), "worker", "--scheduler-file", str(scheduler_file),
+            [str(dask_bin()), "worker", "--scheduler-file", str(scheduler_file),
              "--nworkers", "2", "--nthreads", "1", "--no-dashboard"],
             cwd=tmp_path, env=env, stdout=subprocess.DEVNULL,
             stderr=open(logs / "worker.log", "wb")))
         yield scheduler_file
     finally:
         for p in reversed(procs):
-            _stop(p)
+            stop(p)
 
 
 @pytest.mark.slow  # over 25 s of CPU: make test-all
