@@ -49,9 +49,12 @@ def _write_mat73(path, columns):
         fh.write(head.ljust(116) + b"\0" * 8 + b"\x00\x02" + b"IM")
 
 
-def write_trace(folder, fmt, t, series, *, unit="um", scale=1e6, extra="", time_unit="s", with_time=True):
-    """Write ``series`` [m] (over ``t`` [s]) in ``fmt`` and a trace TOML describing it."""
-    cols = {"dr": series["radial_displacement"] * scale, "da": -series["axial_displacement"] * scale}
+def write_trace(folder, fmt, t, series, *, unit="um", scale=1e6, extra="", time_unit="s", with_time=True,
+                more=None, tail=""):
+    """Write ``series`` [m] (over ``t`` [s]) in ``fmt`` and a trace TOML describing it;
+    ``more``: further columns as written, ``tail``: TOML appended."""
+    cols = {"dr": series["radial_displacement"] * scale, "da": -series["axial_displacement"] * scale,
+            **(more or {})}
     if with_time:
         cols = {"time": np.asarray(t) * (1e3 if time_unit == "ms" else 1.0), **cols}
     ext = {"csv": "csv", "tdms": "tdms", "hdf5": "h5", "mat": "mat", "mat73": "mat"}[fmt]
@@ -100,7 +103,7 @@ unit = "{unit}"
 measures = "axial_displacement"
 position = "ring face"
 sign = -1
-""")
+""" + tail)
     return toml
 
 
@@ -351,3 +354,145 @@ def test_the_low_pass_removes_a_tone_above_its_cut_off(case, tmp_path):
         ranges[bool(low)] = result["measured_metrics"]["radial_displacement_range"][1]
     assert ranges[False] > 1e-6
     assert ranges[True] < 1e-8
+
+
+# ------------------------------------------------------------- the duty cycle from channels
+
+DUTY_TAIL = """
+[trace.duty]
+speed = { channel = "n", unit = "rpm" }
+radial_load = { channel = "Fr", unit = "kN" }
+axial_load = { channel = "Fa", unit = "kN" }
+"""
+
+
+def study_channels(t, speed, fr, fa, eps=(0.0, 0.0), seed=3):
+    """The study cycle's speed [rpm] and loads [kN] at ``t``, by numpy from its breakpoints
+    (docs/model.md §6: loads 0 -> 1 over 0-0.3 s, back to 0 over 4.3-4.6 s; speed 0 -> 1
+    over 0.3-0.8 s, back over 3.8-4.3 s), with uniform noise of ±eps[0] rpm, ±eps[1] kN."""
+    rng = np.random.default_rng(seed)
+    load = np.interp(t, [0.0, 0.3, 4.3, 4.6], [0.0, 1.0, 1.0, 0.0])
+    w = np.interp(t, [0.3, 0.8, 3.8, 4.3], [0.0, 1.0, 1.0, 0.0])
+    rpm = speed * 60 / (2 * np.pi)
+    return {"n": rpm * w + rng.uniform(-eps[0], eps[0], t.size),
+            "Fr": fr / 1e3 * load + rng.uniform(-eps[1], eps[1], t.size),
+            "Fa": fa / 1e3 * load + rng.uniform(-eps[1], eps[1], t.size)}
+
+
+def test_breakpoints_keep_every_sample_within_the_tolerance():
+    from pipeline.analysis.duty import breakpoints
+
+    rng = np.random.default_rng(1)
+    t = np.linspace(0.0, 1.0, 2001)
+    x = np.sin(7 * t) + 0.01 * rng.standard_normal(t.size)
+    for tol in (0.2, 0.05, 0.02):
+        k = breakpoints(t, x, tol)
+        assert k[0] == 0 and k[-1] == t.size - 1 and np.all(np.diff(k) > 0)
+        assert np.max(np.abs(np.interp(t, t[k], x[k]) - x)) <= tol
+    # a straight line needs only its ends; a trapezoid its four corners
+    assert list(breakpoints(t, 3 * t + 1, 1e-9)) == [0, t.size - 1]
+    trap = np.interp(t, [0.0, 0.25, 0.75, 1.0], [0.0, 1.0, 1.0, 0.0])
+    assert list(breakpoints(t, trap, 1e-9)) == [0, 500, 1500, 2000]
+
+
+@pytest.mark.parametrize("eps", [(0.0, 0.0), (0.5, 0.02)])
+def test_the_duty_cycle_from_channels_is_the_study_cycle(eps):
+    """Speed and load channels of the study cycle at 660 °/s, 30 kN + 10 kN, sampled at
+    1 kHz, clean and with uniform noise: the phases within the time the ramp takes to
+    cross the tolerance band and the noise (plus a sample), the operating point within
+    the noise, and each table within half the tolerance of every sample."""
+    from pipeline.analysis.duty import profile_from_channels
+
+    speed, fr, fa, tol = math.radians(660), 30e3, 10e3, 0.02
+    t = np.arange(0.0, 4.6 + 1e-9, 1e-3)
+    ch = study_channels(t, speed, fr, fa, eps)
+    rpm = 2 * np.pi / 60
+    duty = {"speed": ch["n"] * rpm, "radial_load": ch["Fr"] * 1e3, "axial_load": ch["Fa"] * 1e3}
+    profile, op = profile_from_channels(t, duty, tolerance=tol)
+    slope = speed / 0.5                                    # the ramps' angular acceleration [rad s-2]
+    band = (tol * speed + 2 * eps[0] * rpm) / slope + 1e-3
+    for (name, a, b), (_, a0, b0) in zip(profile.phases, study_profile().phases):
+        assert abs(a - a0) <= band and abs(b - b0) <= band, (name, a, b)
+    assert op.speed == pytest.approx(speed, abs=eps[0] * rpm + 1e-12)
+    assert op.radial_load == pytest.approx(fr, abs=eps[1] * 1e3 + 1e-9)
+    assert op.axial_load == pytest.approx(fa, abs=eps[1] * 1e3 + 1e-9)
+    for name, chan, steady in (("speed", profile.speed, op.speed), ("radial_load", profile.radial_load, op.radial_load),
+                               ("axial_load", profile.axial_load, op.axial_load)):
+        assert chan.relative and chan.interpolation == "linear"
+        line = np.interp(t, chan.times, np.asarray(chan.values) * steady)
+        scale = max(abs(steady), np.max(np.abs(duty[name])))
+        assert np.max(np.abs(line - duty[name])) <= 0.5 * tol * scale * (1 + 1e-12), name
+    assert profile.duration == pytest.approx(4.6)
+
+
+def test_the_duty_profile_file_reads_back_as_the_same_profile(tmp_path):
+    from pipeline.analysis.duty import profile_from_channels, profile_toml
+    from pipeline.schema.profilefile import load_profile
+
+    t = np.arange(0.0, 4.6 + 1e-9, 1e-3)
+    ch = study_channels(t, math.radians(120), 20e3, 0.0, (0.1, 0.01))
+    rpm = 2 * np.pi / 60
+    duty = {"speed": ch["n"] * rpm, "radial_load": ch["Fr"] * 1e3, "axial_load": ch["Fa"] * 1e3}
+    profile, _ = profile_from_channels(t, duty, tolerance=0.02, name="rig")
+    path = tmp_path / "rig.toml"
+    path.write_text(profile_toml(profile, "a header\nof two lines"))
+    back = load_profile(path)
+    assert back.phases == profile.phases and back.duration == profile.duration
+    for a, b in ((back.speed, profile.speed), (back.radial_load, profile.radial_load),
+                 (back.axial_load, profile.axial_load)):
+        assert a.times == b.times and a.relative == b.relative
+        np.testing.assert_allclose(a.values, b.values, rtol=1e-15, atol=1e-12)
+
+
+def test_the_command_with_duty_channels_writes_the_profile(case, tmp_path, capsys):
+    """A trace whose duty cycle comes from its channels (rpm, kN) and no profile file:
+    compared with the case, its phases are the derived ones, and profile.toml is the cycle."""
+    from pipeline.schema.profilefile import load_profile
+
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3)
+    toml = write_trace(tmp_path, "tdms", t, series, more=more, tail=DUTY_TAIL)
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--case", str(path), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "--speed 660deg/s --radial-load 30kN --axial-load 10kN" in printed
+    prof = load_profile(out / "profile.toml")
+    dt = t[1] - t[0]
+    band = 0.02 * 0.5 + dt             # the tolerance band of a 0.5 s ramp, and a sample
+    for (_, a, b), (_, a0, b0) in zip(prof.phases, study_profile().phases):
+        assert abs(a - a0) <= band and abs(b - b0) <= band
+    import xarray as xr
+
+    with xr.open_dataset(out / "comparison.nc") as ds:
+        np.testing.assert_allclose(ds["phase_start"].values, [a for _, a, _ in prof.phases])
+        assert float(ds["speed"]) == pytest.approx(660)
+        assert np.all(np.abs(ds["radial_displacement_sprague_geers_combined"].values) < 1e-6)
+
+
+@pytest.mark.parametrize("edit, expect", [
+    (lambda s: s.replace('unit = "rpm"', 'unit = "N"'), "trace.duty.speed.unit = 'N': not a speed"),
+    (lambda s: s.replace('unit = "rpm"', 'unit = "Hz"'), "a frequency without an angle"),
+    (lambda s: s.replace('channel = "Fr", unit = "kN"', 'channel = "Fr", unit = "um"'),
+     "trace.duty.radial_load.unit = 'um': not a force"),
+    (lambda s: s.replace('channel = "Fa", unit = "kN"', 'channel = "Fa"'), "every measured series carries its unit"),
+    (lambda s: s.replace('axial_load = { channel = "Fa", unit = "kN" }', ''), "trace.duty.axial_load"),
+    (lambda s: s.replace('channel = "Fr"', 'channel = "F_radial"'), "no such channel"),
+    (lambda s: s.replace('format = "csv"', 'format = "csv"\nprofile = "trace-csv.csv"'), "not both"),
+    (lambda s: s.replace("[trace.duty]", "[trace.duty]\ntolerance = 0.7"), "between 0 and 0.5"),
+])
+def test_bad_duty_channels_give_one_line(case, tmp_path, capsys, edit, expect):
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3)
+    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL)
+    toml.write_text(edit(toml.read_text()))
+    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
+    assert expect in err and str(toml) in err
+
+
+def test_a_speed_that_never_comes_back_to_rest(case, tmp_path, capsys):
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3)
+    more["n"] = np.where(t > 3.8, more["n"].max(), more["n"])     # the rig never stops
+    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL)
+    err = _one_line_error(capsys, ["compare", str(toml), "--out", str(tmp_path / "o")])
+    assert "trace.duty.speed.channel = 'n': the speed does not come back to rest" in err
