@@ -496,3 +496,42 @@ def test_a_speed_that_never_comes_back_to_rest(case, tmp_path, capsys):
     toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL)
     err = _one_line_error(capsys, ["compare", str(toml), "--out", str(tmp_path / "o")])
     assert "trace.duty.speed.channel = 'n': the speed does not come back to rest" in err
+
+
+# ------------------------------------------------- measured cases beside the simulated ones
+
+def test_measured_group_and_fits_of_traces_at_three_speeds(tmp_path):
+    """Traces of the synthetic case at 120, 390 and 660 °/s (30 kN), the 660 one twice with
+    gains 1 and 1.1: the group holds each test's ranges (numpy's, over the windows), the
+    fits' line against speed at 30 kN is numpy's least-squares line through the three
+    operating points, the repeated point their average."""
+    from pipeline.analysis import fit_statistic
+    from pipeline.analysis.compare import comparison_dataset
+    from pipeline.analysis.measured import measured_fits, measured_group
+
+    tests = [(120.0, 1.0), (390.0, 1.0), (660.0, 1.0), (660.0, 1.1)]
+    cases, want = [], []
+    for k, (deg, gain) in enumerate(tests):
+        r = synthetic_result(math.radians(deg), 30e3)
+        series = {n: gain * r.series[n] for n in NAMES}
+        folder = tmp_path / f"t{k}"
+        folder.mkdir()
+        trace = load_trace(write_trace(folder, "csv", r.time, series))
+        result = compare(trace, None, phases=PHASE_WINDOWS)
+        cases.append(comparison_dataset(trace, result, operating_point={
+            "speed": math.radians(deg), "radial_load": 30e3, "axial_load": 10e3}))
+        want.append({n: numpy_metrics(r.time, series[n], PHASE_WINDOWS)["range"] for n in NAMES})
+    group = measured_group(cases)
+    assert group.sizes["measured_case"] == 4
+    np.testing.assert_allclose(group["measured_case_speed"].values, [d for d, _ in tests])
+    for n in NAMES:
+        np.testing.assert_allclose(group[f"measured_{n}_range"].values, [w[n] for w in want], rtol=1e-9, atol=1e-15)
+    fits = measured_fits(group)
+    for n in NAMES:
+        for p in range(3):
+            y = [want[0][n][p], want[1][n][p], 0.5 * (want[2][n][p] + want[3][n][p])]
+            slope, intercept = np.polyfit([120.0, 390.0, 660.0], y, 1)
+            got = fit_statistic(fits, f"{n}_range", "speed", "slope").sel(radial_load=30e3, phase=p)
+            assert float(got) == pytest.approx(slope, rel=1e-9, abs=1e-20)
+            got = fit_statistic(fits, f"{n}_range", "speed", "intercept").sel(radial_load=30e3, phase=p)
+            assert float(got) == pytest.approx(intercept, rel=1e-9, abs=1e-15)
