@@ -39,14 +39,16 @@ def save_figure(fig, path: Path):
     write_bytes_atomic(path, buf.getvalue())
 
 
-def _shade(ax, windows):
+def shade_windows(ax, windows):
+    """Shade each phase window ``{name: (start, end)}`` [s] of ``ax`` in its colour, labelled."""
     colours = {"startup": "#4c72b0", "steady": "#55a868", "deceleration": "#c44e52"}
     for name, (a, b) in windows.items():
         ax.axvspan(a, b, color=colours.get(name, "#999999"), alpha=0.12, lw=0,
                    label=f"{PHASE_TITLE.get(name, name)} window")
 
 
-def _legend_outside(fig, ax) -> None:
+def legend_outside(fig, ax) -> None:
+    """The legend of the lines of ``ax``, outside the axes at the figure's upper right."""
     handles, labels = ax.get_legend_handles_labels()
     fig.legend(handles, labels, fontsize=9, loc="outside right upper")
 
@@ -211,7 +213,7 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> list:
     for k, (name, label) in enumerate((("radial_displacement", "δ_r at the ring centre [µm]"),
                                        ("axial_displacement", "δ_a at the ring centre [µm]"))):
         ax = axes[k, 0]
-        _shade(ax, windows)
+        shade_windows(ax, windows)
         ys = []
         if name in sw:
             for k_case, (s, l) in enumerate(cases):
@@ -226,7 +228,7 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> list:
         ax.set_ylabel(label)
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     first = first_realization_text(ctx)
     axes[0, 0].set_title("Inner-ring displacements at the ring centre of the extreme cases, phase windows shaded"
                          + (f"\n{first}" if first else ""), fontsize=10)
@@ -245,7 +247,7 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
     t = sw["elapsed_time"].values
     for k, sn in enumerate(sens):
         ax = axes[k, 0]
-        _shade(ax, windows)
+        shade_windows(ax, windows)
         ys = []
         for k_case, (s, l) in enumerate(cases):
             y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
@@ -258,7 +260,7 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
         ax.set_ylabel(f"{sn.name} [µm]")
         ax.grid(True, lw=0.3)
     axes[-1, 0].set_xlabel("elapsed time [s]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     first = first_realization_text(ctx)
     fig.suptitle("Virtual sensor readings of the extreme cases, phase windows shaded"
                  + (f"\n{first}" if first else ""), fontsize=10)

@@ -18,7 +18,7 @@ from rvcore.recording.spectra import KINEMATIC_NAMES
 
 from ..analysis import fit_statistic, nearest
 from .context import Context
-from .figures import _legend_outside, _shade, new_figure, save_figure
+from .figures import legend_outside, new_figure, save_figure, shade_windows
 from .render import PHASE_TITLE, Heading, Image, Para, Table, fmt_kn, fmt_number, fmt_sci, fmt_speed, fmt_unit
 
 _SERIES = (("radial_displacement", "δ_r at the ring centre"), ("axial_displacement", "δ_a at the ring centre"))
@@ -55,7 +55,7 @@ def figure_overlay(ds, path) -> None:
     t = ds["elapsed_time"].values
     for k, (n, label) in enumerate(_SERIES):
         ax = axes[k, 0]
-        _shade(ax, _windows(ds))
+        shade_windows(ax, _windows(ds))
         if n in ds:
             ax.plot(t, ds[n].values * 1e6, lw=1.8, color="C0", label="measured (shifted by the lag)")
         if f"{n}_simulated" in ds:
@@ -63,7 +63,7 @@ def figure_overlay(ds, path) -> None:
         ax.set_ylabel(f"{label} [µm]")
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     axes[0, 0].set_title(f"Trace '{_name(ds)}' beside the simulated case, phase windows shaded", fontsize=10)
     save_figure(fig, path)
 
@@ -91,7 +91,7 @@ def figure_spectra(ds, path) -> bool:
         ax.set_ylabel(f"{label} [µm]")
         ax.grid(True, lw=0.3, which="both")
     axes[1, 0].set_xlabel("frequency [Hz]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     axes[0, 0].set_title(f"Steady spectra of trace '{_name(ds)}' and of the simulated case", fontsize=10)
     save_figure(fig, path)
     return True
