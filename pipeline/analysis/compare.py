@@ -132,26 +132,21 @@ def read_trace(trace) -> dict:
     except Exception as exc:   # each library raises its own types for a file it cannot read
         why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise UserError(f"{trace.file}: cannot read as {trace.format.upper()} ({why})") from None
-    for key, d in duty:
-        x = cols[d.name]
-        if x is None:
-            _fail(trace, f"trace.duty.{key}.channel", d.name,
-                  f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
-    for i, c in enumerate(trace.channels):
-        if cols[c.name] is None:
-            _fail(trace, f"trace.channel[{i}].name", c.name,
-                  f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
+    checked = ([(f"trace.channel[{i}].name", c.name) for i, c in enumerate(trace.channels)]
+               + [(f"trace.duty.{key}.channel", d.name) for key, d in duty])
+    for key, name in checked:
+        if cols[name] is None:
+            _fail(trace, key, name, f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
     if trace.time_channel and cols[trace.time_channel] is None:
         _fail(trace, "trace.time.channel", trace.time_channel,
               f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
     n = len(cols[trace.channels[0].name])
-    for i, c in enumerate(trace.channels):
-        x = cols[c.name]
+    for key, name in checked:
+        x = cols[name]
         if len(x) != n:
-            _fail(trace, f"trace.channel[{i}].name", c.name, f"{len(x)} samples, the first channel has {n}")
+            _fail(trace, key, name, f"{len(x)} samples, the first channel has {n}")
         if not np.all(np.isfinite(x)):
-            _fail(trace, f"trace.channel[{i}].name", c.name,
-                  f"non-finite sample at index {int(np.argmin(np.isfinite(x)))}")
+            _fail(trace, key, name, f"non-finite sample at index {int(np.argmin(np.isfinite(x)))}")
     if n < 4:
         _fail(trace, "trace.file", str(trace.file.name), f"{n} samples: too few to compare")
     if trace.time_channel:
@@ -167,13 +162,6 @@ def read_trace(trace) -> dict:
         t = t - t[0]
     else:
         t = np.arange(n) / trace.rate
-    for key, d in duty:
-        x = cols[d.name]
-        if len(x) != n:
-            _fail(trace, f"trace.duty.{key}.channel", d.name, f"{len(x)} samples, the displacement channels have {n}")
-        if not np.all(np.isfinite(x)):
-            _fail(trace, f"trace.duty.{key}.channel", d.name,
-                  f"non-finite sample at index {int(np.argmin(np.isfinite(x)))}")
     out = {"time": t}
     for c in trace.channels:
         out[c.measures] = c.sign * c.scale * cols[c.name]

@@ -255,18 +255,29 @@ def _one_line_error(capsys, argv):
     return err
 
 
-@pytest.mark.parametrize("edit, expect", [
-    (lambda s: s.replace('unit = "um"', 'unit = "N"', 1), "not a length"),
-    (lambda s: s.replace('format = "csv"', 'format = "xlsx"'), "unknown format"),
-    (lambda s: s.replace('file = "trace-csv.csv"', 'file = "nowhere.csv"'), "no such data file"),
-    (lambda s: s.replace('name = "dr"', 'name = "laser_9"'), "no such channel"),
-    (lambda s: s.replace('unit = "s" }', 'unit = "mm" }'), "not a time"),
-    (lambda s: s.replace('sign = -1', 'sign = 2'), "must be 1 or -1"),
-    (lambda s: s.replace('measures = "radial_displacement"', 'measures = "force"'), "unknown"),
+@pytest.mark.parametrize("edit, expect, duty", [
+    (lambda s: s.replace('unit = "um"', 'unit = "N"', 1), "not a length", False),
+    (lambda s: s.replace('format = "csv"', 'format = "xlsx"'), "unknown format", False),
+    (lambda s: s.replace('file = "trace-csv.csv"', 'file = "nowhere.csv"'), "no such data file", False),
+    (lambda s: s.replace('name = "dr"', 'name = "laser_9"'), "no such channel", False),
+    (lambda s: s.replace('unit = "s" }', 'unit = "mm" }'), "not a time", False),
+    (lambda s: s.replace('sign = -1', 'sign = 2'), "must be 1 or -1", False),
+    (lambda s: s.replace('measures = "radial_displacement"', 'measures = "force"'), "unknown", False),
+    # the duty cycle from channels ([trace.duty])
+    (lambda s: s.replace('unit = "rpm"', 'unit = "N"'), "trace.duty.speed.unit = 'N': not a speed", True),
+    (lambda s: s.replace('unit = "rpm"', 'unit = "Hz"'), "a frequency without an angle", True),
+    (lambda s: s.replace('channel = "Fr", unit = "kN"', 'channel = "Fr", unit = "um"'),
+     "trace.duty.radial_load.unit = 'um': not a force", True),
+    (lambda s: s.replace('channel = "Fa", unit = "kN"', 'channel = "Fa"'), "every measured series carries its unit", True),
+    (lambda s: s.replace('axial_load = { channel = "Fa", unit = "kN" }', ''), "trace.duty.axial_load", True),
+    (lambda s: s.replace('channel = "Fr"', 'channel = "F_radial"'), "no such channel", True),
+    (lambda s: s.replace('format = "csv"', 'format = "csv"\nprofile = "trace-csv.csv"'), "not both", True),
+    (lambda s: s.replace("[trace.duty]", "[trace.duty]\ntolerance = 0.7"), "between 0 and 0.5", True),
 ])
-def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect):
+def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect, duty):
     path, t, series = case
-    toml = write_trace(tmp_path, "csv", t, series)
+    more = study_channels(t, math.radians(660), 30e3, 10e3) if duty else None
+    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL if duty else "")
     toml.write_text(edit(toml.read_text()))
     err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
     assert expect in err and str(toml) in err
@@ -467,26 +478,6 @@ def test_the_command_with_duty_channels_writes_the_profile(case, tmp_path, capsy
         np.testing.assert_allclose(ds["phase_start"].values, [a for _, a, _ in prof.phases])
         assert float(ds["speed"]) == pytest.approx(660)
         assert np.all(np.abs(ds["radial_displacement_sprague_geers_combined"].values) < 1e-6)
-
-
-@pytest.mark.parametrize("edit, expect", [
-    (lambda s: s.replace('unit = "rpm"', 'unit = "N"'), "trace.duty.speed.unit = 'N': not a speed"),
-    (lambda s: s.replace('unit = "rpm"', 'unit = "Hz"'), "a frequency without an angle"),
-    (lambda s: s.replace('channel = "Fr", unit = "kN"', 'channel = "Fr", unit = "um"'),
-     "trace.duty.radial_load.unit = 'um': not a force"),
-    (lambda s: s.replace('channel = "Fa", unit = "kN"', 'channel = "Fa"'), "every measured series carries its unit"),
-    (lambda s: s.replace('axial_load = { channel = "Fa", unit = "kN" }', ''), "trace.duty.axial_load"),
-    (lambda s: s.replace('channel = "Fr"', 'channel = "F_radial"'), "no such channel"),
-    (lambda s: s.replace('format = "csv"', 'format = "csv"\nprofile = "trace-csv.csv"'), "not both"),
-    (lambda s: s.replace("[trace.duty]", "[trace.duty]\ntolerance = 0.7"), "between 0 and 0.5"),
-])
-def test_bad_duty_channels_give_one_line(case, tmp_path, capsys, edit, expect):
-    path, t, series = case
-    more = study_channels(t, math.radians(660), 30e3, 10e3)
-    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL)
-    toml.write_text(edit(toml.read_text()))
-    err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
-    assert expect in err and str(toml) in err
 
 
 def test_a_speed_that_never_comes_back_to_rest(case, tmp_path, capsys):
