@@ -42,7 +42,7 @@ def run(args) -> int:
                                                  name=trace.name, source=trace.source,
                                                  channels={k: d.name for k, d in trace.duty.items()})
         phases = [(s, e) for (_, s, e) in duty_profile.phases]
-        cycle = float(duty_profile.duration)
+        cycle = float(duty_profile.duration) if args.case is None and args.sweep is None else math.nan
         speed = op.speed if not math.isfinite(speed) else speed
         radial_load = op.radial_load if not math.isfinite(radial_load) else radial_load
         axial_load = op.axial_load if not math.isfinite(axial_load) else axial_load

@@ -526,3 +526,21 @@ def test_measured_group_and_fits_of_traces_at_three_speeds(tmp_path):
             assert float(got) == pytest.approx(slope, rel=1e-9, abs=1e-20)
             got = fit_statistic(fits, f"{n}_range", "speed", "intercept").sel(radial_load=30e3, phase=p)
             assert float(got) == pytest.approx(intercept, rel=1e-9, abs=1e-15)
+
+
+def test_the_shipped_duty_example_gives_the_short_profile_delayed_12_ms():
+    """example.csv's speed and load channels are the short profile's (0.1 × the study's
+    times) delayed 12 ms with ±0.3 rpm of noise: the phases within the tolerance band of a
+    0.05 s ramp (2 % of 110 rpm, noise twice) and a sample, the operating point within the noise."""
+    from pipeline.analysis.compare import read_trace
+    from pipeline.analysis.duty import profile_from_channels
+    from rvcore.profile import scaled_study_profile
+
+    trace = load_trace(REPO / "sweeps/traces/example-duty.toml")
+    data = read_trace(trace)
+    profile, op = profile_from_channels(data["time"], data["duty"], tolerance=trace.duty_tolerance)
+    band = (0.02 * 110 + 0.6) / (110 / 0.05) + 1e-3
+    for (_, a, b), (_, a0, b0) in zip(profile.phases, scaled_study_profile(0.1).phases):
+        assert abs(a - (a0 + 0.012)) <= band and abs(b - (b0 + 0.012)) <= band
+    assert math.degrees(op.speed) == pytest.approx(660, abs=0.3 * 6)
+    assert op.radial_load == pytest.approx(30e3, abs=50) and op.axial_load == pytest.approx(10e3, abs=50)
