@@ -83,10 +83,12 @@ def measured_group(cases: list) -> xr.Dataset:
     """
     n = len(cases)
     names = [str(c.attrs.get("trace", "")) or Path(c.attrs["measured_file"]).stem for c in cases]
+    meanings = []
+    for s in names:
+        word = "".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in s) or "trace"
+        meanings.append(word if word not in meanings else f"{word}_{len(meanings)}")
     flag = {"long_name": "measured test (a trace compared by rvsweep compare --sweep, stored in measured/)",
-            "flag_values": np.arange(n, dtype=np.int8),
-            "flag_meanings": " ".join("".join(ch if ch.isalnum() or ch in "._-" else "_" for ch in s) or "trace"
-                                      for s in names)}
+            "flag_values": np.arange(n, dtype=np.int8), "flag_meanings": " ".join(meanings)}
     n_phase = phase_coordinate().size
     data = {}
     for m in MEASURED_METRICS:

@@ -145,6 +145,9 @@ def section_files(ctx: Context) -> list:
         *([f"`{STATICS_FILE}`: the quasi-static load distribution at the extreme operating points (every "
            "ball's load and contact angle per raceway arc, each row's load), solved when the sweep ran"]
           if stored_statics(ctx).corners else []),
+        *([f"`measured/`: {len(ctx.measured)} rig trace(s) compared by `rvsweep compare --sweep`; their phase "
+           "metrics in `metrics.nc` (`measured_*` over `measured_case`), their fits in `fits.nc` (`measured_*` over "
+           "`measured_speed`, `measured_radial_load`)"] if ctx.measured else []),
         f"`report/{ctx.summary_path.name}`: the summary table at every grid point"])]
 
 

@@ -125,6 +125,7 @@ def test_the_report_shows_the_traces_and_the_fits(folder):
     # Sprague-Geers M of the simulation against GAIN times it: 1/GAIN − 1
     assert f"{1 / GAIN - 1:.3g}".lstrip("0") in section or f"{1 / GAIN - 1:.3g}" in section
     assert "measured slope" in section and "Table 3, row 1" in section
+    assert "`measured/`: 3 rig trace(s)" in md.split("## Files")[1]
 
 
 def test_a_sweep_without_traces_keeps_its_files_as_they_were(folder):
