@@ -9,7 +9,10 @@ simulated case's: every sample goes through the core's phase reductions
 (:func:`rvcore.recording.plan.reduce_step`, read back by
 :func:`rvcore.recording.results.read_phase_metrics`), and its steady spectrum through
 :func:`rvcore.recording.spectra.steady_spectra`. Agreement is given as Sprague–Geers
-errors per channel and phase and as the difference of each phase metric. SI throughout.
+errors per channel and phase and as the difference of each phase metric. The duty cycle
+comes from the trace's profile file or from its speed and load channels
+(:mod:`pipeline.analysis.duty`); a comparison stored in a sweep folder joins its metrics
+and fits (:mod:`pipeline.analysis.measured`). SI throughout.
 """
 from __future__ import annotations
 
