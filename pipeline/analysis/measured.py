@@ -188,3 +188,24 @@ def fits_file_form(fits: xr.Dataset) -> xr.Dataset:
     out = out.rename({d: f"measured_{d}" for d in ("speed", "radial_load") if d in out.dims})
     out.attrs = {}
     return out
+
+
+def points_on_line(group: xr.Dataset, variable: str, axis: str, fixed_axis: str, fixed: float, phase: int,
+                   rel: float = 0.01):
+    """The measured tests on one line of a metric figure: those whose ``fixed_axis`` is within
+    ``rel`` (relative) of ``fixed`` [coordinate units: degree s-1 or N].
+
+    Returns
+    -------
+    x, y : ndarray
+        Their ``axis`` values [coordinate units] and ``measured_<variable>`` at phase flag
+        ``phase`` [its units]; empty when the group holds none.
+    """
+    v = f"measured_{variable}"
+    if not group or v not in group:
+        return np.zeros(0), np.zeros(0)
+    on = np.isclose(group[f"measured_case_{fixed_axis}"].values, fixed, rtol=rel, atol=0.0)
+    x = group[f"measured_case_{axis}"].values[on]
+    y = group[v].sel(phase=phase).values[on]
+    ok = np.isfinite(x) & np.isfinite(y)
+    return x[ok], y[ok]

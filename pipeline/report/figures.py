@@ -12,6 +12,7 @@ import numpy as np
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, line_band
+from ..analysis.measured import points_on_line
 from ..io import write_bytes_atomic
 from .context import (ROW, SENSOR, Context, on_base_grid, edge_flag, ensemble_of, first_realization_text, realizations,
                       rows_of, sensors)
@@ -433,6 +434,11 @@ def figure_metric(ctx: Context, refs, path: Path):
                           label=_ensemble_label(ctx))
         hollow += n
         _fit_line(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase)
+        mx, my = points_on_line(ctx.measured_metrics, ref.variable, ref.axis, ref.fixed_axis, fixed,
+                                PHASES.index(ref.phase))
+        if mx.size:
+            ax.plot(mx / 1e3 if ref.axis == "radial_load" else mx, my * 1e6, "x", color="C3", ms=8, mew=1.8,
+                    label="measured tests (measured/)", zorder=5)
         _finish_panel(ax, ref.axis, f"{PHASE_TITLE[r0.phase]} {r0.metric} of {sym} [µm]", note, n)
     fig.suptitle(f"{PHASE_TITLE[r0.phase]}: {r0.displacement} displacement {METRIC_TITLE[r0.metric]}, "
                  f"{CENTRE_LABEL[r0.displacement]}", fontsize=10)

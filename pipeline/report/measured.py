@@ -160,7 +160,8 @@ def section_measured(ctx: Context) -> list:
                    "their cross-correlation. The measured phase metrics come from the core's own phase "
                    "reductions fed with the measured samples, the spectra from the case files' spectrum code; "
                    "both sit in `metrics.nc` as `measured_*` over `measured_case` and their fits in `fits.nc` "
-                   "as `measured_*` over `measured_speed`/`measured_radial_load`.")]
+                   "as `measured_*` over `measured_speed`/`measured_radial_load`. The metric figures above mark the "
+                   "measured tests on their lines (red ×, those within 1 % of the line's speed or load).")]
     rows = []
     for ds in ctx.measured:
         lag = float(ds["lag"]) if "lag" in ds else math.nan

@@ -517,6 +517,12 @@ def test_measured_group_and_fits_of_traces_at_three_speeds(tmp_path):
     np.testing.assert_allclose(group["measured_case_speed"].values, [d for d, _ in tests])
     for n in NAMES:
         np.testing.assert_allclose(group[f"measured_{n}_range"].values, [w[n] for w in want], rtol=1e-9, atol=1e-15)
+    from pipeline.analysis.measured import points_on_line
+
+    x, y = points_on_line(group, "radial_displacement_range", "speed", "radial_load", 30.2e3, 0)   # within 1 %
+    np.testing.assert_allclose(x, [d for d, _ in tests])
+    np.testing.assert_allclose(y, [w["radial_displacement"][0] for w in want], rtol=1e-9, atol=1e-15)
+    assert points_on_line(group, "radial_displacement_range", "speed", "radial_load", 31e3, 0)[0].size == 0
     fits = measured_fits(group)
     for n in NAMES:
         for p in range(3):
