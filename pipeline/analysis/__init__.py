@@ -2,7 +2,10 @@
 
 - :mod:`~pipeline.analysis.metrics`: a results folder opened, and its phase metrics (``metrics.nc``);
 - :mod:`~pipeline.analysis.fits`: least-squares trends of the metrics over the axes (``fits.nc``);
-- :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands.
+- :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands;
+- :mod:`~pipeline.analysis.compare`: a measured rig trace beside a simulated case;
+- :mod:`~pipeline.analysis.duty`: the duty cycle from a trace's speed and load channels;
+- :mod:`~pipeline.analysis.measured`: the measured cases of a sweep folder in its metrics and fits.
 """
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
 from .fits import DISPLACEMENT_COORD, fit_metrics, fit_statistic, write_fits

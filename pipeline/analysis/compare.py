@@ -9,7 +9,10 @@ simulated case's: every sample goes through the core's phase reductions
 (:func:`rvcore.recording.plan.reduce_step`, read back by
 :func:`rvcore.recording.results.read_phase_metrics`), and its steady spectrum through
 :func:`rvcore.recording.spectra.steady_spectra`. Agreement is given as Sprague–Geers
-errors per channel and phase and as the difference of each phase metric. SI throughout.
+errors per channel and phase and as the difference of each phase metric. The duty cycle
+comes from the trace's profile file or from its speed and load channels
+(:mod:`pipeline.analysis.duty`); a comparison stored in a sweep folder joins its metrics
+and fits (:mod:`pipeline.analysis.measured`). SI throughout.
 """
 from __future__ import annotations
 
@@ -104,7 +107,8 @@ def read_trace(trace) -> dict:
     -------
     dict
         ``time`` [s] from the first sample (strictly increasing) and, for each channel,
-        its ``measures`` name -> samples [m], sign applied.
+        its ``measures`` name -> samples [m], sign applied; with ``[trace.duty]``, ``duty``:
+        ``speed`` [rad s-1], ``radial_load`` and ``axial_load`` [N] over the same samples.
 
     Raises
     ------
@@ -112,16 +116,16 @@ def read_trace(trace) -> dict:
         A file the format's library cannot read, a missing channel, a time base that
         does not increase, series of unequal length or with non-finite values.
     """
-    names = [c.name for c in trace.channels] + ([trace.time_channel] if trace.time_channel else [])
+    duty = list(trace.duty.items())
+    wanted = ([(c.group, c.name) for c in trace.channels] + [(d.group, d.name) for _, d in duty]
+              + ([(trace.time_group, trace.time_channel)] if trace.time_channel else []))
+    names = list(dict.fromkeys(n for _, n in wanted))
     try:
         if trace.format == "csv":
             cols, have = _column_csv(trace.file, names)
         elif trace.format == "tdms":
-            wanted = [(c.group, c.name) for c in trace.channels]
-            if trace.time_channel:
-                wanted.append((trace.time_group, trace.time_channel))
-            got, have = _columns_tdms(trace.file, wanted)
-            cols = {n: got[w] for n, w in zip(names, wanted)}
+            got, have = _columns_tdms(trace.file, list(dict.fromkeys(wanted)))
+            cols = {n: got[w] for w in wanted for n in [w[1]]}
         elif trace.format == "hdf5":
             cols, have = _columns_hdf5(trace.file, names)
         else:
@@ -131,21 +135,21 @@ def read_trace(trace) -> dict:
     except Exception as exc:   # each library raises its own types for a file it cannot read
         why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         raise UserError(f"{trace.file}: cannot read as {trace.format.upper()} ({why})") from None
-    for i, c in enumerate(trace.channels):
-        if cols[c.name] is None:
-            _fail(trace, f"trace.channel[{i}].name", c.name,
-                  f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
+    checked = ([(f"trace.channel[{i}].name", c.name) for i, c in enumerate(trace.channels)]
+               + [(f"trace.duty.{key}.channel", d.name) for key, d in duty])
+    for key, name in checked:
+        if cols[name] is None:
+            _fail(trace, key, name, f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
     if trace.time_channel and cols[trace.time_channel] is None:
         _fail(trace, "trace.time.channel", trace.time_channel,
               f"no such channel in {trace.file.name} (has: {', '.join(map(str, have[:12]))})")
     n = len(cols[trace.channels[0].name])
-    for i, c in enumerate(trace.channels):
-        x = cols[c.name]
+    for key, name in checked:
+        x = cols[name]
         if len(x) != n:
-            _fail(trace, f"trace.channel[{i}].name", c.name, f"{len(x)} samples, the first channel has {n}")
+            _fail(trace, key, name, f"{len(x)} samples, the first channel has {n}")
         if not np.all(np.isfinite(x)):
-            _fail(trace, f"trace.channel[{i}].name", c.name,
-                  f"non-finite sample at index {int(np.argmin(np.isfinite(x)))}")
+            _fail(trace, key, name, f"non-finite sample at index {int(np.argmin(np.isfinite(x)))}")
     if n < 4:
         _fail(trace, "trace.file", str(trace.file.name), f"{n} samples: too few to compare")
     if trace.time_channel:
@@ -164,6 +168,8 @@ def read_trace(trace) -> dict:
     out = {"time": t}
     for c in trace.channels:
         out[c.measures] = c.sign * c.scale * cols[c.name]
+    if duty:
+        out["duty"] = {key: d.scale * cols[d.name] for key, d in duty}
     return out
 
 
@@ -409,7 +415,8 @@ def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float 
         ``time`` [s] (simulated frame), ``measured`` and ``simulated`` series on it [m],
         ``lag`` [s], ``interval`` [s], ``phases``, ``measured_metrics`` and
         ``simulated_metrics`` (:func:`phase_metrics_of`), ``sprague_geers``
-        (name -> (phase, 3) array of M, P, C) and ``spectra`` (measured steady spectra).
+        (name -> (phase, 3) array of M, P, C), ``spectra`` (measured steady spectra) and
+        ``simulated_spectra`` (the simulated series' on the same samples, by the same code).
 
     Raises
     ------
@@ -476,14 +483,26 @@ def compare(trace, case: xr.Dataset | None = None, *, phases=None, cycle: float 
     kinematic = np.zeros(0) if kinematic is None else np.asarray(kinematic, dtype=np.float64)
     out["kinematic"] = kinematic
     out["spectra"] = steady_spectra(t, meas, tuple(phases[1]), kinematic) if len(phases) > 1 else {}
+    out["simulated_spectra"] = (steady_spectra(t, sim, tuple(phases[1]), kinematic)
+                                if sim is not None and len(phases) > 1 else {})
     return out
 
 
-def comparison_dataset(trace, result: dict, *, case_name: str = "") -> xr.Dataset:
+def comparison_dataset(trace, result: dict, *, case_name: str = "", operating_point=None) -> xr.Dataset:
     """The comparison as CF NetCDF content: the measured phase metrics under the case
     files' names (so a measured case sits beside simulated ones), the simulated ones with
     ``_simulated``, their ``_difference`` (simulated − measured), the Sprague–Geers errors
-    and the lag. Every variable has ``units`` and ``long_name``."""
+    and the lag; the compared series over ``elapsed_time`` (the simulated frame) and the
+    steady spectra, measured under the case files' names and simulated with
+    ``_simulated``; the phase windows; the operating point (``speed`` [degree s-1],
+    ``radial_load``, ``axial_load`` [N]) as scalar coordinates where known. Every variable
+    has ``units`` and ``long_name``.
+
+    Parameters
+    ----------
+    operating_point : dict or None
+        ``speed`` [rad s-1], ``radial_load``, ``axial_load`` [N]; NaN or missing: unknown.
+    """
     data = {}
     for name, values in result["measured_metrics"].items():
         _, units, long_name = VARIABLES[name]
@@ -501,30 +520,54 @@ def comparison_dataset(trace, result: dict, *, case_name: str = "") -> xr.Datase
                                                                    "cycle, by cross-correlation"})
     data["sample_interval"] = ((), result["interval"], {"units": "s", "long_name": "sample interval of the "
                                                                                    "compared series"})
-    coords = {"phase": phase_coordinate()}
+    phases = np.asarray(result["phases"], dtype=np.float64)
+    data["phase_start"] = ("phase", phases[:, 0], {"units": "s", "long_name": "start of the phase window"})
+    data["phase_end"] = ("phase", phases[:, 1], {"units": "s", "long_name": "end of the phase window"})
+    for n, x in result["measured"].items():
+        _, units, long_name = VARIABLES[n]
+        data[n] = ("elapsed_time", np.asarray(x, dtype=np.float64), {"units": units,
+                                                                      "long_name": f"measured: {long_name}"})
+        if result["simulated"] is not None:
+            data[f"{n}_simulated"] = ("elapsed_time", np.asarray(result["simulated"][n], dtype=np.float64),
+                                      {"units": units, "long_name": f"simulated: {long_name}"})
+    coords = {"phase": phase_coordinate(),
+              "elapsed_time": ("elapsed_time", np.asarray(result["time"], dtype=np.float64),
+                               {"units": "s", "long_name": "simulated time from the start of the cycle "
+                                                           "(the measured series shifted by the lag)"})}
     spectra = result["spectra"]
     if "frequency" in spectra:
         coords["frequency"] = ("frequency", spectra["frequency"], {"units": "Hz", "long_name":
                                                                    "frequency of the steady phase's spectra"})
-        for n in ("radial_displacement", "axial_displacement"):
-            if f"{n}_spectrum" in spectra:
-                _, units, long_name = VARIABLES[f"{n}_spectrum"]
-                data[f"{n}_spectrum"] = ("frequency", spectra[f"{n}_spectrum"],
-                                         {"units": units, "long_name": f"measured: {long_name}"})
-            if f"{n}_kinematic_amplitude" in spectra and result["kinematic"].size:
-                _, units, long_name = VARIABLES[f"{n}_kinematic_amplitude"]
-                data[f"{n}_kinematic_amplitude"] = ("kinematic", spectra[f"{n}_kinematic_amplitude"],
-                                                    {"units": units, "long_name": f"measured: {long_name}"})
+        for who, sp in (("measured", spectra), ("simulated", result.get("simulated_spectra") or {})):
+            tail = "" if who == "measured" else "_simulated"
+            for n in ("radial_displacement", "axial_displacement"):
+                if f"{n}_spectrum" in sp:
+                    _, units, long_name = VARIABLES[f"{n}_spectrum"]
+                    data[f"{n}_spectrum{tail}"] = ("frequency", sp[f"{n}_spectrum"],
+                                                   {"units": units, "long_name": f"{who}: {long_name}"})
+                if f"{n}_kinematic_amplitude" in sp and result["kinematic"].size:
+                    _, units, long_name = VARIABLES[f"{n}_kinematic_amplitude"]
+                    data[f"{n}_kinematic_amplitude{tail}"] = ("kinematic", sp[f"{n}_kinematic_amplitude"],
+                                                              {"units": units, "long_name": f"{who}: {long_name}"})
         if result["kinematic"].size:
             coords["kinematic"] = kinematic_coordinate()
             data["kinematic_frequency"] = ("kinematic", result["kinematic"], {
                 "units": "Hz", "long_name": "kinematic frequency of the bearing at the trace's speed"})
+    op = dict(operating_point or {})
+    for key, conv, units, long_name in (("speed", math.degrees, "degree s-1", "steady inner-ring speed"),
+                                        ("radial_load", float, "N", "steady radial load"),
+                                        ("axial_load", float, "N", "steady axial load")):
+        v = op.get(key, math.nan)
+        if v is not None and math.isfinite(v):
+            coords[key] = ((), conv(v), {"units": units, "long_name": f"{long_name} of the measured test"})
     ds = xr.Dataset(data, coords=coords)
     ds.attrs = {"Conventions": "CF-1.8",
                 "title": f"RV main-bearing rig trace '{trace.name}' beside the simulated case {case_name}".strip(),
                 "source": f"measured: {trace.file.name} ({trace.format}); trace file {trace.source}",
                 "history": history_line("pipeline.analysis.compare"),
                 "references": "Sprague, M. A. and Geers, T. L. (2004), Int. J. Numer. Meth. Engng 60, 2467-2499",
+                "trace": trace.name,
+                "case": case_name,
                 "comment": "; ".join(f"{c.measures}: channel {c.name!r} in {c.unit}, sign {c.sign:+g}, "
                                      f"position {c.position or 'not given'}" for c in trace.channels)}
     return ds

@@ -19,7 +19,7 @@ The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists t
 sections in their order, each a function ``section(ctx) -> list of blocks`` of a
 :class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
 :mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
-:mod:`.imperfect`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
+:mod:`.imperfect`, :mod:`.measured`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
 (:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -41,8 +41,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import xarray as xr
+
 from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics,
                         load_reference_fits, open_results, phase_metrics, write_fits, write_metrics)
+from ..analysis.measured import fits_file_form, measured_fits, measured_group, read_measured
 from ..io import read_status, write_text_atomic
 from ..io.statics import STATICS_FILE
 from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
@@ -50,6 +53,7 @@ from .definitions import section_definitions
 from .headline import section_headline
 from .imperfect import extra_axes_note, section_classes, section_spectrum
 from .loads import section_load_distribution, stored_statics
+from .measured import section_measured
 from .parameters import section_parameters
 from .physics import section_physics
 from .render import Bullets, Heading, Para, Warning_, render_html, render_markdown
@@ -141,6 +145,9 @@ def section_files(ctx: Context) -> list:
         *([f"`{STATICS_FILE}`: the quasi-static load distribution at the extreme operating points (every "
            "ball's load and contact angle per raceway arc, each row's load), solved when the sweep ran"]
           if stored_statics(ctx).corners else []),
+        *([f"`measured/`: {len(ctx.measured)} rig trace(s) compared by `rvsweep compare --sweep`; their phase "
+           "metrics in `metrics.nc` (`measured_*` over `measured_case`), their fits in `fits.nc` (`measured_*` over "
+           "`measured_speed`, `measured_radial_load`)"] if ctx.measured else []),
         f"`report/{ctx.summary_path.name}`: the summary table at every grid point"])]
 
 
@@ -151,7 +158,8 @@ def section_files(ctx: Context) -> list:
 SECTIONS = (
     section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
-    section_stiffness, section_lubrication, section_load_distribution, section_window_edges, section_comparison, section_classes,
+    section_stiffness, section_lubrication, section_load_distribution, section_window_edges, section_comparison,
+    section_measured, section_classes,
     section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 
@@ -166,13 +174,19 @@ def load_context(directory: Path, reference=None, targets=None) -> Context:
     sweep = open_results(directory, lazy=True)
     metrics = phase_metrics(sweep)
     fits = fit_metrics(metrics)
-    write_metrics(metrics, directory / "metrics.nc")
-    write_fits(fits, directory / "fits.nc")
+    measured = read_measured(directory)
+    measured_metrics = measured_group(measured) if measured else xr.Dataset()
+    measured_fit = measured_fits(measured_metrics) if measured else xr.Dataset()
+    write_metrics(xr.merge([metrics, measured_metrics], combine_attrs="override") if measured else metrics,
+                  directory / "metrics.nc")
+    write_fits(xr.merge([fits, fits_file_form(measured_fit)], combine_attrs="override")
+               if measured_fit.data_vars else fits, directory / "fits.nc")
     configuration, err = read_configuration(sweep)
     ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
                   status=read_status(directory), references=load_reference_fits(reference),
                   reference_path=Path(reference) if reference else default_reference_path(),
-                  configuration=configuration, config_error=err, targets=dict(targets or {}))
+                  configuration=configuration, config_error=err, targets=dict(targets or {}),
+                  measured=measured, measured_metrics=measured_metrics, measured_fits=measured_fit)
     if sensors(metrics):
         ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
     ctx.windows, ctx.windows_source = phase_windows(ctx)

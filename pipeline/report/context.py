@@ -62,6 +62,11 @@ class Context:
     summary_path: Path | None = None
     #: The headline's targets, key -> value in its column's unit (:func:`.headline.parse_targets`).
     targets: dict = field(default_factory=dict)
+    #: The measured traces stored in ``measured/`` (:func:`pipeline.analysis.measured.read_measured`),
+    #: their group of ``metrics.nc`` and their fits (dims ``speed``, ``radial_load``); empty when none.
+    measured: list = field(default_factory=list)
+    measured_metrics: xr.Dataset = field(default_factory=xr.Dataset)
+    measured_fits: xr.Dataset = field(default_factory=xr.Dataset)
 
     @property
     def report_dir(self) -> Path:

@@ -12,6 +12,7 @@ import numpy as np
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, line_band
+from ..analysis.measured import points_on_line
 from ..io import write_bytes_atomic
 from .context import (ROW, SENSOR, Context, on_base_grid, edge_flag, ensemble_of, first_realization_text, realizations,
                       rows_of, sensors)
@@ -39,14 +40,16 @@ def save_figure(fig, path: Path):
     write_bytes_atomic(path, buf.getvalue())
 
 
-def _shade(ax, windows):
+def shade_windows(ax, windows):
+    """Shade each phase window ``{name: (start, end)}`` [s] of ``ax`` in its colour, labelled."""
     colours = {"startup": "#4c72b0", "steady": "#55a868", "deceleration": "#c44e52"}
     for name, (a, b) in windows.items():
         ax.axvspan(a, b, color=colours.get(name, "#999999"), alpha=0.12, lw=0,
                    label=f"{PHASE_TITLE.get(name, name)} window")
 
 
-def _legend_outside(fig, ax) -> None:
+def legend_outside(fig, ax) -> None:
+    """The legend of the lines of ``ax``, outside the axes at the figure's upper right."""
     handles, labels = ax.get_legend_handles_labels()
     fig.legend(handles, labels, fontsize=9, loc="outside right upper")
 
@@ -211,7 +214,7 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> list:
     for k, (name, label) in enumerate((("radial_displacement", "δ_r at the ring centre [µm]"),
                                        ("axial_displacement", "δ_a at the ring centre [µm]"))):
         ax = axes[k, 0]
-        _shade(ax, windows)
+        shade_windows(ax, windows)
         ys = []
         if name in sw:
             for k_case, (s, l) in enumerate(cases):
@@ -226,7 +229,7 @@ def figure_time_histories(ctx: Context, windows, path: Path, cases) -> list:
         ax.set_ylabel(label)
         ax.grid(True, lw=0.3)
     axes[1, 0].set_xlabel("elapsed time [s]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     first = first_realization_text(ctx)
     axes[0, 0].set_title("Inner-ring displacements at the ring centre of the extreme cases, phase windows shaded"
                          + (f"\n{first}" if first else ""), fontsize=10)
@@ -245,7 +248,7 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
     t = sw["elapsed_time"].values
     for k, sn in enumerate(sens):
         ax = axes[k, 0]
-        _shade(ax, windows)
+        shade_windows(ax, windows)
         ys = []
         for k_case, (s, l) in enumerate(cases):
             y = sw["sensor_displacement"].sel({"speed": s, "radial_load": l, SENSOR: sn.value}).values * 1e6
@@ -258,7 +261,7 @@ def figure_sensor_time_histories(ctx: Context, windows, path: Path, cases) -> No
         ax.set_ylabel(f"{sn.name} [µm]")
         ax.grid(True, lw=0.3)
     axes[-1, 0].set_xlabel("elapsed time [s]")
-    _legend_outside(fig, axes[0, 0])
+    legend_outside(fig, axes[0, 0])
     first = first_realization_text(ctx)
     fig.suptitle("Virtual sensor readings of the extreme cases, phase windows shaded"
                  + (f"\n{first}" if first else ""), fontsize=10)
@@ -431,6 +434,11 @@ def figure_metric(ctx: Context, refs, path: Path):
                           label=_ensemble_label(ctx))
         hollow += n
         _fit_line(ax, ctx, ref.variable, ref.axis, ref.fixed_axis, fixed, ref.phase)
+        mx, my = points_on_line(ctx.measured_metrics, ref.variable, ref.axis, ref.fixed_axis, fixed,
+                                PHASES.index(ref.phase))
+        if mx.size:
+            ax.plot(mx / 1e3 if ref.axis == "radial_load" else mx, my * 1e6, "x", color="C3", ms=8, mew=1.8,
+                    label="measured tests (measured/)", zorder=5)
         _finish_panel(ax, ref.axis, f"{PHASE_TITLE[r0.phase]} {r0.metric} of {sym} [µm]", note, n)
     fig.suptitle(f"{PHASE_TITLE[r0.phase]}: {r0.displacement} displacement {METRIC_TITLE[r0.metric]}, "
                  f"{CENTRE_LABEL[r0.displacement]}", fontsize=10)

@@ -3,7 +3,9 @@
 A trace file names the data file and its format, each channel (name in the file, unit,
 which displacement of the inner ring it measures, the sensor's position, its sign), the
 time base (a time channel or a sample rate), the duty cycle the rig ran (a profile file)
-and the bearing. Every bad value is one :class:`pipeline.errors.ConfigError` naming the
+and the bearing. The duty cycle is either a profile file (``profile``) or channels of the
+data (``[trace.duty]``: the speed and the radial and axial loads the rig recorded), turned
+into a breakpoint profile by :func:`pipeline.analysis.duty.profile_from_channels`. Every bad value is one :class:`pipeline.errors.ConfigError` naming the
 file, the key, the value as typed and the reason, raised before any data is read. The
 layout is in docs/outputs.md ("Measured traces").
 
@@ -18,6 +20,13 @@ Example::
     bearing = "../bearings/study.toml"          # optional: the kinematic lines
     speed = "660 deg/s"                         # the operating point, for the kinematic lines
     radial_load = "30 kN"
+
+    # instead of profile: the duty cycle from channels of the data
+    # [trace.duty]
+    # speed = { channel = "n", unit = "rpm" }
+    # radial_load = { channel = "Fr", unit = "kN" }
+    # axial_load = { channel = "Fa", unit = "kN" }
+    # tolerance = 0.02                          # of each channel's steady value
 
     [[trace.channel]]
     name = "laser_r"
@@ -34,7 +43,7 @@ from pathlib import Path
 
 from ..errors import ConfigError
 from .tomlfile import read_toml, resolve_path
-from .units import parse_quantity, registry
+from .units import SI_UNITS, parse_quantity, registry
 
 #: Formats a trace's data file may have; MAT files of version 7.3 are HDF5 (read by h5py),
 #: earlier ones by scipy.io.loadmat.
@@ -43,7 +52,17 @@ FORMATS = ("csv", "tdms", "hdf5", "mat")
 MEASURES = ("radial_displacement", "axial_displacement")
 
 _TOP_KEYS = {"name", "description", "file", "format", "time", "profile", "bearing", "speed", "radial_load",
-             "axial_load", "channel", "low_pass"}
+             "axial_load", "channel", "low_pass", "duty"}
+#: The duty-cycle channels of ``[trace.duty]`` and the kind of unit each must be in.
+DUTY_KINDS = {"speed": "angular_speed", "radial_load": "force", "axial_load": "force"}
+_DUTY_KEYS = set(DUTY_KINDS) | {"tolerance"}
+_DUTY_CHANNEL_KEYS = {"channel", "unit", "group"}
+#: Unit names pint gives an angle (an angular speed must name one: 'Hz' or '1/s' would
+#: leave revolutions and radians apart by 2π).
+_ANGLES = {"radian", "degree", "revolution", "turn", "arcminute", "arcsecond", "revolutions_per_minute",
+           "revolutions_per_second", "gradian", "cycle"}
+#: Default tolerance of the breakpoint fit and of the phase edges, a fraction of each channel's steady value.
+DUTY_TOLERANCE = 0.02
 _CHANNEL_KEYS = {"name", "unit", "measures", "position", "sign", "group"}
 _TIME_KEYS = {"channel", "unit", "rate", "group"}
 
@@ -80,6 +99,28 @@ class TraceChannel:
 
 
 @dataclass(frozen=True)
+class DutyChannel:
+    """One duty-cycle channel of the data (``[trace.duty]``).
+
+    Parameters
+    ----------
+    name : str
+        Its name in the data file [-].
+    scale : float
+        SI per unit of the file's numbers (rad s-1 or N per unit) [SI/unit].
+    unit : str
+        The unit as typed [-].
+    group : str
+        The TDMS group holding the channel ('' for the first group) [-].
+    """
+
+    name: str
+    scale: float
+    unit: str
+    group: str = ""
+
+
+@dataclass(frozen=True)
 class Trace:
     """A measured test, validated (:func:`load_trace`). Quantities SI."""
 
@@ -99,6 +140,8 @@ class Trace:
     axial_load: float = math.nan  # [N]
     low_pass: float = math.nan    # [Hz], NaN: none
     description: str = ""
+    duty: dict = field(default_factory=dict)   # "speed"/"radial_load"/"axial_load" -> DutyChannel
+    duty_tolerance: float = DUTY_TOLERANCE     # [1]
     extra: dict = field(default_factory=dict)
 
 
@@ -119,20 +162,56 @@ def _unknown(t: dict, allowed: set, file, where: str) -> None:
             raise ConfigError(file, where + k, t[k], f"unknown key (allowed: {', '.join(sorted(allowed))})")
 
 
+_EXAMPLES = {"length": "'um' or 'mm'", "time": "'s' or 'ms'", "angular_speed": "'rpm' or 'deg/s'",
+             "force": "'N' or 'kN'"}
+_WHAT = {"length": "length", "time": "time", "angular_speed": "speed", "force": "force"}
+
+
 def _scale(unit, kind: str, file, key: str) -> float:
-    """Size of one ``unit`` in the SI unit of ``kind`` (``"length"`` or ``"time"``)."""
+    """Size of one ``unit`` in the SI unit of ``kind`` (``length``, ``time``, ``angular_speed``
+    or ``force``; :data:`pipeline.schema.units.SI_UNITS`)."""
+    what = _WHAT[kind]
     if not isinstance(unit, str) or not unit.strip():
-        raise ConfigError(file, key, unit, f"expected a unit of {kind}, e.g. 'um' or 'mm'"
-                          if kind == "length" else f"expected a unit of {kind}, e.g. 's' or 'ms'")
+        raise ConfigError(file, key, unit, f"expected a unit of {what}, e.g. {_EXAMPLES[kind]}")
     ureg = registry()
     try:
         q = ureg.Quantity(1.0, unit.strip())
     except Exception:
         raise ConfigError(file, key, unit, "not a unit") from None
-    target = "m" if kind == "length" else "s"
+    target = SI_UNITS[kind]
     if q.dimensionality != ureg.Quantity(1.0, target).dimensionality:
-        raise ConfigError(file, key, unit, f"not a {kind}: the channel must be in a unit convertible to {target}")
+        raise ConfigError(file, key, unit, f"not a {what}: the channel must be in a unit convertible to {target}")
+    if kind == "angular_speed" and not any(ureg.get_name(u) in _ANGLES for u in q.units._units):
+        raise ConfigError(file, key, unit, "not a speed: a frequency without an angle; write 'rpm', 'rev/s', "
+                                           "'rad/s' or 'deg/s'")
     return float(q.to(target).magnitude)
+
+
+def _duty(top: dict, file) -> dict:
+    """The ``[trace.duty]`` table: each channel (name, SI scale, unit, group) and the tolerance."""
+    duty = top["duty"]
+    if not isinstance(duty, dict):
+        raise ConfigError(file, "trace.duty", duty, "expected a table of channels (speed, radial_load, axial_load)")
+    _unknown(duty, _DUTY_KEYS, file, "trace.duty.")
+    out = {}
+    for name, kind in DUTY_KINDS.items():
+        where = f"trace.duty.{name}"
+        if name not in duty:
+            raise ConfigError(file, where, None, "missing: the duty cycle needs the speed and both loads "
+                                                 "({ channel = ..., unit = ... })")
+        c = duty[name]
+        if not isinstance(c, dict):
+            raise ConfigError(file, where, c, "expected { channel = ..., unit = ... }")
+        _unknown(c, _DUTY_CHANNEL_KEYS, file, where + ".")
+        cname = _string(c, "channel", file, where + ".")
+        if "unit" not in c:
+            raise ConfigError(file, where + ".unit", None, "missing: every measured series carries its unit")
+        scale = _scale(c["unit"], kind, file, where + ".unit")
+        out[name] = DutyChannel(cname, scale, c["unit"], _string(c, "group", file, where + ".", required=False))
+    tol = duty.get("tolerance", DUTY_TOLERANCE)
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not (0 < tol < 0.5):
+        raise ConfigError(file, "trace.duty.tolerance", tol, "must be a fraction between 0 and 0.5")
+    return {"duty": out, "duty_tolerance": float(tol)}
 
 
 def trace_from_dict(raw: dict, file="<input>") -> Trace:
@@ -143,7 +222,8 @@ def trace_from_dict(raw: dict, file="<input>") -> Trace:
     ConfigError
         Unknown keys, a missing ``file``/``format``/``time``/channel, an unknown format, a
         channel unit that is not a length, a time unit that is not a time, a sample rate
-        that is not positive, a sign other than ±1, a missing data or profile file.
+        that is not positive, a sign other than ±1, a missing data or profile file, a duty
+        channel whose unit is not a speed or a force, a profile and ``[trace.duty]`` both.
     """
     if set(raw) != {"trace"}:
         extra = sorted(set(raw) - {"trace"})
@@ -203,6 +283,11 @@ def trace_from_dict(raw: dict, file="<input>") -> Trace:
         channels.append(TraceChannel(cname, scale, c["unit"], measures, float(sign),
                                      _string(c, "position", file, where, required=False),
                                      _string(c, "group", file, where, required=False)))
+    if "duty" in top:
+        if "profile" in top:
+            raise ConfigError(file, "trace.duty", None, "give the duty cycle either as a profile file (profile) "
+                                                        "or as channels of the data ([trace.duty]), not both")
+        kw.update(_duty(top, file))
     for key in ("profile", "bearing"):
         if key in top:
             p = resolve_path(file, _string(top, key, file, "trace."))

@@ -49,9 +49,12 @@ def _write_mat73(path, columns):
         fh.write(head.ljust(116) + b"\0" * 8 + b"\x00\x02" + b"IM")
 
 
-def write_trace(folder, fmt, t, series, *, unit="um", scale=1e6, extra="", time_unit="s", with_time=True):
-    """Write ``series`` [m] (over ``t`` [s]) in ``fmt`` and a trace TOML describing it."""
-    cols = {"dr": series["radial_displacement"] * scale, "da": -series["axial_displacement"] * scale}
+def write_trace(folder, fmt, t, series, *, unit="um", scale=1e6, extra="", time_unit="s", with_time=True,
+                more=None, tail=""):
+    """Write ``series`` [m] (over ``t`` [s]) in ``fmt`` and a trace TOML describing it;
+    ``more``: further columns as written, ``tail``: TOML appended."""
+    cols = {"dr": series["radial_displacement"] * scale, "da": -series["axial_displacement"] * scale,
+            **(more or {})}
     if with_time:
         cols = {"time": np.asarray(t) * (1e3 if time_unit == "ms" else 1.0), **cols}
     ext = {"csv": "csv", "tdms": "tdms", "hdf5": "h5", "mat": "mat", "mat73": "mat"}[fmt]
@@ -100,7 +103,7 @@ unit = "{unit}"
 measures = "axial_displacement"
 position = "ring face"
 sign = -1
-""")
+""" + tail)
     return toml
 
 
@@ -252,18 +255,29 @@ def _one_line_error(capsys, argv):
     return err
 
 
-@pytest.mark.parametrize("edit, expect", [
-    (lambda s: s.replace('unit = "um"', 'unit = "N"', 1), "not a length"),
-    (lambda s: s.replace('format = "csv"', 'format = "xlsx"'), "unknown format"),
-    (lambda s: s.replace('file = "trace-csv.csv"', 'file = "nowhere.csv"'), "no such data file"),
-    (lambda s: s.replace('name = "dr"', 'name = "laser_9"'), "no such channel"),
-    (lambda s: s.replace('unit = "s" }', 'unit = "mm" }'), "not a time"),
-    (lambda s: s.replace('sign = -1', 'sign = 2'), "must be 1 or -1"),
-    (lambda s: s.replace('measures = "radial_displacement"', 'measures = "force"'), "unknown"),
+@pytest.mark.parametrize("edit, expect, duty", [
+    (lambda s: s.replace('unit = "um"', 'unit = "N"', 1), "not a length", False),
+    (lambda s: s.replace('format = "csv"', 'format = "xlsx"'), "unknown format", False),
+    (lambda s: s.replace('file = "trace-csv.csv"', 'file = "nowhere.csv"'), "no such data file", False),
+    (lambda s: s.replace('name = "dr"', 'name = "laser_9"'), "no such channel", False),
+    (lambda s: s.replace('unit = "s" }', 'unit = "mm" }'), "not a time", False),
+    (lambda s: s.replace('sign = -1', 'sign = 2'), "must be 1 or -1", False),
+    (lambda s: s.replace('measures = "radial_displacement"', 'measures = "force"'), "unknown", False),
+    # the duty cycle from channels ([trace.duty])
+    (lambda s: s.replace('unit = "rpm"', 'unit = "N"'), "trace.duty.speed.unit = 'N': not a speed", True),
+    (lambda s: s.replace('unit = "rpm"', 'unit = "Hz"'), "a frequency without an angle", True),
+    (lambda s: s.replace('channel = "Fr", unit = "kN"', 'channel = "Fr", unit = "um"'),
+     "trace.duty.radial_load.unit = 'um': not a force", True),
+    (lambda s: s.replace('channel = "Fa", unit = "kN"', 'channel = "Fa"'), "every measured series carries its unit", True),
+    (lambda s: s.replace('axial_load = { channel = "Fa", unit = "kN" }', ''), "trace.duty.axial_load", True),
+    (lambda s: s.replace('channel = "Fr"', 'channel = "F_radial"'), "no such channel", True),
+    (lambda s: s.replace('format = "csv"', 'format = "csv"\nprofile = "trace-csv.csv"'), "not both", True),
+    (lambda s: s.replace("[trace.duty]", "[trace.duty]\ntolerance = 0.7"), "between 0 and 0.5", True),
 ])
-def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect):
+def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect, duty):
     path, t, series = case
-    toml = write_trace(tmp_path, "csv", t, series)
+    more = study_channels(t, math.radians(660), 30e3, 10e3) if duty else None
+    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL if duty else "")
     toml.write_text(edit(toml.read_text()))
     err = _one_line_error(capsys, ["compare", str(toml), "--case", str(path), "--out", str(tmp_path / "o")])
     assert expect in err and str(toml) in err
@@ -351,3 +365,188 @@ def test_the_low_pass_removes_a_tone_above_its_cut_off(case, tmp_path):
         ranges[bool(low)] = result["measured_metrics"]["radial_displacement_range"][1]
     assert ranges[False] > 1e-6
     assert ranges[True] < 1e-8
+
+
+# ------------------------------------------------------------- the duty cycle from channels
+
+DUTY_TAIL = """
+[trace.duty]
+speed = { channel = "n", unit = "rpm" }
+radial_load = { channel = "Fr", unit = "kN" }
+axial_load = { channel = "Fa", unit = "kN" }
+"""
+
+
+def study_channels(t, speed, fr, fa, eps=(0.0, 0.0), seed=3):
+    """The study cycle's speed [rpm] and loads [kN] at ``t``, by numpy from its breakpoints
+    (docs/model.md §6: loads 0 -> 1 over 0-0.3 s, back to 0 over 4.3-4.6 s; speed 0 -> 1
+    over 0.3-0.8 s, back over 3.8-4.3 s), with uniform noise of ±eps[0] rpm, ±eps[1] kN."""
+    rng = np.random.default_rng(seed)
+    load = np.interp(t, [0.0, 0.3, 4.3, 4.6], [0.0, 1.0, 1.0, 0.0])
+    w = np.interp(t, [0.3, 0.8, 3.8, 4.3], [0.0, 1.0, 1.0, 0.0])
+    rpm = speed * 60 / (2 * np.pi)
+    return {"n": rpm * w + rng.uniform(-eps[0], eps[0], t.size),
+            "Fr": fr / 1e3 * load + rng.uniform(-eps[1], eps[1], t.size),
+            "Fa": fa / 1e3 * load + rng.uniform(-eps[1], eps[1], t.size)}
+
+
+def test_breakpoints_keep_every_sample_within_the_tolerance():
+    from pipeline.analysis.duty import breakpoints
+
+    rng = np.random.default_rng(1)
+    t = np.linspace(0.0, 1.0, 2001)
+    x = np.sin(7 * t) + 0.01 * rng.standard_normal(t.size)
+    for tol in (0.2, 0.05, 0.02):
+        k = breakpoints(t, x, tol)
+        assert k[0] == 0 and k[-1] == t.size - 1 and np.all(np.diff(k) > 0)
+        assert np.max(np.abs(np.interp(t, t[k], x[k]) - x)) <= tol
+    # a straight line needs only its ends; a trapezoid its four corners
+    assert list(breakpoints(t, 3 * t + 1, 1e-9)) == [0, t.size - 1]
+    trap = np.interp(t, [0.0, 0.25, 0.75, 1.0], [0.0, 1.0, 1.0, 0.0])
+    assert list(breakpoints(t, trap, 1e-9)) == [0, 500, 1500, 2000]
+
+
+@pytest.mark.parametrize("eps", [(0.0, 0.0), (0.5, 0.02)])
+def test_the_duty_cycle_from_channels_is_the_study_cycle(eps):
+    """Speed and load channels of the study cycle at 660 °/s, 30 kN + 10 kN, sampled at
+    1 kHz, clean and with uniform noise: the phases within the time the ramp takes to
+    cross the tolerance band and the noise (plus a sample), the operating point within
+    the noise, and each table within half the tolerance of every sample."""
+    from pipeline.analysis.duty import profile_from_channels
+
+    speed, fr, fa, tol = math.radians(660), 30e3, 10e3, 0.02
+    t = np.arange(0.0, 4.6 + 1e-9, 1e-3)
+    ch = study_channels(t, speed, fr, fa, eps)
+    rpm = 2 * np.pi / 60
+    duty = {"speed": ch["n"] * rpm, "radial_load": ch["Fr"] * 1e3, "axial_load": ch["Fa"] * 1e3}
+    profile, op = profile_from_channels(t, duty, tolerance=tol)
+    slope = speed / 0.5                                    # the ramps' angular acceleration [rad s-2]
+    band = (tol * speed + 2 * eps[0] * rpm) / slope + 1e-3
+    for (name, a, b), (_, a0, b0) in zip(profile.phases, study_profile().phases):
+        assert abs(a - a0) <= band and abs(b - b0) <= band, (name, a, b)
+    assert op.speed == pytest.approx(speed, abs=eps[0] * rpm + 1e-12)
+    assert op.radial_load == pytest.approx(fr, abs=eps[1] * 1e3 + 1e-9)
+    assert op.axial_load == pytest.approx(fa, abs=eps[1] * 1e3 + 1e-9)
+    for name, chan, steady in (("speed", profile.speed, op.speed), ("radial_load", profile.radial_load, op.radial_load),
+                               ("axial_load", profile.axial_load, op.axial_load)):
+        assert chan.relative and chan.interpolation == "linear"
+        line = np.interp(t, chan.times, np.asarray(chan.values) * steady)
+        scale = max(abs(steady), np.max(np.abs(duty[name])))
+        assert np.max(np.abs(line - duty[name])) <= 0.5 * tol * scale * (1 + 1e-12), name
+    assert profile.duration == pytest.approx(4.6)
+
+
+def test_the_duty_profile_file_reads_back_as_the_same_profile(tmp_path):
+    from pipeline.analysis.duty import profile_from_channels, profile_toml
+    from pipeline.schema.profilefile import load_profile
+
+    t = np.arange(0.0, 4.6 + 1e-9, 1e-3)
+    ch = study_channels(t, math.radians(120), 20e3, 0.0, (0.1, 0.01))
+    rpm = 2 * np.pi / 60
+    duty = {"speed": ch["n"] * rpm, "radial_load": ch["Fr"] * 1e3, "axial_load": ch["Fa"] * 1e3}
+    profile, _ = profile_from_channels(t, duty, tolerance=0.02, name="rig")
+    path = tmp_path / "rig.toml"
+    path.write_text(profile_toml(profile, "a header\nof two lines"))
+    back = load_profile(path)
+    assert back.phases == profile.phases and back.duration == profile.duration
+    for a, b in ((back.speed, profile.speed), (back.radial_load, profile.radial_load),
+                 (back.axial_load, profile.axial_load)):
+        assert a.times == b.times and a.relative == b.relative
+        np.testing.assert_allclose(a.values, b.values, rtol=1e-15, atol=1e-12)
+
+
+def test_the_command_with_duty_channels_writes_the_profile(case, tmp_path, capsys):
+    """A trace whose duty cycle comes from its channels (rpm, kN) and no profile file:
+    compared with the case, its phases are the derived ones, and profile.toml is the cycle."""
+    from pipeline.schema.profilefile import load_profile
+
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3)
+    toml = write_trace(tmp_path, "tdms", t, series, more=more, tail=DUTY_TAIL)
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--case", str(path), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "--speed 660deg/s --radial-load 30kN --axial-load 10kN" in printed
+    prof = load_profile(out / "profile.toml")
+    dt = t[1] - t[0]
+    band = 0.02 * 0.5 + dt             # the tolerance band of a 0.5 s ramp, and a sample
+    for (_, a, b), (_, a0, b0) in zip(prof.phases, study_profile().phases):
+        assert abs(a - a0) <= band and abs(b - b0) <= band
+    import xarray as xr
+
+    with xr.open_dataset(out / "comparison.nc") as ds:
+        np.testing.assert_allclose(ds["phase_start"].values, [a for _, a, _ in prof.phases])
+        assert float(ds["speed"]) == pytest.approx(660)
+        assert np.all(np.abs(ds["radial_displacement_sprague_geers_combined"].values) < 1e-6)
+
+
+def test_a_speed_that_never_comes_back_to_rest(case, tmp_path, capsys):
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3)
+    more["n"] = np.where(t > 3.8, more["n"].max(), more["n"])     # the rig never stops
+    toml = write_trace(tmp_path, "csv", t, series, more=more, tail=DUTY_TAIL)
+    err = _one_line_error(capsys, ["compare", str(toml), "--out", str(tmp_path / "o")])
+    assert "trace.duty.speed.channel = 'n': the speed does not come back to rest" in err
+
+
+# ------------------------------------------------- measured cases beside the simulated ones
+
+def test_measured_group_and_fits_of_traces_at_three_speeds(tmp_path):
+    """Traces of the synthetic case at 120, 390 and 660 °/s (30 kN), the 660 one twice with
+    gains 1 and 1.1: the group holds each test's ranges (numpy's, over the windows), the
+    fits' line against speed at 30 kN is numpy's least-squares line through the three
+    operating points, the repeated point their average."""
+    from pipeline.analysis import fit_statistic
+    from pipeline.analysis.compare import comparison_dataset
+    from pipeline.analysis.measured import measured_fits, measured_group
+
+    tests = [(120.0, 1.0), (390.0, 1.0), (660.0, 1.0), (660.0, 1.1)]
+    cases, want = [], []
+    for k, (deg, gain) in enumerate(tests):
+        r = synthetic_result(math.radians(deg), 30e3)
+        series = {n: gain * r.series[n] for n in NAMES}
+        folder = tmp_path / f"t{k}"
+        folder.mkdir()
+        trace = load_trace(write_trace(folder, "csv", r.time, series))
+        result = compare(trace, None, phases=PHASE_WINDOWS)
+        cases.append(comparison_dataset(trace, result, operating_point={
+            "speed": math.radians(deg), "radial_load": 30e3, "axial_load": 10e3}))
+        want.append({n: numpy_metrics(r.time, series[n], PHASE_WINDOWS)["range"] for n in NAMES})
+    group = measured_group(cases)
+    assert group.sizes["measured_case"] == 4
+    np.testing.assert_allclose(group["measured_case_speed"].values, [d for d, _ in tests])
+    for n in NAMES:
+        np.testing.assert_allclose(group[f"measured_{n}_range"].values, [w[n] for w in want], rtol=1e-9, atol=1e-15)
+    from pipeline.analysis.measured import points_on_line
+
+    x, y = points_on_line(group, "radial_displacement_range", "speed", "radial_load", 30.2e3, 0)   # within 1 %
+    np.testing.assert_allclose(x, [d for d, _ in tests])
+    np.testing.assert_allclose(y, [w["radial_displacement"][0] for w in want], rtol=1e-9, atol=1e-15)
+    assert points_on_line(group, "radial_displacement_range", "speed", "radial_load", 31e3, 0)[0].size == 0
+    fits = measured_fits(group)
+    for n in NAMES:
+        for p in range(3):
+            y = [want[0][n][p], want[1][n][p], 0.5 * (want[2][n][p] + want[3][n][p])]
+            slope, intercept = np.polyfit([120.0, 390.0, 660.0], y, 1)
+            got = fit_statistic(fits, f"{n}_range", "speed", "slope").sel(radial_load=30e3, phase=p)
+            assert float(got) == pytest.approx(slope, rel=1e-9, abs=1e-20)
+            got = fit_statistic(fits, f"{n}_range", "speed", "intercept").sel(radial_load=30e3, phase=p)
+            assert float(got) == pytest.approx(intercept, rel=1e-9, abs=1e-15)
+
+
+def test_the_shipped_duty_example_gives_the_short_profile_delayed_12_ms():
+    """example.csv's speed and load channels are the short profile's (0.1 × the study's
+    times) delayed 12 ms with ±0.3 rpm of noise: the phases within the tolerance band of a
+    0.05 s ramp (2 % of 110 rpm, noise twice) and a sample, the operating point within the noise."""
+    from pipeline.analysis.compare import read_trace
+    from pipeline.analysis.duty import profile_from_channels
+    from rvcore.profile import scaled_study_profile
+
+    trace = load_trace(REPO / "sweeps/traces/example-duty.toml")
+    data = read_trace(trace)
+    profile, op = profile_from_channels(data["time"], data["duty"], tolerance=trace.duty_tolerance)
+    band = (0.02 * 110 + 0.6) / (110 / 0.05) + 1e-3
+    for (_, a, b), (_, a0, b0) in zip(profile.phases, scaled_study_profile(0.1).phases):
+        assert abs(a - (a0 + 0.012)) <= band and abs(b - (b0 + 0.012)) <= band
+    assert math.degrees(op.speed) == pytest.approx(660, abs=0.3 * 6)
+    assert op.radial_load == pytest.approx(30e3, abs=50) and op.axial_load == pytest.approx(10e3, abs=50)
