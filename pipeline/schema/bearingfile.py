@@ -16,6 +16,7 @@ in :mod:`pipeline.schema.config`.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import typing
 
 from rvcore.bearing.checks import BALL_OVERLAP, bearing_problems
@@ -54,9 +55,6 @@ SET_ELSEWHERE = {
                                               "(the dataclass's default)",
 }
 
-_ABSENT = object()
-
-
 def from_fields(cls, t, source: str, readers: dict | None = None, overrides: dict | None = None):
     """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table: the
     loader's one converter.
@@ -81,7 +79,7 @@ def from_fields(cls, t, source: str, readers: dict | None = None, overrides: dic
     defaults). The rules that tie keys together (:data:`RULES`) run on the built instance.
     """
     readers, overrides = readers or {}, overrides or {}
-    hints = typing.get_type_hints(cls)
+    hints = _hints(cls)
     sourced = _sourced(t.schema_file, t.pattern)
     kwargs = {}
     for d in dataclasses.fields(cls):
@@ -90,82 +88,76 @@ def from_fields(cls, t, source: str, readers: dict | None = None, overrides: dic
             kwargs[d.name] = readers[at](t)
             continue
         f = sourced.get(at)
-        if f is not None:
-            value = _value(t, f, overrides.get(at, {}))
-        else:
-            item = fields.item_class(hints[d.name])
-            below = [g for p, g in sourced.items() if p.startswith(f"{at}[]." if item else f"{at}.")
-                     and not any(p.startswith(f"{r}.") for r in readers)]
-            if not below:
-                continue   # derived (SET_ELSEWHERE): the dataclass's default
-            here, rel = _table_of(t, _common_table(below, t.pattern))
-            if item is not None:
-                has_default = d.default is not dataclasses.MISSING or d.default_factory is not dataclasses.MISSING
-                if here is None or (has_default and not here.has(rel.removesuffix("[]"))):
-                    continue
-                value = tuple(from_fields(item, x, f"{at}[]", readers, overrides)
-                              for x in here.tables(rel.removesuffix("[]")))
-            else:
-                if here is None:
-                    continue
-                value = from_fields(hints[d.name], here if not rel else here.table(
-                    rel, required=_any_required(t.schema_file, f"{here.pattern}.{rel}" if here.pattern else rel)),
-                    at, readers, overrides)
-        if value is not _ABSENT:
-            kwargs[d.name] = value
+        item = fields.item_class(hints[d.name])
+        below = [g for p, g in sourced.items() if p.startswith(f"{at}[]." if item else f"{at}.")
+                 and not any(p.startswith(f"{r}.") for r in readers)]
+        if f is not None:   # a value
+            parts = _relative(f.path, t.pattern)
+            here = _descend(t, parts[:-1])
+            if here is None or (f.text_default and not here.has(parts[-1]) and "default" not in overrides.get(at, {})):
+                continue   # the dataclass's default
+            value = here.get(parts[-1], **overrides.get(at, {}))
+            kwargs[d.name] = tuple(value) if isinstance(value, list) else value
+        elif below and item is not None:   # an array of tables
+            *tables, array = _common_table(below, t.pattern)
+            here, array = _descend(t, tables), array.removesuffix("[]")
+            has_default = d.default is not dataclasses.MISSING or d.default_factory is not dataclasses.MISSING
+            if here is not None and not (has_default and not here.has(array)):
+                kwargs[d.name] = tuple(from_fields(item, x, f"{at}[]", readers, overrides)
+                                       for x in here.tables(array))
+        elif below:   # a dataclass, from the table holding its keys
+            here = _descend(t, _common_table(below, t.pattern))
+            if here is not None:
+                kwargs[d.name] = from_fields(hints[d.name], here, at, readers, overrides)
+        # else derived (SET_ELSEWHERE): the dataclass's default
     obj = cls(**kwargs)
     rule = RULES.get(cls)
     return obj if rule is None else rule(obj, t)
 
 
+@functools.cache
+def _hints(cls) -> dict:
+    return typing.get_type_hints(cls)
+
+
+@functools.cache
 def _sourced(schema_file: str, pattern: str) -> dict:
     """``{source: schema Field}`` of the fields under table ``pattern`` that hold a dataclass value."""
     return {f.source: f for f in fields_of(schema_file)
             if f.source and (not pattern or f.path.startswith(f"{pattern}."))}
 
 
-def _common_table(below: list, pattern: str) -> str:
-    """The deepest table holding every field of ``below``, relative to ``pattern``
-    (``inner_groove.arcs[]``, ``inner_ring``, "" for ``pattern`` itself)."""
-    rel = [f.path[len(pattern) + 1 if pattern else 0:].split(".")[:-1] for f in below]
+def _relative(path: str, pattern: str) -> list:
+    """The parts of key path ``path`` below table ``pattern``."""
+    return path[len(pattern) + 1 if pattern else 0:].split(".")
+
+
+def _common_table(below: list, pattern: str) -> list:
+    """The deepest table holding every field of ``below``, as parts below ``pattern``
+    (``["inner_groove", "arcs[]"]``, ``["inner_ring"]``, ``[]`` for ``pattern`` itself)."""
     common = []
-    for parts in zip(*rel):
+    for parts in zip(*(_relative(f.path, pattern)[:-1] for f in below)):
         if len(set(parts)) != 1:
             break
         common.append(parts[0])
         if parts[0].endswith("[]"):   # an array of tables: its entries are the instances
             break
-    return ".".join(common)
+    return common
 
 
-def _table_of(t, rel: str) -> tuple:
-    """(the table holding the last part of ``rel``, that part), walking ``t``'s sub-tables; the
-    table is None where an optional table (:data:`OPTIONAL_TABLES`) on the way is left out."""
-    *tables, last = rel.split(".") if rel else [""]
+def _descend(t, tables: list):
+    """The sub-table ``tables`` of ``t``; each is required when a key read from it is, and
+    None where an optional table (:data:`OPTIONAL_TABLES`) on the way is left out."""
     here = t
     for sub in tables:
         below = f"{here.pattern}.{sub}" if here.pattern else sub
         if below in OPTIONAL_TABLES.get(t.schema_file, ()) and not here.has(sub):
-            return None, last
+            return None
         here = here.table(sub, required=_any_required(t.schema_file, below))
-    if last and not last.endswith("[]"):
-        below = f"{here.pattern}.{last}" if here.pattern else last
-        if below in OPTIONAL_TABLES.get(t.schema_file, ()) and not here.has(last):
-            return None, last
-    return here, last
+    return here
 
 
-def _value(t, f, override: dict):
-    """The value of field ``f`` under table ``t`` (its key path relative to ``t``)."""
-    rel = f.path[len(t.pattern) + 1 if t.pattern else 0:]
-    head, _, key = rel.rpartition(".")
-    here, _ = _table_of(t, f"{head}.x" if head else "x")
-    if here is None or (f.text_default and not here.has(key) and "default" not in override):
-        return _ABSENT
-    value = here.get(key, **override)
-    return tuple(value) if isinstance(value, list) else value
-
-
+@functools.cache
 def _any_required(schema_file: str, pattern: str) -> bool:
     return any(f.required for f in fields_of(schema_file) if f.path.startswith(f"{pattern}."))
 
@@ -240,18 +232,18 @@ class _Layers:
 def layered_imperfections(top: Table, row: Table, ball_count: int, first: Table | None = None) -> Imperfections:
     """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (docs/model.md §12);
     ``first`` (a pair's ``[[pair.imperfections]]`` entry of this row) over both. Read by the field
-    table (:func:`from_fields`), then checked: the waviness terms a raceway holds, one diameter
-    deviation per ball."""
+    table (:func:`from_fields`), with its checks: the waviness terms a raceway holds (before),
+    one diameter deviation per ball (after)."""
     tables = [x for x in (first, row.table("imperfections", required=False)) if x is not None]
     t = _Layers(tables + [top.table("imperfections", required=False)])
+    for ring in ("inner", "outer"):   # said before Imperfections itself refuses them
+        n = len(t.tables(f"{ring}_waviness")) if t.has(f"{ring}_waviness") else 0
+        if n > MAX_WAVINESS_TERMS:
+            raise ConfigError(t.file, t.key(f"{ring}_waviness"), None,
+                              f"{n} terms: at most {MAX_WAVINESS_TERMS} a raceway")
     cls = t.get("tolerance_class")
     imp = from_fields(Imperfections, t, "rows[].imperfections",
                       readers={"rows[].imperfections.tolerance_class": lambda _: "" if cls == "none" else cls})
-    for ring in ("inner", "outer"):
-        terms = getattr(imp, f"{ring}_waviness")
-        if len(terms) > MAX_WAVINESS_TERMS:
-            raise ConfigError(t.file, t.key(f"{ring}_waviness"), None,
-                              f"{len(terms)} terms: at most {MAX_WAVINESS_TERMS} a raceway")
     balls = imp.ball_diameter_deviation
     if len(balls) not in (0, ball_count):
         raise ConfigError(t.file, t.key("ball_diameter_deviation"), short(t.raw("ball_diameter_deviation")),

@@ -10,6 +10,11 @@ Readers of this table:
 
 - :mod:`pipeline.schema.reader` / :mod:`.bearingfile` / :mod:`.profilefile`: the keys
   each table allows, each value's kind, bounds and default;
+- :func:`pipeline.schema.bearingfile.from_fields`, the bearing file's one converter: each
+  key's value lands at its ``source`` (a new bearing key with a ``source`` needs no other
+  loader code; what no one key holds is named in ``bearingfile.SET_ELSEWHERE``);
+- the case id (:func:`pipeline.schema.sweepfile.case_configuration`): every attribute of
+  the dataclasses but those of the keys marked ``hashed=False`` (free text);
 - :mod:`pipeline.schema.sweepaxes`: the kinds of operating-point, solver, bearing and
   profile values on sweep axes and in ``[fixed]`` (there is no second kind table);
 - :func:`pipeline.schema.tomlfile.parse_sets` callers (``--set``) through
@@ -27,6 +32,7 @@ have to be flattened into first.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import re
 import typing
@@ -530,6 +536,7 @@ def field(file: str, key_path: str) -> Field | None:
     return f
 
 
+@functools.cache
 def keys_under(file: str, table: str) -> tuple:
     """The keys a table allows, in schema order: ``keys_under("bearing", "rows[]")`` ->
     ``("pitch_diameter", ..., "balls", "inner_groove", ...)``; ``""`` is the top level."""

@@ -371,6 +371,22 @@ def _set(raw, key, value):
     return raw
 
 
+@pytest.mark.parametrize("where", ["imperfections", "rows[0].imperfections"])
+def test_more_waviness_terms_than_the_kernels_hold_is_one_line_naming_the_table(where):
+    from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS
+
+    raw = read_toml(shipped_file("bearings/reduced-test.toml"))
+    terms = [{"order": k + 2, "amplitude": "0.01 um"} for k in range(MAX_WAVINESS_TERMS + 1)]
+    table = raw if where == "imperfections" else raw["rows"][0]
+    table["imperfections"] = {"outer_waviness": terms}
+    with pytest.raises(ConfigError) as e:
+        bearing_from_dict(raw, "b.toml")
+    assert e.value.key == f"{where}.outer_waviness"
+    assert f"{MAX_WAVINESS_TERMS + 1} terms: at most {MAX_WAVINESS_TERMS}" in str(e.value)
+    table["imperfections"] = {"outer_waviness": terms[:MAX_WAVINESS_TERMS]}
+    assert len(bearing_from_dict(raw, "b.toml").rows[0].imperfections.outer_waviness) == MAX_WAVINESS_TERMS
+
+
 def test_the_land_values_are_required_for_an_outer_land_guided_cage_only():
     raw = read_toml(shipped_file(DEFAULT_BEARING))
     assert raw["rows"][0]["cage"]["guidance"] == "outer-land"
