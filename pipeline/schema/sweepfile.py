@@ -99,7 +99,7 @@ from .caseids import canonical_json, hash_id, plain
 from .reader import short
 from .physical import refuse_beyond_bounds
 from .resolver import Resolver, read_named_file
-from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
+from .sweepaxes import (MAX_CASES, NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
                         sort_key, target_of)
@@ -110,10 +110,6 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
            "Sweep", "case_configuration", "plain", "canonical_json", "hash_id", "read_sweep_file",
            "sweep_from_dict"]
 
-
-#: Most cases one sweep file may define: a grid is expanded, hashed and written to one
-#: combined file; beyond this, split the study into several sweeps.
-MAX_CASES = 100_000
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")
