@@ -20,6 +20,7 @@ Shared
 - ``standards.iso76``          ISO 76 static load rating and safety factor
 - ``standards.iso492``         ISO 492 runout and ISO 3290 ball grades (tables with their sources)
 - ``standards.palmgren``       Palmgren's friction moment
+- ``standards.inputs``         the one check of a formula's input: a finite number > 0, else the caller's error
 
 ``bearing``: a bearing as data
 - ``bearing.geometry``         bearing, rows, groove arcs, cages, materials (frozen dataclasses)

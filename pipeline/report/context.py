@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from rvcore.bearing.geometry import ball_mass
+from rvcore.bearing.geometry import ball_mass, epicyclic_cage_ratio
 from rvcore.profile import PHASES
 
 from ..analysis import DISPLACEMENT_COORD, REALIZATION
@@ -272,17 +272,20 @@ def sensors(ds) -> list:
 
 def bearing_numbers(ctx: Context) -> dict:
     """The first row's ball diameter ``D`` [m], ball density ``rho`` [kg m-3], ball mass
-    ``m_b`` [kg], pitch diameter ``d_m`` [m] and nominal (outer) contact angle ``alpha``
-    [rad], read from the stored configuration's :class:`rvcore.bearing.geometry.Bearing`; NaN each
-    without a readable configuration."""
+    ``m_b`` [kg], pitch diameter ``d_m`` [m], nominal (outer) contact angle ``alpha``
+    [rad] and epicyclic cage ratio ``cage_ratio`` [-] at it (0 deg without an arc;
+    :func:`rvcore.bearing.geometry.epicyclic_cage_ratio`), read from the stored
+    configuration's :class:`rvcore.bearing.geometry.Bearing`; NaN each without a readable
+    configuration."""
     conf = ctx.configuration
     if conf is None:
-        return dict.fromkeys(("D", "rho", "m_b", "d_m", "alpha"), math.nan)
+        return dict.fromkeys(("D", "rho", "m_b", "d_m", "alpha", "cage_ratio"), math.nan)
     b = conf.bearing
     row = b.rows[0]
+    alpha = row.outer_arcs[0].contact_angle if row.outer_arcs else math.nan
     return {"D": row.ball_diameter, "rho": b.ball_material.density, "m_b": ball_mass(row, b.ball_material),
-            "d_m": row.pitch_diameter,
-            "alpha": row.outer_arcs[0].contact_angle if row.outer_arcs else math.nan}
+            "d_m": row.pitch_diameter, "alpha": alpha,
+            "cage_ratio": epicyclic_cage_ratio(row, alpha if math.isfinite(alpha) else 0.0)}
 
 
 #: Keys of a status.json entry that are not axis values.

@@ -65,7 +65,7 @@ def _cage_speed(ctx: Context, s: float, load: float, bn: dict):
     w_i = metric_value(ctx, "inner_ring_speed_mean", s, load, "steady")
     w_i = w_i if math.isfinite(w_i) else math.radians(s)
     a = bn["alpha"] if math.isfinite(bn["alpha"]) else 0.0
-    return (0.5 * w_i * (1.0 - bn["D"] * math.cos(a) / bn["d_m"]),
+    return (w_i * bn["cage_ratio"],
             f"ω_c = ω_i/2·(1 − D·cos α/d_m) with α = {fmt_number(math.degrees(a))}°"
             + ("" if math.isfinite(bn["alpha"]) else " (no contact angle in the configuration)"))
 

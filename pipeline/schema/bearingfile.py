@@ -1,158 +1,353 @@
 """Bearing files: TOML in, a validated :class:`rvcore.bearing.geometry.Bearing` (SI) out.
 
-Which keys each table allows, every value's kind, bounds and default come from the
-schema (:mod:`pipeline.schema.fields`, read through :class:`pipeline.schema.reader.Table`).
-This module adds what one field cannot say: the material's two forms, the cage's land
-values required when it is outer-land guided, two arcs at ±α, the friction speeds'
-order, gravity by mounting or vector, the assumptions list, a ``[pair]``'s two mirrored
-rows and their preload (:mod:`rvcore.statics.preload`), and the one-line error of the first
-problem the geometry checks find (:func:`rvcore.bearing.checks.bearing_problems`). The file
-format is described in :mod:`pipeline.schema.config`.
+Which keys each table allows, every value's kind, bounds and default, and the dataclass
+attribute each key holds come from the schema (:mod:`pipeline.schema.fields`, read through
+:class:`pipeline.schema.reader.Table`): one converter, :func:`from_fields`, builds the
+Bearing, its rows, arcs, cages, imperfections and the pair's keys from that table. This
+module adds what one field cannot say: the readers of the values no one key holds
+(:data:`SET_ELSEWHERE`: the material's two forms, gravity by mounting or vector, the
+assumptions list, the contamination level, a row's imperfections from three tables), the
+rules keys obey together (:data:`RULES`: the cage's land values, two arcs at ±α, the friction
+speeds' order, the base oil), a ``[pair]``'s two mirrored rows and their preload
+(:mod:`rvcore.statics.preload`), and the one-line error of the first problem the geometry
+checks find (:func:`rvcore.bearing.checks.bearing_problems`). The file format is described
+in :mod:`pipeline.schema.config`.
 """
 from __future__ import annotations
 
 import dataclasses
+import functools
+import typing
 
 from rvcore.bearing.checks import BALL_OVERLAP, bearing_problems
-from rvcore.bearing.geometry import MOUNTINGS, Arc, Bearing, Cage, ContactLaw, InnerRing, Lubricant, Material, Row
-
-from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Waviness
+from rvcore.bearing.geometry import MOUNTINGS, Bearing, Cage, ContactLaw, Lubricant, Material, Row
+from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections
 
 from ..errors import ConfigError
-from .fields import fields_of
+from . import fields
+from .fields import OPTIONAL_TABLES, fields_of
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
 __all__ = ["bearing_from_dict", "load_bearing"]
 
 
-def from_fields(cls, t: Table, source: str, given: dict | None = None, overrides: dict | None = None):
-    """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table.
+#: The bearing's dataclass fields that no one key holds, and what sets them: a reader given to
+#: the converter (:func:`from_fields`, by :func:`bearing_from_dict`) for those read from the
+#: file in some other way; the derived ones keep the dataclass's default for the step that
+#: sets them. Every other field is read by the field table (``Field.source``); a test holds
+#: that each field is one or the other.
+SET_ELSEWHERE = {
+    "name": "the file's name key, else its stem (pipeline.schema.reader.top_table)",
+    "ring_material": "[material] (rings and balls) or [ring_material] (_materials)",
+    "ball_material": "[material] (rings and balls) or [ball_material] (_materials)",
+    "gravity": "mounting by name or gravity as a vector, not both (_gravity)",
+    "assumptions": "the assumptions list, each naming a key of this file (_assumptions)",
+    "lubricant.contamination": "a number e_C or an ISO 281 level at the pitch diameter (_contamination)",
+    "rows[].imperfections": "the row's [rows.imperfections] over the bearing's [imperfections], a "
+                            "pair's [[pair.imperfections]] entry over both (layered_imperfections)",
+    "rows[].imperfections.tolerance_class": "tolerance_class, \"none\" held as \"\" (layered_imperfections)",
+    "warnings": "derived: the accepted ball overlap of the geometry checks (bearing_from_dict)",
+    "nominal_radial_clearances": "derived: the clearances as given, where the temperatures move them "
+                                 "(rvcore.bearing.thermal.operating_bearing)",
+    "rows[].inner_offset": "derived: a pair's preload offset (rvcore.statics.preload.apply_preload)",
+    "rows[].cage.material.thermal_expansion": "not an input: the cage's expansion enters no clearance "
+                                              "(the dataclass's default)",
+}
 
-    Each field ``name`` of ``cls`` not in ``given`` is read from the schema field under
-    ``t`` whose ``source`` is ``f"{source}.{name}"`` (:class:`pipeline.schema.fields.Field`):
-    its key path relative to ``t`` says where it is written (``friction.mu_static`` holds
-    ``contact.mu_static``), and :meth:`Table.get` validates it and supplies its default. A
-    sub-table is required when any field read from it is. ``overrides`` maps a name to
-    :meth:`Table.get`'s ``default``/``bounds`` where another key decides them. A field of
-    ``cls`` that no schema field holds keeps the dataclass's default.
+def from_fields(cls, t, source: str, readers: dict | None = None, overrides: dict | None = None):
+    """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table: the
+    loader's one converter.
+
+    Each field ``name`` of ``cls``, at ``at = f"{source}.{name}"`` in the built dataclasses
+    (``rows[].cage.width``), is
+
+    - ``readers[at](t)`` where a reader is given (a value no one key holds: :data:`SET_ELSEWHERE`);
+    - a value: from the schema field whose ``source`` is ``at``, its key path relative to ``t``
+      saying where it is written (``friction.mu_static`` holds ``contact.mu_static``), validated
+      and defaulted by :meth:`Table.get` (``overrides[at]``: its ``default``/``bounds`` there). A
+      key left out whose default is a rule (:attr:`Field.text_default`) keeps the dataclass's
+      default, and a list is held as a tuple;
+    - a dataclass (``Row.cage``): read the same way from the table that holds its keys;
+    - a tuple of dataclasses (``tuple[Row, ...]``: ``Bearing.rows``, ``Row.inner_arcs``): one
+      from each entry of the array of tables that holds its keys; left out, the dataclass's
+      default where it has one;
+    - otherwise (derived, :data:`SET_ELSEWHERE`): the dataclass's default.
+
+    A sub-table is required when any key read from it is, unless the schema lists it in
+    :data:`pipeline.schema.fields.OPTIONAL_TABLES` (then, left out, its fields keep their
+    defaults). The rules that tie keys together (:data:`RULES`) run on the built instance.
     """
-    given, overrides = dict(given or {}), overrides or {}
+    readers, overrides = readers or {}, overrides or {}
+    hints = _hints(cls)
+    sourced = _sourced(t.schema_file, t.pattern)
     kwargs = {}
-    for name, f in _sourced(t.schema_file, t.pattern, source, cls).items():
-        if name in given:
-            kwargs[name] = given.pop(name)
+    for d in dataclasses.fields(cls):
+        at = f"{source}.{d.name}" if source else d.name
+        if at in readers:
+            kwargs[d.name] = readers[at](t)
             continue
-        *tables, key = f.path[len(t.pattern) + 1 if t.pattern else 0:].split(".")
-        here = t
-        for sub in tables:
-            below = f"{here.pattern}.{sub}" if here.pattern else sub
-            here = here.table(sub, required=_any_required(t.schema_file, below))
-        kwargs[name] = here.get(key, **overrides.get(name, {}))
-    return cls(**kwargs, **given)
+        f = sourced.get(at)
+        item = fields.item_class(hints[d.name])
+        below = [g for p, g in sourced.items() if p.startswith(f"{at}[]." if item else f"{at}.")
+                 and not any(p.startswith(f"{r}.") for r in readers)]
+        if f is not None:   # a value
+            parts = _relative(f.path, t.pattern)
+            here = _descend(t, parts[:-1])
+            if here is None or (f.text_default and not here.has(parts[-1]) and "default" not in overrides.get(at, {})):
+                continue   # the dataclass's default
+            value = here.get(parts[-1], **overrides.get(at, {}))
+            kwargs[d.name] = tuple(value) if isinstance(value, list) else value
+        elif below and item is not None:   # an array of tables
+            *tables, array = _common_table(below, t.pattern)
+            here, array = _descend(t, tables), array.removesuffix("[]")
+            has_default = d.default is not dataclasses.MISSING or d.default_factory is not dataclasses.MISSING
+            if here is not None and not (has_default and not here.has(array)):
+                kwargs[d.name] = tuple(from_fields(item, x, f"{at}[]", readers, overrides)
+                                       for x in here.tables(array))
+        elif below:   # a dataclass, from the table holding its keys
+            here = _descend(t, _common_table(below, t.pattern))
+            if here is not None:
+                kwargs[d.name] = from_fields(hints[d.name], here, at, readers, overrides)
+        # else derived (SET_ELSEWHERE): the dataclass's default
+    obj = cls(**kwargs)
+    rule = RULES.get(cls)
+    return obj if rule is None else rule(obj, t)
 
 
-def _sourced(schema_file: str, pattern: str, source: str, cls) -> dict:
-    """``{dataclass field name: schema Field}`` of the fields under ``pattern`` that hold
-    ``cls``'s fields at ``source``, in the dataclass's order."""
-    under = [f for f in fields_of(schema_file) if not pattern or f.path.startswith(f"{pattern}.")]
-    by_source = {f.source: f for f in under if f.source}
-    return {d.name: by_source[f"{source}.{d.name}"] for d in dataclasses.fields(cls)
-            if f"{source}.{d.name}" in by_source}
+@functools.cache
+def _hints(cls) -> dict:
+    return typing.get_type_hints(cls)
 
 
+@functools.cache
+def _sourced(schema_file: str, pattern: str) -> dict:
+    """``{source: schema Field}`` of the fields under table ``pattern`` that hold a dataclass value."""
+    return {f.source: f for f in fields_of(schema_file)
+            if f.source and (not pattern or f.path.startswith(f"{pattern}."))}
+
+
+def _relative(path: str, pattern: str) -> list:
+    """The parts of key path ``path`` below table ``pattern``."""
+    return path[len(pattern) + 1 if pattern else 0:].split(".")
+
+
+def _common_table(below: list, pattern: str) -> list:
+    """The deepest table holding every field of ``below``, as parts below ``pattern``
+    (``["inner_groove", "arcs[]"]``, ``["inner_ring"]``, ``[]`` for ``pattern`` itself)."""
+    common = []
+    for parts in zip(*(_relative(f.path, pattern)[:-1] for f in below)):
+        if len(set(parts)) != 1:
+            break
+        common.append(parts[0])
+        if parts[0].endswith("[]"):   # an array of tables: its entries are the instances
+            break
+    return common
+
+
+def _descend(t, tables: list):
+    """The sub-table ``tables`` of ``t``; each is required when a key read from it is, and
+    None where an optional table (:data:`OPTIONAL_TABLES`) on the way is left out."""
+    here = t
+    for sub in tables:
+        below = f"{here.pattern}.{sub}" if here.pattern else sub
+        if below in OPTIONAL_TABLES.get(t.schema_file, ()) and not here.has(sub):
+            return None
+        here = here.table(sub, required=_any_required(t.schema_file, below))
+    return here
+
+
+@functools.cache
 def _any_required(schema_file: str, pattern: str) -> bool:
     return any(f.required for f in fields_of(schema_file) if f.path.startswith(f"{pattern}."))
 
 
-def _material(t: Table, source: str) -> Material:
-    return from_fields(Material, t, source)
+# ----------------------------------------------------------------- readers: values no one key holds
 
 
-def _arcs(row: Table, groove: str, ball_diameter: float) -> tuple:
-    g = row.table(groove)
-    arcs = g.tables("arcs")
-    if len(arcs) > 2:
-        raise ConfigError(row.file, g.key("arcs"), None,
-                          f"{len(arcs)} arcs: a groove has one arc (deep groove or angular "
-                          "contact) or two at ±α (four-point)")
-    out = []
-    for a in arcs:
-        f = a.get("curvature_ratio", bounds=None)   # the schema's bound, said with the numbers
-        lower = a.field("curvature_ratio").bounds[0]
-        if f <= lower:
-            rel = "smaller than" if f < lower else "equal to"
-            raise ConfigError(row.file, a.key("curvature_ratio"), a.raw("curvature_ratio"),
-                              f"groove radius {rel} the ball's: f·D = {f * ball_diameter * 1e3:.4g} mm "
-                              f"against a ball radius of {ball_diameter / 2 * 1e3:.4g} mm "
-                              f"(f must exceed {lower:g})")
-        out.append(Arc(curvature_ratio=f, contact_angle=a.get("contact_angle")))
-    if len(out) == 2:
-        a0, a1 = out[0].contact_angle, out[1].contact_angle
-        if a0 == 0.0 or a1 == 0.0 or (a0 > 0) == (a1 > 0):
-            raise ConfigError(row.file, arcs[1].key("contact_angle"), arcs[1].raw("contact_angle"),
-                              "the two arcs of a four-point groove must sit on opposite sides "
-                              "of the groove (contact angles of opposite sign, ±α, neither 0)")
-    return tuple(out)
+def _materials(top: Table) -> tuple:
+    """(ring material, ball material): ``[material]`` for both, or ``[ring_material]`` and
+    ``[ball_material]``."""
+    file = top.file
+    if top.has("material"):
+        for other in ("ring_material", "ball_material"):
+            if top.has(other):
+                raise ConfigError(file, other, None,
+                                  "give either [material] (rings and balls) or both "
+                                  "[ring_material] and [ball_material], not both forms")
+        mat = from_fields(Material, top.table("material"), "ring_material")
+        return mat, mat
+    if top.has("ring_material") or top.has("ball_material"):
+        return (from_fields(Material, top.table("ring_material"), "ring_material"),
+                from_fields(Material, top.table("ball_material"), "ball_material"))
+    raise ConfigError(file, "material", None,
+                      "missing required table (or [ring_material] and [ball_material])")
 
 
-def _cage(c: Table) -> Cage:
-    land = {}
-    if c.get("guidance") == "outer-land":   # the land values matter only then: required and positive
-        land = {"default": MISSING, "bounds": "positive"}
-    return from_fields(Cage, c, "rows[].cage", given={"material": _material(c, "rows[].cage.material")},
-                       overrides={"land_clearance": land, "land_stiffness": land})
+def _contamination(lub: Table, pitch_diameter) -> float | None:
+    """The ISO 281 contamination factor e_C: a number in [0, 1], or a Table 13 level taken at
+    the lower bound of its column at the row's pitch diameter; None when left out."""
+    from rvcore.standards.iso281_modified import CONTAMINATION_GUIDE, contamination_factor
+
+    ec = lub.raw("contamination", None)
+    if ec is None:
+        return None
+    if isinstance(ec, str) and ec.strip().lower() in CONTAMINATION_GUIDE:
+        return contamination_factor(ec, pitch_diameter(), "low")
+    if isinstance(ec, (int, float)) and not isinstance(ec, bool) and 0.0 <= ec <= 1.0:
+        return float(ec)
+    raise ConfigError(lub.file, lub.key("contamination"), ec,
+                      "must be a number e_C in [0, 1] or one of ISO 281 Table 13's levels: "
+                      + ", ".join(f'"{k}"' for k in CONTAMINATION_GUIDE))
 
 
-def _row(t: Table, top: Table) -> Row:
-    balls = t.table("balls")
-    d = balls.get("diameter")
-    count = balls.get("count")
-    return Row(ball_count=count, ball_diameter=d, pitch_diameter=t.get("pitch_diameter"),
-               axial_position=t.get("axial_position"), inner_arcs=_arcs(t, "inner_groove", d),
-               outer_arcs=_arcs(t, "outer_groove", d), cage=_cage(t.table("cage")),
-               radial_clearance=t.get("radial_clearance"), imperfections=_imperfections(top, t, count))
+class _Layers:
+    """A row's imperfection tables read as one: each key from the first table that gives it
+    (a pair's entry, the row's, the bearing's), a key none gives from the last (its default).
+    Offers what :func:`from_fields` reads of a :class:`Table`."""
+
+    def __init__(self, tables: list):
+        self.layers = tables
+        self.file, self.schema_file, self.pattern = tables[-1].file, tables[-1].schema_file, tables[0].pattern
+
+    def _of(self, name):
+        return next((x for x in self.layers if x.has(name)), self.layers[-1])
+
+    def has(self, name):
+        return any(x.has(name) for x in self.layers)
+
+    def get(self, name, **kw):
+        return self._of(name).get(name, **kw)
+
+    def raw(self, name, *default):
+        return self._of(name).raw(name, *default)
+
+    def key(self, name):
+        return self._of(name).key(name)
+
+    def tables(self, name):
+        return self._of(name).tables(name)
 
 
-def _imperfections(top: Table, row: Table, ball_count: int, first: Table | None = None) -> Imperfections:
+def layered_imperfections(top: Table, row: Table, ball_count: int, first: Table | None = None) -> Imperfections:
     """The row's ``[rows.imperfections]`` over the bearing's ``[imperfections]`` (docs/model.md §12);
-    ``first`` (a pair's ``[[pair.imperfections]]`` entry of this row) over both."""
-    tables = [x for x in (first, row.table("imperfections", required=False),
-                          top.table("imperfections", required=False)) if x is not None and x.data]
-    if not tables:
-        return Imperfections()
-
-    def value(name, absent):
-        for x in tables:
-            if x.has(name):
-                return x, x.get(name)
-        return None, absent
-
-    kw = {}
-    for ring in ("inner", "outer"):
-        kw[f"{ring}_eccentricity"] = value(f"{ring}_eccentricity", None)[1]
-        kw[f"{ring}_eccentricity_angle"] = value(f"{ring}_eccentricity_angle", None)[1]
-        where = next((x for x in tables if x.has(f"{ring}_waviness")), None)
-        kw[f"{ring}_waviness"] = () if where is None else tuple(
-            Waviness(int(w.get("order")), w.get("amplitude"), w.get("phase"))
-            for w in where.tables(f"{ring}_waviness"))
-        if len(kw[f"{ring}_waviness"]) > MAX_WAVINESS_TERMS:
-            raise ConfigError(where.file, where.key(f"{ring}_waviness"), None,
-                              f"{len(kw[f'{ring}_waviness'])} terms: at most {MAX_WAVINESS_TERMS} a raceway")
-    x, balls = value("ball_diameter_deviation", ())
+    ``first`` (a pair's ``[[pair.imperfections]]`` entry of this row) over both. Read by the field
+    table (:func:`from_fields`), with its checks: the waviness terms a raceway holds (before),
+    one diameter deviation per ball (after)."""
+    tables = [x for x in (first, row.table("imperfections", required=False)) if x is not None]
+    t = _Layers(tables + [top.table("imperfections", required=False)])
+    for ring in ("inner", "outer"):   # said before Imperfections itself refuses them
+        n = len(t.tables(f"{ring}_waviness")) if t.has(f"{ring}_waviness") else 0
+        if n > MAX_WAVINESS_TERMS:
+            raise ConfigError(t.file, t.key(f"{ring}_waviness"), None,
+                              f"{n} terms: at most {MAX_WAVINESS_TERMS} a raceway")
+    cls = t.get("tolerance_class")
+    imp = from_fields(Imperfections, t, "rows[].imperfections",
+                      readers={"rows[].imperfections.tolerance_class": lambda _: "" if cls == "none" else cls})
+    balls = imp.ball_diameter_deviation
     if len(balls) not in (0, ball_count):
-        raise ConfigError(x.file, x.key("ball_diameter_deviation"), short(x.raw("ball_diameter_deviation")),
+        raise ConfigError(t.file, t.key("ball_diameter_deviation"), short(t.raw("ball_diameter_deviation")),
                           f"{len(balls)} values for {ball_count} balls: give one per ball")
-    kw["ball_diameter_deviation"] = tuple(balls)
-    kw["ball_grade"] = value("ball_grade", "")[1]
-    cls = value("tolerance_class", "none")[1]
-    kw["tolerance_class"] = "" if cls == "none" else cls
-    return Imperfections(**kw)
+    return imp
 
 
-def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
-    """The two mirrored rows of a ``[pair]`` and its preload: (rows, arrangement, preload
-    [N], preload_offset [m]).
+# ----------------------------------------------------------------- rules: keys that constrain each other
+
+
+def _cage_land(cage: Cage, c: Table) -> Cage:
+    """The land values matter only for an outer-land guided cage: there they are required and
+    positive, else not negative (the schema's bound)."""
+    outer = cage.guidance == "outer-land"
+    for name in ("land_clearance", "land_stiffness"):
+        c.get(name, default=MISSING, bounds="positive") if outer else c.get(name)
+    return cage
+
+
+def _row_arcs(row: Row, t: Table) -> Row:
+    """Each groove has one arc or two at ±α, and each groove radius exceeds the ball's."""
+    for groove, arcs in (("inner_groove", row.inner_arcs), ("outer_groove", row.outer_arcs)):
+        g = t.table(groove)
+        if len(arcs) > 2:
+            raise ConfigError(t.file, g.key("arcs"), None,
+                              f"{len(arcs)} arcs: a groove has one arc (deep groove or angular "
+                              "contact) or two at ±α (four-point)")
+        tables = g.tables("arcs")
+        for a, arc in zip(tables, arcs):
+            f, lower = arc.curvature_ratio, a.field("curvature_ratio").bounds[0]
+            if f <= lower:
+                rel = "smaller than" if f < lower else "equal to"
+                raise ConfigError(t.file, a.key("curvature_ratio"), a.raw("curvature_ratio"),
+                                  f"groove radius {rel} the ball's: f·D = {f * row.ball_diameter * 1e3:.4g} mm "
+                                  f"against a ball radius of {row.ball_diameter / 2 * 1e3:.4g} mm "
+                                  f"(f must exceed {lower:g})")
+        if len(arcs) == 2:
+            a0, a1 = arcs[0].contact_angle, arcs[1].contact_angle
+            if a0 == 0.0 or a1 == 0.0 or (a0 > 0) == (a1 > 0):
+                raise ConfigError(t.file, tables[1].key("contact_angle"), tables[1].raw("contact_angle"),
+                                  "the two arcs of a four-point groove must sit on opposite sides "
+                                  "of the groove (contact angles of opposite sign, ±α, neither 0)")
+    return row
+
+
+def _friction_speeds(contact: ContactLaw, top: Table) -> ContactLaw:
+    """Friction is dynamic only beyond the static peak: v_dynamic > v_static."""
+    if not contact.v_dynamic > contact.v_static:
+        raise ConfigError(top.file, "friction.v_dynamic",
+                          top.table("friction", required=False).raw("v_dynamic", contact.v_dynamic),
+                          f"must exceed friction.v_static ({contact.v_static:g} m/s)")
+    return contact
+
+
+def _base_oil(lubricant: Lubricant, lub: Table) -> Lubricant:
+    """The base oil by ``grade`` or by ``viscosity_40`` and ``viscosity_100`` (not both):
+    ν40 from the grade (ISO 3448), ν100 built in for ISO VG 68 only, and the two must make a
+    Walther line (:mod:`rvcore.bearing.lubricant`)."""
+    from rvcore.bearing.lubricant import (ISO_VG_GRADES, LubricantError, VG68_VISCOSITY_100,
+                                          iso_vg_viscosity, walther_coefficients)
+
+    file = lub.file
+    if lub.has("grade") and lub.has("viscosity_40"):
+        raise ConfigError(file, lub.key("viscosity_40"), lub.raw("viscosity_40"),
+                          "give either grade (ISO VG: nu40 is its number in mm^2/s) or viscosity_40, not both")
+    if lub.has("viscosity_40") and not lub.has("viscosity_100"):
+        raise ConfigError(file, lub.key("viscosity_40"), lub.raw("viscosity_40"),
+                          "needs viscosity_100 too: the two fix the oil's ASTM D341 (Walther) line")
+    grade = lubricant.grade
+    if grade not in ISO_VG_GRADES:
+        raise ConfigError(file, lub.key("grade"), lub.raw("grade", grade), lub.field("grade").why)
+    if lub.has("viscosity_40"):
+        grade, nu40 = None, lubricant.viscosity_40
+    else:
+        nu40 = iso_vg_viscosity(grade)
+    if lub.has("viscosity_100"):
+        nu100 = lubricant.viscosity_100
+    elif grade == 68:
+        nu100 = VG68_VISCOSITY_100
+    else:
+        raise ConfigError(file, lub.key("grade"), lub.raw("grade"),
+                          "needs viscosity_100 (the oil's, from its data sheet): only ISO VG 68's "
+                          "(8.5 mm^2/s, VI 94) is built in")
+    try:
+        walther_coefficients(nu40, nu100)
+    except LubricantError as exc:
+        raise ConfigError(file, lub.key("viscosity_100"), lub.raw("viscosity_100", None), str(exc)) from None
+    return dataclasses.replace(lubricant, grade=grade, viscosity_40=nu40, viscosity_100=nu100)
+
+
+#: Bounds the rules (:data:`RULES`) check instead of the schema, to say more: the groove radius
+#: against the ball's, the land values against the cage's guidance.
+_OVERRIDES = {"rows[].inner_arcs[].curvature_ratio": {"bounds": None},
+              "rows[].outer_arcs[].curvature_ratio": {"bounds": None},
+              "rows[].cage.land_clearance": {"bounds": None},
+              "rows[].cage.land_stiffness": {"bounds": None}}
+
+#: The rules each dataclass's keys obey together, run by :func:`from_fields` on the instance it
+#: has read (with the table it read it from). The pair's rule (:func:`_pair`) also builds.
+RULES = {Cage: _cage_land, Row: _row_arcs, ContactLaw: _friction_speeds, Lubricant: _base_oil}
+
+
+def _pair(bearing: Bearing, top: Table) -> Bearing:
+    """A ``[pair]``'s two mirrored rows.
 
     The file gives one ``[[rows]]`` entry, the design of both rows; the rows are built by
     :func:`rvcore.statics.preload.mirrored_rows` at ∓row_spacing/2, their contact angles mirrored
@@ -161,11 +356,10 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
     """
     from rvcore.statics.preload import mirrored_rows
 
-    file = top.file
+    file, rows = top.file, bearing.rows
     pair = top.table("pair")
-    arrangement = pair.get("arrangement")
+    arrangement, preload, offset = bearing.arrangement, bearing.preload, bearing.preload_offset
     spacing = pair.get("row_spacing")
-    preload, offset = pair.get("preload"), pair.get("preload_offset")
     if pair.has("preload") and pair.has("preload_offset"):
         raise ConfigError(file, "pair.preload_offset", pair.raw("preload_offset"),
                           "give either preload (a force; the statics find the offset that gives it) "
@@ -180,7 +374,7 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
                           f"{len(rows)} [[rows]] entries with [pair]: give exactly one, the design of "
                           "both rows (the pair builds the second, mirrored), or leave [pair] out and "
                           "give every row with its axial_position")
-    row, t = rows[0], row_tables[0]
+    row, t = rows[0], top.tables("rows")[0]
     if t.has("axial_position"):
         raise ConfigError(file, t.key("axial_position"), t.raw("axial_position"),
                           "a pair's rows sit at -row_spacing/2 and +row_spacing/2 (pair.row_spacing); "
@@ -198,9 +392,9 @@ def _pair(top: Table, row_tables: list, rows: tuple) -> tuple:
             raise ConfigError(file, "pair.imperfections", None,
                               f"{len(entries)} entries: give two [[pair.imperfections]], one per row "
                               "(the row at -row_spacing/2 first)")
-        pair_rows = tuple(dataclasses.replace(r, imperfections=_imperfections(top, t, r.ball_count, e))
+        pair_rows = tuple(dataclasses.replace(r, imperfections=layered_imperfections(top, t, r.ball_count, e))
                           for r, e in zip(pair_rows, entries))
-    return pair_rows, arrangement, preload, offset
+    return dataclasses.replace(bearing, rows=pair_rows)
 
 
 def _preload(bearing: Bearing, top: Table) -> Bearing:
@@ -249,93 +443,6 @@ def _gravity(top: Table) -> tuple:
     return MOUNTINGS[top.get("mounting")]
 
 
-def _materials(top: Table):
-    file = top.file
-    if top.has("material"):
-        for other in ("ring_material", "ball_material"):
-            if top.has(other):
-                raise ConfigError(file, other, None,
-                                  "give either [material] (rings and balls) or both "
-                                  "[ring_material] and [ball_material], not both forms")
-        mat = _material(top.table("material"), "ring_material")
-        return mat, mat
-    if top.has("ring_material") or top.has("ball_material"):
-        return (_material(top.table("ring_material"), "ring_material"),
-                _material(top.table("ball_material"), "ball_material"))
-    raise ConfigError(file, "material", None,
-                      "missing required table (or [ring_material] and [ball_material])")
-
-
-def _contact(top: Table) -> ContactLaw:
-    contact = from_fields(ContactLaw, top, "contact")
-    if not contact.v_dynamic > contact.v_static:
-        raise ConfigError(top.file, "friction.v_dynamic",
-                          top.table("friction", required=False).raw("v_dynamic", contact.v_dynamic),
-                          f"must exceed friction.v_static ({contact.v_static:g} m/s)")
-    return contact
-
-
-def _lubricant(top: Table, pitch_diameter: float) -> Lubricant:
-    """The ``[lubricant]`` table: the base oil by ``grade`` or by ``viscosity_40`` and
-    ``viscosity_100`` (not both), the contamination factor by number or by ISO 281 level,
-    and the rest by the schema (:mod:`rvcore.bearing.lubricant`)."""
-    from rvcore.bearing.lubricant import (ISO_VG_GRADES, LubricantError, VG68_VISCOSITY_100,
-                                          iso_vg_viscosity, walther_coefficients)
-    from rvcore.standards.iso281_modified import CONTAMINATION_GUIDE, contamination_factor
-
-    lub = top.table("lubricant", required=False)
-    file = top.file
-    if lub.has("grade") and lub.has("viscosity_40"):
-        raise ConfigError(file, "lubricant.viscosity_40", lub.raw("viscosity_40"),
-                          "give either grade (ISO VG: nu40 is its number in mm^2/s) or viscosity_40, not both")
-    if lub.has("viscosity_40") and not lub.has("viscosity_100"):
-        raise ConfigError(file, "lubricant.viscosity_40", lub.raw("viscosity_40"),
-                          "needs viscosity_100 too: the two fix the oil's ASTM D341 (Walther) line")
-    grade = lub.get("grade")
-    if grade not in ISO_VG_GRADES:
-        raise ConfigError(file, "lubricant.grade", lub.raw("grade", grade), lub.field("grade").why)
-    if lub.has("viscosity_40"):
-        grade, nu40 = None, lub.get("viscosity_40")
-    else:
-        nu40 = iso_vg_viscosity(grade)
-    if lub.has("viscosity_100"):
-        nu100 = lub.get("viscosity_100")
-    elif grade == 68:
-        nu100 = VG68_VISCOSITY_100
-    else:
-        raise ConfigError(file, "lubricant.grade", lub.raw("grade"),
-                          "needs viscosity_100 (the oil's, from its data sheet): only ISO VG 68's "
-                          "(8.5 mm^2/s, VI 94) is built in")
-    try:
-        walther_coefficients(nu40, nu100)
-    except LubricantError as exc:
-        raise ConfigError(file, "lubricant.viscosity_100", lub.raw("viscosity_100", None), str(exc)) from None
-    ec = lub.raw("contamination", None)
-    if ec is None:
-        contamination = None
-    elif isinstance(ec, str) and ec.strip().lower() in CONTAMINATION_GUIDE:
-        contamination = contamination_factor(ec, pitch_diameter, "low")
-    elif isinstance(ec, (int, float)) and not isinstance(ec, bool) and 0.0 <= ec <= 1.0:
-        contamination = float(ec)
-    else:
-        raise ConfigError(file, "lubricant.contamination", ec,
-                          "must be a number e_C in [0, 1] or one of ISO 281 Table 13's levels: "
-                          + ", ".join(f'"{k}"' for k in CONTAMINATION_GUIDE))
-    return Lubricant(kinematic_viscosity=lub.get("kinematic_viscosity", default=None), method=lub.get("method"),
-                     grade=grade, viscosity_40=nu40, viscosity_100=nu100, density=lub.get("density"),
-                     pressure_viscosity=lub.get("pressure_viscosity"), ep_additives=lub.get("ep_additives"),
-                     contamination=contamination, ball_roughness=lub.get("ball_roughness"),
-                     raceway_roughness=lub.get("raceway_roughness"))
-
-
-def _temperatures(top: Table) -> dict:
-    """The ``[temperature]`` table: the rings' operating temperatures and the clearance's
-    reference [K]."""
-    t = top.table("temperature", required=False)
-    return {"inner_ring_temperature": t.get("inner_ring"), "outer_ring_temperature": t.get("outer_ring"),
-            "reference_temperature": t.get("reference")}
-
-
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     """Validate a bearing file's contents and build the :class:`rvcore.bearing.geometry.Bearing`.
 
@@ -357,25 +464,21 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
         The first problem found, naming file, key, value and reason.
     """
     top, name = top_table(raw, file, "bearing")
-    allow_overlap = top.get("allow_ball_overlap")
-    env = top.table("envelope")
-    bore, od, width = env.get("bore"), env.get("outer_diameter"), env.get("width")
-    ring_mat, ball_mat = _materials(top)
-    inner_ring = from_fields(InnerRing, top, "inner_ring")
-    contact = _contact(top)
-    row_tables = top.tables("rows")
-    rows = tuple(_row(t, top) for t in row_tables)
-    arrangement, preload, offset = "", 0.0, 0.0
-    if top.has("pair"):
-        rows, arrangement, preload, offset = _pair(top, row_tables, rows)
-    bearing = Bearing(name=name, bore=bore, outer_diameter=od, width=width, rows=rows, ring_material=ring_mat, ball_material=ball_mat,
-                      inner_ring=inner_ring, contact=contact, allow_ball_overlap=allow_overlap,
-                      assumptions=_assumptions(top, raw), gravity=_gravity(top),
-                      arrangement=arrangement, preload=preload, preload_offset=offset,
-                      source=top.get("source"), description=top.get("description"),
-                      # left out: 0, "from the geometry" (rvcore.standards.iso16281)
-                      dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
-                      lubricant=_lubricant(top, rows[0].pitch_diameter), **_temperatures(top))
+    materials = _materials(top)
+    readers = {
+        "name": lambda _: name,
+        "ring_material": lambda _: materials[0],
+        "ball_material": lambda _: materials[1],
+        "gravity": _gravity,
+        "assumptions": lambda t: _assumptions(t, raw),
+        "lubricant.contamination": lambda lub: _contamination(
+            lub, lambda: top.tables("rows")[0].get("pitch_diameter")),
+        "rows[].imperfections": lambda row: layered_imperfections(top, row, row.table("balls").get("count")),
+    }
+    bearing = from_fields(Bearing, top, "", readers, _OVERRIDES)
+    arrangement, allow_overlap = bearing.arrangement, bearing.allow_ball_overlap
+    if arrangement:
+        bearing = _pair(bearing, top)
 
     warnings = []
     for p in bearing_problems(bearing):

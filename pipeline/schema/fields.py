@@ -10,6 +10,11 @@ Readers of this table:
 
 - :mod:`pipeline.schema.reader` / :mod:`.bearingfile` / :mod:`.profilefile`: the keys
   each table allows, each value's kind, bounds and default;
+- :func:`pipeline.schema.bearingfile.from_fields`, the bearing file's one converter: each
+  key's value lands at its ``source`` (a new bearing key with a ``source`` needs no other
+  loader code; what no one key holds is named in ``bearingfile.SET_ELSEWHERE``);
+- the case id (:func:`pipeline.schema.sweepfile.case_configuration`): every attribute of
+  the dataclasses but those of the keys marked ``hashed=False`` (free text);
 - :mod:`pipeline.schema.sweepaxes`: the kinds of operating-point, solver, bearing and
   profile values on sweep axes and in ``[fixed]`` (there is no second kind table);
 - :func:`pipeline.schema.tomlfile.parse_sets` callers (``--set``) through
@@ -27,8 +32,10 @@ have to be flattened into first.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import re
+import typing
 from dataclasses import dataclass
 
 from rvcore.simulation.settings import SolverSettings
@@ -107,6 +114,10 @@ class Field:
         (``rows[].cage.material.density``); None where no single attribute holds it.
     length : int or None
         Number of items of a ``list`` (None: any, at least one).
+    hashed : bool
+        False for free text that changes no result (a description, a source): left out of
+        the case id (:func:`pipeline.schema.sweepfile.case_configuration`) and of the
+        parameter table.
     """
 
     path: str
@@ -123,10 +134,21 @@ class Field:
     why: str = ""
     source: str | None = None
     length: int | None = None
+    hashed: bool = True
 
     @property
     def required(self) -> bool:
         return self.default is REQUIRED
+
+    @property
+    def text_default(self) -> bool:
+        """True where the default is a rule told to the reader (``"from the geometry"``), not a
+        value: a key left out keeps the ``rvcore`` dataclass's own default (0, None, "")."""
+        if not isinstance(self.default, str):
+            return False
+        if self.kind == "choice":
+            return self.default not in self.choices
+        return self.kind != "string"
 
     @property
     def axis_kind(self) -> str | None:
@@ -189,35 +211,44 @@ def _material(prefix: str, source: str, whose: str, thermal: bool = True) -> lis
 
 def _imperfections(prefix: str, where: str) -> list:
     """The ``[imperfections]`` keys (docs/model.md §12) under ``prefix``: the bearing's, or one
-    row's override (``rows[].imperfections``)."""
+    row's override (``rows[].imperfections``), or a pair's entry (``pair.imperfections[]``). All
+    three land in the row's :class:`rvcore.bearing.imperfections.Imperfections`, the pair's entry
+    over the row's over the bearing's (:func:`pipeline.schema.bearingfile.layered_imperfections`)."""
+    src = "rows[].imperfections"
     out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
                  choices=("none",) + TOLERANCE_CLASSES,
                  doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea "
-                     "and a default ball grade; none: a perfect bearing unless other keys say otherwise")]
+                     "and a default ball grade; none: a perfect bearing unless other keys say otherwise",
+                 source=f"{src}.tolerance_class")]
     for ring in ("inner", "outer"):
         out += [
             _q(f"{prefix}.{ring}_eccentricity", "length", "um",
                f"{ring} raceway's centre offset from its ring's axis ({where}); 0 none",
-               bounds="nonnegative", default="from tolerance_class, else 0"),
+               bounds="nonnegative", default="from tolerance_class, else 0", source=f"{src}.{ring}_eccentricity"),
             _q(f"{prefix}.{ring}_eccentricity_angle", "angle", "deg",
                f"direction of the {ring} raceway's offset (its high point) in its ring's frame",
-               bounds=None, default="(drawn from the case's seed, else 0)"),
+               bounds=None, default="(drawn from the case's seed, else 0)",
+               source=f"{src}.{ring}_eccentricity_angle"),
             Field(f"{prefix}.{ring}_waviness[].order", "integer", "bearing", minimum=1,
                   maximum=MAX_WAVINESS_ORDER, default=REQUIRED,
                   doc=f"lobes of one {ring} raceway waviness harmonic; with its amplitude A, "
                       "A·order²/R² − 1/R (inner) or + 1/R (outer) must stay below 2/D_w, or the "
                       "ball bridges the troughs (R the raceway radius)",
-                  why="a wavelength of a micrometre is roughness, not waviness"),
+                  why="a wavelength of a micrometre is roughness, not waviness",
+                  source=f"{src}.{ring}_waviness[].order"),
             _q(f"{prefix}.{ring}_waviness[].amplitude", "length", "um",
-               f"amplitude of the {ring} raceway radius harmonic", bounds="nonnegative"),
+               f"amplitude of the {ring} raceway radius harmonic", bounds="nonnegative",
+               source=f"{src}.{ring}_waviness[].amplitude"),
             _q(f"{prefix}.{ring}_waviness[].phase", "angle", "deg", "phase of the harmonic at the ring's angle 0",
-               bounds=None, default=0.0),
+               bounds=None, default=0.0, source=f"{src}.{ring}_waviness[].phase"),
         ]
     out += [
         Field(f"{prefix}.ball_diameter_deviation", "list", "bearing", "length", None, default=(), unit="um",
-              doc=f"one diameter deviation per ball of {where} (else drawn within the ball grade)"),
+              doc=f"one diameter deviation per ball of {where} (else drawn within the ball grade)",
+              source=f"{src}.ball_diameter_deviation"),
         Field(f"{prefix}.ball_grade", "choice", "bearing", default="(from tolerance_class, else none)",
-              choices=tuple(BALL_GRADES), doc="ISO 3290 ball grade: ball sizes drawn within its lot variation V_DwL"),
+              choices=tuple(BALL_GRADES), doc="ISO 3290 ball grade: ball sizes drawn within its lot variation V_DwL",
+              source=f"{src}.ball_grade"),
     ]
     return out
 
@@ -235,8 +266,9 @@ def _arcs(groove: str, attr: str, ring: str) -> list:
 
 _BEARING = [
     Field("name", "string", "bearing", default="<file stem>", doc="the bearing's name", source="name"),
-    Field("description", "string", "bearing", default="", doc="free text"),
-    Field("source", "string", "bearing", default="", doc="where the numbers come from"),
+    Field("description", "string", "bearing", default="", doc="free text", source="description", hashed=False),
+    Field("source", "string", "bearing", default="", doc="where the numbers come from", source="source",
+          hashed=False),
     Field("allow_ball_overlap", "boolean", "bearing", default=False, source="allow_ball_overlap",
           doc="true turns balls that do not fit on their pitch circle into a warning (docs/model.md §10)"),
     Field("assumptions", "list", "bearing", default=(), doc="key paths whose values are assumed"),
@@ -394,7 +426,7 @@ _CHANNEL_DOC = {"moment": "tilting moment about the axis normal to the radial lo
 
 _PROFILE = [
     Field("name", "string", "profile", default="<file stem>", doc="the profile's name", source="name"),
-    Field("description", "string", "profile", default="", doc="free text"),
+    Field("description", "string", "profile", default="", doc="free text", source="description", hashed=False),
     _q("duration", "time", "s", "length of the duty cycle", file="profile", source="duration"),
 ]
 for _c, (_kind, _unit, _fraction, _required) in _CHANNEL_KINDS.items():
@@ -471,6 +503,11 @@ _OPERATING_POINT = [
 #: Every field, in file order.
 FIELDS: tuple = tuple(_BEARING + _PAIR + _PROFILE + _SOLVER + _OPERATING_POINT)
 
+#: Tables that may be left out as a whole although some of their keys are required when they
+#: are given: left out, the dataclass fields their keys hold keep their defaults (no pair:
+#: ``arrangement`` "", no preload).
+OPTIONAL_TABLES = {"bearing": ("pair",)}
+
 _BY_PATH = {(f.file, f.path): f for f in FIELDS}
 _INDEX = re.compile(r"\[\d+\]")
 
@@ -499,6 +536,7 @@ def field(file: str, key_path: str) -> Field | None:
     return f
 
 
+@functools.cache
 def keys_under(file: str, table: str) -> tuple:
     """The keys a table allows, in schema order: ``keys_under("bearing", "rows[]")`` ->
     ``("pitch_diameter", ..., "balls", "inner_groove", ...)``; ``""`` is the top level."""
@@ -553,6 +591,23 @@ def check_set_key(key: str, value=None, file="--set") -> Field:
                           f"unknown {target.replace('_', ' ')} key (known{' here' if near else ''}: "
                           f"{', '.join(known)}; `rvsweep check --fields` lists every key)")
     return f
+
+
+def unhashed(file: str) -> tuple:
+    """The top-level dataclass attributes of one file that the case id leaves out
+    (:attr:`Field.hashed` false: free text), e.g. ``("description", "source")``."""
+    return tuple(f.source for f in fields_of(file) if not f.hashed)
+
+
+def item_class(hint):
+    """The dataclass of a ``tuple[Row, ...]`` annotation's items, else None: how the loader
+    (:func:`pipeline.schema.bearingfile.from_fields`) and the read-back
+    (:func:`pipeline.schema.stored.rebuild`) know an array of tables from a plain tuple."""
+    args = typing.get_args(hint)
+    if typing.get_origin(hint) is tuple and len(args) == 2 and args[1] is Ellipsis \
+            and dataclasses.is_dataclass(args[0]):
+        return args[0]
+    return None
 
 
 def field_map(file: str) -> dict:

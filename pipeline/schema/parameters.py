@@ -129,7 +129,9 @@ def _mounting(bearing):
 def _rows(obj, file_fields, prefix: str, assumptions, skip=lambda f: False, symbols: bool = False) -> list:
     out = []
     for f in file_fields:
-        if f.source is None or skip(f):
+        # free text (not hashed) is no parameter; a row's imperfections are what its table,
+        # the bearing's and a pair's entry give together, not one key's value
+        if f.source is None or not f.hashed or f.source.startswith("rows[].imperfections.") or skip(f):
             continue
         for indices, value in _walk(obj, f.source.split("."), ()):
             key = prefix + _key(f.path, indices)

@@ -17,8 +17,7 @@ import typing
 from dataclasses import dataclass
 
 from rvcore.simulation.settings import Sensor, SolverSettings
-from rvcore.bearing.geometry import Arc, Bearing, Row
-from rvcore.bearing.imperfections import Imperfections, Waviness
+from rvcore.bearing.geometry import Bearing
 from rvcore.profile import Profile
 
 from ..errors import ConfigError
@@ -28,10 +27,6 @@ from .sweepfile import MODEL_VERSION
 
 #: Where the configuration comes from, in error messages.
 WHERE = "configuration"
-
-#: Element types of the tuple fields that hold dataclasses.
-_ELEMENTS = {(Bearing, "rows"): Row, (Row, "inner_arcs"): Arc, (Row, "outer_arcs"): Arc,
-             (Imperfections, "inner_waviness"): Waviness, (Imperfections, "outer_waviness"): Waviness}
 
 #: Keys of the stored configuration besides the dataclasses (read or ignored on purpose).
 _BOOKKEEPING = ("description", "sweep_file", "bearing_file", "profile_file", "case_ids")
@@ -95,23 +90,25 @@ def _scalar(value, hint, key: str):
 
 
 def rebuild(cls, data, key: str):
-    """An instance of dataclass ``cls`` from its plain form ``data`` (``key`` names it)."""
+    """An instance of dataclass ``cls`` from its plain form ``data`` (``key`` names it): the one
+    read-back converter, the inverse of :func:`pipeline.schema.caseids.plain` for every
+    dataclass (a ``tuple[Row, ...]`` annotation names a tuple's items, :func:`fields.item_class`)."""
     if not isinstance(data, dict):
         raise ConfigError(WHERE, key, None, f"must be a table ({cls.__name__})")
-    fields = {f.name: f for f in dataclasses.fields(cls)}
+    members = {f.name: f for f in dataclasses.fields(cls)}
     for k in data:
-        if k not in fields:
+        if k not in members:
             raise ConfigError(WHERE, f"{key}.{k}", None, f"unknown field of {cls.__name__}")
     hints = typing.get_type_hints(cls)
     kwargs = {}
-    for name, f in fields.items():
+    for name, f in members.items():
         where = f"{key}.{name}"
         if name not in data:
             if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
                 raise ConfigError(WHERE, where, None, f"missing (a required field of {cls.__name__})")
             continue
         value, hint = data[name], hints[name]
-        element = _ELEMENTS.get((cls, name))
+        element = fields.item_class(hint)
         if element is not None:
             if not isinstance(value, list):
                 raise ConfigError(WHERE, where, None, f"must be an array of {element.__name__} tables")

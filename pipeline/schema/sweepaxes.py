@@ -23,6 +23,9 @@ from .units import SI_UNITS, is_safe_text, parse_quantity, registry, si_udunits
 #: Operating-point keys and their kinds (pipeline.schema.units.SI_UNITS), from the schema.
 OPERATING_POINT = fields.operating_point()
 REQUIRED_OPERATING_POINT = tuple(f.path for f in fields.fields_of("operating_point") if f.required)
+#: Most cases one sweep file may define: a grid is expanded, hashed and written to one
+#: combined file; beyond this, split the study into several sweeps.
+MAX_CASES = 100_000
 #: The ensemble axis: realization k of ``realizations = N`` runs with ``solver.seed = seed + k``.
 REALIZATION = "realization"
 _SENSOR_KEYS = ("name", "position", "direction")
@@ -118,9 +121,7 @@ def realization_axis(raw: dict, file) -> Axis | None:
     n = raw.get("realizations", 1)
     if isinstance(n, bool) or not isinstance(n, int) or n < 1:
         raise ConfigError(file, "realizations", n, "must be a whole number of at least 1")
-    from .sweepfile import MAX_CASES   # said before the seeds are listed, which alone could fill the memory
-
-    if n > MAX_CASES:
+    if n > MAX_CASES:   # said before the seeds are listed, which alone could fill the memory
         raise ConfigError(file, "realizations", n, f"more than the {MAX_CASES} cases a sweep holds")
     seed = raw.get("seed")
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):

@@ -99,7 +99,7 @@ from .caseids import canonical_json, hash_id, plain
 from .reader import short
 from .physical import refuse_beyond_bounds
 from .resolver import Resolver, read_named_file
-from .sweepaxes import (NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
+from .sweepaxes import (MAX_CASES, NAME, OPERATING_POINT, REALIZATION, REQUIRED_OPERATING_POINT, Axis,
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
                         sort_key, target_of)
@@ -111,25 +111,12 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
            "sweep_from_dict"]
 
 
-#: Most cases one sweep file may define: a grid is expanded, hashed and written to one
-#: combined file; beyond this, split the study into several sweeps.
-MAX_CASES = 100_000
-
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
             "realizations", "seed", "sensors")
 
-# Free text that does not change a result: left out of the case id.
-_BEARING_METADATA = ("description", "source", "extra")
-_PROFILE_METADATA = ("description",)
-
-def _bearing_plain(bearing: Bearing, drop=("extra",)) -> dict:
-    """The bearing's plain form as hashed and stored, ``drop`` left out."""
-    return {k: v for k, v in plain(bearing).items() if k not in drop}
-
-
-def _solver_plain(settings: SolverSettings) -> dict:
-    """The solver settings' plain form as hashed and stored: every setting."""
-    return plain(settings)
+def _plain_without(obj, drop=()) -> dict:
+    """A dataclass's plain form (:func:`plain`) with the top-level attributes ``drop`` left out."""
+    return {k: v for k, v in plain(obj).items() if k not in drop}
 
 
 @dataclass(frozen=True)
@@ -204,10 +191,11 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
     The solver settings carry the seed of the random start, so each realization of an
     ensemble has its own id, and the integrator.
     """
-    b = _bearing_plain(bearing, _BEARING_METADATA)
-    p = {k: v for k, v in plain(profile).items() if k not in _PROFILE_METADATA}
+    # free text that changes no result is left out (the field table's ``hashed``)
+    b = _plain_without(bearing, fields.unhashed("bearing"))
+    p = _plain_without(profile, fields.unhashed("profile"))
     conf = {"model_version": MODEL_VERSION, "operating_point": plain(op),
-            "solver": _solver_plain(settings), "bearing": b, "profile": p}
+            "solver": plain(settings), "bearing": b, "profile": p}
     if sensors:
         conf["sensors"] = plain(list(sensors))
     return conf
@@ -299,9 +287,9 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "profile_file": str(profile_file),
         "axes": {a.key: list(a.coords) for a in axes},
         "fixed": fixed_coords,
-        "solver": _solver_plain(base_settings),
+        "solver": plain(base_settings),
         "case_ids": [c.case_id for c in cases],
-        "bearing": _bearing_plain(base_bearing),
+        "bearing": plain(base_bearing),
         "profile": plain(base_profile),
         "sensors": plain(list(sensors)),
     }

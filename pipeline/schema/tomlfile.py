@@ -27,7 +27,7 @@ _MISSING = MISSING
 
 
 #: Largest input file read [bytes]. The shipped files are a few kB; a sweep's ``[[cases]]``
-#: list of :data:`pipeline.schema.sweepfile.MAX_CASES` cases of about 100 bytes each is
+#: list of :data:`pipeline.schema.sweepaxes.MAX_CASES` cases of about 100 bytes each is
 #: 10 MB. 16 MiB holds that and stops ``/dev/zero``-like input before it fills the memory.
 MAX_INPUT_BYTES = 16 * 1024 * 1024
 

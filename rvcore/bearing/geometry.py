@@ -34,7 +34,7 @@ for inner and outer arcs alike, with the normal along C→P.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..hertz import INNER, OUTER  # noqa: F401 (the ring labels live with Hertz theory)
 from .imperfections import PERFECT, Imperfections
@@ -152,8 +152,8 @@ class Row:
     ball_diameter: float
     pitch_diameter: float
     axial_position: float
-    inner_arcs: tuple
-    outer_arcs: tuple
+    inner_arcs: tuple[Arc, ...]
+    outer_arcs: tuple[Arc, ...]
     cage: Cage
     radial_clearance: float = 0.0
     inner_offset: float = 0.0
@@ -310,7 +310,7 @@ class Bearing:
     bore: float
     outer_diameter: float
     width: float
-    rows: tuple
+    rows: tuple[Row, ...]
     ring_material: Material
     ball_material: Material
     inner_ring: InnerRing
@@ -330,7 +330,6 @@ class Bearing:
     nominal_radial_clearances: tuple = ()
     source: str = ""
     description: str = ""
-    extra: dict = field(default_factory=dict, compare=False, hash=False)
 
     @property
     def operating_viscosity(self) -> float:

@@ -86,8 +86,8 @@ class Imperfections:
     inner_eccentricity_angle: float | None = None
     outer_eccentricity: float | None = None
     outer_eccentricity_angle: float | None = None
-    inner_waviness: tuple = ()
-    outer_waviness: tuple = ()
+    inner_waviness: tuple[Waviness, ...] = ()
+    outer_waviness: tuple[Waviness, ...] = ()
     ball_diameter_deviation: tuple = ()
     ball_grade: str = ""
     tolerance_class: str = ""

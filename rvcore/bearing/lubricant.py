@@ -39,6 +39,8 @@ from __future__ import annotations
 
 import math
 
+from ..standards.inputs import finite_positive
+
 __all__ = [
     "ISO_VG_GRADES",
     "ISO_VG_TOLERANCE",
@@ -118,13 +120,7 @@ class LubricantError(ValueError):
 
 
 def _finite_positive(name: str, value, unit: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise LubricantError(f"{name} must be a number, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise LubricantError(f"{name} must be a finite number > 0 {unit}, got {value!r}")
-    return x
+    return finite_positive(name, value, unit, LubricantError)
 
 
 def iso_vg_viscosity(grade) -> float:

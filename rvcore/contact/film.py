@@ -52,6 +52,7 @@ from dataclasses import dataclass
 
 from .._numba import kernel
 from ..hertz import HertzContact, effective_radii  # noqa: F401 (re-exported)
+from ..standards.inputs import finite_positive as _positive
 
 __all__ = [
     "ELLIPTICITY_RANGE",
@@ -92,16 +93,6 @@ class FilmThickness:
     load_parameter: float
     ellipticity: float
     extrapolated: bool
-
-
-def _positive(name, value, unit):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise ValueError(f"{name} must be a finite number > 0 {unit}, got {value!r}")
-    return x
 
 
 def hamrock_dowson(load, entrainment_speed, viscosity, pressure_viscosity, e_eff, r_x,

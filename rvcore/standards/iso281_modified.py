@@ -73,6 +73,8 @@ import math
 
 import numpy as np
 
+from .inputs import finite_positive
+
 __all__ = [
     "KAPPA_MIN", "KAPPA_MAX", "A_ISO_MAX", "A_ISO_EP_MAX", "EP_MIN_CONTAMINATION",
     "CONTAMINATION_GUIDE", "CONTAMINATION_DEFAULT_LEVEL", "RELIABILITY_FACTORS",
@@ -120,13 +122,7 @@ class ModifiedLifeError(ValueError):
 
 
 def _positive(name, value, unit):
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise ModifiedLifeError(f"{name} must be a number, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0.0):
-        raise ModifiedLifeError(f"{name} must be a finite number > 0 {unit}, got {value!r}")
-    return x
+    return finite_positive(name, value, unit, ModifiedLifeError)
 
 
 def reference_viscosity(speed, pitch_diameter) -> float:

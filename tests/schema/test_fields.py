@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import copy
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -370,6 +371,22 @@ def _set(raw, key, value):
     return raw
 
 
+@pytest.mark.parametrize("where", ["imperfections", "rows[0].imperfections"])
+def test_more_waviness_terms_than_the_kernels_hold_is_one_line_naming_the_table(where):
+    from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS
+
+    raw = read_toml(shipped_file("bearings/reduced-test.toml"))
+    terms = [{"order": k + 2, "amplitude": "0.01 um"} for k in range(MAX_WAVINESS_TERMS + 1)]
+    table = raw if where == "imperfections" else raw["rows"][0]
+    table["imperfections"] = {"outer_waviness": terms}
+    with pytest.raises(ConfigError) as e:
+        bearing_from_dict(raw, "b.toml")
+    assert e.value.key == f"{where}.outer_waviness"
+    assert f"{MAX_WAVINESS_TERMS + 1} terms: at most {MAX_WAVINESS_TERMS}" in str(e.value)
+    table["imperfections"] = {"outer_waviness": terms[:MAX_WAVINESS_TERMS]}
+    assert len(bearing_from_dict(raw, "b.toml").rows[0].imperfections.outer_waviness) == MAX_WAVINESS_TERMS
+
+
 def test_the_land_values_are_required_for_an_outer_land_guided_cage_only():
     raw = read_toml(shipped_file(DEFAULT_BEARING))
     assert raw["rows"][0]["cage"]["guidance"] == "outer-land"
@@ -384,36 +401,62 @@ def test_the_land_values_are_required_for_an_outer_land_guided_cage_only():
     assert math.isfinite(bearing_from_dict(raw, "b.toml").rows[0].cage.land_stiffness)
 
 
-def _attribute(obj, source: str, index: int):
-    """The value at a field's ``source`` (``rows[].cage.material.density``), ``[]`` taken as ``index``."""
+def _attribute(obj, source: str, indices: list):
+    """The value at a field's ``source`` (``rows[].inner_arcs[].contact_angle``), each ``[]``
+    taken as the next of ``indices``."""
+    indices = list(indices)
     for part in source.split("."):
         name, listed = part.removesuffix("[]"), part.endswith("[]")
         obj = getattr(obj, name)
         if listed:
-            obj = obj[index]
+            obj = obj[indices.pop(0)]
     return obj
+
+
+def _with_every_table(path):
+    """A shipped bearing file and, beside it, the reduced test bearing with imperfections
+    written at the bearing's level and at its row's, a lubricant and temperatures: every
+    table a (non-pair) file may hold."""
+    raw = read_toml(path)
+    if path.name == "reduced-test.toml":
+        raw["imperfections"] = {"tolerance_class": "5", "outer_eccentricity": "1 um",
+                                "outer_waviness": [{"order": 5, "amplitude": "0.1 um", "phase": "10 deg"}]}
+        raw["rows"][0]["imperfections"] = {"inner_eccentricity": "2 um", "inner_eccentricity_angle": "30 deg",
+                                           "inner_waviness": [{"order": 3, "amplitude": "0.2 um"},
+                                                              {"order": 7, "amplitude": "0.05 um"}],
+                                           "ball_grade": "G10"}
+        raw["lubricant"] = {"method": "oil-bath", "grade": 100, "viscosity_100": "11 mm^2/s",
+                            "density": "870 kg/m^3", "ep_additives": True}
+        raw["temperature"] = {"reference": "20 degC"}
+    return raw
 
 
 @pytest.mark.parametrize("path", [p for p in BEARING_FILES if "pair" not in p.name], ids=lambda p: p.name)
 def test_every_value_written_in_a_shipped_bearing_lands_where_its_field_says(path):
     """The loader reads the dataclasses by the field table (``Field.source``): each quantity,
     integer, boolean and choice written in the file, converted on its own here, is the value
-    at the field's ``source`` in the built Bearing; and that source is the attribute of the
-    key's own name (or its one documented rename), so the table cannot map a key elsewhere."""
+    at the field's ``source`` in the built Bearing (arcs, waviness terms and imperfections
+    included: a key's indices are the source's, a bearing-wide imperfection lands in row 0);
+    and that source is the attribute of the key's own name (or its one documented rename),
+    so the table cannot map a key elsewhere."""
+    from pipeline.schema.bearingfile import SET_ELSEWHERE
+
     renamed = {"balls.count": "ball_count", "balls.diameter": "ball_diameter", "envelope.bore": "bore",
-               "envelope.outer_diameter": "outer_diameter", "envelope.width": "width"}
-    raw = read_toml(path)
-    bearing = load_bearing(path)
+               "envelope.outer_diameter": "outer_diameter", "envelope.width": "width",
+               "temperature.reference": "reference_temperature"}
+    raw = _with_every_table(path)
+    bearing = bearing_from_dict(raw, path)
     checked = 0
     for key in leaf_paths(raw):
         f = schema.field("bearing", key)
-        if f is None or f.source is None or f.kind == "list" or "[" in f.path.replace("rows[]", ""):
+        if f is None or f.source is None or f.source in SET_ELSEWHERE or f.kind == "list":
             continue
         if f.path.startswith("material."):   # [material]: rings and balls alike
             sources = [f.source, f.source.replace("ring_material", "ball_material")]
         else:
             sources = [f.source]
-        index = int(key.split("[")[1].split("]")[0]) if key.startswith("rows[") else 0
+        indices = [int(i) for i in re.findall(r"\[(\d+)\]", key)]
+        indices = [0] * (f.source.count("[]") - len(indices)) + indices   # bearing-wide: row 0
         tail = ".".join(f.path.split(".")[-2:])
         assert f.source.split(".")[-1] == renamed.get(tail, f.path.split(".")[-1]), (f.path, f.source)
         written = lookup(raw, key)
@@ -421,9 +464,51 @@ def test_every_value_written_in_a_shipped_bearing_lands_where_its_field_says(pat
         for source in sources:
             if source == "rows[].radial_clearance" and bearing.nominal_radial_clearances:
                 # given at the reference temperature; the row's is the operating one
-                got = bearing.nominal_radial_clearances[index]
+                got = bearing.nominal_radial_clearances[indices[0]]
             else:
-                got = _attribute(bearing, source, index)
+                got = _attribute(bearing, source, indices)
             assert got == expected, (key, source)
             checked += 1
     assert checked >= 20
+
+
+def _dataclass_paths(cls, prefix=""):
+    """Every attribute path of dataclass ``cls``, through nested dataclasses and
+    ``tuple[X, ...]`` items (``rows[].cage.material.density``)."""
+    import dataclasses
+    import typing
+
+    for d in dataclasses.fields(cls):
+        at = f"{prefix}.{d.name}" if prefix else d.name
+        hint = typing.get_type_hints(cls)[d.name]
+        item = schema.item_class(hint)
+        if item is not None:
+            yield from _dataclass_paths(item, f"{at}[]")
+        elif dataclasses.is_dataclass(hint):
+            yield from _dataclass_paths(hint, at)
+        else:
+            yield at
+
+
+def test_every_attribute_of_a_bearing_is_read_by_the_field_table_or_set_elsewhere_once():
+    """The converter's one map: each attribute of the Bearing (rows, arcs, cage, materials,
+    imperfections, lubricant, ...) is the ``source`` of a bearing key, or named in
+    SET_ELSEWHERE (read by a reader, or derived; a derived one is no key's source); every
+    source and every SET_ELSEWHERE entry is a real attribute."""
+    from rvcore.bearing.geometry import Bearing
+    from pipeline.schema.bearingfile import SET_ELSEWHERE
+
+    paths = set(_dataclass_paths(Bearing))
+    sources = {f.source for f in schema.fields_of("bearing") if f.source}
+    sources |= {s.replace("ring_material", "ball_material") for s in sources if s.startswith("ring_material.")}
+
+    def elsewhere(p):
+        return any(p == e or p.startswith(e + ".") for e in SET_ELSEWHERE)
+
+    for p in paths:
+        assert (p in sources) or elsewhere(p), f"{p}: no key holds it and SET_ELSEWHERE does not say what sets it"
+    for e in SET_ELSEWHERE:
+        assert e in paths or any(p.startswith(e + ".") for p in paths), e
+        if SET_ELSEWHERE[e].startswith(("derived", "not an input")):
+            assert e not in sources, f"{e}: a key's source, and derived"
+    assert sources <= paths, sources - paths

@@ -165,6 +165,26 @@ def test_a_value_the_bearing_file_leaves_at_its_default_can_be_swept(tmp_path):
     assert {c.bearing.contact.mu_dynamic for c in s.cases} == {0.02}   # the loader's default
 
 
+def test_the_friction_law_is_set_from_the_command_line_when_the_bearing_file_has_no_friction_table(tmp_path):
+    """``--set friction.law=...`` (the one-case sweep of ``statics``/``simulate``) on a bearing
+    file without ``[friction]``: the table is made, its other keys at their defaults."""
+    import argparse
+
+    from pipeline.commands.common import one_case_sweep
+    from rvcore.bearing.geometry import ContactLaw
+
+    make_sweep(tmp_path, GRID)
+    bearing = tmp_path / "bearings" / "reduced-test.toml"
+    text = bearing.read_text()
+    bearing.write_text(text[:text.index("[friction]")] + text[text.index("[[rows]]"):])
+    args = argparse.Namespace(bearing=str(bearing), radial_load="20 kN", axial_load="10 kN", moment="0 N m",
+                              load_angle="0 deg", speed="120 deg/s", set=["friction.law=ehl_bair_winer"])
+    contact = one_case_sweep(args, profile=str(tmp_path / "profiles" / "short.toml")).cases[0].bearing.contact
+    assert contact.law == "ehl_bair_winer"
+    defaults = ContactLaw(damping=0.0, damping_depth=1.0, pocket_damping=0.0, land_damping=0.0)
+    assert (contact.mu_static, contact.mu_dynamic) == (defaults.mu_static, defaults.mu_dynamic)
+
+
 def test_explicit_cases(tmp_path):
     p = make_sweep(tmp_path, """
 [fixed]
