@@ -100,10 +100,9 @@ def figure_cycle(ctx: Context, axes: list, path: Path) -> None:
             ax.grid(True, lw=0.3)
             if i == 0:
                 ax.legend(fontsize=8, title="phase", title_fontsize=8)
-    fig.suptitle("Along the duty cycle: step mean over each phase of the smallest Hamrock-Dowson film over the "
-                 "loaded contacts (the dynamics' own loads and entrainment speeds; fully flooded: an upper bound "
-                 "under grease), its λ, and κ\ndotted: λ = 1, 3 (boundary | mixed | full film); κ = 0.1, 1, 4 "
-                 "(ISO 281)", fontsize=10)
+    fig.suptitle("Along the duty cycle, mean over each phase: the smallest Hamrock-Dowson film of the loaded\n"
+                 "contacts (fully flooded: an upper bound under grease), its λ, and κ\ndotted: λ = 1, 3 "
+                 "(boundary | mixed | full film); κ = 0.1, 1, 4 (ISO 281)", fontsize=10)
     save_figure(fig, path)
 
 
