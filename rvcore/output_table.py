@@ -70,6 +70,12 @@ SIGNALS = (
     Signal("drive_power", "W", "the drive's power T omega"),
     Signal("tilt_reaction_moment_x", "N m", "moment about x that holds a held ring's tilt at 0 (0 when free)"),
     Signal("tilt_reaction_moment_y", "N m", "moment about y that holds a held ring's tilt at 0 (0 when free)"),
+    Signal("film_central", "m", "smallest Hamrock-Dowson central film over the loaded ball-race contacts (NaN when "
+                                "none is loaded)"),
+    Signal("film_minimum", "m", "smallest Hamrock-Dowson minimum film over the loaded ball-race contacts (NaN when "
+                                "none is loaded)"),
+    Signal("film_parameter", "1", "smallest film parameter h_min/sigma over the loaded ball-race contacts (NaN when "
+                                  "none is loaded)"),
     Signal("inner_ring_x", "m", "inner-ring centre x", STATE),
     Signal("inner_ring_y", "m", "inner-ring centre y", STATE),
     Signal("inner_ring_z", "m", "inner-ring centre z", STATE),
@@ -84,6 +90,11 @@ SIGNALS = (
     Signal("load_direction", "rad", "the profile's radial-load direction", STATE),
     Signal("tilt_reaction_moment", "N m", "magnitude of the moment that holds a held ring square", STATE),
     Signal("revolutions", "1", "revolutions of the inner ring over the step", STATE),
+    Signal("kappa", "1", "ISO 281 viscosity ratio nu/nu1 at the step's speed (0 at standstill)", STATE),
+    Signal("a_iso", "1", "ISO 281 a_ISO of the step: its kappa, e_C C_u over its ISO/TS 16281 equivalent reference "
+                         "load (NaN when nothing is loaded)", STATE),
+    Signal("revolutions_kappa_below_scope", "1", "revolutions of the step when its kappa is below ISO 281's 0.1, "
+                                                 "else 0", STATE),
     Signal("drive_torque_step", "N m", "the step's drive torque, stage-weighted (the impulse the step gave)", STEP),
     Signal("drive_torque_band_limited", "N m", "the step's drive torque band-limited to "
                                                 "rvcore.integrate.loop.TORQUE_BANDWIDTH", STEP),
@@ -98,6 +109,10 @@ ROW_SIGNALS = (
     Signal("epicyclic_cage_speed_nominal", "rad s-1", "the same at the nominal contact angle", STATE),
     Signal("life_sum_inner", "N3", "ISO/TS 16281 inner-race life sum of the step, d_rev (1/Z) sum Q_i^3", STATE),
     Signal("life_sum_outer", "N3", "outer-race life sum of the step, d_rev ((1/Z) sum Q_o^(10/3))^0.9", STATE),
+    Signal("life_sum_inner_modified", "N3", "life_sum_inner of the step over its a_iso (0 when nothing is loaded)",
+           STATE),
+    Signal("life_sum_outer_modified", "N3", "life_sum_outer of the step over its a_iso (0 when nothing is loaded)",
+           STATE),
 )
 #: After the row blocks, one slot per virtual sensor: its reading [m].
 SENSOR_SIGNAL = Signal("sensor_displacement", "m", "the sensor's reading", STATE)
@@ -124,7 +139,9 @@ IDENTITY, CUBE_ROOT, ROOT_OF_POSITIVE, SIXTH_ROOT, ARCSINE_LOADED, ISO76_LOAD_RA
 #: time of the largest; ``abs_max`` the largest magnitude; ``integral`` ∫signal dt
 #: (trapezoid over the steps); ``slip`` 1 − Σsignal/Σ``other``; ``range``, ``stats_mean``,
 #: ``std``, ``min_time``, ``max_time_of``, ``range_at_edge`` the running statistics of a
-#: displacement (extremes with their times, Welford's mean and variance); ``window_start``
+#: displacement (extremes with their times, Welford's mean and variance); ``finite_mean``
+#: the mean over the steps where the signal is finite (a film: the steps with a loaded
+#: contact); ``window_start``
 #: and ``window_end`` the phase window; ``life`` the Palmgren–Miner damage of
 #: :mod:`rvcore.standards.iso16281` from the life sums.
 SERIES, PHASE, STEADY, DUTY_CYCLE, SPECTRUM = "series", "phase", "steady", "duty_cycle", "spectrum"
@@ -190,6 +207,8 @@ def _displacement_metrics(name, what, signal, over=""):
 
 
 _HELD = "(inner_ring.tilt = held; 0 when the tilt is free)"
+_FILM = ("(each contact's own Hertz ellipse, load and entrainment speed; fully flooded, isothermal: an upper bound "
+         "under grease; NaN when no contact is loaded)")
 
 OUTPUTS = (
     # ---- time series, sampled at the output rate
@@ -243,6 +262,10 @@ OUTPUTS = (
                                              f"tilt at 0 {_HELD}"),
     _series("sensor_displacement", "m", "inner-ring displacement read by each virtual sensor along its direction",
             over="sensor", group="displacement"),
+    _series("film_parameter", "1", f"smallest film parameter lambda = h_min/sigma over the loaded ball-race "
+                                   f"contacts {_FILM}", group="lubrication"),
+    _series("kappa", "1", "ISO 281 viscosity ratio kappa = nu/nu1 at the inner ring's speed (nu1 of ISO 281 "
+                          "9.3.3 at n = |omega|; 0 at standstill)", group="lubrication"),
 
     # ---- phase metrics, reduced at every integrator step
     *_displacement_metrics("radial_displacement", "delta_r at the ring centre", "radial_displacement"),
@@ -292,6 +315,20 @@ OUTPUTS = (
     _phase("tilt_reaction_moment_peak", "N m", "largest magnitude over the phase of the moment that holds the "
                                                "inner ring's tilt at 0 (0 when the tilt is free)",
            "tilt_reaction_moment", "max"),
+    *(_phase(f"film_thickness_{what}_{red}", "m", f"{word} over the phase of the smallest Hamrock-Dowson {what} "
+             f"film over the loaded ball-race contacts at each integrator step {_FILM}", f"film_{what}",
+             {"min": "min", "mean": "finite_mean"}[red], group="lubrication")
+      for what in ("central", "minimum") for red, word in (("min", "smallest value"), ("mean", "mean"))),
+    _phase("film_parameter_min", "1", f"smallest film parameter lambda = h_min/sigma over the loaded ball-race "
+                                      f"contacts and the phase's steps {_FILM}", "film_parameter", "min",
+           group="lubrication"),
+    _phase("film_parameter_mean", "1", "time mean over the phase of the smallest film parameter lambda = h_min/sigma "
+                                       "over the loaded ball-race contacts (boundary < 1 <= mixed < 3 <= full film)",
+           "film_parameter", "finite_mean", group="lubrication"),
+    _phase("kappa_min", "1", "smallest ISO 281 viscosity ratio kappa = nu/nu1 over the phase (below 0.1: outside "
+                             "ISO 281, a_ISO taken at 0.1)", "kappa", "min", group="lubrication"),
+    _phase("kappa_mean", "1", "time mean of the ISO 281 viscosity ratio kappa = nu/nu1 over the phase", "kappa",
+           "mean", group="lubrication"),
     _phase("fatigue_damage", "1", "Palmgren-Miner fatigue damage accumulated in the phase per cycle of the profile "
                                   "(ISO/TS 16281 contact loads at every integrator step)", "", "life"),
     _phase("phase_start", "s", "start of the phase window", "", "window_start", group="window"),
@@ -373,6 +410,17 @@ OUTPUTS = (
            "cycles of the profile", group="rating"),
     Output("fatigue_damage_cycle", DUTY_CYCLE, "1", "Palmgren-Miner fatigue damage of one cycle of the profile "
            "(1/rating_life_cycles)", group="rating"),
+    Output("rating_life_L_nm", DUTY_CYCLE, "1", "ISO 281 clause 9 modified rating life L_nm = a_1 a_ISO L10 of the "
+           "duty cycle on ISO/TS 16281's basis (its modified reference rating life L_nmr = a_1 a_ISO L10r), in "
+           "revolutions of the inner ring: Palmgren-Miner over the integrator steps, each step's ring damages "
+           "divided by its a_ISO (kappa at the step's speed, e_C C_u over the step's equivalent reference load "
+           "C_r L10r_step^(-1/3)), combined as rating_life_L10r; a_1 = 1 (90 % reliability); NaN: not rated",
+           group="rating"),
+    Output("a_iso_cycle", DUTY_CYCLE, "1", "the duty cycle's damage-weighted a_ISO, rating_life_L_nm / "
+           "rating_life_L10r", group="rating"),
+    Output("kappa_below_scope_fraction", DUTY_CYCLE, "1", "fraction of the cycle's revolutions run at kappa < 0.1, "
+           "outside ISO 281's a_ISO (boundary lubrication; there a_ISO is taken at kappa = 0.1, about 0.1)",
+           group="rating"),
 
     # ---- the steady phase's spectra (rvcore.recording.spectra)
     Output("kinematic_frequency", SPECTRUM, "Hz", "the bearing's kinematic frequencies at the steady speed (rolling "

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import hertz
 from .laws import FRICTION_LAW_SIZE, pack_ehl_traction_law, pack_friction_law
-from .lubricant import contact_lubricant
+from .lubricant import contact_lubricant, contamination_of, operating_viscosity
 from .imperfections import MAX_WAVINESS_TERMS, realize
 from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
                        cage_mass_properties, inner_ring_mass_properties)
@@ -41,7 +41,15 @@ P_GX, P_GY, P_GZ = 8, 9, 10        # gravitational acceleration in the bearing f
 P_TILT_HELD = 11                   # 1: the inner ring's tilts are held at 0 (InnerRing.tilt "held")
 #: The friction law's record (rvcore.bearing.laws.pack_friction_law) from this column on.
 P_LAW = 12
-N_PARAMS = P_LAW + FRICTION_LAW_SIZE
+#: The lubricant and the ratings the per-step film and modified life need, after the law's
+#: record (rvcore.recording.plan.fill_state_signals; every bearing has a lubricant): the
+#: operating kinematic viscosity ν [m² s⁻¹] (rvcore.bearing.lubricant.operating_viscosity),
+#: the first row's pitch diameter d_m [m], e_C·C_u [N] (ISO 281 clause 9; NaN: not rated),
+#: the EP flag and e_C [-], C_r [N], and a row's contact load ratings Q_ci, Q_ce [N]
+#: (ISO/TS 16281; NaN: not rated), and the composite roughness σ [m].
+(P_LUB_NU, P_LUB_DM, P_LUB_ECCU, P_LUB_EP, P_LUB_EC, P_LUB_C, P_LUB_QCI, P_LUB_QCE, P_LUB_SIGMA) = range(
+    P_LAW + FRICTION_LAW_SIZE, P_LAW + FRICTION_LAW_SIZE + 9)
+N_PARAMS = P_LAW + FRICTION_LAW_SIZE + 9
 
 # rows columns
 (R_Z, R_BALL0, R_CAGE0, R_PITCH_R, R_ZROW, R_HALF_D, R_MB, R_IB, R_POCKET_R, R_POCKET_K,
@@ -58,11 +66,14 @@ N_ROWCOLS = R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
 PK_COS, PK_SIN, PK_BALL_DD = 0, 1, 2
 N_PKCOLS = 3
 
-# arcs columns; the last three are the arc's Hertz contact as the film needs it (the
+# arcs columns; A_RX, A_EEFF, A_ELL are the arc's Hertz contact as the film needs it (the
 # effective radius in the rolling direction R_x [m], the effective modulus E' [Pa] and the
-# ellipticity k [-]; rvcore.contact.laws.contact_film)
-A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE, A_RX, A_EEFF, A_ELL = range(10)
-N_ARCCOLS = 10
+# ellipticity k [-]; rvcore.contact.laws.contact_film); A_LOG_HC1 and A_LOG_LAM1 the logarithms
+# of the bearing's lubricant's Hamrock-Dowson central film [m] and λ = h_min/σ [-] at that
+# contact at 1 N and 1 m/s, for the per-step film signals: NaN here, filled by
+# rvcore.contact.film.with_film_columns (the formula's layer is above this one)
+A_RING, A_CR, A_CZ, A_RMH, A_K, A_PC3, A_SIDE, A_RX, A_EEFF, A_ELL, A_LOG_HC1, A_LOG_LAM1 = range(12)
+N_ARCCOLS = 12
 #: Raceway arcs a row may have, inner and outer together (a four-point row has four): the
 #: right-hand side keeps every arc's contacts of a row at once (:mod:`rvcore.dynamics.races`).
 MAX_ROW_ARCS = 4
@@ -108,6 +119,7 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
     if gravity:
         params[[P_GX, P_GY, P_GZ]] = bearing.gravity
     params[P_TILT_HELD] = 1.0 if bearing.inner_ring.tilt == "held" else 0.0
+    params[P_LUB_NU:P_LUB_SIGMA + 1] = _lubrication_record(bearing)
 
     e_race = hertz.effective_modulus(bearing.ring_material.youngs_modulus, bearing.ring_material.poisson_ratio,
                                      bearing.ball_material.youngs_modulus, bearing.ball_material.poisson_ratio)
@@ -154,7 +166,7 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
                                         arc.contact_angle, "inner" if ring == INNER else "outer", e_race)
                 r_x, _ = hertz.effective_radii(hc)
                 arcs.append((ring, cr, cz, rmh, hc.stiffness, hc.pressure_coefficient**3, side, r_x,
-                             hc.effective_modulus, hc.ellipticity))
+                             hc.effective_modulus, hc.ellipticity, math.nan, math.nan))
                 contacts.append((r, ring, k, hc))
         rows[r, R_NARC] = len(arcs) - rows[r, R_ARC0]
         imp = row.imperfections
@@ -166,6 +178,28 @@ def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = 
         n_balls += row.ball_count
     return CompiledBearing(params, rows, np.array(arcs, dtype=float), np.array(pockets, dtype=float),
                            offset, n_balls, tuple(contacts))
+
+
+def _lubrication_record(bearing: Bearing):
+    """``params[P_LUB_NU:P_LUB_SIGMA + 1]`` of ``bearing`` (their comment above); a rating the
+    standards do not give for this bearing is NaN, and so are the modified lives from it."""
+    from ..standards.iso16281 import LifeError, bearing_contact_ratings, dynamic_load_rating
+    from ..standards.iso281_modified import fatigue_load_limit_ball
+    from ..standards.iso76 import StaticRatingError, bearing_static_load_rating
+
+    dm = bearing.rows[0].pitch_diameter
+    ec = contamination_of(bearing)
+    try:
+        c = dynamic_load_rating(bearing)
+        q_ci, q_ce = bearing_contact_ratings(bearing)
+    except LifeError:
+        c = q_ci = q_ce = math.nan
+    try:
+        cu = fatigue_load_limit_ball(bearing_static_load_rating(bearing), dm)
+    except (StaticRatingError, ValueError):
+        cu = math.nan
+    return (operating_viscosity(bearing), dm, ec * cu, 1.0 if bearing.lubricant.ep_additives else 0.0, ec, c,
+            q_ci, q_ce, contact_lubricant(bearing)[2])
 
 
 def _ehl_record(bearing: Bearing):

@@ -64,6 +64,7 @@ __all__ = [
     "entrainment_speed_pure_rolling",
     "central_film",
     "minimum_film",
+    "with_film_columns",
 ]
 
 #: The ellipticities Hamrock & Dowson (1977) fitted their formulas on [-].
@@ -240,3 +241,34 @@ def entrainment_speed_pure_rolling(relative_speed, pitch_diameter, ball_diameter
     if not gamma < 1.0:
         raise ValueError(f"D cos(alpha)/d_m = {gamma:.6g} must be < 1")
     return abs(float(relative_speed)) * dm * (1.0 - gamma * gamma) / 4.0
+
+
+def with_film_columns(model, bearing):
+    """``model`` (:func:`rvcore.bearing.layout.compile_bearing`) with its arcs' unit-film
+    columns filled: ``log h_c`` [log m] and ``log λ`` [-] of each arc's Hertz contact at 1 N
+    and 1 m/s with ``bearing``'s lubricant (:func:`rvcore.bearing.lubricant.contact_lubricant`),
+    from which the dynamics take every loaded contact's film as
+    ``log h = log h1 + e_u·log u + e_w·log Q`` (Hamrock–Dowson's power laws).
+
+    Parameters
+    ----------
+    model : rvcore.bearing.layout.CompiledBearing
+    bearing : rvcore.bearing.geometry.Bearing
+
+    Returns
+    -------
+    rvcore.bearing.layout.CompiledBearing
+        A copy with new ``arcs``.
+    """
+    from dataclasses import replace
+
+    from ..bearing.layout import A_EEFF, A_ELL, A_LOG_HC1, A_LOG_LAM1, A_RX
+    from ..bearing.lubricant import contact_lubricant
+
+    eta0, alpha, sigma = contact_lubricant(bearing)
+    arcs = model.arcs.copy()
+    for a in range(arcs.shape[0]):
+        rx, e, k = arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL]
+        arcs[a, A_LOG_HC1] = math.log(central_film(1.0, 1.0, eta0, alpha, e, rx, k))
+        arcs[a, A_LOG_LAM1] = math.log(minimum_film(1.0, 1.0, eta0, alpha, e, rx, k) / sigma)
+    return replace(model, arcs=arcs)

@@ -87,6 +87,36 @@ def arc(slot):
     return (N_BALL_FIELDS + slot * N_ARC_FIELDS) * W
 
 
+@kernel(inline=True)
+def entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, inv_rho_b, ux, uy, uz, un, nx, ny, nz):
+    """Entrainment speed ``|u_e|`` of a ball–race contact [m s⁻¹]: the mean of the two
+    surfaces' speeds past the contact point, which moves with the ball centre and turns with
+    its orbit (``ω_c ẑ``, ``ω_c = (p × v)_z/ρ²`` the ball's orbital speed): ``(ω − ω_c ẑ) × a``
+    for the ball's, the same less the slip ``u`` for the race's, tangential (the arm ``a`` is
+    along ``n``).
+
+    Parameters
+    ----------
+    px, py, vx, vy : float
+        The ball centre's position [m] and velocity [m s⁻¹] in the bearing's plane.
+    wx, wy, wz : float
+        The ball's angular velocity [rad s⁻¹].
+    ax, ay, az : float
+        The arm from the ball centre to the contact point [m].
+    inv_rho_b : float
+        1/(the ball centre's distance from the axis) [m⁻¹].
+    ux, uy, uz, un : float
+        The slip of the ball's material point against the race's, and its normal part [m s⁻¹].
+    nx, ny, nz : float
+        The contact normal (unit).
+    """
+    w_orb = (px * vy - py * vx) * inv_rho_b * inv_rho_b
+    ex = (wy * az - wz * ay + w_orb * ay) - 0.5 * (ux - un * nx)
+    ey = (wz * ax - wx * az - w_orb * ax) - 0.5 * (uy - un * ny)
+    ez = (wx * ay - wy * ax) - 0.5 * (uz - un * nz)
+    return math.sqrt(ex * ex + ey * ey + ez * ez)
+
+
 @kernel
 def gather_balls(y, buf, rows, r, pockets):
     """Copy row ``r``'s ball states from ``y``, and its pockets' angles (cosine and sine)
@@ -181,15 +211,9 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
         q = normal_force(delta, un, k_hertz, c_race, inv_dmax)
         p_f, h_f, lam_f = p_none, h_none, lam_none
         if uses_film:
-            # entrainment: the mean of the two surfaces' speeds past the contact point, which
-            # moves with the ball centre and turns with its orbit (ω_c ẑ, ω_c the ball's
-            # orbital speed): (ω − ω_c ẑ) × a for the ball's, the same less the slip u for the
-            # race's; tangential (the arm a is along n)
-            w_orb = (px * vy - py * vx) * buf[G_INV_RHO_B * W + j] * buf[G_INV_RHO_B * W + j]
-            ex = (wy * az - wz * ay + w_orb * ay) - 0.5 * (ux - un * nx)
-            ey = (wz * ax - wx * az - w_orb * ax) - 0.5 * (uy - un * ny)
-            ez = (wx * ay - wy * ax) - 0.5 * (uz - un * nz_)
-            p_f, h_f, lam_f = contact_film(q, math.sqrt(ex * ex + ey * ey + ez * ez), p1, hc1, lam1)
+            ue = entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, buf[G_INV_RHO_B * W + j], ux, uy, uz,
+                                   un, nx, ny, nz_)
+            p_f, h_f, lam_f = contact_film(q, ue, p1, hc1, lam1)
         fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
                                                        p_f, h_f, lam_f, law)
         out[C_DELTA * W + j] = delta

@@ -39,12 +39,13 @@ from .._numba import kernel
 
 from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, friction_force, hertz_load, land_penetration,
                       normal_force)
+from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from .tangent import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
                        groove_blocks, stiffness_blocks)
-from ..bearing.layout import (A_K, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
-                    P_GY, P_GZ, P_LAND_C, P_LAW, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
+from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+                    P_GY, P_GZ, P_LAND_C, P_LAW, P_LUB_SIGMA, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
@@ -53,7 +54,8 @@ from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, ch
 from .races import (C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
-                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, gather_balls, pocket_contacts,
+                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, entrainment_speed, gather_balls,
+                    pocket_contacts,
                     raceway_offsets, scratch)
 from .raceway import spin_of
 
@@ -69,6 +71,8 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = 
     "friction_power", "damping_power", "load_power", "tilt_power", "max_pocket_force", "cage_land_force",
     "max_race_sliding_speed_squared", "max_race_pv_sixth", "max_race_pressure_cubed", "sin_contact_angle_min",
     "sin_contact_angle_max", "drive_power", "tilt_reaction_moment_x", "tilt_reaction_moment_y"))
+D_FILM_C, D_FILM_MIN, D_FILM_LAMBDA = (SLOT[n] for n in (
+    "film_central", "film_minimum", "film_parameter"))
 #: Row r's mean cos α of its loaded balls (for its epicyclic cage speed) is at
 #: ``D_ROW0 + D_ROW_STRIDE·r + D_COS_ALPHA``.
 D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_contact_angle"]
@@ -185,6 +189,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     # the designer's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
     p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
+    # the smallest film over the loaded race contacts, as logarithms (docs/model.md, "The film
+    # along the cycle"): log h_c, log λ; +inf while none is loaded
+    log_hc_min, log_lam_min = math.inf, math.inf
     for r in range(rows.shape[0]):
         cos_sum, cos_balls = 0.0, 0.0
         nz_balls = int(rows[r, R_Z])
@@ -315,6 +322,18 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                         sin_min = sin_a
                     if sin_a > sin_max:
                         sin_max = sin_a
+                    # Hamrock–Dowson at this contact: log h = log h1 + e_u·log u_e + e_w·log Q
+                    # (rvcore.contact.film.with_film_columns); u_e = 0 gives no film
+                    ue = entrainment_speed(px, py, vx, vy, y[b + 6], y[b + 7], y[b + 8], ax, ay, az, inv_rho_b,
+                                           ux, uy, uz, un, nx, ny, nz)
+                    lu = math.log(ue) if ue > 0.0 else -math.inf
+                    lq = math.log(q)
+                    lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
+                    ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+                    if lh < log_hc_min:
+                        log_hc_min = lh
+                    if ll < log_lam_min:
+                        log_lam_min = ll
                 if inner:
                     # reaction on the ring, and its moment about the ring centre
                     fxi -= fx
@@ -491,3 +510,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     diag[D_SIN_MAX] = sin_max
     diag[D_HOLD_MX] = hold_x
     diag[D_HOLD_MY] = hold_y
+    loaded_film = log_lam_min < math.inf
+    diag[D_FILM_C] = math.exp(log_hc_min) if loaded_film else math.nan
+    diag[D_FILM_LAMBDA] = math.exp(log_lam_min) if loaded_film else math.nan
+    diag[D_FILM_MIN] = diag[D_FILM_LAMBDA] * params[P_LUB_SIGMA] if loaded_film else math.nan

@@ -24,17 +24,22 @@ from .._numba import kernel
 
 from ..contact.pose import ring_rotation
 from ..dynamics.rhs import B_QI, B_QO
-from ..bearing.layout import R_CAGE0, R_HALF_D, R_PITCH_R, R_POCKET0, R_Z
+from ..bearing.layout import (P_LUB_C, P_LUB_DM, P_LUB_EC, P_LUB_ECCU, P_LUB_EP, P_LUB_NU, P_LUB_QCE, P_LUB_QCI,
+                              R_CAGE0, R_HALF_D, R_PITCH_R, R_POCKET0, R_Z)
 from ..output_table import (ARCSINE_LOADED, CUBE_ROOT, ISO76_LOAD_RATIO, N_ROW_SIGNALS, N_SIGNALS, OUTPUTS, PHASE,
                       ROOT_OF_POSITIVE, ROW_SLOT, SERIES, SIGNALS, SIXTH_ROOT, SLOT, STEP)
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_value
 from ..standards.iso76 import ISO76_BALL_PRESSURE
+from ..standards.iso281 import WEIBULL_E
+from ..standards.iso281_modified import KAPPA_MIN, a_iso_of, reference_viscosity_of
 
 # ---- reduction kinds and their columns
-SUM, MAX, MIN, MAX_AND_TIME, STATISTICS, INTEGRAL, ABS_MAX = range(7)
+SUM, MAX, MIN, MAX_AND_TIME, STATISTICS, INTEGRAL, ABS_MAX, FINITE_MEAN = range(8)
 #: Columns each kind takes: STATISTICS keeps count, min, max, their times, Welford's mean
-#: and sum of squared deviations (no cancellation); MAX_AND_TIME the extreme and its time.
-WIDTH = {SUM: 1, MAX: 1, MIN: 1, MAX_AND_TIME: 2, STATISTICS: 7, INTEGRAL: 1, ABS_MAX: 1}
+#: and sum of squared deviations (no cancellation); MAX_AND_TIME the extreme and its time;
+#: FINITE_MEAN the sum and the count of the finite values (a NaN, "none", is left out; MIN
+#: leaves it out too, since no comparison with NaN holds).
+WIDTH = {SUM: 1, MAX: 1, MIN: 1, MAX_AND_TIME: 2, STATISTICS: 7, INTEGRAL: 1, ABS_MAX: 1, FINITE_MEAN: 2}
 S_N, S_MIN, S_MAX, S_TMIN, S_TMAX, S_MEAN, S_M2 = range(7)
 #: Plan columns.
 PL_SLOT, PL_KIND, PL_COL, PL_WHEN = range(4)
@@ -43,7 +48,8 @@ COUNT = 0
 
 _KIND_OF = {"mean": SUM, "slip": SUM, "max": MAX, "min": MIN, "max_time": MAX_AND_TIME, "abs_max": ABS_MAX,
             "integral": INTEGRAL, "range": STATISTICS, "stats_mean": STATISTICS, "std": STATISTICS,
-            "min_time": STATISTICS, "max_time_of": STATISTICS, "range_at_edge": STATISTICS}
+            "min_time": STATISTICS, "max_time_of": STATISTICS, "range_at_edge": STATISTICS,
+            "finite_mean": FINITE_MEAN}
 
 #: Reductions the driver reads besides the outputs': the energies of the balance of
 #: tests/core/test_energy_balance.py and the life sums of :mod:`rvcore.standards.iso16281`.
@@ -62,10 +68,11 @@ _R = ROW_SLOT
      "axial_displacement", "applied_radial_load", "applied_axial_load", "inner_ring_speed", "applied_moment",
      "load_direction", "tilt_reaction_moment", "revolutions", "drive_torque_step", "drive_torque_band_limited",
      "drive_power_step"))
+SL_KAPPA, SL_A_ISO, SL_REV_LOW = _S["kappa"], _S["a_iso"], _S["revolutions_kappa_below_scope"]
 SL_HOLD_X, SL_HOLD_Y = _S["tilt_reaction_moment_x"], _S["tilt_reaction_moment_y"]
-(RS_COS, RS_CAGE, RS_EPI, RS_EPI_NOMINAL, RS_LIFE_I, RS_LIFE_O) = (_R[n] for n in (
+(RS_COS, RS_CAGE, RS_EPI, RS_EPI_NOMINAL, RS_LIFE_I, RS_LIFE_O, RS_LIFE_I_MOD, RS_LIFE_O_MOD) = (_R[n] for n in (
     "cos_contact_angle", "cage_speed", "epicyclic_cage_speed", "epicyclic_cage_speed_nominal", "life_sum_inner",
-    "life_sum_outer"))
+    "life_sum_outer", "life_sum_inner_modified", "life_sum_outer_modified"))
 
 
 def row_slot(name: str, r: int) -> int:
@@ -127,9 +134,10 @@ def build_plan(n_rows: int, n_sensors: int) -> Plan:
     for signal in ENERGIES.values():
         need(SLOT[signal], INTEGRAL)
     need(SLOT["revolutions"], SUM)
+    need(SLOT["revolutions_kappa_below_scope"], SUM)
     for r in range(n_rows):
-        need(row_slot("life_sum_inner", r), SUM)
-        need(row_slot("life_sum_outer", r), SUM)
+        for name in ("life_sum_inner", "life_sum_outer", "life_sum_inner_modified", "life_sum_outer_modified"):
+            need(row_slot(name, r), SUM)
     initial = np.zeros(col)
     for (slot, kind), c in columns.items():
         if kind == MIN:
@@ -190,9 +198,20 @@ def sensor_reading(y, sensor):
 
 
 @kernel
-def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal):
+def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal, params):
     """Write the signals of the state ``y`` at ``t`` that the right-hand side does not
-    (rvcore.output_table: ``written = "state"``), for a step of ``dt`` from it."""
+    (rvcore.output_table: ``written = "state"``), for a step of ``dt`` from it.
+
+    Notes
+    -----
+    The step's modified life (docs/model.md, "The film along the cycle"): κ = ν/ν1 at the
+    step's speed (ISO 281 9.3.3, :func:`rvcore.standards.iso281_modified.reference_viscosity_of`);
+    the step's ring damage rates ``Q_e³/Q_c³`` per 10^6 rev (ISO/TS 16281, the life sums' own
+    ``Q_e``), combined ``D = (Σ_k D_k^(10/9))^(9/10)`` as its eq. (29) combines lives, give its
+    reference life ``1/D`` and its equivalent reference load ``P = C_r·D^(1/3)`` (the load of
+    that basic life by ISO 281 eq. (4)); a_ISO at κ and ``e_C·C_u/P``
+    (:func:`rvcore.standards.iso281_modified.a_iso_of`) divides the step's life sums: the
+    modified sums, whose Palmgren–Miner sum over the cycle is the modified life."""
     psi = channel_value(table, meta, CH_DIRECTION, t)
     w_ring = channel_value(table, meta, CH_SPEED, t)
     diag[SL_X], diag[SL_Y], diag[SL_Z], diag[SL_TX], diag[SL_TY] = y[0], y[1], y[2], y[3], y[4]
@@ -208,6 +227,8 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
     # the inner ring's revolutions against the fixed outer ring over the step
     d_rev = abs(w_ring) * dt / (2.0 * math.pi)
     diag[SL_REV] = d_rev
+    q_ci3, q_ce3 = params[P_LUB_QCI] ** 3, params[P_LUB_QCE] ** 3
+    rate = 0.0      # Σ over the rows' rings of (Q_e³/Q_c³)^(10/9) (Notes)
     for r in range(rows.shape[0]):
         base = N_SIGNALS + N_ROW_SIGNALS * r
         gamma = rows[r, R_HALF_D] / rows[r, R_PITCH_R]     # D/d_m of the row
@@ -228,6 +249,23 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
                 so += qo ** (10.0 / 3.0)
         diag[base + RS_LIFE_I] = d_rev * si / z
         diag[base + RS_LIFE_O] = d_rev * (so / z) ** 0.9 if so > 0.0 else 0.0
+        rate += (si / z / q_ci3) ** WEIBULL_E
+        if so > 0.0:
+            rate += ((so / z) ** 0.9 / q_ce3) ** WEIBULL_E
+    # the step's κ and a_ISO (Notes), and its modified life sums
+    kappa = params[P_LUB_NU] / reference_viscosity_of(abs(w_ring), params[P_LUB_DM])
+    diag[SL_KAPPA] = kappa
+    diag[SL_REV_LOW] = d_rev if kappa < KAPPA_MIN else 0.0
+    a_iso = math.nan
+    if rate > 0.0:
+        load = params[P_LUB_C] * rate ** (1.0 / (3.0 * WEIBULL_E))
+        a_iso = a_iso_of(kappa, params[P_LUB_ECCU] / load, params[P_LUB_EP] != 0.0, params[P_LUB_EC])[0]
+    diag[SL_A_ISO] = a_iso
+    for r in range(rows.shape[0]):
+        base = N_SIGNALS + N_ROW_SIGNALS * r
+        li, lo = diag[base + RS_LIFE_I], diag[base + RS_LIFE_O]
+        diag[base + RS_LIFE_I_MOD] = li / a_iso if li > 0.0 else 0.0
+        diag[base + RS_LIFE_O_MOD] = lo / a_iso if lo > 0.0 else 0.0
     s0 = N_SIGNALS + N_ROW_SIGNALS * rows.shape[0]
     for s in range(sensors.shape[0]):
         diag[s0 + s] = sensor_reading(y, sensors[s])
@@ -272,6 +310,10 @@ def reduce_step(line, plan, diag, t, when, half):
         elif kind == ABS_MAX:
             if abs(x) > line[c]:
                 line[c] = abs(x)
+        elif kind == FINITE_MEAN:
+            if math.isfinite(x):
+                line[c] += x
+                line[c + 1] += 1.0
         else:   # STATISTICS
             line[c + S_N] += 1.0
             if x < line[c + S_MIN]:

@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .plan import (ABS_MAX, COUNT, ENERGIES, INTEGRAL, MAX, MAX_AND_TIME, MIN, S_M2, S_MAX, S_MEAN, S_MIN,
+from .plan import (ABS_MAX, COUNT, ENERGIES, FINITE_MEAN, INTEGRAL, MAX, MAX_AND_TIME, MIN, S_M2, S_MAX, S_MEAN, S_MIN,
                          S_N, S_TMAX, S_TMIN, STATISTICS, SUM, Plan, row_slot, transform)
 from ..standards.iso16281 import duty_cycle_life
 from ..output_table import DUTY_CYCLE, N_ROW_SIGNALS, N_SIGNALS, PHASE, SLOT, outputs_of
@@ -74,11 +74,16 @@ def _phase_values(o, acc, plan: Plan, slot: int, other: int, phases, edge_tolera
     red = o.reduce
     if red == "mean":
         return acc[:, plan.column(slot, SUM)] / nn
+    if red == "finite_mean":
+        c = plan.column(slot, FINITE_MEAN)
+        return acc[:, c] / np.where(acc[:, c + 1] > 0, acc[:, c + 1], np.nan)
     if red == "slip":
         return 1.0 - acc[:, plan.column(slot, SUM)] / acc[:, plan.column(other, SUM)]
     if red in ("max", "min", "abs_max", "integral"):
         kind = {"max": MAX, "min": MIN, "abs_max": ABS_MAX, "integral": INTEGRAL}[red]
         values = acc[:, plan.column(slot, kind)]
+        # an extreme still at its start (±inf): the signal was never a number (NaN: none)
+        ok = ok & ~np.isinf(values) if kind in (MAX, MIN) else ok
         return np.where(ok, _transformed(o.transform, values) if kind in (MAX, MIN) else values, np.nan)
     if red == "max_time":
         c = plan.column(slot, MAX_AND_TIME)
@@ -144,11 +149,15 @@ def read_energies(acc, plan: Plan) -> dict:
 
 def read_life_sums(acc, plan: Plan) -> dict:
     """The life sums (the contract of :mod:`rvcore.standards.iso16281`): ``inner`` and ``outer`` over
-    ``(phase + 1, row)`` [N³ rev], ``revolutions`` over ``phase + 1`` [rev]."""
+    ``(phase + 1, row)`` [N³ rev], ``revolutions`` over ``phase + 1`` [rev]; and the same sums
+    with each step's over its a_ISO, ``inner_modified`` and ``outer_modified`` [N³ rev], and
+    ``revolutions_kappa_below_scope`` [rev] (:func:`rvcore.recording.plan.fill_state_signals`)."""
     def rows(name):
         return np.column_stack([acc[:, plan.column(row_slot(name, r), SUM)] for r in range(plan.n_rows)])
     return {"inner": rows("life_sum_inner"), "outer": rows("life_sum_outer"),
-            "revolutions": acc[:, plan.column(SLOT["revolutions"], SUM)].copy()}
+            "revolutions": acc[:, plan.column(SLOT["revolutions"], SUM)].copy(),
+            "inner_modified": rows("life_sum_inner_modified"), "outer_modified": rows("life_sum_outer_modified"),
+            "revolutions_kappa_below_scope": acc[:, plan.column(SLOT["revolutions_kappa_below_scope"], SUM)].copy()}
 
 
 def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:
@@ -163,6 +172,7 @@ def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:
     # as NaN, like static_safety_factor with nothing loaded: no inf in a case file
     out = {k: float(life[k]) if math.isfinite(float(life[k])) else math.nan
            for k in (o.name for o in outputs_of(DUTY_CYCLE)) if k in life}
+    out.update(modified_cycle_outputs(bearing, life_sums, out.get("rating_life_L10r", math.nan)))
     if "fatigue_damage" in life:
         damage = np.atleast_1d(np.asarray(life["fatigue_damage"], dtype=float))
         if damage.size == n_phases + 1:
@@ -170,3 +180,28 @@ def duty_cycle_outputs(bearing, life_sums: dict, n_phases: int) -> dict:
             damage = damage[:n_phases]
         out["fatigue_damage"] = damage
     return out
+
+
+def modified_cycle_outputs(bearing, life_sums: dict, l10r: float) -> dict:
+    """The duty cycle's modified life from the modified life sums (:func:`read_life_sums`).
+
+    Returns
+    -------
+    dict
+        ``rating_life_L_nm`` [rev]: :func:`rvcore.standards.iso16281.duty_cycle_life` of the
+        modified sums (each step's damage over its a_ISO; a_1 = 1), NaN where not rated or
+        infinite; ``a_iso_cycle`` [-], its ratio to ``l10r`` (L10r [rev]);
+        ``kappa_below_scope_fraction`` [-], the revolutions at κ < 0.1 over the cycle's.
+        Empty without the modified sums.
+    """
+    if "inner_modified" not in life_sums:
+        return {}
+    modified = duty_cycle_life(bearing, {"inner": life_sums["inner_modified"], "outer": life_sums["outer_modified"],
+                                         "revolutions": life_sums["revolutions"]})
+    lnm = float(modified["rating_life_L10r"])
+    lnm = lnm if math.isfinite(lnm) else math.nan
+    revs = float(life_sums["revolutions"][-1])
+    low = float(life_sums["revolutions_kappa_below_scope"][-1])
+    return {"rating_life_L_nm": lnm,
+            "a_iso_cycle": lnm / l10r if math.isfinite(lnm) and math.isfinite(l10r) and l10r > 0 else math.nan,
+            "kappa_below_scope_fraction": low / revs if revs > 0 else math.nan}

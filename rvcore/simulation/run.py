@@ -17,6 +17,7 @@ import numpy as np
 from ..recording.plan import build_plan, new_accumulators
 from ..bearing.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row, epicyclic_cage_ratio
 from ..bearing.imperfections import realize
+from ..contact.film import with_film_columns
 from .initial_state import initial_state, peak_contact_load
 from ..integrate.loop import ENERGY, NONFINITE, OK, PENETRATION, advance
 from ..integrate.methods import METHODS, NAMES
@@ -62,8 +63,8 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     # the imperfections this case runs with: a tolerance class's high-point angles and
     # ball sizes drawn from its seed (rvcore.bearing.imperfections)
     bearing = realize(bearing, int(settings.seed))
-    model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
-                            gravity=settings.gravity)
+    model = with_film_columns(compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
+                                              gravity=settings.gravity), bearing)
     resolved = profile.resolve(op)
     table, meta = resolved.arrays()
     t_start = settings.start_time

@@ -3,7 +3,10 @@ bearing, and its Palmgren–Miner accumulation over a duty cycle. Pure functions
 out, except where the standard writes its formula in its own units (r/min, mm, mm² s⁻¹),
 said there; the conversion is inside.
 
-Used by :mod:`rvcore.statics.lubrication` (the statics' and the steady point's L_nm). Lives here are in revolutions of the inner ring
+Used by :mod:`rvcore.statics.lubrication` (the statics' and the steady point's L_nm) and,
+through the kernels :func:`reference_viscosity_of` and :func:`a_iso_of` (the one place of
+ν1's and a_ISO's formulas; the checked functions call them), by the dynamics' per-step κ and
+a_ISO (:func:`rvcore.recording.plan.fill_state_signals`). Lives here are in revolutions of the inner ring
 relative to the outer, as in :mod:`rvcore.standards.iso16281` (whose basic lives are in 10^6 rev: a
 caller multiplies by 1e6).
 
@@ -17,7 +20,9 @@ r/min, ``d_m`` in mm, ν1 in mm² s⁻¹)::
 
 Viscosity ratio ``κ = ν/ν1`` (ν the operating viscosity). The standard covers
 ``0.1 ≤ κ ≤ 4``: above 4, κ = 4 is used; below 0.1 the standard does not apply (boundary
-lubrication). Here a κ below 0.1 is flagged and a_ISO is taken at κ = 0.1, where the
+lubrication) and gives no reduction of its own. Here a κ below 0.1 is flagged (the
+statics' ``kappa_outside_iso281``, the duty cycle's ``kappa_below_scope_fraction``: the
+share of its revolutions run there) and a_ISO is taken at κ = 0.1, where the
 formula gives a_ISO ≈ 0.1 for every load (its floor: ``2.2649·0.1^−0.054381 = 2.5671`` to
 the constants' rounding, so the bracket is ≈ 1; within 0.6 % up to e_C·C_u/P = 3).
 
@@ -73,6 +78,7 @@ import math
 
 import numpy as np
 
+from .._numba import kernel
 from .inputs import finite_positive
 
 __all__ = [
@@ -80,7 +86,7 @@ __all__ = [
     "CONTAMINATION_GUIDE", "CONTAMINATION_DEFAULT_LEVEL", "RELIABILITY_FACTORS",
     "reference_viscosity", "viscosity_ratio", "fatigue_load_limit_ball", "a_iso_ball",
     "contamination_factor", "reliability_factor", "modified_rating_life",
-    "duty_cycle_modified_life",
+    "duty_cycle_modified_life", "reference_viscosity_of", "a_iso_of",
 ]
 
 #: The κ range ISO 281's a_ISO covers; above 4, 4 is used [-].
@@ -140,8 +146,19 @@ def reference_viscosity(speed, pitch_diameter) -> float:
     float
         ν1 [m² s⁻¹]; the standard's formula takes n in r/min and d_m in mm.
     """
-    n = _positive("speed", abs(float(speed)), "rad/s") * 60.0 / (2.0 * math.pi)
-    dm = _positive("pitch_diameter", pitch_diameter, "m") * 1e3
+    return reference_viscosity_of(_positive("speed", abs(float(speed)), "rad/s"),
+                                  _positive("pitch_diameter", pitch_diameter, "m"))
+
+
+@kernel(inline=True)
+def reference_viscosity_of(speed, pitch_diameter):
+    """ν1 [m² s⁻¹] of :func:`reference_viscosity` without its checks, for the kernels (the
+    one place of the formula); ``speed`` ``|ω|`` [rad s⁻¹] (0 gives inf), ``pitch_diameter``
+    [m]."""
+    n = speed * 60.0 / (2.0 * math.pi)
+    dm = pitch_diameter * 1e3
+    if n <= 0.0:
+        return math.inf
     if n < 1000.0:
         nu1 = 45000.0 * n ** -0.83 * dm ** -0.5
     else:
@@ -178,11 +195,16 @@ def fatigue_load_limit_ball(static_load_rating, pitch_diameter) -> float:
     return cu if dm <= 100.0 else cu * (100.0 / dm) ** 0.5
 
 
-def _a_iso_raw(kappa: float, x: float) -> float:
-    """a_ISO of the branch κ (already in [0.1, 4]) falls in, ``x = e_C·C_u/P`` ≥ 0."""
-    for lo, hi, c, e in _BRANCHES:
-        if lo <= kappa < hi:
-            break
+@kernel(inline=True)
+def _a_iso_raw(kappa, x):
+    """a_ISO of the branch κ (already in [0.1, 4]) falls in, ``x = e_C·C_u/P`` ≥ 0
+    (:data:`_BRANCHES`)."""
+    if kappa < _BRANCHES[1][0]:
+        c, e = _BRANCHES[0][2], _BRANCHES[0][3]
+    elif kappa < _BRANCHES[2][0]:
+        c, e = _BRANCHES[1][2], _BRANCHES[1][3]
+    else:
+        c, e = _BRANCHES[2][2], _BRANCHES[2][3]
     base = 2.5671 - c / kappa ** e
     bracket = 1.0 - max(base, 0.0) ** 0.83 * x ** (1.0 / 3.0)
     if bracket <= 0.0:
@@ -215,19 +237,26 @@ def a_iso_ball(kappa, ec_cu_over_p, ep_additives: bool = False, contamination=No
     x = float(ec_cu_over_p)
     if not (math.isfinite(x) and x >= 0.0):
         raise ModifiedLifeError(f"e_C*C_u/P must be a finite number >= 0, got {ec_cu_over_p!r}")
-    outside = k < KAPPA_MIN
-    k_used = min(max(k, KAPPA_MIN), KAPPA_MAX)
+    if ep_additives and contamination is None:
+        raise ModifiedLifeError("the EP rule needs the contamination factor e_C")
+    ec = float(contamination) if contamination is not None else 0.0
+    a, k_used, ep = a_iso_of(k, x, bool(ep_additives), ec)
+    return {"a_iso": a, "kappa_used": k_used, "outside_scope": k < KAPPA_MIN, "ep_rule": ep}
+
+
+@kernel(inline=True)
+def a_iso_of(kappa, x, ep_additives, contamination):
+    """:func:`a_iso_ball` without its checks, for the kernels (the one place of the rule):
+    ``(a_ISO, κ used, EP rule applied)`` for κ > 0 [-], ``x = e_C·C_u/P`` ≥ 0 [-], the EP flag
+    and ``e_C`` [-]. κ below 0.1 is taken at 0.1 (module Notes), above 4 at 4."""
+    k_used = min(max(kappa, KAPPA_MIN), KAPPA_MAX)
     a = _a_iso_raw(k_used, x)
     ep = False
-    if ep_additives:
-        if contamination is None:
-            raise ModifiedLifeError("the EP rule needs the contamination factor e_C")
-        ec = float(contamination)
-        if k_used < 1.0 and ec >= EP_MIN_CONTAMINATION:
-            a_ep = min(_a_iso_raw(1.0, x), A_ISO_EP_MAX)
-            if a_ep > a:
-                a, k_used, ep = a_ep, 1.0, True
-    return {"a_iso": a, "kappa_used": k_used, "outside_scope": outside, "ep_rule": ep}
+    if ep_additives and k_used < 1.0 and contamination >= EP_MIN_CONTAMINATION:
+        a_ep = min(_a_iso_raw(1.0, x), A_ISO_EP_MAX)
+        if a_ep > a:
+            a, k_used, ep = a_ep, 1.0, True
+    return a, k_used, ep
 
 
 def contamination_factor(level: str = CONTAMINATION_DEFAULT_LEVEL, pitch_diameter=0.1,

@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from rvcore.bearing.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Material, Row
+from rvcore.hertz import effective_modulus, race_contact
 from rvcore.profile import Channel, Profile
 
 STEEL = Material(7800.0, 208e9, 0.3)
@@ -203,3 +204,25 @@ def phase_metric_changes(coarse, fine):
             # a force that is zero in both (no cage-land contact in a phase) has converged
             out[name] = np.where((c == 0) & (v == 0), 0.0, np.abs(c / np.where(v == 0, np.nan, v) - 1))
     return out
+
+
+def axial_point(bearing, p_target):
+    """Axial load [N], ball load [N] and contact angle [rad] at which the larger of the
+    two race contacts' peak pressures is ``p_target`` [Pa], all balls loaded alike (zero
+    clearance)."""
+    row = bearing.rows[0]
+    (arc_i,), (arc_o,) = row.inner_arcs, row.outer_arcs
+    ring, ball = bearing.ring_material, bearing.ball_material
+    e_eff = effective_modulus(ring.youngs_modulus, ring.poisson_ratio, ball.youngs_modulus, ball.poisson_ratio)
+    hc_i = race_contact(row.ball_diameter, row.pitch_diameter, arc_i.curvature_ratio, arc_i.contact_angle, "inner", e_eff)
+    hc_o = race_contact(row.ball_diameter, row.pitch_diameter, arc_o.curvature_ratio, arc_o.contact_angle, "outer", e_eff)
+    c_i = 3.0 / (2.0 * math.pi * hc_i.a_coefficient * hc_i.b_coefficient)
+    c_o = 3.0 / (2.0 * math.pi * hc_o.a_coefficient * hc_o.b_coefficient)
+    # the contact with the larger p_max/Q^(1/3) (here the outer: the inner groove, f_i <
+    # f_o, is the more conformal) reaches the target first
+    q = (p_target / max(c_i, c_o)) ** 3
+    k_n = series_stiffness(hc_i.stiffness, hc_o.stiffness)
+    delta = (q / k_n) ** (2.0 / 3.0)
+    a = (arc_i.curvature_ratio + arc_o.curvature_ratio - 1.0) * row.ball_diameter
+    alpha = math.acos(a * math.cos(arc_i.contact_angle) / (a + delta))
+    return row.ball_count * q * math.sin(alpha), q, alpha

@@ -28,34 +28,11 @@ import pytest
 
 from rvcore.simulation.run import run_case
 from rvcore.simulation.settings import SolverSettings
-from rvcore.hertz import effective_modulus, race_contact
 from rvcore.profile import OperatingPoint
 
-from .physics_cases import constant_profile, section_bearing, series_stiffness
+from .physics_cases import axial_point, constant_profile, section_bearing
 
 ISO76 = 4200e6   # ISO 76, ball bearings: the contact stress of the basic static load rating [Pa]
-
-
-def _axial_point(bearing, p_target):
-    """Axial load [N], ball load [N] and contact angle [rad] at which the larger of the
-    two race contacts' peak pressures is ``p_target`` [Pa], all balls loaded alike (zero
-    clearance)."""
-    row = bearing.rows[0]
-    (arc_i,), (arc_o,) = row.inner_arcs, row.outer_arcs
-    ring, ball = bearing.ring_material, bearing.ball_material
-    e_eff = effective_modulus(ring.youngs_modulus, ring.poisson_ratio, ball.youngs_modulus, ball.poisson_ratio)
-    hc_i = race_contact(row.ball_diameter, row.pitch_diameter, arc_i.curvature_ratio, arc_i.contact_angle, "inner", e_eff)
-    hc_o = race_contact(row.ball_diameter, row.pitch_diameter, arc_o.curvature_ratio, arc_o.contact_angle, "outer", e_eff)
-    c_i = 3.0 / (2.0 * math.pi * hc_i.a_coefficient * hc_i.b_coefficient)
-    c_o = 3.0 / (2.0 * math.pi * hc_o.a_coefficient * hc_o.b_coefficient)
-    # the contact with the larger p_max/Q^(1/3) (here the outer: the inner groove, f_i <
-    # f_o, is the more conformal) reaches the target first
-    q = (p_target / max(c_i, c_o)) ** 3
-    k_n = series_stiffness(hc_i.stiffness, hc_o.stiffness)
-    delta = (q / k_n) ** (2.0 / 3.0)
-    a = (arc_i.curvature_ratio + arc_o.curvature_ratio - 1.0) * row.ball_diameter
-    alpha = math.acos(a * math.cos(arc_i.contact_angle) / (a + delta))
-    return row.ball_count * q * math.sin(alpha), q, alpha
 
 
 def test_static_safety_factor_is_one_where_the_peak_pressure_is_4200_mpa():
@@ -63,7 +40,7 @@ def test_static_safety_factor_is_one_where_the_peak_pressure_is_4200_mpa():
     stressed race contacts: S0 = 1 within 0.5 % in the series and the phase metric, the contact angles
     are the loaded angle of the geometry, and nothing slides or drives."""
     bearing = section_bearing(8, alpha=math.radians(25.0))
-    f_a, q, alpha = _axial_point(bearing, ISO76)
+    f_a, q, alpha = axial_point(bearing, ISO76)
     res = run_case(bearing, constant_profile(0.0, 0.003), OperatingPoint(0.0, 0.0, f_a),
                    SolverSettings(output_rate=1e4, gravity=False))
     s0 = res.series["static_safety_factor"]
@@ -81,8 +58,8 @@ def test_static_safety_factor_is_the_load_ratio():
     """ISO 76 defines s0 = C0/P0, a ratio of loads. At the pressure 4200 MPa / 2 the ball
     load is an eighth of that at 4200 MPa (p_max ∝ Q^(1/3)), so s0 = 8, not 2."""
     bearing = section_bearing(8, alpha=math.radians(25.0))
-    f_a1, q1, _ = _axial_point(bearing, ISO76)
-    f_a, q, _ = _axial_point(bearing, ISO76 / 2.0)
+    f_a1, q1, _ = axial_point(bearing, ISO76)
+    f_a, q, _ = axial_point(bearing, ISO76 / 2.0)
     assert q1 / q == pytest.approx(8.0, rel=1e-12)   # the load ratio, from Hertz in this test
     res = run_case(bearing, constant_profile(0.0, 0.002), OperatingPoint(0.0, 0.0, f_a),
                    SolverSettings(output_rate=1e4, gravity=False))
@@ -94,7 +71,7 @@ def test_life_sums_of_equal_ball_loads():
     races, so per revolution A_i = (1/Z)·ΣQ³ = Q³ and A_o = ((1/Z)·ΣQ^(10/3))^(9/10) = Q³,
     and the revolutions are ω·t/2π (the contract of rvcore.standards.iso16281)."""
     bearing = section_bearing(8, alpha=math.radians(25.0))
-    f_a, q, _ = _axial_point(bearing, ISO76 / 2.0)
+    f_a, q, _ = axial_point(bearing, ISO76 / 2.0)
     omega, t_end = math.radians(30.0), 0.006
     res = run_case(bearing, constant_profile(0.0, t_end), OperatingPoint(omega, 0.0, f_a),
                    SolverSettings(output_rate=1e4, gravity=False))

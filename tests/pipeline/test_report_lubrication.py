@@ -57,3 +57,40 @@ def test_an_older_sweep_without_lubrication_outputs_says_so(tmp_path):
     blocks = section_lubrication(_Ctx(_metrics().drop_vars(["film_parameter_steady", "film_thickness_min_steady",
                                                             "kappa_steady"]), tmp_path))
     assert "holds no lubrication outputs" in blocks[1].text
+
+
+def _cycle_metrics():
+    """_metrics() with the film along the cycle over (speed, radial_load, phase) and the
+    cycle's lives: λ's phase means 0.5 (start-up), 2.0 (steady), 3.5 (deceleration) at every
+    case, smallest λ 0.05, 1.5 and 1.0."""
+    ds = _metrics()
+    shape = (3, 2, 3)
+    lam_mean = np.broadcast_to(np.array([0.5, 2.0, 3.5]), shape)
+    lam_min = np.broadcast_to(np.array([0.05, 1.5, 1.0]), shape)
+    dims = ("speed", "radial_load", "phase")
+    ds = ds.assign({"film_parameter_mean": (dims, lam_mean.copy()), "film_parameter_min": (dims, lam_min.copy()),
+                    "film_thickness_minimum_mean": (dims, lam_mean * 0.186e-6),
+                    "kappa_mean": (dims, np.full(shape, 0.8)), "kappa_min": (dims, np.full(shape, 0.0)),
+                    "rating_life_L10r": (("speed", "radial_load"), np.full((3, 2), 4e8)),
+                    "rating_life_L_nm": (("speed", "radial_load"), np.full((3, 2), 2e8)),
+                    "a_iso_cycle": (("speed", "radial_load"), np.full((3, 2), 0.5)),
+                    "kappa_below_scope_fraction": (("speed", "radial_load"), np.full((3, 2), 0.01))})
+    return ds.assign_coords(phase=np.arange(3, dtype=np.int8))
+
+
+def test_each_phase_gets_its_regime_from_lambda(tmp_path):
+    """The regime table: a phase's regime from its mean λ by the published bounds (0.5
+    boundary, 2.0 mixed, 3.5 full film), its worst from its smallest λ (0.05 boundary, 1.5
+    and 1.0 mixed); the cycle's lives appended to the lives' table; both figures written."""
+    blocks = section_lubrication(_Ctx(_cycle_metrics(), tmp_path))
+    tables = [b for b in blocks if isinstance(b, Table)]
+    regimes = next(t for t in tables if "regime" in t.header)
+    got = {(r[0], r[1]): (r[4], r[6]) for r in regimes.rows}
+    assert got[("120", "startup")] == ("boundary", "boundary")
+    assert got[("390", "steady")] == ("mixed", "mixed")
+    assert got[("660", "deceleration")] == ("full film", "mixed")
+    lives = next(t for t in tables if "L10 [10⁶ rev]" in t.header)
+    assert lives.header[6:8] == ["cycle L10r [10⁶ rev]", "cycle L_nm [10⁶ rev]"]
+    assert lives.rows[0][6:8] == ["400", "200"]
+    images = [b for b in blocks if isinstance(b, Image)]
+    assert len(images) == 2 and all((tmp_path / i.path).stat().st_size > 1000 for i in images)
