@@ -62,6 +62,11 @@ class Context:
     summary_path: Path | None = None
     #: The headline's targets, key -> value in its column's unit (:func:`.headline.parse_targets`).
     targets: dict = field(default_factory=dict)
+    #: A dry sweep of the same grid (``rvsweep report --dry``): its folder, phase metrics and
+    #: stored configuration (:mod:`.lubricated_vs_dry`); None without one.
+    dry_directory: Path | None = None
+    dry_metrics: xr.Dataset | None = None
+    dry_configuration: StoredConfiguration | None = None
 
     @property
     def report_dir(self) -> Path:
