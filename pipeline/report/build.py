@@ -19,7 +19,8 @@ The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists t
 sections in their order, each a function ``section(ctx) -> list of blocks`` of a
 :class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
 :mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
-:mod:`.imperfect`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
+:mod:`.imperfect`, :mod:`.physics`, :mod:`.parameters`, :mod:`.lubrication`, :mod:`.lubricated_vs_dry`:
+a lubricated sweep beside a dry one of the same grid, ``rvsweep report DIR --dry DIR2``), which writes its figures
 (:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
