@@ -91,6 +91,10 @@ def run(args):
         print(f"Imperfections: the study case at ISO 492 Normal against perfect, first 0.6 s, median of pairs: "
               f"{f['imperfection_cost_ratio']:.3f}x ({f['imperfection_normal_wall_s']:.2f} s vs "
               f"{f['imperfection_perfect_wall_s']:.2f} s)")
+    if "lubricated_cost_ratio" in f:
+        print(f"Lubricated law (ehl_bair_winer) against the dry one (coulomb_step), the study case's first 0.6 s, "
+              f"median of pairs: {f['lubricated_cost_ratio']:.3f}x ({f['lubricated_wall_s']:.2f} s vs "
+              f"{f['lubricated_dry_wall_s']:.2f} s; issue 40's goal: at most 1.3x)")
     if "parallel_efficiency" in f:
         print(f"Smoke sweep ({f['smoke_cases']} cases, median of {f['smoke_repeats']}), first case submitted to last finished: serial "
               f"{f['smoke_serial_wall_s']:.1f} s, {f['smoke_workers']} workers {f['smoke_parallel_wall_s']:.1f} s")

@@ -12,6 +12,9 @@ def add_arguments(parser):
                         help="the sweep's output folder (holds sweep.nc or cases/, status.json)")
     parser.add_argument("--reference", metavar="FILE", type=Path, default=None,
                         help="reference-fit TOML to compare with (default: sweeps/reference/study-fits.toml)")
+    parser.add_argument("--dry", metavar="DIR2", type=Path, default=None,
+                        help="a dry sweep (friction.law coulomb_step) of the same grid: the report puts this "
+                             "lubricated sweep's cage slip, drive torque and transient ranges beside its own")
     from ..report.headline import TARGETS
 
     for t in TARGETS:
@@ -45,8 +48,13 @@ def run(args) -> int:
     # the targets are checked before any work starts: a bad one is one line, nothing written
     targets = parse_targets({t.key: getattr(args, f"target_{t.key}", None) for t in TARGETS})
     _check_folder(args.directory)
+    if args.dry is not None and not args.dry.is_dir():
+        from ..errors import UserError
+
+        raise UserError(f"--dry {args.dry}: no such sweep folder" if not args.dry.exists()
+                        else f"--dry {args.dry}: a file, not a sweep folder")
     start = time.perf_counter()
-    files = build_report(args.directory, reference=args.reference, targets=targets)
+    files = build_report(args.directory, reference=args.reference, targets=targets, dry=args.dry)
     elapsed = time.perf_counter() - start
     print(f"wrote {files.metrics}")
     print(f"wrote {files.fits}")

@@ -19,7 +19,8 @@ The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists t
 sections in their order, each a function ``section(ctx) -> list of blocks`` of a
 :class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
 :mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
-:mod:`.imperfect`, :mod:`.measured`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
+:mod:`.imperfect`, :mod:`.measured`, :mod:`.physics`, :mod:`.parameters`, :mod:`.lubrication`, :mod:`.lubricated_vs_dry`:
+a lubricated sweep beside a dry one of the same grid, ``rvsweep report DIR --dry DIR2``), which writes its figures
 (:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -63,6 +64,7 @@ from .sections_metrics import section_metrics, section_time_histories
 from .select import base_states
 from .stiffness import section_stiffness
 from .lubrication import section_lubrication
+from .lubricated_vs_dry import check_same_grid, load_dry, section_lubricated_vs_dry
 from .summary import section_designer_figures, section_summary, summary_values
 
 #: Sensor metrics fitted for the sensor figures.
@@ -158,21 +160,31 @@ def section_files(ctx: Context) -> list:
 SECTIONS = (
     section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
-    section_stiffness, section_lubrication, section_load_distribution, section_window_edges, section_comparison,
-    section_measured, section_classes,
+    section_stiffness, section_lubrication, section_lubricated_vs_dry, section_load_distribution, section_window_edges,
+    section_comparison, section_measured, section_classes,
     section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 
 
-def load_context(directory: Path, reference=None, targets=None) -> Context:
+def load_context(directory: Path, reference=None, targets=None, dry=None) -> Context:
     """The results folder read for the report: the sweep, its metrics and fits (written as
     ``metrics.nc`` and ``fits.nc``), the status, the references, the stored configuration
     and statics, and what the sections share (phase windows, the study comparison, the
     summary values). ``sweep.nc`` is opened lazily (:func:`pipeline.analysis.open_results`):
     the metrics are read in full, a time series only for the cases a section draws; the
-    caller closes ``ctx.sweep``."""
+    caller closes ``ctx.sweep``. ``dry``: a dry sweep's folder of the same grid
+    (:mod:`.lubricated_vs_dry`), read and its grid checked before anything is written."""
+    dry_metrics = dry_configuration = None
+    if dry is not None:
+        dry_metrics, dry_configuration = load_dry(directory, Path(dry))
     sweep = open_results(directory, lazy=True)
     metrics = phase_metrics(sweep)
+    if dry_metrics is not None:
+        try:
+            check_same_grid(metrics, dry_metrics, directory, Path(dry))
+        except Exception:
+            sweep.close()
+            raise
     fits = fit_metrics(metrics)
     measured = read_measured(directory)
     measured_metrics = measured_group(measured) if measured else xr.Dataset()
@@ -186,7 +198,9 @@ def load_context(directory: Path, reference=None, targets=None) -> Context:
                   status=read_status(directory), references=load_reference_fits(reference),
                   reference_path=Path(reference) if reference else default_reference_path(),
                   configuration=configuration, config_error=err, targets=dict(targets or {}),
-                  measured=measured, measured_metrics=measured_metrics, measured_fits=measured_fit)
+                  measured=measured, measured_metrics=measured_metrics, measured_fits=measured_fit,
+                  dry_directory=Path(dry) if dry is not None else None, dry_metrics=dry_metrics,
+                  dry_configuration=dry_configuration)
     if sensors(metrics):
         ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
     ctx.windows, ctx.windows_source = phase_windows(ctx)
@@ -196,7 +210,7 @@ def load_context(directory: Path, reference=None, targets=None) -> Context:
     return ctx
 
 
-def build_report(directory, reference=None, targets=None) -> ReportFiles:
+def build_report(directory, reference=None, targets=None, dry=None) -> ReportFiles:
     """Metrics, fits and the report of a finished or partial sweep.
 
     Parameters
@@ -209,6 +223,9 @@ def build_report(directory, reference=None, targets=None) -> ReportFiles:
         The headline's targets, key -> value in its summary column's unit (s₀ [1], L10r
         [Mrev], start-up torque [N m], k_r and k_a [N/µm], k_θ [N m/mrad]), as
         :func:`.headline.parse_targets` returns them; default none (no pass/fail mark).
+    dry : path-like, optional
+        A dry sweep of the same grid, compared point by point with this (lubricated) one
+        (:mod:`.lubricated_vs_dry`); default none.
 
     Returns
     -------
@@ -220,7 +237,7 @@ def build_report(directory, reference=None, targets=None) -> ReportFiles:
         When the folder holds no sweep, or the reference file is invalid.
     """
     directory = Path(directory)
-    ctx = load_context(directory, reference, targets)
+    ctx = load_context(directory, reference, targets, dry)
     try:
         (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
         blocks = [block for section in SECTIONS for block in section(ctx)]

@@ -67,6 +67,11 @@ class Context:
     measured: list = field(default_factory=list)
     measured_metrics: xr.Dataset = field(default_factory=xr.Dataset)
     measured_fits: xr.Dataset = field(default_factory=xr.Dataset)
+    #: A dry sweep of the same grid (``rvsweep report --dry``): its folder, phase metrics and
+    #: stored configuration (:mod:`.lubricated_vs_dry`); None without one.
+    dry_directory: Path | None = None
+    dry_metrics: xr.Dataset | None = None
+    dry_configuration: StoredConfiguration | None = None
 
     @property
     def report_dir(self) -> Path:

@@ -112,11 +112,24 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
 NO_FILM = (1.0, 0.0, 0.0)
 
 
+#: The kinds of law (their indices in :data:`rvcore.bearing.laws.FRICTION_LAWS`) the contact
+#: loops of :mod:`rvcore.dynamics.races` are copied for, the kind a constant in each copy
+#: (:func:`friction_coefficient`); a record of another kind runs a copy that dispatches
+#: contact by contact.
+FRICTION_KINDS = (COULOMB_STEP, EHL_BAIR_WINER)
+
+
 @kernel(inline=True)
-def friction_uses_film(law):
-    """Whether the record's law needs each contact's film ``(p, h, λ)`` (:func:`contact_film`):
-    the contact loops compute it only then (a test outside the loop)."""
-    return law[LAW_KIND] == EHL_BAIR_WINER
+def friction_kind(law):
+    """The record's kind, its law's index in :data:`rvcore.bearing.laws.FRICTION_LAWS` [-]."""
+    return law[LAW_KIND]
+
+
+@kernel(inline=True)
+def friction_uses_film(kind):
+    """Whether the law of kind ``kind`` (:func:`friction_kind`) needs each contact's film
+    ``(p, h, λ)`` (:func:`contact_film`): the contact loops compute it only then."""
+    return kind == EHL_BAIR_WINER
 
 
 @kernel(inline=True)
@@ -200,23 +213,34 @@ def friction_coefficient(s, p, h, lam, law):
     ``p`` [Pa], ``h`` [m] and ``lam`` [-] are the contact's mean Hertz pressure, central
     film and film parameter (:func:`contact_film`; :data:`NO_FILM` where it has none),
     read by the laws that need them. Each law function here dispatches on the record's
-    kind ``law[LAW_KIND]``: each law's value is computed and selected (a select, not a
-    branch, keeps the contact loops of :mod:`rvcore.dynamics.races` vectorised); a kind no
-    law has gives NaN, which the integrator's blow-up check reports.
+    kind ``law[LAW_KIND]`` (:func:`friction_kind`) with a branch a law, so only the
+    record's law is computed; a kind no law has gives NaN, which the integrator's blow-up
+    check reports. The contact loops of :mod:`rvcore.dynamics.races` take the kind as a
+    constant instead, in a copy of the loop a law (:data:`FRICTION_KINDS`,
+    :func:`friction_per_slip_of`): there the branches fold away, each copy holds its own
+    law's code alone, and the study law's loops are vectorised.
     """
-    kind = law[LAW_KIND]
-    mu = coulomb_step.coefficient(s, law)
-    mu_e = traction_ehl.ehl_traction_coefficient(s, p, h, lam, _ehl(law))
-    return mu if kind == COULOMB_STEP else (mu_e if kind == EHL_BAIR_WINER else math.nan)
+    kind = friction_kind(law)
+    if kind == COULOMB_STEP:
+        mu = coulomb_step.coefficient(s, law)
+    elif kind == EHL_BAIR_WINER:
+        mu = traction_ehl.ehl_traction_coefficient(s, p, h, lam, _ehl(law))
+    else:
+        mu = math.nan
+    return mu
 
 
 @kernel(inline=True)
 def friction_slope(s, p, h, lam, law):
     """dμ/ds of :func:`friction_coefficient` at ``s`` ≥ 0 [s m^-1]."""
-    kind = law[LAW_KIND]
-    d = coulomb_step.slope(s, law)
-    d_e = traction_ehl.ehl_traction_slope(s, p, h, lam, _ehl(law))
-    return d if kind == COULOMB_STEP else (d_e if kind == EHL_BAIR_WINER else math.nan)
+    kind = friction_kind(law)
+    if kind == COULOMB_STEP:
+        d = coulomb_step.slope(s, law)
+    elif kind == EHL_BAIR_WINER:
+        d = traction_ehl.ehl_traction_slope(s, p, h, lam, _ehl(law))
+    else:
+        d = math.nan
+    return d
 
 
 @kernel(inline=True)
@@ -225,10 +249,14 @@ def friction_slope_at_zero_slip(law):
     one (:func:`rvcore.contact.traction_ehl.ehl_slope_bound`): the law acts as a viscous
     damper ``c_f = Q·dμ/ds`` at small slip; the explicit step is sized from it
     (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
-    kind = law[LAW_KIND]
-    d = coulomb_step.slope_at_zero_slip(law)
-    d_e = traction_ehl.ehl_slope_bound(_ehl(law))
-    return d if kind == COULOMB_STEP else (d_e if kind == EHL_BAIR_WINER else math.nan)
+    kind = friction_kind(law)
+    if kind == COULOMB_STEP:
+        d = coulomb_step.slope_at_zero_slip(law)
+    elif kind == EHL_BAIR_WINER:
+        d = traction_ehl.ehl_slope_bound(_ehl(law))
+    else:
+        d = math.nan
+    return d
 
 
 def friction_falling_slope(law) -> float:
@@ -248,10 +276,20 @@ def friction_per_slip(s2, p, h, lam, law):
     dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`,
     :func:`rvcore.contact.traction_ehl.ehl_traction_per_slip`; film arguments as
     :func:`friction_coefficient`)."""
-    kind = law[LAW_KIND]
-    g = coulomb_step.per_slip(s2, law)
-    g_e = traction_ehl.ehl_traction_per_slip(s2, p, h, lam, _ehl(law))
-    return g if kind == COULOMB_STEP else (g_e if kind == EHL_BAIR_WINER else math.nan)
+    return friction_per_slip_of(friction_kind(law), s2, p, h, lam, law)
+
+
+@kernel(inline=True)
+def friction_per_slip_of(kind, s2, p, h, lam, law):
+    """:func:`friction_per_slip` of the law of kind ``kind`` (:func:`friction_kind`; a
+    constant of :data:`FRICTION_KINDS` in a loop copied for it) [s m^-1]."""
+    if kind == COULOMB_STEP:
+        g = coulomb_step.per_slip(s2, law)
+    elif kind == EHL_BAIR_WINER:
+        g = traction_ehl.ehl_traction_per_slip(s2, p, h, lam, _ehl(law))
+    else:
+        g = math.nan
+    return g
 
 
 @kernel(inline=True)
@@ -260,43 +298,48 @@ def friction_tangent_curvature(s2, p, h, lam, law):
     ``v_t·v_tᵀ`` in the friction force's tangent (:func:`rvcore.dynamics.tangent.friction_tangent`;
     :func:`rvcore.contact.coulomb_step.tangent_curvature`,
     :func:`rvcore.contact.traction_ehl.ehl_tangent_curvature`)."""
-    kind = law[LAW_KIND]
-    c = coulomb_step.tangent_curvature(s2, law)
-    c_e = traction_ehl.ehl_tangent_curvature(s2, p, h, lam, _ehl(law))
-    return c if kind == COULOMB_STEP else (c_e if kind == EHL_BAIR_WINER else math.nan)
+    kind = friction_kind(law)
+    if kind == COULOMB_STEP:
+        c = coulomb_step.tangent_curvature(s2, law)
+    elif kind == EHL_BAIR_WINER:
+        c = traction_ehl.ehl_tangent_curvature(s2, p, h, lam, _ehl(law))
+    else:
+        c = math.nan
+    return c
 
 
 @kernel(inline=True)
-def friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law):
+def friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law, kind):
     """Friction on the ball at a contact of unit normal ``n`` [N].
 
     ``u`` is the slip velocity of the ball's material point against the other body's
     [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
     (zero at zero slip). ``q`` is the normal load [N]; ``p``, ``h``, ``lam`` the film
-    (:func:`friction_coefficient`).
+    (:func:`friction_coefficient`); ``kind`` the record's kind (:func:`friction_kind`, or
+    a constant of :data:`FRICTION_KINDS` in a loop copied for it).
     """
     un = ux * nx + uy * ny + uz * nz
     tx = ux - un * nx
     ty = uy - un * ny
     tz = uz - un * nz
-    g = -q * friction_per_slip(tx * tx + ty * ty + tz * tz, p, h, lam, law)
+    g = -q * friction_per_slip_of(kind, tx * tx + ty * ty + tz * tz, p, h, lam, law)
     return g * tx, g * ty, g * tz
 
 
 @kernel(inline=True)
-def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, p, h, lam, law):
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, p, h, lam, law, kind):
     """Force [N] and moment about the ball centre [N m] of one contact on a ball.
 
     Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction by
     ``law`` (when it is on) from the slip ``u`` [m s^-1] tangential to the surface normal
     ``n`` (unit), acting at the arm ``a`` from the ball centre [m], with the contact's film
-    ``p`` [Pa], ``h`` [m], ``lam`` [-] (:func:`friction_coefficient`). Returns
-    ``(fx, fy, fz, mx, my, mz)``.
+    ``p`` [Pa], ``h`` [m], ``lam`` [-] (:func:`friction_coefficient`), the law of kind
+    ``kind`` (:func:`friction_force`). Returns ``(fx, fy, fz, mx, my, mz)``.
     """
     # the friction computed either way and selected (unit_step, Notes): its loads of the law
     # inside a branch would keep LLVM from vectorising the loops of rvcore.dynamics.races
     on = law[LAW_ON] != 0.0
-    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law)
+    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law, kind)
     fx, fy, fz = -q * gx, -q * gy, -q * gz
     return (fx + ftx if on else fx, fy + fty if on else fy, fz + ftz if on else fz,
             ay * ftz - az * fty if on else 0.0, az * ftx - ax * ftz if on else 0.0,

@@ -60,6 +60,12 @@ Defaults (:func:`pack_ehl_traction_law`) and their sources:
   measurement: give the oil's when it is known.
 - ``μ_b = 0.1``, ``v_b = 0.1`` m s⁻¹: the study's static coefficient and its slip speed
   (docs/model.md §4), so a contact without film behaves as the study's law rises.
+- ``friction.mu_dynamic`` and ``friction.v_dynamic`` (the study law's fall from μ_s to μ_d
+  with the slip) are not used: in a lubricated contact the friction falls as the film
+  builds (the Stribeck curve), which this law takes through λ (the blend ``w_b``), λ growing
+  with the entrainment speed; a boundary part that also fell with the slip would count the
+  fall twice, and would make μ fall with s (an explicit part the IMEX step would carry;
+  this law has none). docs/model.md §4.1.
 - ``λ_b = 1``, ``λ_f = 3``: the regime bounds above (Hamrock, Schmid & Jacobson,
   *Fundamentals of Machine Elements*, the lubrication chapter).
 

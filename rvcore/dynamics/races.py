@@ -26,7 +26,12 @@ the values of an open contact are never read). What made the loops vectorisable:
 - the contact laws return one value through selects, not through several ``return``
   statements (which LLVM lowers to a switch it cannot vectorise), load the law's
   parameters outside any branch, and take the Hertz root of ``|δ|``
-  (:func:`rvcore.contact.laws.hertz_load`).
+  (:func:`rvcore.contact.laws.hertz_load`);
+- the friction law's kind is a constant in each loop: the loop is written once and copied
+  a law (:func:`arc_contacts`, :data:`rvcore.contact.laws.FRICTION_KINDS`), so the
+  dispatch's branches fold away and a copy holds one law's code. A loop that computed
+  every law's friction and selected (the lubricated law's exponentials and logarithms
+  beside the study law's cubic) was not vectorised at all.
 """
 from __future__ import annotations
 
@@ -34,8 +39,9 @@ import math
 
 from .._numba import kernel
 
-from ..contact.laws import (NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film, film_coefficients,
-                            friction_uses_film, hertz_load, normal_force, race_arc_penetration)
+from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film,
+                            film_coefficients, friction_kind, friction_uses_film, hertz_load, normal_force,
+                            race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
 from ..contact.pose import ring_to_global, to_ring_frame
@@ -174,10 +180,33 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
     """Every ball's contact with arc ``a`` into ``out``, the arc's part of the scratch
     (``C_*·W + j``; an array of its own, so that the distances LLVM compares are constants
     within each of the two): the values the ball loop of :func:`rvcore.dynamics.rhs.rhs` reads
-    (module docstring), for every ball whether it touches or not."""
+    (module docstring), for every ball whether it touches or not.
+
+    The loop (:func:`_arc_loop`) is written once and copied a friction law
+    (:data:`rvcore.contact.laws.FRICTION_KINDS`), the law's kind a constant in each copy,
+    so that a copy holds its law's code alone (the study law's copy is vectorised; a copy
+    that also computed the other law's friction and selected was not).
+    """
+    kind = friction_kind(law)
+    k0, k1 = FRICTION_KINDS
+    if kind == k0:
+        _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
+                  r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law, k0)
+    elif kind == k1:
+        _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
+                  r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law, k1)
+    else:
+        _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
+                  r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law, kind)
+
+
+@kernel(inline=True)
+def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
+              r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law, kind):
+    """:func:`arc_contacts`' loop for the friction law of kind ``kind``."""
     inner = arcs[a, A_RING] == 0.0
     k_hertz = arcs[a, A_K]
-    uses_film = friction_uses_film(law)
+    uses_film = friction_uses_film(kind)
     p1, hc1, lam1 = 0.0, 0.0, 0.0
     if uses_film:
         p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
@@ -215,7 +244,7 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
                                    un, nx, ny, nz_)
             p_f, h_f, lam_f = contact_film(q, ue, p1, hc1, lam1)
         fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
-                                                       p_f, h_f, lam_f, law)
+                                                       p_f, h_f, lam_f, law, kind)
         out[C_DELTA * W + j] = delta
         out[C_NLX * W + j] = nlx
         out[C_NLY * W + j] = nly
@@ -245,7 +274,25 @@ def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro,
     """Every ball's contact with its pocket (:func:`rvcore.contact.laws.cage_pocket_penetration`)
     into ``out``, the pocket's part of the scratch (``P_*·W + j``), as :func:`arc_contacts`:
     the cage at ``(xc, yc, zc)`` turned by the angle of cosine ``cphi`` and sine ``sphi``,
-    moving at ``(vxc, vyc, vzc)`` and turning at ``wc``."""
+    moving at ``(vxc, vyc, vzc)`` and turning at ``wc``; the loop (:func:`_pocket_loop`)
+    copied a friction law as :func:`arc_contacts`'."""
+    kind = friction_kind(law)
+    k0, k1 = FRICTION_KINDS
+    if kind == k0:
+        _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
+                     xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law, k0)
+    elif kind == k1:
+        _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
+                     xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law, k1)
+    else:
+        _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
+                     xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law, kind)
+
+
+@kernel(inline=True)
+def _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_pocket, c_pocket, inv_dmax,
+                 xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law, kind):
+    """:func:`pocket_contacts`' loop for the friction law of kind ``kind``."""
     inv_h = 1.0 / h
     p_none, h_none, lam_none = NO_FILM     # no film at a pocket: the law's boundary friction
     for j in range(nz):
@@ -267,7 +314,8 @@ def pocket_contacts(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro,
         qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
         # friction tangential to the ball's surface there, normal a/h
         fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h,
-                                                          az * inv_h, ax, ay, az, p_none, h_none, lam_none, law)
+                                                          az * inv_h, ax, ay, az, p_none, h_none, lam_none, law,
+                                                          kind)
         out[P_DELTA * W + j] = delta
         out[P_AX * W + j] = ax
         out[P_AY * W + j] = ay

@@ -37,8 +37,8 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, friction_force, hertz_load, land_penetration,
-                      normal_force)
+from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, friction_force, friction_kind, hertz_load,
+                            land_penetration, normal_force)
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
@@ -441,7 +441,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if ql > land_q:
                         land_q = ql
                     if friction_on:
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, p_none, h_none, lam_none, law)
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, p_none, h_none, lam_none, law,
+                                                        friction_kind(law))
                         fxc += ftx
                         fyc += fty
                         fzc += ftz

@@ -110,7 +110,7 @@ def test_friction_force_is_tangential_and_opposes_slip():
     n = np.array([0.3, -0.4, math.sqrt(1 - 0.25)])
     u = np.array([0.05, 0.2, -0.1])
     q = 1234.0
-    ft = np.array(contact.friction_force(*u, *n, q, *contact.NO_FILM, LAW))
+    ft = np.array(contact.friction_force(*u, *n, q, *contact.NO_FILM, LAW, contact.friction_kind(LAW)))
     vt = u - (u @ n) * n
     s = np.linalg.norm(vt)
     np.testing.assert_allclose(ft, -spec_mu(s) * q * vt / s, rtol=1e-12)

@@ -510,22 +510,30 @@ def test_ensemble_standard_error_falls_as_inverse_sqrt_n():
 
 
 @pytest.mark.slow
-def test_study_startup_ranges_converge_with_step():
+@pytest.mark.parametrize("law", ["coulomb_step", "ehl_bair_winer"])
+def test_study_startup_ranges_converge_with_step(law):
     """The study bearing (51 balls) through the study's start-up (0–0.8 s), at step_safety 0.8 and 0.4.
 
     Study operating point (660°/s, 30 kN, 10 kN). Halving the step must leave the
     start-up phase's δ_r and δ_a ranges within 2 %: they are what the sweeps report,
     and the fixed step is sized from a stability limit, not from an error estimate.
+    With the study's dry law and with the lubricated one (docs/model.md §4.1; the bearing
+    file's lubricant, issue 40).
     """
+    import dataclasses
+
     from pipeline.schema import load_bearing
 
     bearing = load_bearing(REPO / "sweeps" / "bearings" / "rv-main-study.toml")
+    bearing = dataclasses.replace(bearing, contact=dataclasses.replace(bearing.contact, law=law))
     prof = study_profile()
     op = OperatingPoint(STUDY_SPEED, 30e3, 10e3)
     runs = [run_case(bearing, prof, op, SolverSettings(end_time=0.8, step_safety=safety)) for safety in (0.8, 0.4)]
     assert runs[1].info["time_step"] < 0.6 * runs[0].info["time_step"]
     pairs = {name: (runs[0].phase_metrics[name][0], runs[1].phase_metrics[name][0])
              for name in ("radial_displacement_range", "axial_displacement_range")}
+    print(f"{law}: start-up ranges at step_safety 0.8 / 0.4 [nm]: "
+          + ", ".join(f"{n} {c * 1e9:.2f} / {f * 1e9:.2f} ({c / f - 1:+.2%})" for n, (c, f) in pairs.items()))
     for name, (coarse, fine) in pairs.items():
         assert fine > 0, pairs
         assert abs(coarse / fine - 1) < 0.02, pairs

@@ -92,6 +92,8 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     speedup = next(line for line in text.splitlines() if line.strip().startswith("speedup vs rk4"))
     assert float(speedup.split()[-1]) == pytest.approx(f["speedup_vs_rk4"], abs=0.005)
     assert "Imperfections:" in text and "1.050x" in text
+    lubricated = next(line for line in text.splitlines() if line.startswith("Lubricated law"))
+    assert "1.100x" in lubricated and "2.20 s vs 2.00 s" in lubricated
 
 
 # --------------------------------------------------------------------------- ball scaling
