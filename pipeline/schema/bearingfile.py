@@ -130,15 +130,16 @@ def _imperfections(top: Table, row: Table, ball_count: int, first: Table | None 
 
     kw = {}
     for ring in ("inner", "outer"):
-        kw[f"{ring}_eccentricity"] = value(f"{ring}_eccentricity", None)[1]
-        kw[f"{ring}_eccentricity_angle"] = value(f"{ring}_eccentricity_angle", None)[1]
-        where = next((x for x in tables if x.has(f"{ring}_waviness")), None)
-        kw[f"{ring}_waviness"] = () if where is None else tuple(
-            Waviness(int(w.get("order")), w.get("amplitude"), w.get("phase"))
-            for w in where.tables(f"{ring}_waviness"))
-        if len(kw[f"{ring}_waviness"]) > MAX_WAVINESS_TERMS:
-            raise ConfigError(where.file, where.key(f"{ring}_waviness"), None,
-                              f"{len(kw[f'{ring}_waviness'])} terms: at most {MAX_WAVINESS_TERMS} a raceway")
+        for name in (f"{ring}_eccentricity", f"{ring}_eccentricity_angle", f"{ring}_axial_amplitude",
+                     f"{ring}_axial_angle"):
+            kw[name] = value(name, None)[1]
+        for name, absent in ((f"{ring}_waviness", ()), (f"{ring}_axial_waviness", None)):
+            where = next((x for x in tables if x.has(name)), None)
+            kw[name] = absent if where is None else tuple(
+                Waviness(int(w.get("order")), w.get("amplitude"), w.get("phase")) for w in where.tables(name))
+            if len(kw[name] or ()) > MAX_WAVINESS_TERMS:
+                raise ConfigError(where.file, where.key(name), None,
+                                  f"{len(kw[name])} terms: at most {MAX_WAVINESS_TERMS} a raceway")
     x, balls = value("ball_diameter_deviation", ())
     if len(balls) not in (0, ball_count):
         raise ConfigError(x.file, x.key("ball_diameter_deviation"), short(x.raw("ball_diameter_deviation")),

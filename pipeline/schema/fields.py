@@ -192,8 +192,8 @@ def _imperfections(prefix: str, where: str) -> list:
     row's override (``rows[].imperfections``)."""
     out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
                  choices=("none",) + TOLERANCE_CLASSES,
-                 doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea "
-                     "and a default ball grade; none: a perfect bearing unless other keys say otherwise")]
+                 doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea, "
+                     "the axial runout amplitudes a = S/2 from S_ia, S_ea (classes 5, 4) and a default ball grade; none: a perfect bearing unless other keys say otherwise")]
     for ring in ("inner", "outer"):
         out += [
             _q(f"{prefix}.{ring}_eccentricity", "length", "um",
@@ -212,6 +212,22 @@ def _imperfections(prefix: str, where: str) -> list:
                f"amplitude of the {ring} raceway radius harmonic", bounds="nonnegative"),
             _q(f"{prefix}.{ring}_waviness[].phase", "angle", "deg", "phase of the harmonic at the ring's angle 0",
                bounds=None, default=0.0),
+            _q(f"{prefix}.{ring}_axial_amplitude", "length", "um",
+               f"{ring} raceway's axial runout ({where}): amplitude a of a groove plane tilted to its ring's "
+               f"axis, half the runout's total indicator reading (ISO 492 S_{ring[0]}a = 2a); 0 none",
+               bounds="nonnegative", default="S/2 from tolerance_class (classes 5, 4), else 0"),
+            _q(f"{prefix}.{ring}_axial_angle", "angle", "deg",
+               f"where the {ring} raceway's tilted plane stands furthest along +z (its high point), in its "
+               "ring's frame", bounds=None, default="(drawn from the case's seed, else 0)"),
+            Field(f"{prefix}.{ring}_axial_waviness[].order", "integer", "bearing", minimum=1,
+                  maximum=MAX_WAVINESS_ORDER, default=REQUIRED,
+                  doc=f"order of one higher harmonic of the {ring} raceway's axial runout (the groove moves "
+                      "along the axis by A·cos(order·φ + phase))",
+                  why="a wavelength of a micrometre is roughness, not waviness"),
+            _q(f"{prefix}.{ring}_axial_waviness[].amplitude", "length", "um",
+               f"amplitude of the {ring} raceway's axial harmonic", bounds="nonnegative"),
+            _q(f"{prefix}.{ring}_axial_waviness[].phase", "angle", "deg",
+               "phase of the axial harmonic at the ring's angle 0", bounds=None, default=0.0),
         ]
     out += [
         Field(f"{prefix}.ball_diameter_deviation", "list", "bearing", "length", None, default=(), unit="um",

@@ -31,7 +31,8 @@ WHERE = "configuration"
 
 #: Element types of the tuple fields that hold dataclasses.
 _ELEMENTS = {(Bearing, "rows"): Row, (Row, "inner_arcs"): Arc, (Row, "outer_arcs"): Arc,
-             (Imperfections, "inner_waviness"): Waviness, (Imperfections, "outer_waviness"): Waviness}
+             (Imperfections, "inner_waviness"): Waviness, (Imperfections, "outer_waviness"): Waviness,
+             (Imperfections, "inner_axial_waviness"): Waviness, (Imperfections, "outer_axial_waviness"): Waviness}
 
 #: Keys of the stored configuration besides the dataclasses (read or ignored on purpose).
 _BOOKKEEPING = ("description", "sweep_file", "bearing_file", "profile_file", "case_ids")
