@@ -215,7 +215,7 @@ def _imperfections(prefix: str, where: str) -> list:
             _q(f"{prefix}.{ring}_axial_amplitude", "length", "um",
                f"{ring} raceway's axial runout ({where}): amplitude a of a groove plane tilted to its ring's "
                f"axis, half the runout's total indicator reading (ISO 492 S_{ring[0]}a = 2a); 0 none",
-               bounds="nonnegative", default="S/2 from tolerance_class (classes 5, 4), else 0"),
+               bounds="nonnegative", default="(S/2 from tolerance_class where ISO 492 gives S: classes 5, 4; else 0)"),
             _q(f"{prefix}.{ring}_axial_angle", "angle", "deg",
                f"where the {ring} raceway's tilted plane stands furthest along +z (its high point), in its "
                "ring's frame", bounds=None, default="(drawn from the case's seed, else 0)"),

@@ -3,7 +3,10 @@
 - ISO 492 (*Rolling bearings — Radial bearings — Geometrical product specifications
   (GPS) and tolerance values*): the radial runout of the assembled bearing's inner ring,
   ``K_ia``, over its bore ``d``, and of its outer ring, ``K_ea``, over its outside
-  diameter ``D``, per tolerance class (Normal, 6, 5, 4).
+  diameter ``D``, per tolerance class (Normal, 6, 5, 4); the axial runouts of the
+  assembled bearing's rings against their raceways, ``S_ia`` and ``S_ea``, and of the
+  inner ring's face against its bore, ``S_d``, where ISO 492 gives them (classes 5, 4
+  and 2 only), as total indicator readings.
 - ISO 3290-1 (*Rolling bearings — Balls — Steel balls*): per ball grade, the variation of
   a ball's diameter ``V_Dws`` and the diameter variation of a lot ``V_DwL``.
 
