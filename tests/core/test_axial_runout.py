@@ -185,3 +185,41 @@ def test_axial_harmonic_shift_and_zero_runout_change_nothing_else():
         b = bearing("held", inner_axial_waviness=(Waviness(order, b_amp, psi),))
         st = solve_statics(b, 0.0, 5e3, gravity=False, stiffness=False)
         assert st.axial_displacement - st0.axial_displacement == pytest.approx(expected, abs=0.01 * b_amp)
+
+
+def test_rhs_forces_are_minus_the_energy_gradient_with_axial_runout():
+    """Without friction and damping, at rest, each ball's contact force in the right-hand
+    side is −∂V/∂P of the potential energy with both grooves tilted and an axial harmonic
+    on the outer one: the groove's axial shift and the normal's lean with its slope (a
+    tangential force of up to Q·n_z·Δz′/c_r, a few hundredths of a newton here, tens of
+    times the 1e-3 N tolerance) are the energy's."""
+    from rvcore.bearing.layout import BALL_STATES, R_BALL0, R_MB, compile_bearing
+    from rvcore.dynamics.energy import potential_energy
+    from rvcore.dynamics.rhs import new_diagnostics, rhs
+    from rvcore.simulation.initial_state import initial_state
+
+    b = bearing(inner_axial_amplitude=20e-6, inner_axial_angle=0.7, outer_axial_amplitude=8e-6,
+                outer_axial_angle=2.0, outer_axial_waviness=(Waviness(5, 2e-6, 0.3),))
+    model = compile_bearing(b, friction=False, damping=False, gravity=False)
+    prof = constant_profile(0.0, 1.0).resolve(OperatingPoint(0.0, 10e3, 4e3))
+    table, meta = prof.arrays()
+    y = initial_state(model, prof, 0.0)
+    dy = np.zeros_like(y)
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
+    rhs(0.0, y, dy, model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    m_b = model.rows[0, R_MB]
+
+    def energy(yy):
+        return potential_energy(0.0, yy, model.params, model.rows, model.arcs, model.pockets, table, meta)
+
+    loaded = [j for j in range(Z) if bdiag[j, 0] > 100.0 and bdiag[j, 4] == 0.0]
+    assert len(loaded) >= 4
+    for j in loaded:
+        p = int(model.rows[0, R_BALL0]) + BALL_STATES * j
+        for k in range(3):
+            e = 1e-10
+            yp, ym = y.copy(), y.copy()
+            yp[p + k] += e
+            ym[p + k] -= e
+            force = -(energy(yp) - energy(ym)) / (2 * e)
+            assert m_b * dy[p + 3 + k] == pytest.approx(force, rel=1e-4, abs=1e-3), (j, k)
