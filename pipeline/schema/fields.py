@@ -193,7 +193,8 @@ def _imperfections(prefix: str, where: str) -> list:
     out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
                  choices=("none",) + TOLERANCE_CLASSES,
                  doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea, "
-                     "the axial runout amplitudes a = S/2 from S_ia, S_ea (classes 5, 4) and a default ball grade; none: a perfect bearing unless other keys say otherwise")]
+                     "the axial runout amplitudes a = S/2 from S_ia, S_ea (classes 5, 4) and a default ball "
+                     "grade; none: a perfect bearing unless other keys say otherwise")]
     for ring in ("inner", "outer"):
         out += [
             _q(f"{prefix}.{ring}_eccentricity", "length", "um",

@@ -31,7 +31,8 @@ turned with the tilt: a rigid tilt would also turn it by a/r, 1e-4 rad for 15 µ
 study's raceway, which moves the contact angle by as much (0.006°). ISO 492's ``S_ia``
 and ``S_ea`` are total indicator readings of the ring's face against its raceway over a
 revolution: a tilted plane gives ``S = 2a`` (at the face's measuring radius, taken as
-the groove's: the two differ by the ring's section, 5 % on the study's inner ring), so
+the groove's: on the study's inner ring the face's middle, 165 mm, is 6 % inside the
+groove's 176 mm), so
 a tolerance class sets ``a = S/2`` where ISO 492 tabulates S (classes 5 and 4; Normal
 and 6 have none: 0 unless given).
 
@@ -216,8 +217,9 @@ def realize_row(imp: Imperfections, bore: float, outer_diameter: float, ball_cou
     groove's axial amplitude, ``a = S/2``, where the class has them
     (:func:`rvcore.standards.iso492.axial_runout_limits`; else 0). The high points are
     drawn in the order inner, outer eccentricity, inner, outer axial runout, so that
-    adding the axial runout leaves the eccentricities' draws as they were. The balls' deviations are drawn uniformly within
-    ``±V_DwL/2`` of the grade (their spread is then within ISO 3290's lot variation).
+    adding the axial runout leaves the eccentricities' draws as they were. The balls'
+    deviations are drawn uniformly within ``±V_DwL/2`` of the grade (their spread is then
+    within ISO 3290's lot variation).
     """
     rng = np.random.default_rng([seed, row_index]) if seed >= 0 else None
     cls = imp.tolerance_class
