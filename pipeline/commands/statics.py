@@ -193,6 +193,8 @@ def run(args):
                                   "ball_angle_rad": path["ball_angle"].tolist(),
                                   "radial_displacement_m": path["radial_displacement"].tolist(),
                                   "axial_displacement_m": path["axial_displacement"].tolist(),
+                                  "tilt_x_rad": path["displacement"][:, 3].tolist(),
+                                  "tilt_y_rad": path["displacement"][:, 4].tolist(),
                                   "radial_displacement_range_m": path["radial_displacement_range"],
                                   "axial_displacement_range_m": path["axial_displacement_range"]}
         if pair:
@@ -245,9 +247,10 @@ def run(args):
         print(f"  runout path          over one revolution, {len(path['ring_angle'])} ring angles: delta_r range "
               f"{path['radial_displacement_range'] * 1e6:.4g} um, delta_a range "
               f"{path['axial_displacement_range'] * 1e6:.4g} um")
-        print("    ring[deg]  delta_r[um]  delta_a[um]")
-        for a, r_, z_ in zip(path["ring_angle"], path["radial_displacement"], path["axial_displacement"]):
-            print(f"    {math.degrees(a):9.2f}  {r_ * 1e6:11.4f}  {z_ * 1e6:11.4f}")
+        print("    ring[deg]  delta_r[um]  delta_a[um]  tilt_x[urad]  tilt_y[urad]")
+        for a, r_, z_, (tx, ty) in zip(path["ring_angle"], path["radial_displacement"], path["axial_displacement"],
+                                       path["displacement"][:, 3:5]):
+            print(f"    {math.degrees(a):9.2f}  {r_ * 1e6:11.4f}  {z_ * 1e6:11.4f}  {tx * 1e6:12.4f}  {ty * 1e6:12.4f}")
     print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")
     for j in range(st.ball_loads.shape[0]):
         angles = " ".join("   -  " if math.isnan(a) else f"{math.degrees(a):6.2f}" for a in st.contact_angles[j])

@@ -236,10 +236,10 @@ def layered_imperfections(top: Table, row: Table, ball_count: int, first: Table 
     one diameter deviation per ball (after)."""
     tables = [x for x in (first, row.table("imperfections", required=False)) if x is not None]
     t = _Layers(tables + [top.table("imperfections", required=False)])
-    for ring in ("inner", "outer"):   # said before Imperfections itself refuses them
-        n = len(t.tables(f"{ring}_waviness")) if t.has(f"{ring}_waviness") else 0
+    for name in ("inner_waviness", "outer_waviness", "inner_axial_waviness", "outer_axial_waviness"):
+        n = len(t.tables(name)) if t.has(name) else 0   # said before Imperfections itself refuses them
         if n > MAX_WAVINESS_TERMS:
-            raise ConfigError(t.file, t.key(f"{ring}_waviness"), None,
+            raise ConfigError(t.file, t.key(name), None,
                               f"{n} terms: at most {MAX_WAVINESS_TERMS} a raceway")
     cls = t.get("tolerance_class")
     imp = from_fields(Imperfections, t, "rows[].imperfections",

@@ -35,6 +35,7 @@ import dataclasses
 import functools
 import math
 import re
+import types
 import typing
 from dataclasses import dataclass
 
@@ -217,8 +218,9 @@ def _imperfections(prefix: str, where: str) -> list:
     src = "rows[].imperfections"
     out = [Field(f"{prefix}.tolerance_class", "choice", "bearing", default="none",
                  choices=("none",) + TOLERANCE_CLASSES,
-                 doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea "
-                     "and a default ball grade; none: a perfect bearing unless other keys say otherwise",
+                 doc=f"ISO 492 tolerance class of {where}: sets the eccentricities e = K/2 from K_ia, K_ea, "
+                     "the axial runout amplitudes a = S/2 from S_ia, S_ea (classes 5, 4) and a default ball "
+                     "grade; none: a perfect bearing unless other keys say otherwise",
                  source=f"{src}.tolerance_class")]
     for ring in ("inner", "outer"):
         out += [
@@ -241,6 +243,27 @@ def _imperfections(prefix: str, where: str) -> list:
                source=f"{src}.{ring}_waviness[].amplitude"),
             _q(f"{prefix}.{ring}_waviness[].phase", "angle", "deg", "phase of the harmonic at the ring's angle 0",
                bounds=None, default=0.0, source=f"{src}.{ring}_waviness[].phase"),
+            _q(f"{prefix}.{ring}_axial_amplitude", "length", "um",
+               f"{ring} raceway's axial runout ({where}): amplitude a of a groove plane tilted to its ring's "
+               f"axis, half the runout's total indicator reading (ISO 492 S_{ring[0]}a = 2a); 0 none",
+               bounds="nonnegative", default="(S/2 from tolerance_class where ISO 492 gives S: classes 5, 4; else 0)",
+               source=f"{src}.{ring}_axial_amplitude"),
+            _q(f"{prefix}.{ring}_axial_angle", "angle", "deg",
+               f"where the {ring} raceway's tilted plane stands furthest along +z (its high point), in its "
+               "ring's frame", bounds=None, default="(drawn from the case's seed, else 0)",
+               source=f"{src}.{ring}_axial_angle"),
+            Field(f"{prefix}.{ring}_axial_waviness[].order", "integer", "bearing", minimum=1,
+                  maximum=MAX_WAVINESS_ORDER, default=REQUIRED,
+                  doc=f"order of one higher harmonic of the {ring} raceway's axial runout (the groove moves "
+                      "along the axis by A·cos(order·φ + phase))",
+                  why="a wavelength of a micrometre is roughness, not waviness",
+                  source=f"{src}.{ring}_axial_waviness[].order"),
+            _q(f"{prefix}.{ring}_axial_waviness[].amplitude", "length", "um",
+               f"amplitude of the {ring} raceway's axial harmonic", bounds="nonnegative",
+               source=f"{src}.{ring}_axial_waviness[].amplitude"),
+            _q(f"{prefix}.{ring}_axial_waviness[].phase", "angle", "deg",
+               "phase of the axial harmonic at the ring's angle 0", bounds=None, default=0.0,
+               source=f"{src}.{ring}_axial_waviness[].phase"),
         ]
     out += [
         Field(f"{prefix}.ball_diameter_deviation", "list", "bearing", "length", None, default=(), unit="um",
@@ -603,6 +626,8 @@ def item_class(hint):
     """The dataclass of a ``tuple[Row, ...]`` annotation's items, else None: how the loader
     (:func:`pipeline.schema.bearingfile.from_fields`) and the read-back
     (:func:`pipeline.schema.stored.rebuild`) know an array of tables from a plain tuple."""
+    if typing.get_origin(hint) in (typing.Union, types.UnionType):   # tuple[Waviness, ...] | None
+        hint = next((h for h in typing.get_args(hint) if h is not type(None)), hint)
     args = typing.get_args(hint)
     if typing.get_origin(hint) is tuple and len(args) == 2 and args[1] is Ellipsis \
             and dataclasses.is_dataclass(args[0]):

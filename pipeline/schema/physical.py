@@ -113,7 +113,11 @@ def physical_problems(bearing: geo.Bearing):
        bearing seat, its housing) presses the ball at the high point by ``s − P_d/2``;
     5. each waviness term's trough curves less than the ball: ``A·k²/R² − 1/R < 2/D_w`` on
        the inner raceway (radius ``R = (d_m − D_w cos α)/2``, convex) and
-       ``A·k²/R² + 1/R < 2/D_w`` on the outer (``R = (d_m + D_w cos α)/2``, concave).
+       ``A·k²/R² + 1/R < 2/D_w`` on the outer (``R = (d_m + D_w cos α)/2``, concave);
+    6. a raceway's axial runout plus its axial harmonics ``s_z = a + Σ|B_k|``, along the
+       line of contact ``s_z·sin α``, is at most ``δ₀ + max(P_d, 0)/2``: a ring held square
+       and in place (its seat's shoulder) presses the ball at the high point by
+       ``s_z·sin α − P_d/2`` (rule 4 along the axis).
     """
     out = []
     for i, row in enumerate(bearing.rows):
@@ -170,6 +174,21 @@ def _row_problems(bearing, i, row):
                         f"moves the {ring} raceway by up to {_um(shift)} (eccentricity + waviness "
                         f"amplitudes): held concentric, its high point would press a ball by more than "
                         f"{limit}" + (f" plus half the clearance, {_um(pd / 2)}" if pd > 0 else "")))
+        axial = getattr(imp, f"{ring}_axial_amplitude", None) or 0.0
+        axial_waves = getattr(imp, f"{ring}_axial_waviness", None) or ()
+        shift_z = abs(axial) + sum(abs(w.amplitude) for w in axial_waves)
+        sin_a = abs(math.sin(row.nominal_contact_angle))
+        if shift_z * sin_a > allowed:
+            big = max(range(len(axial_waves)), key=lambda n: abs(axial_waves[n].amplitude), default=None)
+            if big is None or abs(axial) >= abs(axial_waves[big].amplitude):
+                key, value = f"imperfections.{ring}_axial_amplitude", axial
+            else:
+                key, value = f"imperfections.{ring}_axial_waviness[{big}].amplitude", axial_waves[big].amplitude
+            out.append((i, key, value,
+                        f"moves the {ring} groove along the axis by up to {_um(shift_z)} (axial runout + "
+                        f"harmonics), {_um(shift_z * sin_a)} along the line of contact: held square, its high "
+                        f"point would press a ball by more than {limit}"
+                        + (f" plus half the clearance, {_um(pd / 2)}" if pd > 0 else "")))
         radius = (pitch + sign * d * cos_a) / 2.0
         for n, w in enumerate(waves):
             trough = abs(w.amplitude) * w.order ** 2 / radius ** 2 + sign / radius

@@ -132,7 +132,9 @@ def _tolerance(bearing: Bearing, row) -> list:
             tolerance_problems(imp.tolerance_class, bearing.bore, bearing.outer_diameter, row.ball_diameter,
                                inner_given=imp.inner_eccentricity is not None,
                                outer_given=imp.outer_eccentricity is not None,
-                               grade_given=bool(imp.ball_grade or imp.ball_diameter_deviation))]
+                               grade_given=bool(imp.ball_grade or imp.ball_diameter_deviation),
+                               inner_axial_given=imp.inner_axial_amplitude is not None,
+                               outer_axial_given=imp.outer_axial_amplitude is not None)]
 
 
 def cage_problems(bearing: Bearing) -> list:

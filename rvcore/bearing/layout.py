@@ -60,7 +60,12 @@ N_PARAMS = P_LAW + FRICTION_LAW_SIZE + 9
 # φ_e, e·sin φ_e: no trigonometry in the right-hand side), its waviness terms (order,
 # amplitude, phase; MAX_WAVINESS_TERMS a raceway, inner then outer from R_WAVE0)
 (R_IMPERFECT, R_ECC_I_X, R_ECC_I_Y, R_ECC_O_X, R_ECC_O_Y, R_NWAVE_I, R_NWAVE_O, R_WAVE0) = range(21, 29)
-N_ROWCOLS = R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
+# then the axial runout: each raceway's tilted plane as a vector (a·cos φ_a, a·sin φ_a) and
+# its axial harmonics (order, amplitude, phase; inner then outer from R_AXWAVE0)
+(R_AX_I_X, R_AX_I_Y, R_AX_O_X, R_AX_O_Y, R_NAXWAVE_I, R_NAXWAVE_O) = range(
+    R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS, R_WAVE0 + 2 * 3 * MAX_WAVINESS_TERMS + 6)
+R_AXWAVE0 = R_NAXWAVE_O + 1
+N_ROWCOLS = R_AXWAVE0 + 2 * 3 * MAX_WAVINESS_TERMS
 
 # pockets columns (one line a ball): the pocket's azimuth, the ball's diameter deviation [m]
 PK_COS, PK_SIN, PK_BALL_DD = 0, 1, 2
@@ -229,11 +234,17 @@ def _pack_imperfections(line, imp) -> None:
     for cx, cy, e, a in ((R_ECC_I_X, R_ECC_I_Y, imp.inner_eccentricity, imp.inner_eccentricity_angle),
                          (R_ECC_O_X, R_ECC_O_Y, imp.outer_eccentricity, imp.outer_eccentricity_angle)):
         line[cx], line[cy] = e * math.cos(a), e * math.sin(a)
-    line[R_NWAVE_I], line[R_NWAVE_O] = len(imp.inner_waviness), len(imp.outer_waviness)
-    for ring, terms in enumerate((imp.inner_waviness, imp.outer_waviness)):
-        for k, w in enumerate(terms):
-            c = R_WAVE0 + 3 * (ring * MAX_WAVINESS_TERMS + k)
-            line[c], line[c + 1], line[c + 2] = w.order, w.amplitude, w.phase
+    for cx, cy, a, phi in ((R_AX_I_X, R_AX_I_Y, imp.inner_axial_amplitude, imp.inner_axial_angle),
+                           (R_AX_O_X, R_AX_O_Y, imp.outer_axial_amplitude, imp.outer_axial_angle)):
+        line[cx], line[cy] = a * math.cos(phi), a * math.sin(phi)
+    for n_i, n_o, c0, inner, outer in (
+            (R_NWAVE_I, R_NWAVE_O, R_WAVE0, imp.inner_waviness, imp.outer_waviness),
+            (R_NAXWAVE_I, R_NAXWAVE_O, R_AXWAVE0, imp.inner_axial_waviness, imp.outer_axial_waviness)):
+        line[n_i], line[n_o] = len(inner), len(outer)
+        for ring, terms in enumerate((inner, outer)):
+            for k, w in enumerate(terms):
+                c = c0 + 3 * (ring * MAX_WAVINESS_TERMS + k)
+                line[c], line[c + 1], line[c + 2] = w.order, w.amplitude, w.phase
 
 
 def nominal_state(model: CompiledBearing) -> np.ndarray:

@@ -487,7 +487,8 @@ def land_penetration(xc, yc, land_clearance):
 
 @kernel(inline=True)
 def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
-                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer):
+                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer, dz_inner, dz_outer,
+                         zslope_inner, zslope_outer):
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
 
     An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
@@ -496,33 +497,37 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     plane [m]. ``rho_*`` [m] and ``inv_rho_*`` [m^-1] are their distances from the axis.
     An imperfect bearing (:func:`rvcore.dynamics.raceway.ball_offsets`) moves the inner or outer
     groove radially by ``dr_inner``/``dr_outer`` at this ball, with the slopes
-    ``slope_*`` = dΔr/dφ along the ring, and has the ball larger by ``2·d_half`` [m]; all
-    0 for a perfect one.
+    ``slope_*`` = dΔr/dφ along the ring, and axially by ``dz_inner``/``dz_outer`` with the
+    slopes ``zslope_*`` = dΔz/dφ, and has the ball larger by ``2·d_half`` [m]; all 0 for a
+    perfect one.
 
     Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
     penetration [m] and the unit normal C→P in that ring's frame [-].
 
     Notes
     -----
-    The groove's curvature centres lie on the curve ``(c_r + Δr(φ))·ê_r(φ)``; the normal
-    from it to the ball is perpendicular to the curve's tangent ``Δr'·ê_r + c_r·ê_φ``, so
-    it leaves the meridian plane by ``n_φ = −n_r·Δr'/c_r`` (to first order in Δr/c_r, as
-    the penetration): an eccentric raceway's normals point from its own centre, not the
-    ring's.
+    The groove's curvature centres lie on the curve ``(c_r + Δr(φ))·ê_r(φ) + (c_z + Δz(φ))·ê_z``;
+    the normal from it to the ball is perpendicular to the curve's tangent
+    ``Δr'·ê_r + c_r·ê_φ + Δz'·ê_z``, so it leaves the meridian plane by
+    ``n_φ = −(n_r·Δr' + n_z·Δz')/c_r`` (to first order in Δr/c_r and Δz/c_r, as the
+    penetration): an eccentric raceway's normals point from its own centre, not the
+    ring's, and a tilted groove's lean with its plane.
     """
     inner = arcs[a, A_RING] == 0.0
     if inner:
         cr = arcs[a, A_CR] + dr_inner
-        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr,
-                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
-        slope, ux, uy = slope_inner, plx * inv_rho_l, ply * inv_rho_l
+        delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr, arcs[a, A_CZ] + dz_inner,
+                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, zslope, ux, uy = slope_inner, zslope_inner, plx * inv_rho_l, ply * inv_rho_l
     else:
         cr = arcs[a, A_CR] + dr_outer
-        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr,
-                                            arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
-        slope, ux, uy = slope_outer, px * inv_rho_b, py * inv_rho_b
-    if slope != 0.0:
+        delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr, arcs[a, A_CZ] + dz_outer,
+                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+        slope, zslope, ux, uy = slope_outer, zslope_outer, px * inv_rho_b, py * inv_rho_b
+    if slope != 0.0 or zslope != 0.0:
         n_phi = -(nx * ux + ny * uy) * slope / cr
+        if zslope != 0.0:
+            n_phi -= nz * zslope / cr
         scale = 1.0 / math.sqrt(1.0 + n_phi * n_phi)
         nx, ny, nz = (nx - n_phi * uy) * scale, (ny + n_phi * ux) * scale, nz * scale
     return inner, delta, nx, ny, nz

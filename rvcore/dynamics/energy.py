@@ -119,13 +119,14 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             rho_b = math.sqrt(px * px + py * py)
-            dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
+            dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             if rows[r, R_IMPERFECT] != 0.0:
-                dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
-                                                  sin_spin, px / rho_b, py / rho_b)
+                dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = ball_offsets(
+                    rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin, sin_spin, px / rho_b, py / rho_b)
             for a in range(a0, a0 + na):
-                _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                     px, py, pz - zrow, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
+                _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l, px, py, pz - zrow,
+                                                     rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,
+                                                     dz_i, dz_o, zs_i, zs_o)
                 e += hertz_energy(arcs[a, A_K], d)
             e += pocket_energy(y, rows, pockets, r, j, cphi, sphi)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:

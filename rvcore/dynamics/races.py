@@ -64,8 +64,8 @@ from ..contact.pose import ring_to_global, to_ring_frame
 W = MAX_ROW_BALLS + 8
 S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 (G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
- G_SL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 14)
-N_BALL_FIELDS = BALL_STATES + 14
+ G_SL_O, G_DZ_I, G_DZ_O, G_ZSL_I, G_ZSL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 18)
+N_BALL_FIELDS = BALL_STATES + 18
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
 # rvcore.contact.laws.contact_film, NO_FILM when the law needs none)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
@@ -161,10 +161,10 @@ def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
     k0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
     imperfect = rows[r, R_IMPERFECT] != 0.0
     for j in range(nz):
-        dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
+        dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         if imperfect:
             inv_rho_b = buf[G_INV_RHO_B * W + j]
-            dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(
+            dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = ball_offsets(
                 rows, r, pockets, k0 + j, buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_INV_RHO_L * W + j],
                 cos_spin, sin_spin, buf[S_PX * W + j] * inv_rho_b, buf[S_PY * W + j] * inv_rho_b)
         buf[G_DR_I * W + j] = dr_i
@@ -172,6 +172,10 @@ def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
         buf[G_D_HALF * W + j] = d_half
         buf[G_SL_I * W + j] = sl_i
         buf[G_SL_O * W + j] = sl_o
+        buf[G_DZ_I * W + j] = dz_i
+        buf[G_DZ_O * W + j] = dz_o
+        buf[G_ZSL_I * W + j] = zs_i
+        buf[G_ZSL_O * W + j] = zs_o
 
 
 @kernel
@@ -219,7 +223,8 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
             arcs, a, buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_PLZ * W + j], buf[G_RHO_L * W + j],
             buf[G_INV_RHO_L * W + j], px, py, pz - zrow, buf[G_RHO_B * W + j], buf[G_INV_RHO_B * W + j], h,
             buf[G_DR_I * W + j], buf[G_DR_O * W + j], buf[G_D_HALF * W + j], buf[G_SL_I * W + j],
-            buf[G_SL_O * W + j])
+            buf[G_SL_O * W + j], buf[G_DZ_I * W + j], buf[G_DZ_O * W + j], buf[G_ZSL_I * W + j],
+            buf[G_ZSL_O * W + j])
         gx, gy, gz = ring_to_global(nlx, nly, nlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         nx = gx if inner else nlx
         ny = gy if inner else nly

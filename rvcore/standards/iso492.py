@@ -3,7 +3,10 @@
 - ISO 492 (*Rolling bearings — Radial bearings — Geometrical product specifications
   (GPS) and tolerance values*): the radial runout of the assembled bearing's inner ring,
   ``K_ia``, over its bore ``d``, and of its outer ring, ``K_ea``, over its outside
-  diameter ``D``, per tolerance class (Normal, 6, 5, 4).
+  diameter ``D``, per tolerance class (Normal, 6, 5, 4); the axial runouts of the
+  assembled bearing's rings against their raceways, ``S_ia`` and ``S_ea``, and of the
+  inner ring's face against its bore, ``S_d``, where ISO 492 gives them (classes 5, 4
+  and 2 only), as total indicator readings.
 - ISO 3290-1 (*Rolling bearings — Balls — Steel balls*): per ball grade, the variation of
   a ball's diameter ``V_Dws`` and the diameter variation of a lot ``V_DwL``.
 
@@ -25,6 +28,18 @@ Sources, value by value (the standards' own texts were not at hand):
 - ``K_ea``, class 6: Consolidated Bearings' table, every row (in inches, converted).
 - ``K_ea``, classes 5 and 4: catalogue tables as remembered; 20 and 13 µm at
   315–400 mm as the issue read them.
+- the axial runouts ``S_d`` (the inner ring's reference face with its bore), ``S_ia``
+  and ``S_ea`` (the assembled bearing's inner and outer ring faces against their
+  raceways), class 5, every row: the bearing dealer NodesHK's reproduction of ISO
+  492:2014's class 5 tables ("P5 class tolerances for radial bearings", nodeshk.com,
+  tech/bearing-data/P5-tolerances-radial.html, columns tSd, tSia, tSea; its tKia and
+  tKea columns agree with the class-5 K_ia, K_ea above row by row). ISO 492 gives
+  ``S_d``, ``S_ia``, ``S_ea`` for classes 5, 4 and 2 only: the Normal and class 6 tables
+  reproduced by SRS, Consolidated Bearings and YCTOO carry no such column, and the
+  Swiss maker WIB's table lists ``S_d`` as "-" for P0 and P6 (wib-bearings.com,
+  "Tolerances"). Class 4's values were not at hand (WIB gives its ``S_d`` of 3 µm for
+  d ≤ 18 mm only): a class-4 bearing is refused unless its axial runouts are given.
+  The table's footnote 3 on ``S_ia``/``S_ea`` was not in the reproduction read.
 - ``V_Dws``, ``V_DwL``: ISO 3290-1 Table 1 as catalogues of ball makers reproduce it;
   G10's 0.25 and 0.5 µm as the issue gives them.
 - the nominal ball diameters a grade is made up to (:data:`BALL_GRADE_MAX_DIAMETER`):
@@ -62,6 +77,29 @@ K_EA = {
     "6": np.array([8, 9, 10, 13, 18, 20, 23, 25, 30, 35, 40, 50]) * 1e-6,
     "5": np.array([5, 6, 7, 8, 10, 11, 13, 15, 18, 20, 23, 25]) * 1e-6,
     "4": np.array([3, 4, 5, 5, 6, 7, 8, 10, 11, 13, np.nan, np.nan]) * 1e-6,
+}
+
+#: The classes for which ISO 492 tabulates the axial runouts S_d, S_ia, S_ea (classes 5,
+#: 4 and 2; class 2 is not carried here): Normal and 6 have none, left to the user.
+AXIAL_RUNOUT_CLASSES = ("5", "4")
+
+#: ISO 492 S_ia, the assembled bearing's inner ring face runout against its raceway, over
+#: :data:`BORE_LIMITS` [m]; NaN: not sourced here (module docstring).
+S_IA = {
+    "5": np.array([7, 7, 8, 8, 8, 9, 10, 13, 15, 20, 23, 25]) * 1e-6,
+    "4": np.full(12, np.nan),
+}
+#: ISO 492 S_d, the inner ring's reference face runout with its bore, over
+#: :data:`BORE_LIMITS` [m].
+S_D = {
+    "5": np.array([7, 7, 8, 8, 8, 9, 10, 11, 13, 15, 18, 20]) * 1e-6,
+    "4": np.full(12, np.nan),
+}
+#: ISO 492 S_ea, the assembled bearing's outer ring face runout against its raceway, over
+#: :data:`OD_LIMITS` [m].
+S_EA = {
+    "5": np.array([8, 8, 8, 10, 11, 13, 14, 15, 18, 20, 23, 25]) * 1e-6,
+    "4": np.full(12, np.nan),
 }
 
 #: ISO 3290-1 ball grades: (V_Dws, V_DwL) [m].
@@ -114,6 +152,63 @@ def outer_runout(outer_diameter: float, tolerance_class: str) -> float:
     return _lookup(OD_LIMITS, K_EA[tolerance_class], outer_diameter, "K_ea", tolerance_class)
 
 
+def _axial(table, limits, size: float, what: str, tolerance_class: str):
+    """An axial runout of ``table`` for ``size`` [m], None for a class without one."""
+    if tolerance_class not in TOLERANCE_CLASSES:
+        raise ToleranceError(f"tolerance class {tolerance_class!r} is not one of {', '.join(TOLERANCE_CLASSES)}")
+    if tolerance_class not in AXIAL_RUNOUT_CLASSES:
+        return None
+    why = "" if tolerance_class == "5" else "class 4's axial runouts were not at hand"
+    try:
+        return _lookup(limits, table[tolerance_class], size, what, tolerance_class, why)
+    except ToleranceError as exc:
+        raise ToleranceError(str(exc).replace("give the eccentricity itself",
+                                              "give the raceway's axial amplitude itself")) from None
+
+
+def inner_axial_runout(bore: float, tolerance_class: str):
+    """ISO 492 ``S_ia`` of an assembled bearing's inner ring of bore ``bore`` [m] in
+    ``tolerance_class`` [m]: the total indicator reading of its face against its raceway
+    over a revolution; None where ISO 492 gives none for the class (Normal, 6).
+
+    Raises
+    ------
+    ToleranceError
+        The class has values in ISO 492 but none is sourced here for this bore (class 4;
+        class 5 beyond 630 mm).
+    """
+    return _axial(S_IA, BORE_LIMITS, bore, "S_ia", tolerance_class)
+
+
+def outer_axial_runout(outer_diameter: float, tolerance_class: str):
+    """ISO 492 ``S_ea`` of an assembled bearing's outer ring of outside diameter
+    ``outer_diameter`` [m] in ``tolerance_class`` [m], as :func:`inner_axial_runout`."""
+    return _axial(S_EA, OD_LIMITS, outer_diameter, "S_ea", tolerance_class)
+
+
+def face_runout_with_bore(bore: float, tolerance_class: str):
+    """ISO 492 ``S_d`` of an inner ring of bore ``bore`` [m] in ``tolerance_class`` [m]: its
+    reference face's runout against its bore, as :func:`inner_axial_runout`. Not a
+    raceway's runout (the model's rings have true faces): for a reader of the tables."""
+    return _axial(S_D, BORE_LIMITS, bore, "S_d", tolerance_class)
+
+
+def axial_runout_limits(bore: float, outer_diameter: float, tolerance_class: str) -> tuple:
+    """The class limits of the raceways' axial runout amplitudes ``(a_i, a_o)`` [m] a
+    tolerance class allows a bearing of this bore and outside diameter: half of ``S_ia``
+    and ``S_ea`` (a tilted plane's amplitude, :mod:`rvcore.bearing.imperfections`); None
+    where the class has no value (Normal, 6: the user gives it).
+
+    Raises
+    ------
+    ToleranceError
+        As :func:`inner_axial_runout`.
+    """
+    s_i = inner_axial_runout(bore, tolerance_class)
+    s_o = outer_axial_runout(outer_diameter, tolerance_class)
+    return (None if s_i is None else s_i / 2, None if s_o is None else s_o / 2)
+
+
 def ball_lot_variation(grade: str) -> float:
     """ISO 3290-1 ``V_DwL`` of ball grade ``grade`` [m]: the spread of the mean diameters of
     the balls of one lot, which is what a bearing's balls differ by."""
@@ -161,11 +256,12 @@ def default_ball_grade(tolerance_class: str, ball_diameter: float) -> str:
 
 
 def tolerance_problems(tolerance_class: str, bore: float, outer_diameter: float, ball_diameter: float, *,
-                       inner_given: bool = False, outer_given: bool = False, grade_given: bool = False) -> list:
+                       inner_given: bool = False, outer_given: bool = False, grade_given: bool = False,
+                       inner_axial_given: bool = False, outer_axial_given: bool = False) -> list:
     """What a tolerance class cannot give this bearing, as ``(key, value, reason)`` before
     any work starts: an ISO 492 runout without a sourced row for its size (unless the
-    eccentricity is given), a default ball grade not made in its ball size (unless a
-    grade is named). Empty for no class."""
+    eccentricity, or the raceway's axial amplitude, is given), a default ball grade not
+    made in its ball size (unless a grade is named). Empty for no class."""
     if not tolerance_class:
         return []
     out = []
@@ -174,6 +270,10 @@ def tolerance_problems(tolerance_class: str, bore: float, outer_diameter: float,
         checks.append(lambda: inner_runout(bore, tolerance_class))
     if not outer_given:
         checks.append(lambda: outer_runout(outer_diameter, tolerance_class))
+    if not inner_axial_given:
+        checks.append(lambda: inner_axial_runout(bore, tolerance_class))
+    if not outer_axial_given:
+        checks.append(lambda: outer_axial_runout(outer_diameter, tolerance_class))
     if not grade_given:
         checks.append(lambda: default_ball_grade(tolerance_class, ball_diameter))
     for check in checks:

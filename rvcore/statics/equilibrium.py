@@ -64,10 +64,10 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     plx, ply, plz, rho_l = to_ring_frame(px, py, pz, u[0], u[1], u[2], r00, r01, r02, r10, r11, r12,
                                          r20, r21, r22, zrow)
     rho_b = math.sqrt(px * px + py * py)
-    dr_i, dr_o, d_half, sl_i, sl_o = 0.0, 0.0, 0.0, 0.0, 0.0
+    dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if rows[r, R_IMPERFECT] != 0.0:
-        dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1],
-                                          px / rho_b, py / rho_b)
+        dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = ball_offsets(
+            rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1], px / rho_b, py / rho_b)
     pzr = pz - zrow
     if flex.shape[0] > 0:
         # each groove's centre displaced with its ring's raceway at this ball: the inner one
@@ -80,7 +80,8 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     for k in range(na):
         a = a0 + k
         inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                    px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
+                                                    px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,
+                                                    dz_i, dz_o, zs_i, zs_o)
         if inner:
             nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz

@@ -104,6 +104,15 @@ def constant_profile(t_ramp: float, t_end: float, *, speed_ramp: float = 0.0,
     return Profile(name, load, load, speed, tuple(phases), t_end)
 
 
+def minus_gradient(energy, y: np.ndarray, index: int, step: float = 1e-10) -> float:
+    """``−∂V/∂y[index]`` of ``energy(y)`` by the central difference over ``±step`` [the
+    energy's unit over y's]: the force a potential exerts along one coordinate."""
+    yp, ym = y.copy(), y.copy()
+    yp[index] += step
+    ym[index] -= step
+    return -(energy(yp) - energy(ym)) / (2 * step)
+
+
 def series_stiffness(k_inner: float, k_outer: float) -> float:
     """Load–approach constant of a ball between two Hertz contacts in series [N m^-1.5].
 

@@ -166,6 +166,20 @@ def test_runout_path_of_an_eccentric_inner_raceway_spans_two_e(capsys):
     assert path["radial_displacement_range_m"] == pytest.approx(2 * e, rel=0.01)
 
 
+def test_runout_path_of_a_tilted_inner_groove_tilts_a_free_ring(capsys):
+    """``--runout`` with an inner axial runout a on a ring free to tilt: the ring follows
+    its groove's plane, a tilt of a/c_r (c_r = d_m/2 + (f_i − ½)·D·cos α, the radius of
+    the groove's centres of curvature) turning with it, 2 %; its centre stays."""
+    a, c_r = 10e-6, 0.3515 / 2 + (0.52 - 0.5) * 0.023 * math.cos(math.radians(15.0))
+    args = ("--bearing", BUILDABLE, "--radial-load", "30kN", "--axial-load", "10kN", "--no-gravity", "--runout", "8")
+    tilted = statics(capsys, *args, "--set", "imperfections.inner_axial_amplitude=10um")["runout_path"]
+    perfect = statics(capsys, *args)["runout_path"]
+    tilt = np.hypot(np.subtract(tilted["tilt_x_rad"], perfect["tilt_x_rad"]),
+                    np.subtract(tilted["tilt_y_rad"], perfect["tilt_y_rad"]))
+    np.testing.assert_allclose(tilt, a / c_r, rtol=0.02)
+    assert np.abs(np.subtract(tilted["axial_displacement_m"], perfect["axial_displacement_m"])).max() < 0.02 * a
+
+
 def test_seed_moves_the_headline_numbers_of_a_class_normal_bearing(capsys):
     """``--seed S`` realizes the tolerance class's draws (the raceways' high-point angles,
     the balls' sizes) for the headline numbers as for the runout path (issue 39): two

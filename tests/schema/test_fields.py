@@ -74,7 +74,8 @@ def _sample(f):
     leaf = f.path.rsplit(".", 1)[-1]
     imperfection = {"tolerance_class": "5", "ball_grade": "G10", "inner_eccentricity": "10 um",
                     "outer_eccentricity": "5 um", "inner_eccentricity_angle": "30 deg",
-                    "outer_eccentricity_angle": "-30 deg"}
+                    "outer_eccentricity_angle": "-30 deg", "inner_axial_amplitude": "8 um",
+                    "outer_axial_amplitude": "4 um", "inner_axial_angle": "10 deg", "outer_axial_angle": "-10 deg"}
     if "imperfections" in f.path and leaf in imperfection:
         return imperfection[leaf]
     return {"gravity": [0.0, -9.81, 0.0], "dynamic_load_rating": "23.4 kN", "name": "x", "description": "d", "source": "s",

@@ -165,6 +165,20 @@ def test_an_eccentricity_of_5_mm_is_refused_and_a_tolerance_class_one_is_not(cap
     assert _check(capsys, p) == 0, capsys.readouterr().err
 
 
+def test_an_axial_runout_of_5_mm_is_refused_and_class_5_s_is_not(capsys, tmp_path):
+    """Rule 6 of pipeline.schema.physical: the groove moved 5 mm along the axis; ISO 492
+    class 5's S_ia/2 at the study's bore (10 µm, along a 15° line of contact 2.6 µm) passes."""
+    from rvcore.standards.iso492 import axial_runout_limits
+
+    p = _bearing(tmp_path, append='\n[imperfections]\nouter_axial_amplitude = "5 mm"\n')
+    err = _one_line(capsys, _check(capsys, p))
+    assert "imperfections.outer_axial_amplitude = '5 mm': moves the outer groove along the axis" in err
+    a = axial_runout_limits(0.320, 0.383, "5")[0]
+    assert a * math.sin(math.radians(15.0)) < DELTA0
+    p = _bearing(tmp_path, append=f'\n[imperfections]\ninner_axial_amplitude = "{a * 1e6:.3f} um"\n', name="ok.toml")
+    assert _check(capsys, p) == 0, capsys.readouterr().err
+
+
 def test_waviness_of_5_mm_is_refused(capsys, tmp_path):
     p = _bearing(tmp_path, append='\n[imperfections]\n[[imperfections.outer_waviness]]\n'
                                   'order = 100000\namplitude = "5 mm"\n')
