@@ -136,3 +136,14 @@ def test_a_stored_profile_reads_back_its_optional_channels(raw):
     assert back == p
     assert rebuild(Profile, plain(profile_from_dict(read_toml(PROFILES / "study.toml"), FILE)),
                    "profile").moment is None
+
+
+def test_a_fraction_in_load_direction_is_refused_with_its_own_reason(raw):
+    """load_direction is an angle offset: a ``fraction`` there is refused with the reason, one
+    line naming the key and the value, before any other unknown key of the table."""
+    raw["load_direction"] = {"bogus": 1, "time": ["0 s"], "fraction": [0.5]}
+    with pytest.raises(ConfigError) as e:
+        profile_from_dict(raw, FILE)
+    msg = str(e.value)
+    assert msg.startswith(f"{FILE}: load_direction.fraction = [0.5]: ") and "\n" not in msg
+    assert "a fraction of an angle means nothing" in msg
