@@ -68,11 +68,11 @@ Shared
 
 ``integrate``: time integration
 - ``integrate.loop``           the loop: steps, blow-up checks, output lines, reductions; it knows no method
-- ``integrate.methods``        ``METHODS``: the methods by name, and the kernels the loop calls them through
+- ``integrate.methods``        ``METHODS``: the methods by name, their steps by name, and the kernels the loop calls them through
 - ``integrate.protocol``       what a method module supplies; the counters it shares with the loop
-- ``integrate.step_size``      each integrator's fixed step from the bearing's rates
-- ``integrate.rk4``            one step of classical RK4 (the reference)
-- ``integrate.imex``           one step of the implicit–explicit scheme
+- ``integrate.step_size``      why a fixed step; the bearing's rates each method's step comes from
+- ``integrate.rk4``            one step of classical RK4 (the reference), its stability limits and step
+- ``integrate.imex``           one step of the implicit–explicit scheme, its step and its checks' tolerances
 - ``integrate.arrowhead``      the scheme's block-arrowhead matrix factored and solved
 - ``integrate.pocket_check``   the IMEX step's check on the cage-pocket impacts' energy
 
