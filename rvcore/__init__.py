@@ -14,7 +14,7 @@ Shared
 - ``hertz``                    Hertz point-contact constants from the elliptic integrals (the theory ISO 76's C0 and the contact laws share)
 
 ``standards``: ISO standards and catalogue methods (imports nothing of rvcore but ``_numba`` and ``hertz``)
-- ``standards.iso281``         ISO 281 load rating, equivalent load and L10
+- ``standards.iso281``         ISO 281 load rating, equivalent load and L10; the rating geometry
 - ``standards.iso281_modified`` ISO 281 clause 9: ν1, κ, C_u, a_ISO, L_nm and its duty-cycle sum
 - ``standards.iso16281``       ISO/TS 16281 reference rating life, static and over a duty cycle
 - ``standards.iso76``          ISO 76 static load rating and safety factor
