@@ -5,7 +5,8 @@ the model they implement). The layers, lowest first: ``_numba``, ``hertz``, ``st
 ``output_table``, ``bearing``, ``rings``, ``contact``, ``profile``, ``dynamics``, ``statics``,
 ``recording``, ``integrate``, ``simulation``. A module imports only from its own layer
 and those below it; ``hertz`` only from ``_numba``, and ``standards`` only from ``_numba`` and
-``hertz`` (``tests/test_structure.py``).
+``hertz``; within a layer, no two modules import each other, directly or around a circle
+(``tests/test_structure.py``, which holds pipeline to the same).
 
 Shared
 - ``_numba``                   the one kernel decorator (flags, error model) and numba's cache, one directory per version of the sources
