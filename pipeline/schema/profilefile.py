@@ -46,7 +46,7 @@ SET_ELSEWHERE = {
 
 def _values(t: Table) -> tuple:
     """A channel's values: its ``fraction`` or its ``value``, exactly one (a channel that takes
-    no fraction, its ``value``). Their number against the times is the channel's rule."""
+    no fraction, its ``value``). Their number against the times: :func:`_count`."""
     name = t.path[-1]
     _, unit, fraction_allowed, _ = schema.profile_channels()[name]
     has_f, has_v = t.has("fraction"), t.has("value")
@@ -131,7 +131,8 @@ def profile_from_dict(raw: dict, file="<input>") -> Profile:
         order.
     """
     top, name = top_table(raw, file, "profile")
-    top.get("description")   # the file's own keys first, as it reads
+    # problems are said in this order: the top level's keys, each channel in file order, the phases
+    top.get("description")
     duration = top.get("duration")   # the channels' and the phases' rules hold times against it
     readers = {"name": lambda _: name, "phases": lambda _: (),   # built by the rule (_phases)
                **{f"{c}.values": _values for c in CHANNELS},
