@@ -130,7 +130,8 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
     from rvcore.integrate import loop as ig
     from rvcore.recording.plan import build_plan, new_accumulators
     from rvcore.integrate.imex import SUBSTEPS
-    from rvcore.integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance, time_step
+    from rvcore.integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
+    from rvcore.integrate.methods import time_step
     from rvcore.simulation.initial_state import initial_state, peak_contact_load
     from rvcore.dynamics.rhs import new_diagnostics, rhs
     from rvcore.bearing.layout import R_BALL0, compile_bearing

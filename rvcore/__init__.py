@@ -5,7 +5,8 @@ the model they implement). The layers, lowest first: ``_numba``, ``hertz``, ``st
 ``output_table``, ``bearing``, ``rings``, ``contact``, ``profile``, ``dynamics``, ``statics``,
 ``recording``, ``integrate``, ``simulation``. A module imports only from its own layer
 and those below it; ``hertz`` only from ``_numba``, and ``standards`` only from ``_numba`` and
-``hertz`` (``tests/test_structure.py``).
+``hertz``; within a layer, no two modules import each other, directly or around a circle
+(``tests/test_structure.py``, which holds pipeline to the same).
 
 Shared
 - ``_numba``                   the one kernel decorator (flags, error model) and numba's cache, one directory per version of the sources
@@ -14,7 +15,7 @@ Shared
 - ``hertz``                    Hertz point-contact constants from the elliptic integrals (the theory ISO 76's C0 and the contact laws share)
 
 ``standards``: ISO standards and catalogue methods (imports nothing of rvcore but ``_numba`` and ``hertz``)
-- ``standards.iso281``         ISO 281 load rating, equivalent load and L10
+- ``standards.iso281``         ISO 281 load rating, equivalent load and L10; the rating geometry
 - ``standards.iso281_modified`` ISO 281 clause 9: ν1, κ, C_u, a_ISO, L_nm and its duty-cycle sum
 - ``standards.iso16281``       ISO/TS 16281 reference rating life, static and over a duty cycle
 - ``standards.iso76``          ISO 76 static load rating and safety factor
@@ -68,11 +69,11 @@ Shared
 
 ``integrate``: time integration
 - ``integrate.loop``           the loop: steps, blow-up checks, output lines, reductions; it knows no method
-- ``integrate.methods``        ``METHODS``: the methods by name, and the kernels the loop calls them through
+- ``integrate.methods``        ``METHODS``: the methods by name, their steps by name, and the kernels the loop calls them through
 - ``integrate.protocol``       what a method module supplies; the counters it shares with the loop
-- ``integrate.step_size``      each integrator's fixed step from the bearing's rates
-- ``integrate.rk4``            one step of classical RK4 (the reference)
-- ``integrate.imex``           one step of the implicit–explicit scheme
+- ``integrate.step_size``      why a fixed step; the bearing's rates each method's step comes from
+- ``integrate.rk4``            one step of classical RK4 (the reference), its stability limits and step
+- ``integrate.imex``           one step of the implicit–explicit scheme, its step and its checks' tolerances
 - ``integrate.arrowhead``      the scheme's block-arrowhead matrix factored and solved
 - ``integrate.pocket_check``   the IMEX step's check on the cage-pocket impacts' energy
 

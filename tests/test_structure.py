@@ -156,6 +156,68 @@ def test_the_layer_rule_flags_an_upward_import_and_passes_a_downward_one():
     assert _upward([("a.py:1", "simulation", "integrate"), ("a.py:2", "standards", "_numba")]) == []
 
 
+def _module_graph() -> dict:
+    """``{module: modules it imports}`` among rvcore's and pipeline's own modules, imports
+    inside functions included (``from . import imex`` names the module ``imex``; an import
+    from a package that is not one of its modules names the package's ``__init__``)."""
+    paths = {_module_name(p): p for pkg in PACKAGES for p in (REPO / pkg).rglob("*.py")
+             if "__pycache__" not in p.parts}
+    graph = {}
+    for module, path in paths.items():
+        targets = set()
+        for _, imported, names in _imports(path):
+            if imported.split(".")[0] not in PACKAGES:
+                continue
+            submodules = {f"{imported}.{n}" for n in names if f"{imported}.{n}" in paths}
+            targets |= submodules or ({imported} if imported in paths else set())
+        graph[module] = targets - {module}
+    return graph
+
+
+def _circles(graph: dict) -> list:
+    """The import circles of ``graph``: each set of two or more modules that import one
+    another, directly or through each other (a strongly connected component, Tarjan)."""
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while not component or component[-1] != v:
+                component.append(stack.pop())
+                on_stack.discard(component[-1])
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(circles)
+
+
+def test_no_modules_import_each_other_in_a_circle():
+    """Each module sits above all it imports: no module of rvcore or pipeline imports one
+    that imports it back, directly or around a circle (a circle is a concept cut in two)."""
+    graph = _module_graph()
+    assert "rvcore.integrate.imex" in graph["rvcore.integrate.methods"]   # the walk sees `from . import x`
+    circles = _circles(graph)
+    assert not circles, "\n".join(" <-> ".join(c) for c in circles)
+
+
+def test_the_circle_check_finds_a_circle_and_passes_a_chain():
+    assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+    assert _circles({"a": {"b"}, "b": {"a"}, "c": {"d"}, "d": {"c"}}) == [["a", "b"], ["c", "d"]]
+    assert _circles({"a": {"b", "c"}, "b": {"c"}, "c": set()}) == []
+
+
 def _map_entries() -> set:
     """The modules named in rvcore's map (its docstring's ``- ``name`` `` lines)."""
     import rvcore

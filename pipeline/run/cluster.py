@@ -68,7 +68,7 @@ def estimated_cost(spec: CaseSpec) -> float:
     """A relative cost of a case, to start the longest ones first [-].
 
     The integrator's fixed step is inversely proportional to the peak contact load (the
-    friction-mode limit, ``rvcore.integrate.step_size.rk4_time_step``), and each step costs in
+    friction-mode limit, ``rvcore.integrate.rk4.rk4_time_step``), and each step costs in
     proportion to the number of balls, so the cost scales as
     ``balls × simulated time × peak load``, divided by the method's relative step length
     (:data:`_STEP_LENGTH`). The peak load is taken as the larger of the radial and axial

@@ -8,7 +8,7 @@ case in the sweep's status.json): a smoke case (12 balls, 0.46 s cycle, 30 kN) c
 statics, the start, the files: about 1.8 s) and a part per simulated second, which grows
 with the ball count's square root (each step costs in proportion to the balls, but more
 balls share the load and allow a longer step) and with the load (the derived step
-shrinks with the contact load, ``rvcore.integrate.step_size.rk4_time_step``; the peak contact load
+shrinks with the contact load, ``rvcore.integrate.rk4.rk4_time_step``; the peak contact load
 grows more slowly than the radial load beside a fixed axial one, hence a constant beside
 the load term). With a fixed ``time_step`` a step costs about 0.41 us per ball
 (``rvsweep bench``: 102 ns per ball per right-hand side, four per RK4 step). Another

@@ -6,6 +6,7 @@ The schema of every input field is :data:`pipeline.schema.fields.FIELDS`.
 - :mod:`~pipeline.schema.fields`: the schema: every input field's kind, bounds, default, unit;
 - :mod:`~pipeline.schema.tomlfile`: reading TOML, key paths, ``--set`` values, overrides;
 - :mod:`~pipeline.schema.reader`: reading one TOML table against the schema;
+- :mod:`~pipeline.schema.convert`: the loader's one converter, a file's tables into dataclasses;
 - :mod:`~pipeline.schema.bearingfile`: bearing files into :class:`rvcore.bearing.geometry.Bearing`;
 - :mod:`~pipeline.schema.profilefile`: profile files into :class:`rvcore.profile.Profile`;
 - :mod:`~pipeline.schema.sweepfile`: sweep files expanded into resolved cases (:func:`read_sweep_file`);

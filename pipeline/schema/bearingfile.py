@@ -2,9 +2,9 @@
 
 Which keys each table allows, every value's kind, bounds and default, and the dataclass
 attribute each key holds come from the schema (:mod:`pipeline.schema.fields`, read through
-:class:`pipeline.schema.reader.Table`): one converter, :func:`from_fields`, builds the
-Bearing, its rows, arcs, cages, imperfections and the pair's keys from that table. This
-module adds what one field cannot say: the readers of the values no one key holds
+:class:`pipeline.schema.reader.Table`): the loader's one converter
+(:func:`pipeline.schema.convert.from_fields`) builds the Bearing, its rows, arcs, cages,
+imperfections and the pair's keys from that table. This module adds what one field cannot say: the readers of the values no one key holds
 (:data:`SET_ELSEWHERE`: the material's two forms, gravity by mounting or vector, the
 assumptions list, the contamination level, a row's imperfections from three tables), the
 rules keys obey together (:data:`RULES`: the cage's land values, two arcs at ±α, the friction
@@ -16,16 +16,13 @@ in :mod:`pipeline.schema.config`.
 from __future__ import annotations
 
 import dataclasses
-import functools
-import typing
 
 from rvcore.bearing.checks import BALL_OVERLAP, bearing_problems
 from rvcore.bearing.geometry import MOUNTINGS, Bearing, Cage, ContactLaw, Lubricant, Material, Row
 from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections
 
 from ..errors import ConfigError
-from . import fields
-from .fields import OPTIONAL_TABLES, fields_of
+from .convert import from_fields
 from .reader import Table, short, top_table
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
@@ -33,7 +30,7 @@ __all__ = ["bearing_from_dict", "load_bearing"]
 
 
 #: The bearing's dataclass fields that no one key holds, and what sets them: a reader given to
-#: the converter (:func:`from_fields`, by :func:`bearing_from_dict`) for those read from the
+#: the converter (:func:`pipeline.schema.convert.from_fields`, by :func:`bearing_from_dict`) for those read from the
 #: file in some other way; the derived ones keep the dataclass's default for the step that
 #: sets them. Every other field is read by the field table (``Field.source``); a test holds
 #: that each field is one or the other.
@@ -54,113 +51,6 @@ SET_ELSEWHERE = {
     "rows[].cage.material.thermal_expansion": "not an input: the cage's expansion enters no clearance "
                                               "(the dataclass's default)",
 }
-
-def from_fields(cls, t, source: str, readers: dict | None = None, overrides: dict | None = None):
-    """An instance of dataclass ``cls`` read from table ``t`` by the schema's field table: the
-    loader's one converter.
-
-    Each field ``name`` of ``cls``, at ``at = f"{source}.{name}"`` in the built dataclasses
-    (``rows[].cage.width``), is
-
-    - ``readers[at](t)`` where a reader is given (a value no one key holds: :data:`SET_ELSEWHERE`);
-    - a value: from the schema field whose ``source`` is ``at``, its key path relative to ``t``
-      saying where it is written (``friction.mu_static`` holds ``contact.mu_static``), validated
-      and defaulted by :meth:`Table.get` (``overrides[at]``: its ``default``/``bounds`` there). A
-      key left out whose default is a rule (:attr:`Field.text_default`) keeps the dataclass's
-      default, and a list is held as a tuple;
-    - a dataclass (``Row.cage``): read the same way from the table that holds its keys;
-    - a tuple of dataclasses (``tuple[Row, ...]``: ``Bearing.rows``, ``Row.inner_arcs``): one
-      from each entry of the array of tables that holds its keys; left out, the dataclass's
-      default where it has one;
-    - otherwise (derived, :data:`SET_ELSEWHERE`): the dataclass's default.
-
-    A sub-table is required when any key read from it is, unless the schema lists it in
-    :data:`pipeline.schema.fields.OPTIONAL_TABLES` (then, left out, its fields keep their
-    defaults). The rules that tie keys together (:data:`RULES`) run on the built instance.
-    """
-    readers, overrides = readers or {}, overrides or {}
-    hints = _hints(cls)
-    sourced = _sourced(t.schema_file, t.pattern)
-    kwargs = {}
-    for d in dataclasses.fields(cls):
-        at = f"{source}.{d.name}" if source else d.name
-        if at in readers:
-            kwargs[d.name] = readers[at](t)
-            continue
-        f = sourced.get(at)
-        item = fields.item_class(hints[d.name])
-        below = [g for p, g in sourced.items() if p.startswith(f"{at}[]." if item else f"{at}.")
-                 and not any(p.startswith(f"{r}.") for r in readers)]
-        if f is not None:   # a value
-            parts = _relative(f.path, t.pattern)
-            here = _descend(t, parts[:-1])
-            if here is None or (f.text_default and not here.has(parts[-1]) and "default" not in overrides.get(at, {})):
-                continue   # the dataclass's default
-            value = here.get(parts[-1], **overrides.get(at, {}))
-            kwargs[d.name] = tuple(value) if isinstance(value, list) else value
-        elif below and item is not None:   # an array of tables
-            *tables, array = _common_table(below, t.pattern)
-            here, array = _descend(t, tables), array.removesuffix("[]")
-            has_default = d.default is not dataclasses.MISSING or d.default_factory is not dataclasses.MISSING
-            if here is not None and not (has_default and not here.has(array)):
-                kwargs[d.name] = tuple(from_fields(item, x, f"{at}[]", readers, overrides)
-                                       for x in here.tables(array))
-        elif below:   # a dataclass, from the table holding its keys
-            here = _descend(t, _common_table(below, t.pattern))
-            if here is not None:
-                kwargs[d.name] = from_fields(hints[d.name], here, at, readers, overrides)
-        # else derived (SET_ELSEWHERE): the dataclass's default
-    obj = cls(**kwargs)
-    rule = RULES.get(cls)
-    return obj if rule is None else rule(obj, t)
-
-
-@functools.cache
-def _hints(cls) -> dict:
-    return typing.get_type_hints(cls)
-
-
-@functools.cache
-def _sourced(schema_file: str, pattern: str) -> dict:
-    """``{source: schema Field}`` of the fields under table ``pattern`` that hold a dataclass value."""
-    return {f.source: f for f in fields_of(schema_file)
-            if f.source and (not pattern or f.path.startswith(f"{pattern}."))}
-
-
-def _relative(path: str, pattern: str) -> list:
-    """The parts of key path ``path`` below table ``pattern``."""
-    return path[len(pattern) + 1 if pattern else 0:].split(".")
-
-
-def _common_table(below: list, pattern: str) -> list:
-    """The deepest table holding every field of ``below``, as parts below ``pattern``
-    (``["inner_groove", "arcs[]"]``, ``["inner_ring"]``, ``[]`` for ``pattern`` itself)."""
-    common = []
-    for parts in zip(*(_relative(f.path, pattern)[:-1] for f in below)):
-        if len(set(parts)) != 1:
-            break
-        common.append(parts[0])
-        if parts[0].endswith("[]"):   # an array of tables: its entries are the instances
-            break
-    return common
-
-
-def _descend(t, tables: list):
-    """The sub-table ``tables`` of ``t``; each is required when a key read from it is, and
-    None where an optional table (:data:`OPTIONAL_TABLES`) on the way is left out."""
-    here = t
-    for sub in tables:
-        below = f"{here.pattern}.{sub}" if here.pattern else sub
-        if below in OPTIONAL_TABLES.get(t.schema_file, ()) and not here.has(sub):
-            return None
-        here = here.table(sub, required=_any_required(t.schema_file, below))
-    return here
-
-
-@functools.cache
-def _any_required(schema_file: str, pattern: str) -> bool:
-    return any(f.required for f in fields_of(schema_file) if f.path.startswith(f"{pattern}."))
-
 
 # ----------------------------------------------------------------- readers: values no one key holds
 
@@ -341,7 +231,7 @@ _OVERRIDES = {"rows[].inner_arcs[].curvature_ratio": {"bounds": None},
               "rows[].cage.land_clearance": {"bounds": None},
               "rows[].cage.land_stiffness": {"bounds": None}}
 
-#: The rules each dataclass's keys obey together, run by :func:`from_fields` on the instance it
+#: The rules each dataclass's keys obey together, run by :func:`~pipeline.schema.convert.from_fields` on the instance it
 #: has read (with the table it read it from). The pair's rule (:func:`_pair`) also builds.
 RULES = {Cage: _cage_land, Row: _row_arcs, ContactLaw: _friction_speeds, Lubricant: _base_oil}
 
@@ -475,7 +365,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             lub, lambda: top.tables("rows")[0].get("pitch_diameter")),
         "rows[].imperfections": lambda row: layered_imperfections(top, row, row.table("balls").get("count")),
     }
-    bearing = from_fields(Bearing, top, "", readers, _OVERRIDES)
+    bearing = from_fields(Bearing, top, "", readers, _OVERRIDES, RULES)
     arrangement, allow_overlap = bearing.arrangement, bearing.allow_ball_overlap
     if arrangement:
         bearing = _pair(bearing, top)

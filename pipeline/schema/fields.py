@@ -10,9 +10,11 @@ Readers of this table:
 
 - :mod:`pipeline.schema.reader` / :mod:`.bearingfile` / :mod:`.profilefile`: the keys
   each table allows, each value's kind, bounds and default;
-- :func:`pipeline.schema.bearingfile.from_fields`, the bearing file's one converter: each
+- :func:`pipeline.schema.convert.from_fields`, the loader's one converter: each
   key's value lands at its ``source`` (a new bearing key with a ``source`` needs no other
   loader code; what no one key holds is named in ``bearingfile.SET_ELSEWHERE``);
+- :mod:`.profilefile`, through the same converter: a channel's times and interpolation, the
+  cycle's duration (its values, fraction or value, and the phases in ``profilefile.SET_ELSEWHERE``);
 - the case id (:func:`pipeline.schema.sweepfile.case_configuration`): every attribute of
   the dataclasses but those of the keys marked ``hashed=False`` (free text);
 - :mod:`pipeline.schema.sweepaxes`: the kinds of operating-point, solver, bearing and
@@ -531,6 +533,13 @@ FIELDS: tuple = tuple(_BEARING + _PAIR + _PROFILE + _SOLVER + _OPERATING_POINT)
 #: ``arrangement`` "", no preload).
 OPTIONAL_TABLES = {"bearing": ("pair",)}
 
+#: Keys a table refuses with a reason of their own, before any "unknown key": a ``fraction`` in
+#: a channel that takes only a ``value`` (``load_direction``, an angle offset).
+REFUSED_KEYS = {"profile": {f"{_c}.fraction": f"{_c} takes only 'value' (an angle in {_unit}, added to the "
+                                              f"operating point's load_angle): a fraction of an angle means nothing"
+                            for _c, (_kind, _unit, _fraction, _required) in _CHANNEL_KINDS.items()
+                            if not _fraction}}
+
 _BY_PATH = {(f.file, f.path): f for f in FIELDS}
 _INDEX = re.compile(r"\[\d+\]")
 
@@ -570,6 +579,14 @@ def keys_under(file: str, table: str) -> tuple:
             head = f.path[len(prefix):].split(".")[0].removesuffix("[]")
             out.append(head)
     return tuple(dict.fromkeys(out))
+
+
+@functools.cache
+def refused_keys(file: str, table: str) -> dict:
+    """``{key: reason}`` of the keys :data:`REFUSED_KEYS` refuses in one table (``""`` the top level)."""
+    prefix = f"{table}." if table else ""
+    return {p[len(prefix):]: why for p, why in REFUSED_KEYS.get(file, {}).items()
+            if p.startswith(prefix) and "." not in p[len(prefix):]}
 
 
 def solver_fields() -> dict:
@@ -624,12 +641,24 @@ def unhashed(file: str) -> tuple:
 
 def item_class(hint):
     """The dataclass of a ``tuple[Row, ...]`` annotation's items, else None: how the loader
-    (:func:`pipeline.schema.bearingfile.from_fields`) and the read-back
+    (:func:`pipeline.schema.convert.from_fields`) and the read-back
     (:func:`pipeline.schema.stored.rebuild`) know an array of tables from a plain tuple."""
     if typing.get_origin(hint) in (typing.Union, types.UnionType):   # tuple[Waviness, ...] | None
         hint = next((h for h in typing.get_args(hint) if h is not type(None)), hint)
     args = typing.get_args(hint)
     if typing.get_origin(hint) is tuple and len(args) == 2 and args[1] is Ellipsis \
+            and dataclasses.is_dataclass(args[0]):
+        return args[0]
+    return None
+
+
+def dataclass_of(hint):
+    """The dataclass of a ``Cage`` or ``Channel | None`` annotation (an optional table, None
+    when left out), else None: how the loader and the read-back know a nested dataclass."""
+    if dataclasses.is_dataclass(hint):
+        return hint
+    args = [a for a in typing.get_args(hint) if a is not type(None)]
+    if typing.get_origin(hint) in (typing.Union, types.UnionType) and len(args) == 1 \
             and dataclasses.is_dataclass(args[0]):
         return args[0]
     return None

@@ -97,6 +97,9 @@ class Table:
             raise ConfigError(file, self.key(None), short(data),
                               "expected a table" + (f" with keys {join(allowed)}" if allowed else ""))
         self.data = data
+        for k, reason in schema.refused_keys(schema_file, self.pattern).items():
+            if k in data:
+                raise ConfigError(file, self.key(k), short(data[k]), reason)
         for k, v in data.items():
             if k not in allowed:
                 raise ConfigError(file, self.key(k), short(v), f"unknown key (allowed here: {join(allowed)})")

@@ -113,8 +113,8 @@ def rebuild(cls, data, key: str):
             if not isinstance(value, list):
                 raise ConfigError(WHERE, where, None, f"must be an array of {element.__name__} tables")
             kwargs[name] = tuple(rebuild(element, v, f"{where}[{i}]") for i, v in enumerate(value))
-        elif dataclasses.is_dataclass(hint):
-            kwargs[name] = rebuild(hint, value, where)
+        elif fields.dataclass_of(hint) is not None:   # a dataclass, or one or None (None is not stored)
+            kwargs[name] = rebuild(fields.dataclass_of(hint), value, where)
         else:
             kwargs[name] = _scalar(value, hint, where)
     try:

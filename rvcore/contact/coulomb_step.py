@@ -55,7 +55,7 @@ def slope_at_zero_slip(law):
     """dμ/ds at s = 0 [s m^-1] (the study's law: 1.5·μ_s/v_s).
 
     The law acts as a viscous damper ``c_f = Q·dμ/ds`` at small slip; the explicit step
-    is sized from it (:func:`rvcore.integrate.step_size.rk4_time_step`).
+    is sized from it (:func:`rvcore.integrate.rk4.rk4_time_step`).
     """
     return slope(0.0, law)
 

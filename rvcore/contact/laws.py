@@ -248,7 +248,7 @@ def friction_slope_at_zero_slip(law):
     """dμ/ds at s = 0 [s m^-1], at its largest over the contact's film where the law has
     one (:func:`rvcore.contact.traction_ehl.ehl_slope_bound`): the law acts as a viscous
     damper ``c_f = Q·dμ/ds`` at small slip; the explicit step is sized from it
-    (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
+    (:func:`rvcore.integrate.rk4.rk4_time_step`)."""
     kind = friction_kind(law)
     if kind == COULOMB_STEP:
         d = coulomb_step.slope_at_zero_slip(law)

@@ -265,5 +265,5 @@ def ehl_slope_bound(law):
     """An upper bound of dμ/ds at s = 0 over every p, h and λ [s m⁻¹]:
     ``max(1.5·μ_b/v_b, c)``, the boundary law's slope and the cap (module Notes,
     "Slope cap"), the blend of the two being a weighted mean. What the step size is made
-    from (:func:`rvcore.integrate.step_size.rk4_time_step`); infinite without a cap."""
+    from (:func:`rvcore.integrate.rk4.rk4_time_step`); infinite without a cap."""
     return max(1.5 * law[EHL_MU_B] / law[EHL_V_B], law[EHL_SLOPE_CAP])

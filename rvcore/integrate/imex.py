@@ -6,7 +6,7 @@ Why, and which scheme
 ---------------------
 RK4's step is set by the friction law's slope at zero slip, ``c_f = 1.5·μ_s·Q/v_s``
 ≈ 5.3e3 N s/m per race contact at the study's 3.55 kN, a real-axis rate
-λ_f ≈ 5.4e5 1/s that limits RK4 to 5.2e-6 s (:func:`rvcore.integrate.step_size.rk4_time_step`),
+λ_f ≈ 5.4e5 1/s that limits RK4 to 5.2e-6 s (:func:`rvcore.integrate.rk4.rk4_time_step`),
 and behind it by the contact oscillation, ω_n = √(2k/m_b) ≈ 1.1e5 rad/s. Both are
 implicit here. The friction is stiff through the rings too: a ball drags the inner ring
 and its cage (``rvcore.dynamics.tangent``), so the implicit part couples every ball with the
@@ -76,14 +76,14 @@ not turned (``ỹ = y_n`` for the ring; the cages are explicit).
 
 Step
 ----
-What bounds it (:func:`rvcore.integrate.step_size.imex_time_step`):
+What bounds it (:func:`rvcore.integrate.imex.imex_time_step`):
 
 - the stiff friction modes, implicit, damped per step by ``|R(−λ_f·h)|``: the step keeps
   ``λ_f·h ≤`` :data:`FRICTION_LIMIT`, where that factor is :data:`FRICTION_DAMPING`.
   Beyond it the friction's slip oscillates from step to step, and the law's saturation
   turns that into a chatter that dissipates energy the physics does not (the energy
   balances of tests/core/test_energy_balance.py break); λ_f is RK4's friction-and-damping
-  rate (:func:`rvcore.integrate.step_size.rk4_time_step`), so the IMEX step is
+  rate (:func:`rvcore.integrate.rk4.rk4_time_step`), so the IMEX step is
   ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
 - the friction law's falling slope between v_s and v_d, explicit (at most
   ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
@@ -115,7 +115,7 @@ loads: ``D`` of a contact in micro-slip is proportional to its load, and ``K`` t
 cube root. So at each step's end (the last stage, at t + h) every ball's inner- and
 outer-race loads are compared with those the tangents were taken at; where one has moved
 by more than :data:`TANGENT_LOAD_TOL` of the case's peak contact load
-(:func:`rvcore.integrate.step_size.tangent_load_tolerance`), the next step evaluates them again. A
+(:func:`rvcore.integrate.imex.tangent_load_tolerance`), the next step evaluates them again. A
 ring-down or an impact then refreshes them every step; a running bearing, whose loads
 move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
 (docs/performance.md, "IMEX at MODEL_VERSION 11").
@@ -130,7 +130,7 @@ than a tolerance, the step is taken again from its start as :data:`SUBSTEPS` sub
 each with its own tangents. The tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a
 race contact's elastic energy at the case's peak contact load (the load the step is sized
 on), scaled as the step's cube so that it puts no floor under the drift's convergence
-(:func:`rvcore.integrate.step_size.pocket_energy_tolerance`): what matters is the energy the bearing gains or loses, and a tolerance relative to
+(:func:`rvcore.integrate.imex.pocket_energy_tolerance`): what matters is the energy the bearing gains or loses, and a tolerance relative to
 each pocket's own energy would take the steady pocket contacts of a running bearing,
 whose errors are tiny in joules, in substeps too (4 % of the study cycle's steps at 1e-3 of
 their energy, against 0.4 % here: docs/performance.md).
@@ -145,12 +145,15 @@ from .._numba import kernel
 from .arrowhead import N_SOLVE_FIELDS, WS, factor, pack, solve
 from ..dynamics.tangent import N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
-from ..bearing.layout import (BALL_STATES, P_RING_IT, P_RING_M, P_TILT_HELD, R_BALL0, R_IB,
-                    R_MB, R_POCKET0, R_Z)
+from ..bearing.layout import (A_K, BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
+                              R_ARC0, R_BALL0, R_IB, R_MB, R_NARC, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_kept
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
 from .protocol import new_state as new_counters
-from .rk4 import stage_weighted_inertia
+from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
+from .step_size import row_rates
+from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
+from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
 from ..dynamics.rhs import rhs
 from ..recording.plan import add_substep_integrals, in_window
 
@@ -192,13 +195,13 @@ TANGENT_MAX_STEPS = 8
 #: tangents that lag 1 % leave 2.5× the drift of tangents taken at every step
 #: (docs/performance.md, "IMEX at MODEL_VERSION 11"). A running bearing's loads move
 #: by a fraction of a newton per step, so :data:`TANGENT_MAX_STEPS` sets its refreshes.
-#: Read at each call of :func:`rvcore.integrate.step_size.tangent_load_tolerance`, so that a test can
+#: Read at each call of :func:`rvcore.integrate.imex.tangent_load_tolerance`, so that a test can
 #: set it.
 TANGENT_LOAD_TOL = 0.001
 #: A step is taken again as :data:`SUBSTEPS` substeps where some pocket's energy error
 #: (:mod:`rvcore.integrate.pocket_check`) passes this fraction of the elastic energy of a race
 #: contact at the case's peak contact load, at the step of the onset limit and scaled as
-#: the step's cube (:func:`rvcore.integrate.step_size.pocket_energy_tolerance`; module docstring,
+#: the step's cube (:func:`rvcore.integrate.imex.pocket_energy_tolerance`; module docstring,
 #: "Pocket impacts"): 1.0e-7 at the default step (0.8 of the onset limit's). Read at
 #: each call of that function, so that a test can set it.
 POCKET_ENERGY_TOL = 2e-7
@@ -465,10 +468,80 @@ S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
 
 
 def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
-    """IMEX's fixed step [s] (:func:`rvcore.integrate.step_size.imex_time_step`)."""
-    from .step_size import imex_time_step
-
+    """IMEX's fixed step [s] (:func:`imex_time_step`)."""
     return imex_time_step(model, peak_contact_load, safety=safety)
+
+
+def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
+                   dynamic_margin: float = 1.0) -> float:
+    """The fixed IMEX step [s] from the rates that bound it (:mod:`rvcore.integrate.imex`, "Step").
+
+    Notes
+    -----
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``c_f = Q·dμ/ds`` at zero
+    slip and the two race contacts of a ball (the rates of :func:`rvcore.integrate.rk4.rk4_time_step`)::
+
+        λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
+        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
+        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
+
+    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
+    and ω_n the contact oscillation of :func:`rvcore.integrate.step_size.row_rates`, here only for a contact's first
+    step (its oscillation is implicit from the next: the tableau keeps it undamped at any
+    ω_n·h). :data:`rvcore.integrate.imex.FRICTION_LIMIT` and :data:`rvcore.integrate.imex.ONSET_LIMIT`, and
+    why: :mod:`rvcore.integrate.imex`.
+    """
+    q = max(dynamic_margin * peak_contact_load, 1.0)
+    p = model.params
+    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
+    falling = friction_falling_slope(law) * law[LAW_ON]
+    dts = []
+    for omega, m, rot in row_rates(model, q):
+        lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
+        lam = 2.0 * q * falling * max(1.0 / m, rot)
+        dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
+                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
+                       ONSET_LIMIT * math.sqrt(2.0) / omega))
+    return safety * min(dts)
+
+
+def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:
+    """The IMEX pocket check's tolerance [J] (:func:`rvcore.integrate.imex.imex_step`) at the step
+    ``time_step`` [s].
+
+    Notes
+    -----
+    :data:`rvcore.integrate.imex.POCKET_ENERGY_TOL` of ``⅖·Q·δ``, the elastic energy of a race
+    contact at ``Q = peak_contact_load`` [N] (``δ = (Q/K)^(2/3)``, K of the row's stiffest
+    arc; the smallest over the rows), at the step of the onset limit
+    ``h₀ = ONSET_LIMIT·√2/ω_n`` (:func:`imex_time_step`), and scaled as ``(h/h₀)³``::
+
+        tol = POCKET_ENERGY_TOL · ⅖·Q·δ · (h/h₀)³
+
+    Why the cube: an impact the check lets pass leaves an error of up to the tolerance at
+    each of its steps, ``τ/h`` of them (τ the impact's duration); ``(h/h₀)³`` makes that
+    fall as h², the scheme's order, so that the check puts no floor under the drift's
+    convergence when the step is halved (docs/model.md §9.4(a)). At the study case's
+    default step, 1.0e-7 of 26 mJ: 2.6e-9 J.
+    """
+    q = max(peak_contact_load, 1.0)
+    energies, onset = [], []
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        energies.append(0.4 * q * (q / k_hertz) ** (2.0 / 3.0))
+    for omega, _, _ in row_rates(model, q):
+        onset.append(ONSET_LIMIT * math.sqrt(2.0) / omega)
+    return POCKET_ENERGY_TOL * min(energies) * (time_step / min(onset)) ** 3
+
+
+def tangent_load_tolerance(peak_contact_load: float) -> float:
+    """The load [N] by which a race contact may move before the IMEX tangents are
+    evaluated again (:func:`rvcore.integrate.imex.imex_step`): :data:`rvcore.integrate.imex.TANGENT_LOAD_TOL`
+    of ``peak_contact_load`` [N]. On the study case 3.6 N."""
+    return TANGENT_LOAD_TOL * max(peak_contact_load, 1.0)
 
 
 def new_state():

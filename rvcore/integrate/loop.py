@@ -149,8 +149,8 @@ def advance(method_name: str, y, t_start, dt, n_steps, out_every, model, table, 
     (:data:`rvcore.integrate.methods.METHODS`), the plan's arrays and the method's scratch.
 
     ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
-    tangents' (:func:`rvcore.integrate.step_size.pocket_energy_tolerance`,
-    :func:`rvcore.integrate.step_size.tangent_load_tolerance`). Returns ``(status, t_fail, where,
+    tangents' (:func:`rvcore.integrate.imex.pocket_energy_tolerance`,
+    :func:`rvcore.integrate.imex.tangent_load_tolerance`). Returns ``(status, t_fail, where,
     n_out, substepped, refreshes)`` as :func:`integrate`.
     """
     m = method(method_name)

@@ -33,6 +33,11 @@ def method(name: str):
     return METHODS[name]
 
 
+def time_step(model, peak_contact_load: float, name: str, *, safety: float = 0.8) -> float:
+    """The fixed step [s] of the method named ``name``: its module's ``time_step``."""
+    return method(name).time_step(model, peak_contact_load, safety=safety)
+
+
 @kernel(inline=True)
 def evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state):
     """Method ``code``'s ``evaluate``: the right-hand side at the step's start into ``work[0]``."""

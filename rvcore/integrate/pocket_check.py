@@ -19,7 +19,7 @@ power, ``h·Σ b_i·P_i`` with ``P = K_p·δ^1.5·δ̇`` at stage i (what the st
 the bodies), equals the change of its elastic energy ``V = ⅖·K_p·δ^2.5`` over the step
 exactly in the limit of small steps. Their difference ε is the energy the step made or
 lost at that pocket. :func:`rvcore.integrate.imex.imex_step` takes the step again in substeps where
-``|ε|`` passes the tolerance of :func:`rvcore.integrate.step_size.pocket_energy_tolerance`.
+``|ε|`` passes the tolerance of :func:`rvcore.integrate.imex.pocket_energy_tolerance`.
 """
 from __future__ import annotations
 

@@ -6,19 +6,28 @@ the loop (:func:`rvcore.integrate.loop.integrate`) for the diagnostics and hande
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._numba import kernel
 
-from ..bearing.layout import P_RING_IP
+from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
+from ..bearing.layout import P_DAMP_C, P_DAMPING, P_LAW, P_RING_IP
+from ..contact.laws import friction_slope_at_zero_slip
 from ..dynamics.rhs import D_DRIVE_POWER, D_DRIVE_TORQUE, rhs, rhs_stage
 from ..profile import CH_SPEED, channel_rate
+from .step_size import row_rates
 
 #: The weights b, by which both integrators weigh the stages' drive torques (their nodes
 #: are 0, ½, ½, 1 alike; rvcore.integrate.imex keeps b̂ = b for that reason).
 B1, B2, B3, B4 = 1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0
 #: Rows of ``work``: the four stage derivatives and the stage state.
 N_WORK = 5
+#: RK4's stability limits on ``|λ·dt|``: on the imaginary axis (2√2) and on the negative
+#: real axis (2.785) (:mod:`rvcore.integrate.step_size`).
+RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
+RK4_REAL_LIMIT = 2.785
 
 
 @kernel
@@ -57,6 +66,42 @@ def rk4_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wo
 STAGES = 4
 
 
+def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
+                  dynamic_margin: float = 1.0) -> float:
+    """The fixed RK4 step [s] from the stiffest contact and friction rates.
+
+    Parameters
+    ----------
+    model : rvcore.bearing.layout.CompiledBearing
+    peak_contact_load : float
+        Largest quasi-static ball–race load over the cycle [N].
+    safety : float
+        Fraction of the stability limit [-].
+    dynamic_margin : float
+        Factor on the quasi-static load for dynamic overshoot [-].
+
+    Notes
+    -----
+    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
+    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = Q·dμ/ds`` at zero slip
+    (:func:`rvcore.contact.laws.friction_slope_at_zero_slip`, the law's own slope) and the two
+    race contacts of a ball::
+
+        ω_n = √(2k/m_b)                        (contact oscillation)
+        λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
+        dt  = safety · min(2√2/ω_n, 2.785/λ)
+    """
+    q = max(dynamic_margin * peak_contact_load, 1.0)
+    p = model.params
+    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
+    dts = []
+    for omega, m, rot in row_rates(model, q):
+        lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
+        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    return safety * min(dts)
+
+
 def new_work(model, pocket_tolerance=0.0, load_tolerance=0.0):
     """``(work, jwork, schur)`` for the loop: the stage rows (RK4 has no tangents; the
     tolerances are IMEX's, unused here)."""
@@ -64,9 +109,7 @@ def new_work(model, pocket_tolerance=0.0, load_tolerance=0.0):
 
 
 def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
-    """RK4's fixed step [s] (:func:`rvcore.integrate.step_size.rk4_time_step`)."""
-    from .step_size import rk4_time_step
-
+    """RK4's fixed step [s] (:func:`rk4_time_step`)."""
     return rk4_time_step(model, peak_contact_load, safety=safety)
 
 

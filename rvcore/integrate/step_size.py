@@ -1,4 +1,8 @@
-"""The fixed step of each integrator, from the bearing's stiffest rates. SI throughout.
+"""Why each integrator takes a fixed step, and the bearing's rates that bound it. SI throughout.
+
+Each method computes its own step from these rates (:func:`rvcore.integrate.rk4.rk4_time_step`,
+:func:`rvcore.integrate.imex.imex_time_step`); the loop takes it by the method's name
+(:func:`rvcore.integrate.methods.time_step`).
 
 Why a fixed step, and how large
 -------------------------------
@@ -33,132 +37,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
-from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
-from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
-from . import imex
-from .imex import FRICTION_LIMIT, ONSET_LIMIT
-from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
-
-RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
-RK4_REAL_LIMIT = 2.785
-
-
-def time_step(model, peak_contact_load: float, method: str, *, safety: float = 0.8) -> float:
-    """The fixed step [s] of the method named ``method``: its module's ``time_step``
-    (:data:`rvcore.integrate.methods.METHODS`)."""
-    from .methods import method as method_module
-
-    return method_module(method).time_step(model, peak_contact_load, safety=safety)
-
-
-def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
-                  dynamic_margin: float = 1.0) -> float:
-    """The fixed RK4 step [s] from the stiffest contact and friction rates.
-
-    Parameters
-    ----------
-    model : rvcore.bearing.layout.CompiledBearing
-    peak_contact_load : float
-        Largest quasi-static ball–race load over the cycle [N].
-    safety : float
-        Fraction of the stability limit [-].
-    dynamic_margin : float
-        Factor on the quasi-static load for dynamic overshoot [-].
-
-    Notes
-    -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``K`` the stiffest arc,
-    ``k = 1.5·K^(2/3)·Q^(1/3)``, ``c_f = Q·dμ/ds`` at zero slip
-    (:func:`rvcore.contact.laws.friction_slope_at_zero_slip`, the law's own slope) and the two
-    race contacts of a ball::
-
-        ω_n = √(2k/m_b)                        (contact oscillation)
-        λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
-        dt  = safety · min(2√2/ω_n, 2.785/λ)
-    """
-    q = max(dynamic_margin * peak_contact_load, 1.0)
-    p = model.params
-    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
-    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
-    dts = []
-    for omega, m, rot in row_rates(model, q):
-        lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
-        dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
-    return safety * min(dts)
-
-
-def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
-                   dynamic_margin: float = 1.0) -> float:
-    """The fixed IMEX step [s] from the rates that bound it (:mod:`rvcore.integrate.imex`, "Step").
-
-    Notes
-    -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``c_f = Q·dμ/ds`` at zero
-    slip and the two race contacts of a ball (the rates of :func:`rk4_time_step`)::
-
-        λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
-        λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
-        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
-
-    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
-    and ω_n the contact oscillation of :func:`row_rates`, here only for a contact's first
-    step (its oscillation is implicit from the next: the tableau keeps it undamped at any
-    ω_n·h). :data:`rvcore.integrate.imex.FRICTION_LIMIT` and :data:`rvcore.integrate.imex.ONSET_LIMIT`, and
-    why: :mod:`rvcore.integrate.imex`.
-    """
-    q = max(dynamic_margin * peak_contact_load, 1.0)
-    p = model.params
-    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
-    c_f = friction_slope_at_zero_slip(law) * q * law[LAW_ON]
-    falling = friction_falling_slope(law) * law[LAW_ON]
-    dts = []
-    for omega, m, rot in row_rates(model, q):
-        lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
-        lam = 2.0 * q * falling * max(1.0 / m, rot)
-        dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
-                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
-                       ONSET_LIMIT * math.sqrt(2.0) / omega))
-    return safety * min(dts)
-
-
-def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:
-    """The IMEX pocket check's tolerance [J] (:func:`rvcore.integrate.imex.imex_step`) at the step
-    ``time_step`` [s].
-
-    Notes
-    -----
-    :data:`rvcore.integrate.imex.POCKET_ENERGY_TOL` of ``⅖·Q·δ``, the elastic energy of a race
-    contact at ``Q = peak_contact_load`` [N] (``δ = (Q/K)^(2/3)``, K of the row's stiffest
-    arc; the smallest over the rows), at the step of the onset limit
-    ``h₀ = ONSET_LIMIT·√2/ω_n`` (:func:`imex_time_step`), and scaled as ``(h/h₀)³``::
-
-        tol = POCKET_ENERGY_TOL · ⅖·Q·δ · (h/h₀)³
-
-    Why the cube: an impact the check lets pass leaves an error of up to the tolerance at
-    each of its steps, ``τ/h`` of them (τ the impact's duration); ``(h/h₀)³`` makes that
-    fall as h², the scheme's order, so that the check puts no floor under the drift's
-    convergence when the step is halved (docs/model.md §9.4(a)). At the study case's
-    default step, 1.0e-7 of 26 mJ: 2.6e-9 J.
-    """
-    q = max(peak_contact_load, 1.0)
-    energies, onset = [], []
-    for r in range(model.rows.shape[0]):
-        row = model.rows[r]
-        a0, na = int(row[R_ARC0]), int(row[R_NARC])
-        k_hertz = model.arcs[a0:a0 + na, A_K].max()
-        energies.append(0.4 * q * (q / k_hertz) ** (2.0 / 3.0))
-    for omega, _, _ in row_rates(model, q):
-        onset.append(ONSET_LIMIT * math.sqrt(2.0) / omega)
-    return imex.POCKET_ENERGY_TOL * min(energies) * (time_step / min(onset)) ** 3
-
-
-def tangent_load_tolerance(peak_contact_load: float) -> float:
-    """The load [N] by which a race contact may move before the IMEX tangents are
-    evaluated again (:func:`rvcore.integrate.imex.imex_step`): :data:`rvcore.integrate.imex.TANGENT_LOAD_TOL`
-    of ``peak_contact_load`` [N]. On the study case 3.6 N."""
-    return imex.TANGENT_LOAD_TOL * max(peak_contact_load, 1.0)
+from ..bearing.layout import A_K, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
 
 
 def row_rates(model, q: float):

@@ -31,7 +31,7 @@ from ..recording.results import (CaseResult, SimulationError, duty_cycle_outputs
                       read_phase_metrics)
 from .settings import SolverSettings
 from ..recording.spectra import kinematic_frequencies, steady_spectra
-from ..integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance
+from ..integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
 
 
 def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,

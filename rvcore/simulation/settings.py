@@ -24,7 +24,7 @@ class SolverSettings:
         Fraction of the method's explicit stability limit used as the fixed step [-].
     time_step : float
         Explicit fixed step [s]; 0 derives it from the stiffest contact and friction
-        rates (see ``rvcore.integrate.step_size.rk4_time_step``).
+        rates (see ``rvcore.integrate.rk4.rk4_time_step``).
     start_time, end_time : float
         Simulated window [s]; ``end_time`` 0 means the profile's duration.
     friction : bool

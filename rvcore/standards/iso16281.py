@@ -44,7 +44,8 @@ import numpy as np
 
 from .iso281 import (LIFE_EXPONENT, WEIBULL_E, LifeError, basic_dynamic_load_rating, basic_rating_life,
                      FC_TABLE_F_INNER, FC_TABLE_F_OUTER, fc_osculation_problem,
-                     equivalent_dynamic_load)
+                     equivalent_dynamic_load, rating_geometry)
+from .iso76 import static_rating_basis
 
 def contact_load_ratings(load_rating: float, contact_angle: float, gamma: float, f_inner: float,
                          f_outer: float, ball_count: int, rows: int = 1):
@@ -193,49 +194,6 @@ def reference_rating_life(q_ci: float, q_ce: float, q_ei, q_ee) -> float:
 # --------------------------------------------------------------------------- the bearing
 
 
-def rating_geometry(bearing) -> dict:
-    """What the standards need of a :class:`rvcore.bearing.geometry.Bearing`.
-
-    Returns
-    -------
-    dict
-        ``rows`` (i), ``ball_count`` (Z per row), ``ball_diameter`` [m], ``pitch_diameter``
-        [m], ``contact_angle`` (nominal |α|) [rad], ``f_inner``, ``f_outer``, ``gamma``,
-        ``double_row`` (Table 3's double-row columns), ``four_point``.
-
-    Notes
-    -----
-    ISO 281 rates rows of one design. A pair (back-to-back, face-to-face, tandem) is
-    ``i = 2`` (5.1.2); back-to-back and face-to-face pairs take Table 3's double-row
-    factors, a tandem pair the single-row ones. A four-point contact row (two arcs per
-    ring at ±α) is rated as one row at its nominal α, with the double-row factors of
-    Table 3 (its two arcs carry axial load either way, as a double-row angular contact
-    bearing; the bearing makers' catalogues rate four-point bearings so). Rows given one
-    by one must share their design; then ``i`` is their number and Table 3's double-row
-    factors apply when their angles have opposite signs.
-    """
-    rows = bearing.rows
-    r0 = rows[0]
-    key = lambda r: (r.ball_count, r.ball_diameter, r.pitch_diameter, len(r.inner_arcs), len(r.outer_arcs),  # noqa: E731
-                     tuple((a.curvature_ratio, abs(a.contact_angle)) for a in r.inner_arcs + r.outer_arcs))
-    for r in rows[1:]:
-        if key(r) != key(r0):
-            raise LifeError("ISO 281 rates rows of one design only: the bearing's rows differ in "
-                            "ball count, ball or pitch diameter, curvature or contact angle")
-    alpha = abs(r0.nominal_contact_angle)
-    four_point = len(r0.inner_arcs) > 1 or len(r0.outer_arcs) > 1
-    signs = {math.copysign(1.0, r.nominal_contact_angle) for r in rows if r.nominal_contact_angle != 0.0}
-    if bearing.arrangement:
-        double = bearing.arrangement in ("back-to-back", "face-to-face")
-    else:
-        double = len(signs) > 1
-    return dict(rows=len(rows), ball_count=r0.ball_count, ball_diameter=r0.ball_diameter,
-                pitch_diameter=r0.pitch_diameter, contact_angle=alpha,
-                f_inner=r0.inner_arcs[0].curvature_ratio, f_outer=r0.outer_arcs[0].curvature_ratio,
-                gamma=r0.ball_diameter * math.cos(alpha) / r0.pitch_diameter,
-                double_row=double or four_point, four_point=four_point)
-
-
 def geometry_load_rating(bearing) -> float:
     """ISO 281 ``C_r`` of the bearing from its geometry [N] (:func:`basic_dynamic_load_rating`).
 
@@ -274,8 +232,6 @@ def rating_caveats(bearing) -> list:
     """The caveats every output must repeat about the catalogue ratings of this bearing:
     a line each where ISO 76's ``f_0`` is reduced or ISO 281's ``C_r`` refused (groove radii
     above 0.52/0.53·D_w); empty otherwise."""
-    from .iso76 import static_rating_basis   # iso76 imports this module
-
     try:
         g = rating_geometry(bearing)
     except LifeError:

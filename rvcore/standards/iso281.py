@@ -6,7 +6,9 @@ standard's formula is written in its own units (N, mm), said there.
 ISO 281:2007, *Rolling bearings — Dynamic load ratings and rating life*, clause 5
 (radial ball bearings): 5.1.1 eq. (1) and (2) (``C_r``), Tables 1 and 2 (``b_m``,
 ``f_c``), 5.1.2 (bearing combinations), 5.2 eq. (3) and Table 3 (``X``, ``Y``, ``e``),
-5.3 eq. (4) (``L10``). How the clause numbers were checked: :mod:`rvcore.standards.iso16281`.
+5.3 eq. (4) (``L10``); what the standards read of a bearing (:func:`rating_geometry`: i, Z,
+D_w, D_pw, α and the Table 3 columns, 5.1.2). How the clause numbers were checked:
+:mod:`rvcore.standards.iso16281`.
 """
 from __future__ import annotations
 
@@ -280,3 +282,46 @@ def basic_rating_life(load_rating: float, equivalent_load: float) -> float:
 
 
 # --------------------------------------------------------------------------- ISO/TS 16281
+
+
+def rating_geometry(bearing) -> dict:
+    """What the standards need of a :class:`rvcore.bearing.geometry.Bearing`.
+
+    Returns
+    -------
+    dict
+        ``rows`` (i), ``ball_count`` (Z per row), ``ball_diameter`` [m], ``pitch_diameter``
+        [m], ``contact_angle`` (nominal |α|) [rad], ``f_inner``, ``f_outer``, ``gamma``,
+        ``double_row`` (Table 3's double-row columns), ``four_point``.
+
+    Notes
+    -----
+    ISO 281 rates rows of one design. A pair (back-to-back, face-to-face, tandem) is
+    ``i = 2`` (5.1.2); back-to-back and face-to-face pairs take Table 3's double-row
+    factors, a tandem pair the single-row ones. A four-point contact row (two arcs per
+    ring at ±α) is rated as one row at its nominal α, with the double-row factors of
+    Table 3 (its two arcs carry axial load either way, as a double-row angular contact
+    bearing; the bearing makers' catalogues rate four-point bearings so). Rows given one
+    by one must share their design; then ``i`` is their number and Table 3's double-row
+    factors apply when their angles have opposite signs.
+    """
+    rows = bearing.rows
+    r0 = rows[0]
+    key = lambda r: (r.ball_count, r.ball_diameter, r.pitch_diameter, len(r.inner_arcs), len(r.outer_arcs),  # noqa: E731
+                     tuple((a.curvature_ratio, abs(a.contact_angle)) for a in r.inner_arcs + r.outer_arcs))
+    for r in rows[1:]:
+        if key(r) != key(r0):
+            raise LifeError("ISO 281 rates rows of one design only: the bearing's rows differ in "
+                            "ball count, ball or pitch diameter, curvature or contact angle")
+    alpha = abs(r0.nominal_contact_angle)
+    four_point = len(r0.inner_arcs) > 1 or len(r0.outer_arcs) > 1
+    signs = {math.copysign(1.0, r.nominal_contact_angle) for r in rows if r.nominal_contact_angle != 0.0}
+    if bearing.arrangement:
+        double = bearing.arrangement in ("back-to-back", "face-to-face")
+    else:
+        double = len(signs) > 1
+    return dict(rows=len(rows), ball_count=r0.ball_count, ball_diameter=r0.ball_diameter,
+                pitch_diameter=r0.pitch_diameter, contact_angle=alpha,
+                f_inner=r0.inner_arcs[0].curvature_ratio, f_outer=r0.outer_arcs[0].curvature_ratio,
+                gamma=r0.ball_diameter * math.cos(alpha) / r0.pitch_diameter,
+                double_row=double or four_point, four_point=four_point)

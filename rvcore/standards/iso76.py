@@ -47,7 +47,7 @@ import math
 import numpy as np
 
 from ..hertz import effective_modulus, race_contact
-from .iso16281 import LifeError, rating_geometry
+from .iso281 import LifeError, rating_geometry
 
 #: Contact pressure at the centre of the most heavily loaded ball–raceway contact under
 #: the basic static load rating, radial ball bearings other than self-aligning [Pa]
@@ -336,7 +336,7 @@ def static_equivalent_load(radial_load: float, axial_load: float, contact_angle:
 
 def bearing_static_load_rating(bearing) -> float:
     """ISO 76 ``C_0r`` of a :class:`rvcore.bearing.geometry.Bearing` from its geometry [N]
-    (:func:`static_load_rating` with :func:`rvcore.standards.iso16281.rating_geometry`'s ``i``, ``Z``,
+    (:func:`static_load_rating` with :func:`rvcore.standards.iso281.rating_geometry`'s ``i``, ``Z``,
     ``D_w``, ``D_pw``, ``α``)."""
 
     try:

@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import math
 
-from .iso16281 import rating_geometry
+from .iso281 import rating_geometry
 from .iso76 import bearing_static_load_rating, static_equivalent_load
 
 #: ``f_1 = z·(P_0/C_0)^y`` of the load term: bearing type -> (z smallest, z largest, y).

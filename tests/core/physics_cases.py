@@ -173,14 +173,14 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks):
     :func:`rvcore.integrate.loop.advance` (no sensors, no output kept), yielding the time [s]
     and the per-ball diagnostics after each chunk. A status other than OK raises. The IMEX
     pocket check and tangents have the case's own tolerances
-    (:func:`rvcore.integrate.step_size.pocket_energy_tolerance` at the loads' peak contact load and
-    the step, :func:`rvcore.integrate.step_size.tangent_load_tolerance`)."""
+    (:func:`rvcore.integrate.imex.pocket_energy_tolerance` at the loads' peak contact load and
+    the step, :func:`rvcore.integrate.imex.tangent_load_tolerance`)."""
 
     from rvcore.integrate import loop as ig
     from rvcore.recording.plan import build_plan, new_accumulators
     from rvcore.simulation.initial_state import peak_contact_load
     from rvcore.dynamics.rhs import new_diagnostics
-    from rvcore.integrate.step_size import pocket_energy_tolerance, tangent_load_tolerance
+    from rvcore.integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
 
     table, meta = resolved.arrays()
     plan = build_plan(model.rows.shape[0], 0)

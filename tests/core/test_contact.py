@@ -15,7 +15,7 @@ import pytest
 from rvcore.contact import laws as contact
 from rvcore.contact import pose as ring_pose
 from rvcore.bearing.laws import pack_friction_law
-from rvcore.integrate.step_size import rk4_time_step
+from rvcore.integrate.rk4 import rk4_time_step
 from rvcore.simulation.run import run_case
 from rvcore.simulation.initial_state import peak_contact_load
 from rvcore.simulation.settings import SolverSettings

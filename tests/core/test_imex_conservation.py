@@ -42,7 +42,7 @@ from rvcore.dynamics.energy import pocket_energy
 from rvcore.bearing.layout import R_CAGE0
 from rvcore.bearing.layout import compile_bearing
 from rvcore.profile import OperatingPoint
-from rvcore.integrate.step_size import time_step
+from rvcore.integrate.methods import time_step
 
 from .physics_cases import constant_profile, run_in_chunks, section_bearing
 

@@ -121,7 +121,7 @@ def test_pair_is_rated_as_double_row():
     pair = load_bearing(ROOT / "sweeps" / "bearings" / "rv-main-pair.toml")
     row = dataclasses.replace(pair, rows=pair.rows[:1], arrangement="", preload=0.0, preload_offset=0.0)
     assert life.geometry_load_rating(pair) == pytest.approx(2 ** 0.7 * life.geometry_load_rating(row), rel=1e-12)
-    assert life.rating_geometry(pair)["double_row"]
+    assert iso281.rating_geometry(pair)["double_row"]
 
 
 def _hand_life_sums(b, st, revolutions):

@@ -485,22 +485,28 @@ def _dataclass_paths(cls, prefix=""):
         item = schema.item_class(hint)
         if item is not None:
             yield from _dataclass_paths(item, f"{at}[]")
-        elif dataclasses.is_dataclass(hint):
-            yield from _dataclass_paths(hint, at)
+        elif schema.dataclass_of(hint) is not None:   # Cage, or Channel | None
+            yield from _dataclass_paths(schema.dataclass_of(hint), at)
         else:
             yield at
 
 
-def test_every_attribute_of_a_bearing_is_read_by_the_field_table_or_set_elsewhere_once():
+@pytest.mark.parametrize("file", ["bearing", "profile"])
+def test_every_attribute_is_read_by_the_field_table_or_set_elsewhere_once(file):
     """The converter's one map: each attribute of the Bearing (rows, arcs, cage, materials,
-    imperfections, lubricant, ...) is the ``source`` of a bearing key, or named in
-    SET_ELSEWHERE (read by a reader, or derived; a derived one is no key's source); every
-    source and every SET_ELSEWHERE entry is a real attribute."""
+    imperfections, lubricant, ...) and of the Profile (each channel's times, values,
+    interpolation, the duration, ...) is the ``source`` of a key of its file, or named in its
+    module's SET_ELSEWHERE (read by a reader, or derived; a derived one is no key's source);
+    every source and every SET_ELSEWHERE entry is a real attribute."""
     from rvcore.bearing.geometry import Bearing
-    from pipeline.schema.bearingfile import SET_ELSEWHERE
+    from rvcore.profile import Profile
+    from pipeline.schema import bearingfile, profilefile
 
-    paths = set(_dataclass_paths(Bearing))
-    sources = {f.source for f in schema.fields_of("bearing") if f.source}
+    cls, SET_ELSEWHERE = {"bearing": (Bearing, bearingfile.SET_ELSEWHERE),
+                          "profile": (Profile, profilefile.SET_ELSEWHERE)}[file]
+    paths = set(_dataclass_paths(cls))
+    assert len(paths) > (40 if file == "bearing" else 20)
+    sources = {f.source for f in schema.fields_of(file) if f.source}
     sources |= {s.replace("ring_material", "ball_material") for s in sources if s.startswith("ring_material.")}
 
     def elsewhere(p):

@@ -116,3 +116,34 @@ def test_the_schema_lists_no_fraction_for_the_direction():
     assert schema.field("profile", "load_direction.value").unit == "deg"
     assert schema.field("profile", "moment.fraction") is not None
     assert schema.field("profile", "moment.value").unit_kind == "moment"
+
+
+def test_a_stored_profile_reads_back_its_optional_channels(raw):
+    """The read-back (pipeline.schema.stored.rebuild) of a profile with a moment and a
+    load_direction channel gives the same Profile, each channel a Channel (an annotation
+    ``Channel | None`` is a nested dataclass, not a plain value)."""
+    from pipeline.schema.caseids import plain
+    from pipeline.schema.stored import rebuild
+    from rvcore.profile import Channel, Profile
+
+    raw["moment"] = {"time": ["0 s", "1 s"], "value": ["0 kN m", "1 kN m"]}
+    raw["load_direction"] = {"time": ["0 s"], "value": ["30 deg"]}
+    p = profile_from_dict(raw, FILE)
+    back = rebuild(Profile, plain(p), "profile")
+    assert isinstance(back.moment, Channel) and isinstance(back.load_direction, Channel)
+    assert back.moment.values == (0.0, 1000.0)
+    assert back.load_direction.values == (math.pi / 6,)
+    assert back == p
+    assert rebuild(Profile, plain(profile_from_dict(read_toml(PROFILES / "study.toml"), FILE)),
+                   "profile").moment is None
+
+
+def test_a_fraction_in_load_direction_is_refused_with_its_own_reason(raw):
+    """load_direction is an angle offset: a ``fraction`` there is refused with the reason, one
+    line naming the key and the value, before any other unknown key of the table."""
+    raw["load_direction"] = {"bogus": 1, "time": ["0 s"], "fraction": [0.5]}
+    with pytest.raises(ConfigError) as e:
+        profile_from_dict(raw, FILE)
+    msg = str(e.value)
+    assert msg.startswith(f"{FILE}: load_direction.fraction = [0.5]: ") and "\n" not in msg
+    assert "a fraction of an angle means nothing" in msg
