@@ -2,11 +2,13 @@
 
 - :mod:`~pipeline.analysis.metrics`: a results folder opened, and its phase metrics (``metrics.nc``);
 - :mod:`~pipeline.analysis.fits`: least-squares trends of the metrics over the axes (``fits.nc``);
-- :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands.
+- :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands;
+- :mod:`~pipeline.analysis.statistics`: percentiles and Sobol' indices over ``[statistics]`` draws (``statistics.nc``).
 """
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
 from .fits import DISPLACEMENT_COORD, fit_metrics, fit_statistic, write_fits
 from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states,
                       nearest, open_results, phase_metrics, write_metrics)
+from .statistics import STATISTICS_FILE, statistics_dataset
 from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
                          weighted_linear_fit)

@@ -3,7 +3,7 @@
 :func:`build_report` reads a sweep folder (``sweep.nc`` or, for a sweep killed before
 combining, its ``cases/*.nc``; ``status.json``), writes ``metrics.nc`` and ``fits.nc``
 beside them and ``report/report.md``, ``report/report.html``, ``report/summary.csv`` and
-``report/figures/*.png``,
+``report/figures/*.png`` (and, for a sweep with ``[statistics]`` draws, ``statistics.nc``),
 each file atomically.
 
 The report is written for a bearing designer, in this order: the headline (the worst
@@ -19,7 +19,7 @@ The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists t
 sections in their order, each a function ``section(ctx) -> list of blocks`` of a
 :class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
 :mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
-:mod:`.imperfect`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
+:mod:`.imperfect`, :mod:`.statistics`, :mod:`.physics`, :mod:`.parameters`), which writes its figures
 (:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -41,8 +41,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics,
-                        load_reference_fits, open_results, phase_metrics, write_fits, write_metrics)
+from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STATISTICS_FILE, STIFFNESS, default_reference_path,
+                        fit_metrics, load_reference_fits, open_results, phase_metrics, statistics_dataset,
+                        write_fits, write_metrics)
+from ..schema.statistics import DRAW
 from ..io import read_status, write_text_atomic
 from ..io.statics import STATICS_FILE
 from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
@@ -57,6 +59,7 @@ from .sections import section_cage_slip, section_cases, section_sensors, section
 from .sections_fits import section_comparison, section_plane, study_comparison
 from .sections_metrics import section_metrics, section_time_histories
 from .select import base_states
+from .statistics import section_statistics
 from .stiffness import section_stiffness
 from .lubrication import section_lubrication
 from .summary import section_designer_figures, section_summary, summary_values
@@ -152,7 +155,7 @@ SECTIONS = (
     section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
     section_stiffness, section_lubrication, section_load_distribution, section_window_edges, section_comparison, section_classes,
-    section_spectrum, section_plane, section_physics, section_files, section_parameters,
+    section_statistics, section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 
 
@@ -175,6 +178,9 @@ def load_context(directory: Path, reference=None, targets=None) -> Context:
                   configuration=configuration, config_error=err, targets=dict(targets or {}))
     if sensors(metrics):
         ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
+    if DRAW in metrics.dims:
+        ctx.statistics = statistics_dataset(metrics)
+        write_metrics(ctx.statistics, directory / STATISTICS_FILE)
     ctx.windows, ctx.windows_source = phase_windows(ctx)
     ctx.comparison = study_comparison(ctx)
     ctx.summary = summary_values(ctx)

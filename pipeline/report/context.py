@@ -62,6 +62,8 @@ class Context:
     summary_path: Path | None = None
     #: The headline's targets, key -> value in its column's unit (:func:`.headline.parse_targets`).
     targets: dict = field(default_factory=dict)
+    #: ``statistics.nc`` of a sweep with ``[statistics]`` draws (:mod:`pipeline.analysis.statistics`), else None.
+    statistics: xr.Dataset | None = None
 
     @property
     def report_dir(self) -> Path:
