@@ -124,7 +124,10 @@ def _eccentricity(ring: str):
 
 
 def _angle(ring: str):
+    eccentricity = _eccentricity(ring)
+
     def draw(row, bearing, u):
+        eccentricity(row, bearing, u)   # a high point needs an eccentricity (NoLimit without one)
         return {f"{ring}_eccentricity_angle": 2.0 * math.pi * float(u[0])}
     return draw
 
