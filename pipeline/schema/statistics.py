@@ -55,18 +55,19 @@ from rvcore.standards.iso492 import (ToleranceError, ball_lot_variation, default
                                      outer_runout)
 
 from ..errors import ConfigError
+from . import fields as _fields
 from .reader import short
 
 #: The draw axis: draw k of ``draws = N`` (0 … N−1).
 DRAW = "draw"
 #: The Saltelli design's axis (with ``sensitivity``): ``A``, ``B``, ``AB_<input>``.
 SAMPLE = "sample"
-#: Sampling methods of ``scipy.stats.qmc``.
-METHODS = ("sobol", "lhs")
+#: Sampling methods of ``scipy.stats.qmc`` (the schema's, :mod:`pipeline.schema.fields`).
+METHODS = _fields.field("statistics", "statistics.method").choices
 #: The keys of ``[statistics]``.
-KEYS = ("method", "draws", "seed", "inputs", "sensitivity")
+KEYS = tuple(f.path.removeprefix("statistics.") for f in _fields.fields_of("statistics"))
 #: Most draws per grid point (the whole sweep is bounded by the sweep's MAX_CASES too).
-MAX_DRAWS = 2**16
+MAX_DRAWS = _fields.field("statistics", "statistics.draws").maximum
 
 
 class NoLimit(ValueError):
@@ -264,6 +265,15 @@ def parse_statistics(raw, file, bearing) -> StatisticsSpec | None:
             raise ConfigError(file, "statistics", None, "the bearing has no tolerance to draw: give it "
                                                         "imperfections.tolerance_class (or limits of its own)")
     return StatisticsSpec(method, n, seed, inputs, sens)
+
+
+def statistics_note(spec: StatisticsSpec) -> str:
+    """One line for ``rvsweep check``: the draws, and what changing their number does."""
+    how = ("Sobol' points: more draws keep these and add new cases" if spec.method == "sobol"
+           else "Latin hypercube: changing draws redraws every draw (all cases new)")
+    return (f"{spec.draws} {spec.method} draws a grid point (seed {spec.seed}) of {', '.join(spec.inputs)}"
+            + (f"; Saltelli design for Sobol' indices ({len(spec.inputs) + 2} samples a draw)" if spec.sensitivity
+               else "") + f"; {how}")
 
 
 def columns(spec: StatisticsSpec, bearing) -> dict:

@@ -274,8 +274,6 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
             raise ConfigError(file, "cases", None, "give either [axes] (a grid) or [[cases]] (a list), not both")
         raise ConfigError(file, "axes", None, "missing: give [axes] (a grid) or [[cases]] (a list of cases)")
     explicit = "cases" in raw
-    if explicit and raw.get("statistics") is not None:
-        raise ConfigError(file, "statistics", None, "draws need a grid: give [axes] rather than [[cases]]")
     axes, points = _listed_points(raw, file, fixed) if explicit else _grid_points(raw, file, fixed)
     draws = _draws(raw, file, fixed, points, resolver)
     if draws is not None:

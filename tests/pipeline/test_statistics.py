@@ -264,10 +264,11 @@ def test_bad_statistics_tables_give_one_line(tmp_path, table, key, why):
     assert "\n" not in line and key in line and why in line, line
 
 
-def test_statistics_need_a_grid_and_a_tolerance(tmp_path):
-    cases = "[[cases]]\nspeed = \"120 deg/s\"\nradial_load = \"30 kN\"\naxial_load = \"10 kN\"\n"
-    with pytest.raises(ConfigError, match="draws need a grid"):
-        read_sweep_file(make_sweep(tmp_path, cases + statistics_table(draws=4, seed=1), "c.toml"))
+def test_listed_cases_take_draws_and_a_perfect_bearing_has_none(tmp_path):
+    cases = ("[[cases]]\nspeed = \"120 deg/s\"\nradial_load = \"30 kN\"\naxial_load = \"10 kN\"\n"
+             "\"imperfections.tolerance_class\" = \"normal\"\n")
+    s = read_sweep_file(make_sweep(tmp_path, cases + statistics_table(draws=4, seed=1), "c.toml"))
+    assert len(s.cases) == 4 and s.axes[-1].key == "draw"
     perfect = ONE_POINT.replace('"imperfections.tolerance_class" = "5"\n', "")
     with pytest.raises(ConfigError, match="no tolerance to draw"):
         read_sweep_file(make_sweep(tmp_path, perfect + statistics_table(draws=4, seed=1), "p.toml"))
