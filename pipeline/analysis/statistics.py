@@ -19,6 +19,7 @@ import numpy as np
 import xarray as xr
 
 from ..io import history_line
+from ..io.netcdf import flag_names
 from ..schema.statistics import DRAW, SAMPLE
 
 #: The percentiles ``statistics.nc`` gives [percent].
@@ -148,22 +149,12 @@ def sobol_table(f_a, f_b, f_ab, *, confidence=CONFIDENCE, n_resamples=RESAMPLES,
     return out
 
 
-def _sample_names(da: xr.DataArray) -> list:
-    """The ``sample`` coordinate's names (a category coordinate: its flag meanings)."""
-    c = da[SAMPLE]
-    meanings = str(c.attrs.get("flag_meanings", "")).split()
-    if meanings and c.dtype.kind in "iu":
-        flags = list(np.atleast_1d(c.attrs.get("flag_values", np.arange(len(meanings)))))
-        return [meanings[flags.index(v)] for v in c.values]
-    return [str(v) for v in c.values]
-
-
 def draws_of(da: xr.DataArray) -> xr.DataArray:
     """The independent draws of an output, over ``draw``: with ``sample``, A's and B's
     (2N), else every draw."""
     if SAMPLE not in da.dims:
         return da
-    names = _sample_names(da)
+    names = flag_names(da[SAMPLE])
     parts = [da.isel({SAMPLE: names.index(s)}, drop=True) for s in ("A", "B") if s in names]
     out = xr.concat(parts, dim=DRAW, coords="minimal", compat="override")
     return out.drop_vars(DRAW, errors="ignore")
@@ -172,7 +163,7 @@ def draws_of(da: xr.DataArray) -> xr.DataArray:
 def saltelli(da: xr.DataArray, inputs=None):
     """``(f_A, f_B, f_AB, inputs)`` of an output laid out over ``sample`` and ``draw``,
     every other dimension stacked as the s outputs (in ``da``'s order)."""
-    names = _sample_names(da)
+    names = flag_names(da[SAMPLE])
     inputs = list(inputs) if inputs is not None else [s[3:] for s in names if s.startswith("AB_")]
     other = [d for d in da.dims if d not in (SAMPLE, DRAW)]
     x = da.transpose(*other, SAMPLE, DRAW).values.reshape(-1, len(names), da.sizes[DRAW])
@@ -271,13 +262,3 @@ def statistics_dataset(metrics: xr.Dataset) -> xr.Dataset:
                            "bootstrap intervals. NaN: fewer than "
                            f"{MIN_DRAWS} finite draws, or a failed case in the Saltelli design.")
     return ds
-
-
-def _phase_flags(metrics: xr.Dataset, phases) -> list:
-    """The ``phase`` coordinate values of the named phases."""
-    c = metrics["phase"]
-    meanings = str(c.attrs.get("flag_meanings", "")).split()
-    if meanings and c.dtype.kind in "iu":
-        flags = list(np.atleast_1d(c.attrs.get("flag_values", np.arange(len(meanings)))))
-        return [flags[meanings.index(p)] for p in phases if p in meanings]
-    return [p for p in phases if p in list(c.values)]

@@ -10,11 +10,12 @@ import math
 import numpy as np
 
 from ..analysis.metrics import nearest
-from ..analysis.statistics import CONFIDENCE, QUANTILES, SOBOL_PHASES, STATISTICS_FILE, _phase_flags, draws_of
+from ..analysis.statistics import CONFIDENCE, QUANTILES, SOBOL_PHASES, STATISTICS_FILE, draws_of
+from ..io.netcdf import flag_names
 from ..schema.statistics import DRAW, SAMPLE
 from .context import Context
 from .figures import new_figure, save_figure
-from .imperfect import CLASS_AXIS, _class_label, _class_name, _ordered
+from .imperfect import CLASS_AXIS, class_label, class_name, ordered_classes
 from .render import Heading, Image, Para, Table, fmt_kn, fmt_number, fmt_speed
 
 _PHASE_TITLE = {"startup": "start-up", "steady": "steady", "deceleration": "deceleration"}
@@ -24,18 +25,18 @@ def _classes(ctx: Context) -> list:
     """The class coordinate values, tightest first ([None] without a class axis)."""
     if CLASS_AXIS not in ctx.metrics.dims:
         return [None]
-    return _ordered(ctx, ctx.metrics[CLASS_AXIS].values)
+    return ordered_classes(ctx, ctx.metrics[CLASS_AXIS].values)
 
 
 def _label(ctx: Context, v) -> str:
-    return "this bearing" if v is None else _class_label(_class_name(ctx, v))
+    return "this bearing" if v is None else class_label(class_name(ctx, v))
 
 
 def _draws(ctx: Context, name: str, phase: str, cls, point: dict) -> np.ndarray:
     """The finite draws of metric ``name`` in ``phase`` at ``point`` (class ``cls``) [m]."""
     da = draws_of(ctx.metrics[name])
     if "phase" in da.dims:
-        da = da.sel(phase=_phase_flags(ctx.metrics, [phase])[0])
+        da = da.isel(phase=flag_names(ctx.metrics["phase"]).index(phase))
     if cls is not None:
         da = da.sel({CLASS_AXIS: cls})
     da = da.sel(point)
@@ -103,9 +104,8 @@ def _sobol_table(ctx: Context, cls, point: dict) -> Table | None:
             sel[CLASS_AXIS] = cls
         phases = [None]
         if "phase" in da.dims:
-            meanings = str(ctx.metrics["phase"].attrs.get("flag_meanings", "")).split()
-            phases = [(int(p), meanings[int(p)]) for p in da["phase"].values
-                      if int(p) < len(meanings) and meanings[int(p)] in SOBOL_PHASES]
+            phases = [(p, name) for p, name in zip(da["phase"].values, flag_names(da["phase"]))
+                      if name in SOBOL_PHASES]
         for ph in phases:
             s = dict(sel) if ph is None else {**sel, "phase": ph[0]}
 
