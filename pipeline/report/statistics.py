@@ -56,7 +56,8 @@ def _line_figure(ctx: Context, axis: str, fits: list, fixed_axis: str, fixed: fl
     xs = np.asarray(ctx.metrics[axis].values, dtype=np.float64)
     scale = 1.0 if axis == "speed" else 1e-3
     spacing = np.min(np.diff(np.sort(xs))) * scale if xs.size > 1 else 1.0
-    width = 0.7 * spacing / max(len(classes), 1)
+    span = np.ptp(xs) * scale
+    width = min(0.7 * spacing, 0.2 * span if span > 0 else spacing) / max(len(classes), 1)
     for k, ref in enumerate(fits):
         ax = axes[k // cols, k % cols]
         for m, cls in enumerate(classes):
@@ -73,8 +74,7 @@ def _line_figure(ctx: Context, axis: str, fits: list, fixed_axis: str, fixed: fl
                     patch.set(facecolor=f"C{m}", alpha=0.5)
                 ax.plot([], [], color=f"C{m}", lw=6, alpha=0.5, label=_label(ctx, cls))
         grid = np.linspace(xs.min(), xs.max(), 50)
-        coord = grid if axis == "speed" else grid
-        y = (ref.intercept_si() + ref.slope_in_coordinate_units() * coord) * 1e6
+        y = (ref.intercept_si() + ref.slope_in_coordinate_units() * grid) * 1e6
         ax.plot(grid * scale, y, "k--", lw=1.0, label="study's fit")
         ax.set_title(f"{_PHASE_TITLE.get(ref.phase, ref.phase)} {ref.displacement} {ref.metric}", fontsize=9)
         ax.set_xlabel("speed [deg/s]" if axis == "speed" else "radial load [kN]", fontsize=9)
@@ -164,7 +164,8 @@ def section_statistics(ctx: Context) -> list:
         for cls in _classes(ctx):
             table = _sobol_table(ctx, cls, {"speed": speed, "radial_load": load})
             if table is not None:
-                table_blocks += [Para(f"{_label(ctx, cls)} at {fmt_speed(speed)}, {fmt_kn(load)}: first-order / "
+                label = _label(ctx, cls)
+                table_blocks += [Para(f"{label[0].upper()}{label[1:]} at {fmt_speed(speed)}, {fmt_kn(load)}: first-order / "
                                       f"total Sobol' index of each output against each input, with {CONFIDENCE:.0%} "
                                       "bootstrap intervals (every grid point's are in "
                                       f"`{STATISTICS_FILE}`)."), table]

@@ -235,6 +235,29 @@ def test_a_sensitivity_sweep_reports_the_linear_models_indices(tmp_path):
     assert got["radial_displacement_range_percentile"].notnull().all()
 
 
+def test_the_report_writes_statistics_nc_and_its_section(tmp_path):
+    """rvsweep report on a sensitivity sweep: statistics.nc (CF: units and long_name on every
+    variable) and the report's section with the Sobol' table and the box plots."""
+    grid = ONE_POINT.replace('speed = ["120 deg/s"]', 'speed = ["120 deg/s", "660 deg/s"]')
+    body = grid + statistics_table(method="sobol", draws=8, seed=4, sensitivity=True,
+                                   inputs=["inner_eccentricity", "outer_eccentricity"])
+    out = tmp_path / "out"
+    run_sweep(make_sweep(tmp_path, body), out, serial=True, case_fn=linear_case, progress=False)
+    from pipeline.report import build_report
+
+    files = build_report(out)
+    with xr.open_dataset(out / "statistics.nc") as ds:
+        for var in ds.variables.values():
+            assert "long_name" in var.attrs and ("units" in var.attrs or "flag_meanings" in var.attrs), var.name
+        assert ds["radial_displacement_range_percentile"].sizes["percentile"] == 3
+        assert "sobol_total_order_radial_displacement_range_ci_high" in ds
+    text = files.markdown.read_text()
+    section = text.split("## Tolerance statistics")[1].split("\n## ")[0]
+    assert "| output | inner_eccentricity | outer_eccentricity |" in section
+    assert "radial displacement range, start-up" in section
+    assert (out / "report" / "figures" / "statistics_speed.png").is_file()
+
+
 # --------------------------------------------------------------------------- bad tables
 
 BAD = [
