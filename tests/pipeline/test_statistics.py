@@ -305,3 +305,29 @@ def test_every_input_says_what_it_draws():
     for t in INPUTS.values():
         assert t.doc and callable(t.columns) and callable(t.draw)
     assert qmc  # the sampling is scipy.stats.qmc's
+
+
+def test_check_says_what_changing_the_number_of_draws_does(tmp_path, capsys):
+    from pipeline.cli import main
+
+    for method, n, says in (("sobol", 4, "more draws keep these and add new cases"),
+                            ("lhs", 5, "changing draws redraws every draw (all cases new)")):
+        path = make_sweep(tmp_path, ONE_POINT + statistics_table(method=method, draws=n, seed=1), f"{method}.toml")
+        assert main(["check", str(path)]) == 0
+        out = capsys.readouterr().out
+        assert f"statistics: {n} {method} draws a grid point (seed 1)" in out and says in out
+
+
+def test_the_shipped_study_statistics_sweep_is_both_classes_on_the_studys_two_lines():
+    from tests.schema.test_sweepfile import SWEEPS
+
+    s = read_sweep_file(SWEEPS / "study-statistics.toml")
+    n = s.statistics.draws
+    assert s.statistics.method == "sobol" and n >= 64
+    points = {(round(math.degrees(c.point["speed"])), c.point["radial_load"],
+               c.point["imperfections.tolerance_class"]) for c in s.cases}
+    speed_line = {(w, 30e3) for w in range(120, 661, 60)}          # Table 3: speed at 30 kN
+    load_line = {(120, f * 1e3) for f in (20, 25, 30, 35, 40)}     # Table 4: load at 120 deg/s
+    assert points == {(w, f, cls) for w, f in speed_line | load_line for cls in ("5", "normal")}
+    assert len(s.cases) == len(points) * n
+    assert all(c.operating_point.axial_load == 10e3 for c in s.cases)
