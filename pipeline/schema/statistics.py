@@ -264,6 +264,9 @@ def parse_statistics(raw, file, bearing) -> StatisticsSpec | None:
         if not inputs:
             raise ConfigError(file, "statistics", None, "the bearing has no tolerance to draw: give it "
                                                         "imperfections.tolerance_class (or limits of its own)")
+    if sens and len(inputs) < 2:
+        raise ConfigError(file, "statistics.sensitivity", sens, "Sobol' indices need at least two inputs (one input "
+                                                                 "explains all the variance; its AB sample is B)")
     return StatisticsSpec(method, n, seed, inputs, sens)
 
 

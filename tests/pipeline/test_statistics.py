@@ -11,14 +11,14 @@ import math
 import numpy as np
 import pytest
 import xarray as xr
-from scipy.stats import norm, qmc
+from scipy.stats import norm
 
 from pipeline.analysis.statistics import percentiles, saltelli, sobol_table, statistics_dataset
 from pipeline.errors import ConfigError
 from pipeline.io import read_status, status_counts
 from pipeline.run import run_sweep
 from pipeline.schema import read_sweep_file
-from pipeline.schema.statistics import INPUTS, sample_names, unit_design
+from pipeline.schema.statistics import sample_names, unit_design
 from rvcore.standards.iso492 import K_EA, K_IA
 from tests.pipeline.synthetic import synthetic_result
 from tests.pipeline.test_sweep import Counting, case_files
@@ -217,8 +217,6 @@ def test_a_sensitivity_sweep_reports_the_linear_models_indices(tmp_path):
     from pipeline.analysis import open_results, phase_metrics
 
     ds = statistics_dataset(phase_metrics(open_results(tmp_path / "out")))
-    e_i = s.cases[0].bearing.rows[0].imperfections   # limits: class 5 at this bearing's sizes
-    del e_i
     lim_i = max(c.bearing.rows[0].imperfections.inner_eccentricity for c in s.cases)
     lim_o = max(c.bearing.rows[0].imperfections.outer_eccentricity for c in s.cases)
     bore, od = s.bearing.bore, s.bearing.outer_diameter
@@ -276,6 +274,8 @@ BAD = [
      "listed twice"),
     ("draws = 4\nseed = 1\ninputs = [\"outer_waviness\"]", "statistics.inputs[0]", "no outer waviness"),
     ("draws = 4\nseed = 1\ninputs = []", "statistics.inputs", "list of input names"),
+    ("draws = 4\nseed = 1\nsensitivity = true\ninputs = [\"inner_eccentricity\"]", "statistics.sensitivity",
+     "at least two inputs"),
 ]
 
 
@@ -300,11 +300,20 @@ def test_listed_cases_take_draws_and_a_perfect_bearing_has_none(tmp_path):
                                                                          inputs=["inner_eccentricity"]), "q.toml"))
 
 
-def test_every_input_says_what_it_draws():
-    assert sample_names(type("S", (), {"inputs": ("a", "b")})()) == ("A", "B", "AB_a", "AB_b")
-    for t in INPUTS.values():
-        assert t.doc and callable(t.columns) and callable(t.draw)
-    assert qmc  # the sampling is scipy.stats.qmc's
+def test_a_new_tolerance_input_is_one_entry(tmp_path, monkeypatch):
+    """An input added to INPUTS (as an axial runout will be) is drawn, named in the Saltelli
+    design and bounded, with no other change."""
+    from pipeline.schema import statistics as st
+
+    limit = 2e-6
+    monkeypatch.setitem(st.INPUTS, "toy_runout", st.ToleranceInput(
+        "toy_runout", "a made-up input", lambda row: 1, lambda row, bearing, u: {"inner_eccentricity": u[0] * limit}))
+    s = read_sweep_file(make_sweep(tmp_path, ONE_POINT + statistics_table(
+        draws=4, seed=1, sensitivity=True, inputs=["toy_runout", "outer_eccentricity"])))
+    names = ("A", "B", "AB_toy_runout", "AB_outer_eccentricity")
+    assert [a.coords for a in s.axes if a.key == "sample"] == [names] and sample_names(s.statistics) == names
+    e = [c.bearing.rows[0].imperfections.inner_eccentricity for c in s.cases]
+    assert len(set(e)) == 8 and all(0 <= x <= limit for x in e)      # A's and B's four draws each
 
 
 def test_check_says_what_changing_the_number_of_draws_does(tmp_path, capsys):
