@@ -6,10 +6,13 @@
 - :mod:`~pipeline.analysis.compare`: a measured rig trace beside a simulated case;
 - :mod:`~pipeline.analysis.duty`: the duty cycle from a trace's speed and load channels;
 - :mod:`~pipeline.analysis.measured`: the measured cases of a sweep folder in its metrics and fits.
+
+- :mod:`~pipeline.analysis.statistics`: percentiles and Sobol' indices over ``[statistics]`` draws (``statistics.nc``).
 """
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
 from .fits import DISPLACEMENT_COORD, fit_metrics, fit_statistic, write_fits
 from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states,
                       nearest, open_results, phase_metrics, write_metrics)
+from .statistics import STATISTICS_FILE, statistics_dataset
 from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
                          weighted_linear_fit)

@@ -188,6 +188,10 @@ def _sweep_summary(sweep) -> dict:
     if sweep.axes:
         out["axes"] = {a.key: len(a.values) for a in sweep.axes}
         out["axis_ranges"] = {a.key: r for a in sweep.axes if (r := _axis_range(a)) is not None}
+    if sweep.statistics is not None:
+        from ..schema.statistics import statistics_note
+
+        out["statistics"] = statistics_note(sweep.statistics)
     out["allow_ball_overlap"] = sweep.bearing.allow_ball_overlap
     out["warnings"] = warnings
     return out
@@ -308,6 +312,8 @@ def _format(s: dict) -> list:
         ranges = s.get("axis_ranges", {})
         lines.append("  axes: " + ", ".join(f"{k} ({n} values" + (f", {ranges[k]})" if k in ranges else ")")
                                             for k, n in s["axes"].items()))
+    if "statistics" in s:
+        lines.append(f"  statistics: {s['statistics']}")
     for attr in ("bearing_file", "profile_file"):
         if attr in s:
             lines.append(f"  {attr.replace('_file', '')}: {s[attr]}")
@@ -328,7 +334,7 @@ def schema_rows() -> list:
         default = "required" if f.default is REQUIRED else f.default
         if isinstance(default, float) and f.unit and f.unit_kind:
             default = format_value(f, default)
-        key = f.path if f.file in ("bearing", "operating_point", "solver") else f"profile.{f.path}"
+        key = f.path if f.file in ("bearing", "operating_point", "solver", "statistics") else f"profile.{f.path}"
         rows.append({"key": key, "file": f.file, "kind": f.kind + (f" ({f.unit_kind})" if f.unit_kind else ""),
                      "unit": f.unit, "default": default, "bounds": f.bounds_text(), "doc": f.doc})
     return rows

@@ -88,3 +88,15 @@ def strip_encoding(ds: xr.Dataset) -> xr.Dataset:
     for v in ds.variables.values():
         v.encoding = {}
     return ds
+
+
+def flag_names(coord: xr.DataArray) -> list:
+    """The name of each value of a CF flag coordinate (its ``flag_meanings`` by its
+    ``flag_values``); a coordinate without flags: its values as strings."""
+    meanings = str(coord.attrs.get("flag_meanings", "")).split()
+    values = np.atleast_1d(np.asarray(coord.values))
+    if not meanings or values.dtype.kind not in "iu":
+        return [str(v) for v in values]
+    flags = [int(v) for v in np.atleast_1d(coord.attrs.get("flag_values", np.arange(len(meanings))))]
+    return [meanings[flags.index(int(v))] if int(v) in flags and flags.index(int(v)) < len(meanings) else str(v)
+            for v in values]

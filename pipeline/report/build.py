@@ -3,7 +3,7 @@
 :func:`build_report` reads a sweep folder (``sweep.nc`` or, for a sweep killed before
 combining, its ``cases/*.nc``; ``status.json``), writes ``metrics.nc`` and ``fits.nc``
 beside them and ``report/report.md``, ``report/report.html``, ``report/summary.csv`` and
-``report/figures/*.png``,
+``report/figures/*.png`` (and, for a sweep with ``[statistics]`` draws, ``statistics.nc``),
 each file atomically.
 
 The report is written for a bearing designer, in this order: the headline (the worst
@@ -19,8 +19,8 @@ The report is a list of simple blocks (:mod:`.render`): :data:`SECTIONS` lists t
 sections in their order, each a function ``section(ctx) -> list of blocks`` of a
 :class:`.context.Context` (:mod:`.summary`, :mod:`.definitions`, :mod:`.sections`,
 :mod:`.sections_metrics`, :mod:`.stiffness`, :mod:`.loads`, :mod:`.sections_fits`,
-:mod:`.imperfect`, :mod:`.measured`, :mod:`.physics`, :mod:`.parameters`, :mod:`.lubrication`, :mod:`.lubricated_vs_dry`:
-a lubricated sweep beside a dry one of the same grid, ``rvsweep report DIR --dry DIR2``), which writes its figures
+:mod:`.imperfect`, :mod:`.measured`, :mod:`.statistics`, :mod:`.physics`, :mod:`.parameters`,
+:mod:`.lubrication`, :mod:`.lubricated_vs_dry`: a lubricated sweep beside a dry one of the same grid, ``rvsweep report DIR --dry DIR2``), which writes its figures
 (:mod:`.figures`) through :meth:`.context.Context.figure_path`. It holds no timestamps and the PNGs
 carry no software or time metadata, so the same sweep gives byte-identical report files.
 
@@ -44,9 +44,11 @@ from pathlib import Path
 
 import xarray as xr
 
-from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STIFFNESS, default_reference_path, fit_metrics,
-                        load_reference_fits, open_results, phase_metrics, write_fits, write_metrics)
+from ..analysis import (DESIGNER_METRICS, DESIGNER_SCALARS, STATISTICS_FILE, STIFFNESS, default_reference_path,
+                        fit_metrics, load_reference_fits, open_results, phase_metrics, statistics_dataset,
+                        write_fits, write_metrics)
 from ..analysis.measured import fits_file_form, measured_fits, measured_group, read_measured
+from ..schema.statistics import DRAW
 from ..io import read_status, write_text_atomic
 from ..io.statics import STATICS_FILE
 from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
@@ -62,6 +64,7 @@ from .sections import section_cage_slip, section_cases, section_sensors, section
 from .sections_fits import section_comparison, section_plane, study_comparison
 from .sections_metrics import section_metrics, section_time_histories
 from .select import base_states
+from .statistics import section_statistics
 from .stiffness import section_stiffness
 from .lubrication import section_lubrication
 from .lubricated_vs_dry import check_same_grid, load_dry, section_lubricated_vs_dry
@@ -161,7 +164,7 @@ SECTIONS = (
     section_title, section_headline, extra_axes_note, section_summary, section_definitions, section_cases,
     section_designer_figures, section_sensors, section_time_histories, section_metrics, section_cage_slip,
     section_stiffness, section_lubrication, section_lubricated_vs_dry, section_load_distribution, section_window_edges,
-    section_comparison, section_measured, section_classes,
+    section_comparison, section_measured, section_classes, section_statistics,
     section_spectrum, section_plane, section_physics, section_files, section_parameters,
 )
 
@@ -203,6 +206,9 @@ def load_context(directory: Path, reference=None, targets=None, dry=None) -> Con
                   dry_configuration=dry_configuration)
     if sensors(metrics):
         ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
+    if DRAW in metrics.dims:
+        ctx.statistics = statistics_dataset(metrics)
+        write_metrics(ctx.statistics, directory / STATISTICS_FILE)
     ctx.windows, ctx.windows_source = phase_windows(ctx)
     ctx.comparison = study_comparison(ctx)
     ctx.summary = summary_values(ctx)

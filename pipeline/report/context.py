@@ -73,6 +73,9 @@ class Context:
     dry_metrics: xr.Dataset | None = None
     dry_configuration: StoredConfiguration | None = None
 
+    #: ``statistics.nc`` of a sweep with ``[statistics]`` draws (:mod:`pipeline.analysis.statistics`), else None.
+    statistics: xr.Dataset | None = None
+
     @property
     def report_dir(self) -> Path:
         """Where ``report.md``, ``report.html`` and ``summary.csv`` go."""

@@ -25,7 +25,7 @@ _MARKED = {"shaft": "f_i", "cage": "f_c", "outer_ball_pass": "Z·f_c", "inner_ba
            "ball_spin": "f_b"}
 
 
-def _class_name(ctx: Context, value) -> str:
+def class_name(ctx: Context, value) -> str:
     """The tolerance class a coordinate value stands for (the flag meaning of a category)."""
     c = ctx.metrics[CLASS_AXIS] if CLASS_AXIS in ctx.metrics.coords else None
     meanings = str(c.attrs.get("flag_meanings", "")).split() if c is not None else []
@@ -33,14 +33,14 @@ def _class_name(ctx: Context, value) -> str:
     return meanings[flags.index(value)] if value in flags and len(meanings) == len(flags) else str(value)
 
 
-def _ordered(ctx: Context, values) -> list:
+def ordered_classes(ctx: Context, values) -> list:
     """Class coordinate values, the perfect bearing first, then the tightest class to the loosest."""
     order = ("none", "", "4", "5", "6", "normal")
-    return sorted(values, key=lambda v: order.index(_class_name(ctx, v)) if _class_name(ctx, v) in order
+    return sorted(values, key=lambda v: order.index(class_name(ctx, v)) if class_name(ctx, v) in order
                   else len(order))
 
 
-def _class_label(value) -> str:
+def class_label(value) -> str:
     v = str(value)
     return "perfect" if v in ("none", "") else ("Normal" if v == "normal" else f"class {v}")
 
@@ -57,15 +57,15 @@ def section_classes(ctx: Context) -> list:
     """The study's twelve fits for each tolerance class of the sweep (none: no section)."""
     if CLASS_AXIS not in ctx.fits.dims or not ctx.references:
         return []
-    values = _ordered(ctx, ctx.fits[CLASS_AXIS].values)
+    values = ordered_classes(ctx, ctx.fits[CLASS_AXIS].values)
     per_class = {v: study_comparison(_at(ctx, CLASS_AXIS, v)) for v in values}
-    label = {v: _class_label(_class_name(ctx, v)) for v in values}
+    label = {v: class_label(class_name(ctx, v)) for v in values}
     blocks = [Heading(2, "Tolerance classes beside the study"),
               Para("The same fits as above for each bearing of the sweep (`imperfections.tolerance_class`): a "
                    "perfect one and ISO 492 specimens whose raceways are eccentric by half the class's runout, "
                    "with waviness-free raceways and balls within the class's grade (docs/model.md §12). Every other "
                    "section of this report shows the first value of the sweep's axis, "
-                   f"{_class_label(_class_name(ctx, ctx.fits[CLASS_AXIS].values[0]))}. Slopes in the study's units; ✓ where the sign agrees with the "
+                   f"{class_label(class_name(ctx, ctx.fits[CLASS_AXIS].values[0]))}. Slopes in the study's units; ✓ where the sign agrees with the "
                    "study's.")]
     header = ["study fit", "study slope"] + [label[v] for v in values]
     rows = []
@@ -118,7 +118,7 @@ def section_spectrum(ctx: Context) -> list:
     point = {"speed": sweep["speed"].values.max(), "radial_load": sweep["radial_load"].values.max()}
     da = sweep[name].sel(point)
     kin = sweep["kinematic_frequency"].sel(point)
-    classes = _ordered(ctx, sweep[CLASS_AXIS].values) if CLASS_AXIS in sweep.dims else [None]
+    classes = ordered_classes(ctx, sweep[CLASS_AXIS].values) if CLASS_AXIS in sweep.dims else [None]
     fig, axes = new_figure(1, 1, (9.0, 4.2))
     ax = axes[0, 0]
     f = sweep["frequency"].values
@@ -127,7 +127,7 @@ def section_spectrum(ctx: Context) -> list:
         extra = {d: 0 for d in line.dims if d != "frequency"}
         amp = np.asarray(line.isel(extra).values, dtype=np.float64) * 1e6
         ax.semilogy(f[1:], np.maximum(amp[1:], 1e-9), lw=1.0, color=f"C{m}",
-                    label=_class_label(_class_name(ctx, v)) if v is not None else "this sweep")
+                    label=class_label(class_name(ctx, v)) if v is not None else "this sweep")
         k = kin.sel({CLASS_AXIS: v}) if v is not None and CLASS_AXIS in kin.dims else kin
         freqs = np.asarray(k.isel({d: 0 for d in k.dims if d != "kinematic"}).values, dtype=np.float64)
     top = 0.0
@@ -169,7 +169,7 @@ def extra_axes_note(ctx: Context) -> list:
     extra = [d for d in extra_dims(ctx.metrics) if d in ctx.metrics.coords]
     if not extra:
         return []
-    parts = [f"`{d}` = {_class_name(ctx, ctx.metrics[d].values[0]) if d == CLASS_AXIS else ctx.metrics[d].values[0]}"
+    parts = [f"`{d}` = {class_name(ctx, ctx.metrics[d].values[0]) if d == CLASS_AXIS else ctx.metrics[d].values[0]}"
              for d in extra]
     return [Para("This sweep has further axes; the sections below show their first values ("
                  + ", ".join(parts) + ") unless a section says otherwise.")]

@@ -79,8 +79,8 @@ REQUIRED = object()
 #: Kinds of field.
 KINDS = ("quantity", "integer", "boolean", "choice", "string", "list")
 
-#: Which file a field belongs to.
-FILES = ("bearing", "profile", "solver", "operating_point")
+#: Which file a field belongs to (``statistics``: a sweep file's ``[statistics]`` table).
+FILES = ("bearing", "profile", "solver", "operating_point", "statistics")
 
 
 @dataclass(frozen=True)
@@ -525,8 +525,24 @@ _OPERATING_POINT = [
        bounds=None, default=0.0, source="load_angle"),
 ]
 
+#: A sweep file's ``[statistics]`` table (:mod:`pipeline.schema.statistics`, which checks it).
+_STATISTICS = [
+    Field("statistics.method", "choice", "statistics", default="sobol", choices=("sobol", "lhs"),
+          doc="sampling of the draws (scipy.stats.qmc): scrambled Sobol' points (more draws keep the first "
+              "ones) or a Latin hypercube (changing draws redraws all)"),
+    Field("statistics.draws", "integer", "statistics", minimum=2, maximum=2**16,
+          doc="N, the draws of the imperfections per grid point (a power of 2 for sobol)"),
+    Field("statistics.seed", "integer", "statistics", minimum=0,
+          doc="seed of the scrambling (or the hypercube): it fixes the draws and so their case ids"),
+    Field("statistics.inputs", "list", "statistics", default="every input the bearing has a limit for",
+          doc="named tolerance inputs drawn within the class: inner/outer_eccentricity(_angle), "
+              "inner/outer_waviness, ball_diameter_deviation"),
+    Field("statistics.sensitivity", "boolean", "statistics", default=False,
+          doc="Saltelli's design (N·(d+2) cases a point) for first-order and total Sobol' indices"),
+]
+
 #: Every field, in file order.
-FIELDS: tuple = tuple(_BEARING + _PAIR + _PROFILE + _SOLVER + _OPERATING_POINT)
+FIELDS: tuple = tuple(_BEARING + _PAIR + _PROFILE + _SOLVER + _OPERATING_POINT + _STATISTICS)
 
 #: Tables that may be left out as a whole although some of their keys are required when they
 #: are given: left out, the dataclass fields their keys hold keep their defaults (no pair:

@@ -4,8 +4,8 @@
 global attribute ``configuration`` of ``sweep.nc`` (and of every case file): the plain
 form (:func:`pipeline.schema.sweepfile.plain`) of :class:`rvcore.bearing.geometry.Bearing`,
 :class:`rvcore.profile.Profile`, :class:`rvcore.simulation.run.SolverSettings` and
-:class:`rvcore.simulation.settings.Sensor`, plus ``name``, ``axes``, ``fixed``, ``case_ids`` and
-``model_version``. :func:`stored_configuration` rebuilds those dataclasses field by field:
+:class:`rvcore.simulation.settings.Sensor`, plus ``name``, ``axes``, ``fixed``, ``case_ids``,
+``model_version`` and, with draws, ``statistics`` (the ``[statistics]`` table, resolved). :func:`stored_configuration` rebuilds those dataclasses field by field:
 nothing is guessed, and a text this version did not write is a
 :class:`pipeline.errors.ConfigError` naming the key and the reason.
 """
@@ -50,6 +50,9 @@ class StoredConfiguration:
         Axis key -> list of coordinate values (SI).
     fixed : dict
         Fixed key -> coordinate value (SI).
+    statistics : dict or None
+        The resolved ``[statistics]`` table (:class:`pipeline.schema.statistics.StatisticsSpec`
+        as a table), None without draws.
     """
 
     name: str
@@ -60,6 +63,7 @@ class StoredConfiguration:
     sensors: tuple
     axes: dict
     fixed: dict
+    statistics: dict | None = None
 
 
 def _tuple(value):
@@ -151,7 +155,7 @@ def stored_configuration(text: str) -> StoredConfiguration:
     if version != MODEL_VERSION:
         raise ConfigError(WHERE, "model_version", version,
                           f"written by another model version (this one is {MODEL_VERSION})")
-    known = {"model_version", "name", "axes", "fixed", "solver", "bearing", "profile", "sensors",
+    known = {"model_version", "name", "axes", "fixed", "solver", "bearing", "profile", "sensors", "statistics",
              *_BOOKKEEPING}
     for k in doc:
         if k not in known:
@@ -173,4 +177,5 @@ def stored_configuration(text: str) -> StoredConfiguration:
         profile=rebuild(Profile, _table(doc, "profile"), "profile"),
         settings=settings,
         sensors=tuple(rebuild(Sensor, s, f"sensors[{i}]") for i, s in enumerate(sensors)),
-        axes=dict(_table(doc, "axes")), fixed=dict(_table(doc, "fixed")))
+        axes=dict(_table(doc, "axes")), fixed=dict(_table(doc, "fixed")),
+        statistics=dict(_table(doc, "statistics")) if "statistics" in doc else None)

@@ -103,6 +103,7 @@ from .sweepaxes import (MAX_CASES, NAME, OPERATING_POINT, REALIZATION, REQUIRED_
                         Setting, check_operating_point, check_settings, coord_kind, fixed_value,
                         flatten, parse_axis, parse_sensors, realization_axis, solver_value,
                         sort_key, target_of)
+from .statistics import DRAW, SAMPLE, Draws, apply_draw, parse_statistics, sample_names
 from .tomlfile import read_toml
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
@@ -112,7 +113,7 @@ __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REAL
 
 
 TOP_KEYS = ("name", "description", "bearing", "profile", "axes", "fixed", "solver", "cases",
-            "realizations", "seed", "sensors")
+            "realizations", "seed", "sensors", "statistics")
 
 def _plain_without(obj, drop=()) -> dict:
     """A dataclass's plain form (:func:`plain`) with the top-level attributes ``drop`` left out."""
@@ -176,6 +177,7 @@ class Sweep:
     configuration_hash: str
     sensors: tuple = ()
     realizations: int = 1
+    statistics: object = None
 
     def axis(self, key: str) -> Axis | None:
         for a in self.axes:
@@ -261,6 +263,9 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         raise ConfigError(file, "axes", None, "missing: give [axes] (a grid) or [[cases]] (a list of cases)")
     explicit = "cases" in raw
     axes, points = _listed_points(raw, file, fixed) if explicit else _grid_points(raw, file, fixed)
+    draws = _draws(raw, file, fixed, points, resolver)
+    if draws is not None:
+        axes, points = _with_draws(axes, points, draws, file)
 
     sensors = parse_sensors(raw.get("sensors"), file)
     base_settings = SolverSettings(**solver_values)
@@ -270,7 +275,7 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
 
     cases, ids = [], {}
     for n, point in enumerate(points):
-        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw)
+        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw, draws)
         if case.case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
                               f"case {n} is the same as case {ids[case.case_id]} (same resolved values)")
@@ -293,13 +298,49 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
         "profile": plain(base_profile),
         "sensors": plain(list(sensors)),
     }
+    if draws is not None:
+        sweep_conf["statistics"] = plain(draws.spec)
     return Sweep(name=name, file=file, description=description, bearing_file=bearing_file,
                  profile_file=profile_file, axes=axes, fixed=fixed_coords,
                  settings=base_settings, bearing=base_bearing, profile=base_profile,
                  cases=tuple(cases), explicit=explicit,
                  configuration=tomli_w.dumps(plain(sweep_conf)),
                  configuration_hash=hash_id(sweep_conf), sensors=sensors,
-                 realizations=int(raw.get("realizations", 1)))
+                 realizations=int(raw.get("realizations", 1)),
+                 statistics=draws.spec if draws is not None else None)
+
+
+def _draws(raw: dict, file: Path, fixed: dict, points: list, resolver: Resolver):
+    """The sweep's :class:`~pipeline.schema.statistics.Draws` (None without ``[statistics]``),
+    its inputs checked against the first grid point's bearing."""
+    if raw.get("statistics") is None:
+        return None
+    first = list({**fixed, **points[0]}.values())
+    bearing = resolver.bearing(_overrides(first, "bearing"))
+    spec = parse_statistics(raw["statistics"], file, bearing)
+    return Draws.of(spec, bearing)
+
+
+def _with_draws(axes: tuple, points: list, draws, file: Path) -> tuple:
+    """The axes and points with the ``draw`` axis (and ``sample`` with ``sensitivity``) last."""
+    for a in axes:
+        if a.key in (DRAW, SAMPLE):
+            raise ConfigError(file, f"axes.{a.key}", None, "is the [statistics] table's own axis; "
+                                                          "set the draws there")
+    n = draws.spec.draws
+    extra = [Axis(DRAW, "statistics", tuple(float(k) for k in range(n)), tuple(float(k) for k in range(n)),
+                  "dimensionless")]
+    if draws.spec.sensitivity:
+        names = sample_names(draws.spec)
+        extra.append(Axis(SAMPLE, "statistics", names, names, "category"))
+    size = len(points) * math.prod(len(a) for a in extra)
+    if size > MAX_CASES:
+        raise ConfigError(file, "statistics.draws", n, f"{size} cases with the grid: more than the {MAX_CASES} "
+                                                       "a sweep holds")
+    out = [{**p, **{a.key: Setting("statistics", a.key, a.values[i], a.coords[i], f"statistics.{a.key}[{i}]")
+                    for a, i in zip(extra, combo)}}
+           for p in points for combo in itertools.product(*(range(len(a)) for a in extra))]
+    return axes + tuple(extra), out
 
 
 def _check_top_keys(raw: dict, file: Path) -> None:
@@ -425,7 +466,8 @@ def _overrides(settings, target: str) -> tuple:
 
 
 def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: SolverSettings,
-                  resolver: Resolver, sensors: tuple, file: Path, raw: dict | None = None) -> CaseSpec:
+                  resolver: Resolver, sensors: tuple, file: Path, raw: dict | None = None,
+                  draws=None) -> CaseSpec:
     """One case: ``[fixed]`` with the point's settings over it, resolved and hashed."""
     merged = {**fixed, **point}
     settings_of = list(merged.values())
@@ -440,6 +482,10 @@ def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: Solve
     if solver_over:
         check_settings(settings, file, {s.inner: s.where for s in settings_of if s.target == "solver"})
     bearing = resolver.bearing(_overrides(settings_of, "bearing"))
+    stats = {s.inner: s for s in settings_of if s.target == "statistics"}
+    if draws is not None and DRAW in stats:
+        sample = stats[SAMPLE].value if SAMPLE in stats else "A"
+        bearing = apply_draw(bearing, draws, int(stats[DRAW].value), sample, file, stats[DRAW].where)
     profile = resolver.profile(_overrides(settings_of, "profile"))
     refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
     conf = case_configuration(bearing, profile, op, settings, sensors)
