@@ -5,8 +5,7 @@
 - :mod:`~pipeline.analysis.regression`: single fits: lines, the interaction plane, bands;
 - :mod:`~pipeline.analysis.compare`: a measured rig trace beside a simulated case;
 - :mod:`~pipeline.analysis.duty`: the duty cycle from a trace's speed and load channels;
-- :mod:`~pipeline.analysis.measured`: the measured cases of a sweep folder in its metrics and fits.
-
+- :mod:`~pipeline.analysis.measured`: the measured cases of a sweep folder in its metrics and fits;
 - :mod:`~pipeline.analysis.statistics`: percentiles and Sobol' indices over ``[statistics]`` draws (``statistics.nc``).
 """
 from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
