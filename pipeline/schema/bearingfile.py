@@ -21,6 +21,7 @@ from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections, Wavi
 from ..errors import ConfigError
 from .fields import fields_of
 from .reader import Table, short, top_table
+from .ringfile import check_ring_supports, ring_supports
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
 __all__ = ["bearing_from_dict", "load_bearing"]
@@ -375,7 +376,8 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
                       source=top.get("source"), description=top.get("description"),
                       # left out: 0, "from the geometry" (rvcore.standards.iso16281)
                       dynamic_load_rating=top.get("dynamic_load_rating", default=0.0),
-                      lubricant=_lubricant(top, rows[0].pitch_diameter), **_temperatures(top))
+                      lubricant=_lubricant(top, rows[0].pitch_diameter), **_temperatures(top),
+                      **ring_supports(top))
 
     warnings = []
     for p in bearing_problems(bearing):
@@ -393,6 +395,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             shown = p.value
         raise ConfigError(file, key, shown, reason)
     _refuse_unphysical(bearing, raw, file, arrangement)
+    check_ring_supports(bearing, file)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
     if arrangement:   # the preload is set at the reference temperature, the offset then held
         bearing = _preload(bearing, top)
