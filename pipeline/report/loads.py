@@ -238,7 +238,7 @@ def section_load_distribution(ctx: Context) -> list:
     blocks.append(Para("Each row's share of the load at those points (its force on the inner ring):"))
     blocks.append(Table(["case (steady loads)", "row", "radial load [kN]", "axial load [kN]",
                          "largest inner contact load [kN]", "loaded balls"], _row_shares(corners)))
-    blocks += _flexible_blocks(corners)
+    blocks += flexible_blocks(corners)
     return blocks
 
 
@@ -254,7 +254,7 @@ _COMPARED = (("largest contact load Q_max", "max_contact_load", 1e-3, "kN"),
              ("tilting stiffness", "tilting_stiffness", 1e-3, "N m/mrad"))
 
 
-def _flexible_blocks(corners: list) -> list:
+def flexible_blocks(corners: list) -> list:
     """"Flexible rings against rigid rings": the compared numbers of each flexible corner
     beside the rigid rings' at the same loads, and the rings' deformation (none when every
     corner's rings are rigid)."""

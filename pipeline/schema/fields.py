@@ -277,7 +277,9 @@ def _flexible(ring: str) -> list:
            default="(or the section's properties)"),
         _q(f"{p}.housing.width", "length", "mm", "axial width of a rectangular housing section",
            default="(or the section's properties)"),
-        *_material(f"{p}.housing.material", f"{p}.housing_material", "the housing", thermal=False),
+        # read by pipeline.schema.ringfile (no one attribute of the Bearing holds them: no source)
+        *(dataclasses.replace(f, source=None)
+          for f in _material(f"{p}.housing.material", "", "the housing", thermal=False)),
         _q(f"{p}.housing.ground_radial_stiffness", "pressure", "N/mm^2",
            "radial stiffness of what holds the housing, per unit circumference of the housing; default 0 (free)",
            bounds="nonnegative", default=0.0),

@@ -116,7 +116,7 @@ def test_compute_case_refuses_flexible_rings_as_a_failed_case(tmp_path):
 
 def test_statics_nc_carries_the_flexible_and_rigid_numbers_and_the_report_shows_them(tmp_path):
     from pipeline.io.statics import FLEXIBLE_VARIABLES, statics_dataset, write_statics
-    from pipeline.report.loads import _flexible_blocks, read_statics
+    from pipeline.report.loads import flexible_blocks, read_statics
     from pipeline.report.render import Table
     from pipeline.run.corners import corner_statics
     from pipeline.schema import sweep_from_dict
@@ -136,7 +136,7 @@ def test_statics_nc_carries_the_flexible_and_rigid_numbers_and_the_report_shows_
         assert ds["ball_load"].shape == ds["ball_load_rigid"].shape
     c, = read_statics(tmp_path).corners
     assert c.flexible is not None and c.flexible["ball_load_rigid"].shape == c.ball_load.shape
-    tables = [b for b in _flexible_blocks([c]) if isinstance(b, Table)]
+    tables = [b for b in flexible_blocks([c]) if isinstance(b, Table)]
     assert len(tables) == 2 and any("Q_max" in row[1] for row in tables[0].rows)
 
 
