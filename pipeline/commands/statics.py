@@ -305,9 +305,9 @@ def _flexible(bearing, rings, st, st_rigid) -> dict | None:
             "the bearing's rings are flexible in their supports (docs/model.md section 16): every other number "
             "of this output is the flexible rings' equilibrium; 'flexible' and 'rigid_rings' set the compared "
             "numbers side by side, the rigid rings solved at the same loads. "
-            + "; ".join(f"{k}: {u}, {w}" for k, (u, w) in HEADLINE.items())
+            + "; ".join(f"{k}: {w}" for k, (_, w) in HEADLINE.items())
             + ". ring_deformation_m: " + "; ".join(f"<ring>_ring_{k}: {w}" for k, (_, w) in DEFORMATION.items())
-            + " (null: that ring or direction rigid). Lives in 10^6 revolutions."),
+            + " (null: that ring or direction rigid). SI, the lives in 10^6 revolutions (_Mrev)."),
     }
 
 

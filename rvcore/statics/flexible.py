@@ -34,8 +34,10 @@ HEADLINE = {
     "max_contact_pressure": ("Pa", "largest Hertz contact pressure"),
     "loaded_ball_count": ("1", "balls loaded on both races"),
     "static_safety_factor": ("1", "ISO 76 static safety factor s0 = (4200 MPa / p_max)^3"),
-    "reference_rating_life_L10r": ("revolutions", "ISO/TS 16281 reference rating life from the ball loads"),
-    "basic_rating_life_L10": ("revolutions", "ISO 281 basic rating life (the applied loads only)"),
+    "reference_rating_life_L10r": ("1", "ISO/TS 16281 reference rating life from the ball loads, in revolutions "
+                                        "of the inner ring"),
+    "basic_rating_life_L10": ("1", "ISO 281 basic rating life (the applied loads only), in revolutions of the "
+                                   "inner ring"),
     "radial_stiffness": ("N m-1", "radial stiffness along the radial load, the other coordinates held"),
     "axial_stiffness": ("N m-1", "axial stiffness, the other coordinates held"),
     "tilting_stiffness": ("N m rad-1", "tilting stiffness about the axis normal to the radial load, the "

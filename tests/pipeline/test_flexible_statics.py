@@ -151,3 +151,10 @@ def test_statics_nc_of_a_rigid_sweep_has_no_flexible_variables(tmp_path):
                             tmp_path / "s.toml")
     ds = statics_dataset([corner_statics(sweep.cases[0])], gravity=True, tilt="free")
     assert not set(FLEXIBLE_VARIABLES) & set(ds.data_vars)
+
+
+def test_check_says_which_rings_are_flexible(tmp_path, capsys):
+    assert main(["check", str(flexible_bearing(tmp_path, 2e9))]) == 0
+    assert "rings: inner foundation, outer rigid" in capsys.readouterr().out
+    assert main(["check", "--json", str(REDUCED)]) == 0
+    assert json.loads(capsys.readouterr().out)["ring_supports"] == {"inner": "rigid", "outer": "rigid"}
