@@ -205,6 +205,8 @@ def run(args):
                                   "axial_displacement_m": path["axial_displacement"].tolist(),
                                   "radial_displacement_range_m": path["radial_displacement_range"],
                                   "axial_displacement_range_m": path["axial_displacement_range"]}
+            if flexible is not None:   # rvcore.statics.runout solves rigid rings
+                obj["runout_path"]["rings"] = "rigid"
         if pair:
             obj["row_axial_load_N"] = np.asarray(st.row_axial_loads, dtype=float).tolist()
             obj["row_radial_load_N"] = np.asarray(st.row_radial_loads, dtype=float).tolist()
@@ -254,7 +256,8 @@ def run(args):
     _print_lubrication(bearing, lub)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     if path is not None:
-        print(f"  runout path          over one revolution, {len(path['ring_angle'])} ring angles: delta_r range "
+        print(f"  runout path          {'(rigid rings) ' if flexible is not None else ''}over one revolution, "
+              f"{len(path['ring_angle'])} ring angles: delta_r range "
               f"{path['radial_displacement_range'] * 1e6:.4g} um, delta_a range "
               f"{path['axial_displacement_range'] * 1e6:.4g} um")
         print("    ring[deg]  delta_r[um]  delta_a[um]")

@@ -73,10 +73,11 @@ def test_a_soft_seat_spreads_the_load_and_keeps_l10_and_the_balance(tmp_path, ca
 
 def test_the_text_output_sets_flexible_beside_rigid(tmp_path, capsys):
     assert main(["statics", "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--radial-load", "30kN",
-                 "--axial-load", "10kN"]) == 0
+                 "--axial-load", "10kN", "--runout", "2"]) == 0
     text = capsys.readouterr().out
     assert "flexible | rigid rings | change" in text and "inner ring deformation ovalisation" in text
     assert "Q_inner rigid[N]" in text
+    assert "runout path          (rigid rings)" in text   # rvcore.statics.runout solves rigid rings
 
 
 def test_a_rigid_bearing_prints_nothing_of_flexible_rings(capsys):
