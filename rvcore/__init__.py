@@ -32,12 +32,12 @@ Shared
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
 
-``rings``: flexible rings, their theory (issue 41; wired into the statics only, on request; rigid by default)
+``rings``: flexible rings, their theory (issue 41; from the bearing file into the statics; rigid by default)
 - ``rings.section``            a ring's section from its envelope and grooves, or given: area, centroid, second moments, torsion constant
 - ``rings.modes``              thin-ring Fourier modes, in plane and out of plane with twist: modal masses, stiffnesses, damping
 - ``rings.support``            what holds a ring: an elastic foundation, or a housing ring through a seat; the supported modes
 - ``rings.deflection``         a ring's static deflection under point loads by the Fourier sum over its modes
-- ``rings.flexible``           a bearing's rings each rigid or flexible in its support; their raceways' displacements at the balls
+- ``rings.flexible``           a bearing's rings each rigid or flexible in its support (``bearing_rings``); their raceways' displacements and deformation
 
 ``contact``: the contact laws
 - ``contact.step``             the cubic STEP, the one smooth transition of the laws and the profiles
@@ -61,6 +61,7 @@ Shared
 - ``statics.operating``        the steady operating point and the statics there
 - ``statics.runout``           the runout path of an imperfect bearing over a revolution
 - ``statics.lubrication``      κ, a_ISO, L_nm and the film at an equilibrium (ISO 281 clause 9, Hamrock–Dowson)
+- ``statics.flexible``         the statics on flexible rings beside the rigid rings': the numbers compared, the rings' deformation
 
 ``recording``: what a case records
 - ``recording.plan``           the output table as index arrays: series columns, phase reductions, life sums

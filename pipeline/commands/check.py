@@ -131,6 +131,9 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
         "outer_diameter_m": bearing.outer_diameter,
         "width_m": bearing.width,
         "inner_ring_mass_kg": inner_mass,
+        # each ring rigid, or flexible in its support (docs/inputs.md "Flexible rings")
+        "ring_supports": {r: ("rigid" if getattr(bearing, f"{r}_ring_support") is None
+                              else getattr(bearing, f"{r}_ring_support").kind) for r in ("inner", "outer")},
         "gravity_m_per_s2": list(bearing.gravity),
         "allow_ball_overlap": bearing.allow_ball_overlap,
         "rows": rows,
@@ -275,6 +278,9 @@ def _format_bearing(s: dict) -> list:
         ]
     lines.append(f"  inner ring mass {s['inner_ring_mass_kg']:.4g} kg (with attachments); gravity "
                  f"{_bearing_value('gravity', s['gravity_m_per_s2'])} in the bearing frame")
+    if set(s["ring_supports"].values()) != {"rigid"}:
+        lines.append(f"  rings: inner {s['ring_supports']['inner']}, outer {s['ring_supports']['outer']} (flexible "
+                     "rings: statics only in this version)")
     if s["assumptions"]:
         lines.append(f"  assumptions ({len(s['assumptions'])}): {', '.join(s['assumptions'])}")
     lines.append(_warning_count(s))

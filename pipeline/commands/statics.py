@@ -63,6 +63,7 @@ def run(args):
     from rvcore.statics.equilibrium import NoEquilibriumError, solve_statics
     from rvcore.contact.laws import LOADED_BALL_LOAD
     from rvcore.statics.stiffness import COORDINATES, stiffness_scalars
+    from rvcore.rings.flexible import bearing_rings
 
     _check_runout(args)   # before any work
     sweep = one_case_sweep(args, profile=None)
@@ -76,12 +77,19 @@ def run(args):
     # path all come from this one bearing (issue 39 item 13)
     bearing = realize(bearing, args.seed)
     mx, my = _moments(args)
-    try:
-        st = solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
-                           moment_x=mx, moment_y=my, gravity=not args.no_gravity)
+    rings = bearing_rings(bearing)
+
+    def solve(r):
+        return solve_statics(bearing, op.radial_load, op.axial_load, op.moment, op.load_angle,
+                             moment_x=mx, moment_y=my, gravity=not args.no_gravity, rings=r)
+
+    try:   # a flexible bearing: its rings' equilibrium, and the rigid rings' beside it
+        st = solve(None if rings.rigid else rings)
+        st_rigid = None if rings.rigid else solve(None)
     except NoEquilibriumError as exc:
         raise UserError(str(exc)) from None
     path = _runout(args, bearing, op, mx, my)
+    flexible = _flexible(bearing, rings, st, st_rigid)
     k = np.asarray(st.stiffness_matrix, dtype=float)
     k_radial, k_axial, k_tilt = stiffness_scalars(k, op.load_angle)
     kc_radial, kc_axial, kc_tilt = st.free_stiffness_scalars()
@@ -184,6 +192,8 @@ def run(args):
             "warnings": list(bearing.warnings),
             **_temperature_json(bearing),
         }
+        if flexible is not None:
+            obj.update(flexible)
         if lub is not None:
             obj.update(lub)
         else:
@@ -197,6 +207,8 @@ def run(args):
                                   "tilt_y_rad": path["displacement"][:, 4].tolist(),
                                   "radial_displacement_range_m": path["radial_displacement_range"],
                                   "axial_displacement_range_m": path["axial_displacement_range"]}
+            if flexible is not None:   # rvcore.statics.runout solves rigid rings
+                obj["runout_path"]["rings"] = "rigid"
         if pair:
             obj["row_axial_load_N"] = np.asarray(st.row_axial_loads, dtype=float).tolist()
             obj["row_radial_load_N"] = np.asarray(st.row_radial_loads, dtype=float).tolist()
@@ -241,21 +253,105 @@ def run(args):
           + ("- (tilt held)" if st.tilt == "held" else f"{kc_tilt * 1e-3:.4g} N m/mrad compliant"))
     print("                       (direct: the other coordinates held; compliant: the others free)")
     _print_life(life, bearing, life_note)
+    if flexible is not None:
+        _print_flexible(flexible)
     _print_lubrication(bearing, lub)
     print(f"  force balance        {np.abs(st.residual[:3]).max():.3g} N, {np.abs(st.residual[3:]).max():.3g} N m")
     if path is not None:
-        print(f"  runout path          over one revolution, {len(path['ring_angle'])} ring angles: delta_r range "
+        print(f"  runout path          {'(rigid rings) ' if flexible is not None else ''}over one revolution, "
+              f"{len(path['ring_angle'])} ring angles: delta_r range "
               f"{path['radial_displacement_range'] * 1e6:.4g} um, delta_a range "
               f"{path['axial_displacement_range'] * 1e6:.4g} um")
         print("    ring[deg]  delta_r[um]  delta_a[um]  tilt_x[urad]  tilt_y[urad]")
         for a, r_, z_, (tx, ty) in zip(path["ring_angle"], path["radial_displacement"], path["axial_displacement"],
                                        path["displacement"][:, 3:5]):
             print(f"    {math.degrees(a):9.2f}  {r_ * 1e6:11.4f}  {z_ * 1e6:11.4f}  {tx * 1e6:12.4f}  {ty * 1e6:12.4f}")
-    print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  angles[deg] (per arc, inner first)")
+    rigid_in = None if flexible is None else flexible["rigid_rings"]["ball_inner_load_N"]
+    print("  ball  azimuth[deg]  Q_inner[N]  Q_outer[N]  " + ("" if rigid_in is None else "Q_inner rigid[N]  ")
+          + "angles[deg] (per arc, inner first)")
     for j in range(st.ball_loads.shape[0]):
         angles = " ".join("   -  " if math.isnan(a) else f"{math.degrees(a):6.2f}" for a in st.contact_angles[j])
-        print(f"  {j:4d}  {math.degrees(st.azimuths[j]):12.2f}  {q_in[j]:10.2f}  {q_out[j]:10.2f}  {angles}")
+        beside = "" if rigid_in is None else f"{rigid_in[j]:16.2f}  "
+        print(f"  {j:4d}  {math.degrees(st.azimuths[j]):12.2f}  {q_in[j]:10.2f}  {q_out[j]:10.2f}  {beside}{angles}")
     return 0
+
+
+def _flexible(bearing, rings, st, st_rigid) -> dict | None:
+    """A flexible bearing's JSON additions: the rigid rings' numbers beside the flexible ones
+    (:func:`rvcore.statics.flexible.headline`), and the rings' deformation [SI]; None when rigid."""
+    if st_rigid is None:
+        return None
+    from rvcore.statics.flexible import DEFORMATION, HEADLINE, headline, ring_deformation
+
+    def ring_loads(result):
+        inner = result.arc_rings == 0
+        return np.where(inner[None, :], result.ball_loads, 0.0).sum(axis=1).tolist()
+
+    def side(result):
+        h = headline(bearing, result)
+        h["reference_rating_life_L10r"] *= 1e-6   # revolutions -> 10^6 revolutions, as above
+        h["basic_rating_life_L10"] *= 1e-6
+        out = {f"{k}{_HEADLINE_SUFFIX[k]}": (_finite(h[k]) if k != "loaded_ball_count" else int(h[k]))
+               for k in HEADLINE}
+        out.update(ball_contact_load_N=result.ball_loads.tolist(), ball_inner_load_N=ring_loads(result),
+                   radial_displacement_m=result.radial_displacement, axial_displacement_m=result.axial_displacement,
+                   tilt_rad=result.displacement[3:5].tolist(),
+                   stiffness_matrix=np.asarray(result.stiffness_matrix, dtype=float).tolist())
+        return out
+
+    deformation = ring_deformation(rings, st)
+    return {
+        "flexible_rings": {r: getattr(bearing, f"{r}_ring_support").kind
+                           if getattr(bearing, f"{r}_ring_support") is not None else "rigid"
+                           for r in ("inner", "outer")},
+        "flexible": side(st), "rigid_rings": side(st_rigid),
+        "ring_deformation_m": {k: _finite(v) for k, v in deformation.items()},
+        "ring_iterations": st.ring_iterations,
+        "flexible_rings_note": (
+            "the bearing's rings are flexible in their supports (docs/model.md section 16): every other number "
+            "of this output is the flexible rings' equilibrium; 'flexible' and 'rigid_rings' set the compared "
+            "numbers side by side, the rigid rings solved at the same loads. "
+            + "; ".join(f"{k}: {w}" for k, (_, w) in HEADLINE.items())
+            + ". ring_deformation_m: " + "; ".join(f"<ring>_ring_{k}: {w}" for k, (_, w) in DEFORMATION.items())
+            + " (null: that ring or direction rigid). SI, the lives in 10^6 revolutions (_Mrev)."),
+    }
+
+
+#: The unit suffixes of the compared numbers in the JSON (lives in 10^6 rev, as above).
+_HEADLINE_SUFFIX = {"max_contact_load": "_N", "max_contact_pressure": "_Pa", "loaded_ball_count": "",
+                    "static_safety_factor": "_pressure", "reference_rating_life_L10r": "_Mrev",
+                    "basic_rating_life_L10": "_Mrev", "radial_stiffness": "_N_per_m",
+                    "axial_stiffness": "_N_per_m", "tilting_stiffness": "_Nm_per_rad"}
+
+
+def _print_flexible(flexible: dict) -> None:
+    """The flexible rings' numbers beside the rigid rings', with the change, and the rings'
+    deformation, in engineering units."""
+    f, r = flexible["flexible"], flexible["rigid_rings"]
+    rings = flexible["flexible_rings"]
+    print(f"  flexible rings       inner {rings['inner']}, outer {rings['outer']} "
+          f"({flexible['ring_iterations']} iterations); flexible | rigid rings | change:")
+    rows = (("max contact load", "max_contact_load_N", 1.0, "N"),
+            ("max Hertz pressure", "max_contact_pressure_Pa", 1e-9, "GPa"),
+            ("loaded balls", "loaded_ball_count", 1.0, ""),
+            ("static safety s0", "static_safety_factor_pressure", 1.0, ""),
+            ("life L10r", "reference_rating_life_L10r_Mrev", 1.0, "Mrev"),
+            ("life L10", "basic_rating_life_L10_Mrev", 1.0, "Mrev"),
+            ("radial stiffness", "radial_stiffness_N_per_m", 1e-6, "N/um"),
+            ("axial stiffness", "axial_stiffness_N_per_m", 1e-6, "N/um"),
+            ("tilting stiffness", "tilting_stiffness_Nm_per_rad", 1e-3, "N m/mrad"))
+    for label, key, scale, unit in rows:
+        a, b = f[key], r[key]
+        change = (f"{(a / b - 1.0) * 100:+7.1f} %" if a is not None and b not in (None, 0) else "      -")
+        print(f"    {label:18s} {_num(None if a is None else a * scale)} | "
+              f"{_num(None if b is None else b * scale)} {unit:8s} {change}")
+    d = flexible["ring_deformation_m"]
+    for ring in ("inner", "outer"):
+        if rings[ring] == "rigid":
+            continue
+        print(f"  {ring} ring deformation ovalisation {_num(d[f'{ring}_ring_ovalisation'] * 1e6)} um, largest radial "
+              f"{_num(d[f'{ring}_ring_max_radial_deformation'] * 1e6)} um, axial "
+              f"{_num(d[f'{ring}_ring_max_axial_deformation'] * 1e6)} um")
 
 
 def _runout(args, bearing, op, mx: float, my: float):

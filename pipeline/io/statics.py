@@ -13,7 +13,9 @@ Layout (CF-1.8, SI):
 - dimensions ``ball`` (every ball of every row, in order), ``arc`` (a row's raceway arcs,
   inner first) and ``row``; a corner whose bearing has fewer balls, arcs or rows than
   another is padded with NaN (and ``-1`` in the integer variables);
-- the variables of :data:`STATICS_VARIABLES`.
+- the variables of :data:`STATICS_VARIABLES`; where a bearing's rings are flexible
+  (docs/model.md §16), those of :data:`FLEXIBLE_VARIABLES` too: the variables above are
+  then the flexible rings', and each compared number has its rigid rings' value beside it.
 """
 from __future__ import annotations
 
@@ -59,8 +61,35 @@ STATICS_VARIABLES = {
     "row_contact_angle": (("corner", "row"), "rad", "nominal contact angle of each row"),
 }
 
+
+def _flexible_variables() -> dict:
+    """The variables of a sweep whose bearing has flexible rings (docs/model.md §16): the
+    compared numbers (:data:`rvcore.statics.flexible.HEADLINE`) with the flexible rings and,
+    beside each, with rigid rings (``_rigid``), and each ring's deformation
+    (:data:`rvcore.statics.flexible.DEFORMATION`)."""
+    from rvcore.statics.flexible import DEFORMATION, HEADLINE
+
+    out = {"flexible_rings": (("corner",), "1", "1 where the bearing's rings are flexible in their supports (the "
+                                                "other variables then are the flexible rings'), 0 where rigid"),
+           "ball_load_rigid": (("corner", "ball", "arc"), "N", "normal force of each ball on each raceway arc "
+                                                              "with rigid rings at the same loads")}
+    for name, (units, what) in HEADLINE.items():
+        if name in ("max_contact_load", "max_contact_pressure"):
+            out[f"{name}_rigid"] = ((("corner",), units, f"{what}, rigid rings at the same loads"))
+            continue
+        out[name] = (("corner",), units, f"{what} at the equilibrium")
+        out[f"{name}_rigid"] = (("corner",), units, f"{what}, rigid rings at the same loads")
+    for ring in ("inner", "outer"):
+        for name, (units, what) in DEFORMATION.items():
+            out[f"{ring}_ring_{name}"] = (("corner",), units, f"{ring} ring: {what} (NaN where rigid)")
+    return out
+
+
+#: name -> (dims, units, long_name) of the variables a sweep with flexible rings adds.
+FLEXIBLE_VARIABLES = _flexible_variables()
+
 #: Integer variables and their dtype; padding is -1 (no such ball or arc).
-_INTEGER = {"solved": np.int8, "ball_row": np.int16, "arc_ring": np.int8}
+_INTEGER = {"solved": np.int8, "ball_row": np.int16, "arc_ring": np.int8, "flexible_rings": np.int8}
 
 
 @dataclass
@@ -112,7 +141,10 @@ def statics_dataset(corners: list, *, gravity: bool, tilt: str, sweep_name: str 
         "case_id": ("corner", np.array([c.case_id for c in corners], dtype=object),
                     {"long_name": "id of the case at this corner (its file is cases/<case_id>.nc)"}),
     })
-    for name, (dims, units, long_name) in STATICS_VARIABLES.items():
+    variables = dict(STATICS_VARIABLES)
+    if any(c.values.get("flexible_rings") for c in corners):
+        variables.update(FLEXIBLE_VARIABLES)
+    for name, (dims, units, long_name) in variables.items():
         ds[name] = (dims, _padded(corners, name, dims), {"units": units, "long_name": long_name})
     ds["solved"].attrs.update(flag_values=np.array([0, 1], dtype=np.int8), flag_meanings="no_equilibrium equilibrium")
     ds["arc_ring"].attrs.update(valid_min=np.int8(0), valid_max=np.int8(1))
@@ -121,7 +153,8 @@ def statics_dataset(corners: list, *, gravity: bool, tilt: str, sweep_name: str 
         "Conventions": "CF-1.8",
         "title": f"Quasi-static load distribution at the extreme operating points of sweep '{sweep_name}'",
         "source": f"rv-bearing-sweep {__version__}: rvcore.statics.operating.steady_statics at each case's steady "
-                  "operating point (rigid rings, Hertz at every contact, balls in equilibrium)",
+                  "operating point (the bearing's rings, rigid unless flexible_rings says otherwise, with rigid "
+                  "rings beside; Hertz at every contact, balls in equilibrium)",
         "history": history_line(f"pipeline.run.corners: statics of {len(corners)} extreme case"
                                 f"{'s' if len(corners) != 1 else ''}"),
         "references": REFERENCES,

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..io.statics import STATICS_FILE
+from ..io.statics import FLEXIBLE_VARIABLES, STATICS_FILE
 from .context import Context
 from .figures import new_figure, save_figure
 from .render import Heading, Image, Para, Table, fmt_kn, fmt_number, fmt_speed
@@ -52,6 +52,9 @@ class Corner:
     row_axial_load: np.ndarray = None
     row_axial_position: np.ndarray = None
     row_contact_angle: np.ndarray = None
+    flexible: dict = None
+    # flexible rings (statics.nc's FLEXIBLE_VARIABLES): the compared numbers, each with its
+    # "_rigid" twin, the rings' deformation and "ball_load_rigid"; None where the rings are rigid
 
     def label(self) -> str:
         """'390 °/s, 30 kN radial, 10 kN axial[, 2 kN m][, preload 2 kN]' at the steady point."""
@@ -102,7 +105,13 @@ def _corner(ds: xr.Dataset, i: int, errors: dict) -> Corner:
     balls = rows >= 0
     arcs = np.asarray(c["arc_ring"].values) >= 0
     n_rows = int(np.isfinite(c["row_axial_position"].values).sum())
-    return Corner(case_id, **value, solved=True, azimuth=np.asarray(c["ball_azimuth"].values)[balls],
+    flexible = None
+    if "flexible_rings" in c and int(c["flexible_rings"].values) == 1:
+        names = [k for k, (dims, _, _) in FLEXIBLE_VARIABLES.items() if dims == ("corner",)]
+        flexible = {k: float(c[k].values) for k in names + ["max_contact_load", "max_contact_pressure"]}
+        flexible["ball_load_rigid"] = np.asarray(c["ball_load_rigid"].values)[np.ix_(balls, arcs)]
+    return Corner(case_id, **value, solved=True, flexible=flexible,
+                  azimuth=np.asarray(c["ball_azimuth"].values)[balls],
                   row_of_ball=rows[balls].astype(int),
                   ball_load=np.asarray(c["ball_load"].values)[np.ix_(balls, arcs)],
                   arc_ring=np.asarray(c["arc_ring"].values)[arcs],
@@ -171,6 +180,9 @@ def figure_load_distribution(corners: list, path: Path) -> None:
                 label = c.row_label(r) + (f", inner arc {cols.index(k)}" if len(row_cols) > 1 else "")
                 ax.plot(az[order], c.ball_load[order, k] / 1e3, marker="o", ms=3, lw=1.0,
                         ls="-" if m == 0 else "--", color=f"C{r}", label=label)
+                if c.flexible is not None:
+                    ax.plot(az[order], c.flexible["ball_load_rigid"][order, k] / 1e3, lw=0.8, ls=":",
+                            color=f"C{r}", label=label + ", rigid rings")
         ax.axvline(0.0, color="0.5", lw=0.6)
         ax.set_xlim(-180.0, 180.0)
         ax.set_xticks(np.arange(-180, 181, 60))
@@ -226,4 +238,52 @@ def section_load_distribution(ctx: Context) -> list:
     blocks.append(Para("Each row's share of the load at those points (its force on the inner ring):"))
     blocks.append(Table(["case (steady loads)", "row", "radial load [kN]", "axial load [kN]",
                          "largest inner contact load [kN]", "loaded balls"], _row_shares(corners)))
+    blocks += flexible_blocks(corners)
     return blocks
+
+
+#: The rows of the flexible-against-rigid table: (label, variable, scale, unit).
+_COMPARED = (("largest contact load Q_max", "max_contact_load", 1e-3, "kN"),
+             ("largest Hertz pressure", "max_contact_pressure", 1e-9, "GPa"),
+             ("loaded balls", "loaded_ball_count", 1.0, ""),
+             ("static safety s0 (4200 MPa/p_max)^3", "static_safety_factor", 1.0, ""),
+             ("life L10r (ISO/TS 16281)", "reference_rating_life_L10r", 1e-6, "10^6 rev"),
+             ("life L10 (ISO 281, the applied loads)", "basic_rating_life_L10", 1e-6, "10^6 rev"),
+             ("radial stiffness", "radial_stiffness", 1e-6, "N/µm"),
+             ("axial stiffness", "axial_stiffness", 1e-6, "N/µm"),
+             ("tilting stiffness", "tilting_stiffness", 1e-3, "N m/mrad"))
+
+
+def flexible_blocks(corners: list) -> list:
+    """"Flexible rings against rigid rings": the compared numbers of each flexible corner
+    beside the rigid rings' at the same loads, and the rings' deformation (none when every
+    corner's rings are rigid)."""
+    flexible = [c for c in corners if c.solved and c.flexible is not None]
+    if not flexible:
+        return []
+    rows = []
+    for c in flexible:
+        f = c.flexible
+        for label, name, scale, unit in _COMPARED:
+            a, b = f[name], f[f"{name}_rigid"]
+            change = fmt_number((a / b - 1.0) * 100.0, 3) + " %" if math.isfinite(a) and math.isfinite(b) and b else "-"
+            rows.append([c.label(), label + (f" [{unit}]" if unit else ""), fmt_number(a * scale, 4),
+                         fmt_number(b * scale, 4), change])
+    deformation = []
+    for c in flexible:
+        for ring in ("inner", "outer"):
+            values = [c.flexible[f"{ring}_ring_{k}"] for k in ("ovalisation", "max_radial_deformation",
+                                                               "max_axial_deformation")]
+            if all(math.isnan(v) for v in values):
+                continue
+            deformation.append([c.label(), ring] + [fmt_number(v * 1e6, 4) if math.isfinite(v) else "-"
+                                                    for v in values])
+    return [Heading(3, "Flexible rings against rigid rings"),
+            Para("The bearing's rings are flexible in their supports (docs/model.md §16): the load distribution "
+                 "above (solid lines) is theirs, the dotted lines are the rigid rings' at the same loads. The "
+                 "numbers each way, and the change the flexible rings make:"),
+            Table(["case (steady loads)", "quantity", "flexible rings", "rigid rings", "change"], rows),
+            Para("The rings' deformation at those points, relative to their supports: the ovalisation is the "
+                 "amplitude of the radial order k = 2 (the diameter changes by twice it):"),
+            Table(["case (steady loads)", "ring", "ovalisation [µm]", "largest radial [µm]", "largest axial [µm]"],
+                  deformation)]

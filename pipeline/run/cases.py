@@ -25,6 +25,36 @@ from ..schema import CaseSpec
 TIMING_INFO = ("wall_time",)
 
 
+#: Why a bearing with flexible rings runs no dynamic case yet (issue 41: the ring modes
+#: enter the dynamics later; ``rvsweep statics`` solves them).
+FLEXIBLE_DYNAMICS = "flexible rings: statics only in this version"
+
+
+def flexible(bearing) -> bool:
+    """Whether either of ``bearing``'s rings is flexible (``inner_ring_support``,
+    ``outer_ring_support``)."""
+    return bearing.inner_ring_support is not None or bearing.outer_ring_support is not None
+
+
+def refuse_flexible_dynamics(specs, where: str) -> None:
+    """One line, before any work, where a dynamic run would take a bearing with flexible
+    rings (:data:`FLEXIBLE_DYNAMICS`).
+
+    Parameters
+    ----------
+    specs : iterable of pipeline.schema.CaseSpec
+    where : str
+        The file or option that named the bearing.
+    """
+    from ..errors import UserError
+
+    for spec in specs:
+        if flexible(spec.bearing):
+            raise UserError(f"{where}: bearing {spec.bearing.name!r}: {FLEXIBLE_DYNAMICS} (rvsweep statics "
+                            "solves its rings; a dynamic case needs rigid rings: leave [inner_ring.flexible] "
+                            "and [outer_ring.flexible] out)")
+
+
 @dataclass
 class CaseOutcome:
     """What a worker sends back for one case.
@@ -85,6 +115,8 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
         ``rvcore.simulation.run.run_case``.
     """
     t0 = time.perf_counter()
+    if flexible(spec.bearing):   # the commands refuse it first; a guard for every other caller
+        return CaseOutcome(spec.case_id, False, None, FLEXIBLE_DYNAMICS, "", 0.0)
     fn = case_fn if case_fn is not None else _default_case_fn()
     try:
         result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)

@@ -4,8 +4,9 @@ A designer reads the load distribution "at the operating point": the loads the p
 applies in the middle of its steady phase. Of the finished cases, those at the corners of
 the load-like quantities that vary over the sweep (radial load, axial load, tilting
 moment, the pair's preload) are solved once more with
-:func:`rvcore.statics.operating.steady_statics` (rigid rings, Hertz at every contact, balls in
-equilibrium, the ring's weight when the sweep has gravity on), on the very bearing,
+:func:`rvcore.statics.operating.steady_statics` (the bearing's rings, and where they are
+flexible the rigid rings' beside them; Hertz at every contact, balls in equilibrium, the
+ring's weight when the sweep has gravity on), on the very bearing,
 profile and operating point the case ran with, and stored in ``statics.nc``
 (:mod:`pipeline.io.statics`) for the report to read.
 """
@@ -16,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from rvcore.rings.flexible import bearing_rings
+from rvcore.statics.flexible import headline, ring_deformation
 from rvcore.statics.operating import steady_loads, steady_statics
 
 from ..io.statics import STATICS_FILE, CornerStatics, statics_dataset, write_statics
@@ -70,8 +73,12 @@ def corner_statics(spec) -> CornerStatics:
     loads = case_loads(spec)
     op = spec.operating_point
     values = {**loads, "speed": op.speed, "solved": 0}
-    try:
-        st = steady_statics(spec.bearing, spec.profile, op, gravity=spec.settings.gravity)
+    rings = bearing_rings(spec.bearing)
+    try:   # flexible rings: theirs, and the rigid rings' beside them
+        st = steady_statics(spec.bearing, spec.profile, op, gravity=spec.settings.gravity,
+                            rings=None if rings.rigid else rings)
+        st_rigid = None if rings.rigid else steady_statics(spec.bearing, spec.profile, op,
+                                                           gravity=spec.settings.gravity)
     except (ValueError, ArithmeticError) as exc:   # NoEquilibriumError is a ValueError
         return CornerStatics(spec.case_id, values, f"{type(exc).__name__}: {exc}")
     rows = spec.bearing.rows
@@ -84,6 +91,11 @@ def corner_statics(spec) -> CornerStatics:
         row_radial_load=st.row_radial_loads, row_axial_load=st.row_axial_loads,
         row_axial_position=np.array([r.axial_position for r in rows]),
         row_contact_angle=np.array([r.nominal_contact_angle for r in rows]))
+    if st_rigid is not None:
+        values.update(flexible_rings=1, ball_load_rigid=np.asarray(st_rigid.ball_loads, dtype=np.float64),
+                      **headline(spec.bearing, st), **{f"{k}_rigid": v for k, v in headline(spec.bearing,
+                                                                                            st_rigid).items()},
+                      **ring_deformation(rings, st))
     return CornerStatics(spec.case_id, values)
 
 

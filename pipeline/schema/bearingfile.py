@@ -24,6 +24,7 @@ from rvcore.bearing.imperfections import MAX_WAVINESS_TERMS, Imperfections
 from ..errors import ConfigError
 from .convert import from_fields
 from .reader import Table, short, top_table
+from .ringfile import check_ring_supports, ring_supports
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
 
 __all__ = ["bearing_from_dict", "load_bearing"]
@@ -47,6 +48,9 @@ SET_ELSEWHERE = {
     "warnings": "derived: the accepted ball overlap of the geometry checks (bearing_from_dict)",
     "nominal_radial_clearances": "derived: the clearances as given, where the temperatures move them "
                                  "(rvcore.bearing.thermal.operating_bearing)",
+    "inner_ring_support": "[inner_ring.flexible]: rigid, or flexible in a support of one of three kinds "
+                          "(pipeline.schema.ringfile.ring_supports)",
+    "outer_ring_support": "[outer_ring.flexible], as the inner ring's (pipeline.schema.ringfile.ring_supports)",
     "rows[].inner_offset": "derived: a pair's preload offset (rvcore.statics.preload.apply_preload)",
     "rows[].cage.material.thermal_expansion": "not an input: the cage's expansion enters no clearance "
                                               "(the dataclass's default)",
@@ -364,6 +368,8 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
         "lubricant.contamination": lambda lub: _contamination(
             lub, lambda: top.tables("rows")[0].get("pitch_diameter")),
         "rows[].imperfections": lambda row: layered_imperfections(top, row, row.table("balls").get("count")),
+        "inner_ring_support": lambda _: ring_supports(top)["inner_ring_support"],
+        "outer_ring_support": lambda _: ring_supports(top)["outer_ring_support"],
     }
     bearing = from_fields(Bearing, top, "", readers, _OVERRIDES, RULES)
     arrangement, allow_overlap = bearing.arrangement, bearing.allow_ball_overlap
@@ -386,6 +392,7 @@ def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
             shown = p.value
         raise ConfigError(file, key, shown, reason)
     _refuse_unphysical(bearing, raw, file, arrangement)
+    check_ring_supports(bearing, file)
     bearing = dataclasses.replace(bearing, warnings=tuple(dict.fromkeys(warnings)))
     if arrangement:   # the preload is set at the reference temperature, the offset then held
         bearing = _preload(bearing, top)

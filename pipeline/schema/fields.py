@@ -49,7 +49,7 @@ from rvcore.standards.iso492 import BALL_GRADES, TOLERANCE_CLASSES
 from rvcore.statics.preload import ARRANGEMENTS
 from rvcore.profile import INTERPOLATIONS, PHASES
 from rvcore.standards.palmgren import LUBRICATIONS
-from rvcore.bearing.geometry import Lubricant
+from rvcore.bearing.geometry import DEFAULT_DAMPING_RATIO, RING_SUPPORTS, Lubricant
 from rvcore.bearing.lubricant import (BALL_ROUGHNESS_DEFAULT, DENSITY_DEFAULT, ISO_VG_GRADES,
                                       PRESSURE_VISCOSITY_DEFAULT, RACEWAY_ROUGHNESS_DEFAULT)
 from rvcore.bearing.thermal import OPERATING_TEMPERATURE_DEFAULT, REFERENCE_TEMPERATURE, STEEL_THERMAL_EXPANSION
@@ -65,6 +65,9 @@ MAX_SEED = 2**53 - 1
 #: further (:mod:`pipeline.schema.physical`: the ball must not bridge the troughs); this
 #: bound holds where the amplitude is 0.
 MAX_WAVINESS_ORDER = 10**6
+
+#: Highest Fourier order of a flexible ring's modes the inputs allow [-].
+MAX_RING_ORDER = 400
 
 #: Temperatures the inputs allow [K]: -50 to 200 degC, about where bearing steels keep their
 #: hardness and mineral oils stay liquid; also what keeps a plain number (read as K) such as
@@ -278,6 +281,74 @@ def _imperfections(prefix: str, where: str) -> list:
     return out
 
 
+def _section(prefix: str, whose: str, optional: str) -> list:
+    """A ring section given by its properties (rvcore.rings.section.given_section), under ``prefix``."""
+    return [
+        _q(f"{prefix}.area", "area", "mm^2", f"cross-section area of {whose} {optional}", default="(not given)"),
+        _q(f"{prefix}.centroid_diameter", "length", "mm", f"diameter of {whose} section's centroid circle",
+           default="(not given)"),
+        _q(f"{prefix}.i_in_plane", "second_moment", "mm^4",
+           f"second moment of {whose} section for bending in the ring's plane (radial), about its centroid",
+           default="(not given)"),
+        _q(f"{prefix}.i_out_of_plane", "second_moment", "mm^4",
+           f"second moment of {whose} section for bending out of the ring's plane (axial)", default="(not given)"),
+        _q(f"{prefix}.torsion_constant", "second_moment", "mm^4", f"Saint-Venant torsion constant J of {whose} "
+           "section", default="(not given)"),
+    ]
+
+
+def _flexible(ring: str) -> list:
+    """``[<ring>_ring.flexible]``: the ring flexible in its support (docs/model.md §16; absent: rigid)."""
+    p = f"{ring}_ring.flexible"
+    out = [
+        Field(f"{p}.support", "choice", "bearing", choices=RING_SUPPORTS,
+              doc=f"what holds the flexible {ring} ring: foundation (a seat of stiffness per unit circumference), "
+                  "housing (a second ring through the seat), fe_file (per-order stiffness from an FE model, "
+                  "docs/inputs.md); leave [" + p + "] out for a rigid ring"),
+        Field(f"{p}.max_order", "integer", "bearing", default="60 (fe_file: the file's highest order)",
+              minimum=2, maximum=MAX_RING_ORDER,
+              doc="highest Fourier order of the ring's modes (the static deflection's error falls as its cube)",
+              why="the thin-ring modes are a curved beam's: above a few hundred lobes the wave is shorter than "
+                  "the ring is thick"),
+        _q(f"{p}.damping_ratio", "dimensionless", "", "modal damping ratio of the ring's modes; default 0.02 "
+           "(an assumption: the middle of the 1-5 % measured on fitted steel rings)", bounds=(0.0, 1.0),
+           default=DEFAULT_DAMPING_RATIO, why="must lie strictly between 0 and 1: a fraction of critical damping"),
+        *_section(f"{p}.section", f"the {ring} ring's", "(give all five, or none: from the envelope and groove)"),
+    ]
+    if ring == "outer":
+        out.append(_q(f"{p}.shoulder_diameter", "length", "mm",
+                      "the outer ring's bore at its shoulders: its section from the envelope and groove "
+                      "(required unless section.* is given)", default="(required without section)"))
+    out += [
+        _q(f"{p}.seat_radial_stiffness", "pressure", "N/mm^2",
+           "radial stiffness of the ring's seat per unit circumference (foundation: required; housing: the fit "
+           "between the rings, default inf = bonded)", bounds="nonnegative", default="(inf: bonded)"),
+        _q(f"{p}.seat_axial_stiffness", "pressure", "N/mm^2",
+           "axial stiffness of the ring's seat per unit circumference (as seat_radial_stiffness)",
+           bounds="nonnegative", default="(inf: bonded)"),
+        *_section(f"{p}.housing", "the housing's (carrier's)", "(or inner_diameter, outer_diameter, width)"),
+        _q(f"{p}.housing.inner_diameter", "length", "mm", "bore of a rectangular housing (carrier) section",
+           default="(or the section's properties)"),
+        _q(f"{p}.housing.outer_diameter", "length", "mm", "outside diameter of a rectangular housing section",
+           default="(or the section's properties)"),
+        _q(f"{p}.housing.width", "length", "mm", "axial width of a rectangular housing section",
+           default="(or the section's properties)"),
+        # read by pipeline.schema.ringfile (no one attribute of the Bearing holds them: no source)
+        *(dataclasses.replace(f, source=None)
+          for f in _material(f"{p}.housing.material", "", "the housing", thermal=False)),
+        _q(f"{p}.housing.ground_radial_stiffness", "pressure", "N/mm^2",
+           "radial stiffness of what holds the housing, per unit circumference of the housing; default 0 (free)",
+           bounds="nonnegative", default=0.0),
+        _q(f"{p}.housing.ground_axial_stiffness", "pressure", "N/mm^2",
+           "axial stiffness of what holds the housing, per unit circumference; default 0 (free)",
+           bounds="nonnegative", default=0.0),
+        Field(f"{p}.file", "string", "bearing", default="(required with fe_file)",
+              doc="fe_file: the support's stiffness (or compliance) per Fourier order, a CSV file with a units "
+                  "row (docs/inputs.md), relative to the bearing file"),
+    ]
+    return out
+
+
 def _arcs(groove: str, attr: str, ring: str) -> list:
     p = f"rows[].{groove}.arcs[]"
     return [
@@ -320,6 +391,8 @@ _BEARING = [
     Field("inner_ring.tilt", "choice", "bearing", default="free", choices=TILT_CONDITIONS,
           doc="free: the ring tilts under zero moment; held: kept square (a second support), "
               "the reaction moment reported", source="inner_ring.tilt"),
+    *_flexible("inner"),
+    *_flexible("outer"),
     _q("contact.damping", "damping", "N s/m", "ball-race contact damping", bounds="nonnegative",
        source="contact.damping"),
     _q("contact.damping_depth", "length", "um", "penetration over which contact damping ramps in",

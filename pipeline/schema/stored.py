@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import tomllib
+import types
 import typing
 from dataclasses import dataclass
 
@@ -93,6 +94,14 @@ def _scalar(value, hint, key: str):
     return convert(value)
 
 
+def _optional(hint):
+    """``X`` of a hint ``X | None`` (a dataclass field that may be absent); others as they are."""
+    args = typing.get_args(hint)
+    if len(args) == 2 and type(None) in args and typing.get_origin(hint) in (typing.Union, types.UnionType):
+        return next(a for a in args if a is not type(None))
+    return hint
+
+
 def rebuild(cls, data, key: str):
     """An instance of dataclass ``cls`` from its plain form ``data`` (``key`` names it): the one
     read-back converter, the inverse of :func:`pipeline.schema.caseids.plain` for every
@@ -111,7 +120,7 @@ def rebuild(cls, data, key: str):
             if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
                 raise ConfigError(WHERE, where, None, f"missing (a required field of {cls.__name__})")
             continue
-        value, hint = data[name], hints[name]
+        value, hint = data[name], _optional(hints[name])
         element = fields.item_class(hint)
         if element is not None:
             if not isinstance(value, list):

@@ -281,6 +281,76 @@ class Lubricant:
     raceway_roughness: float = RACEWAY_ROUGHNESS_DEFAULT
 
 
+#: Modal damping ratio of a flexible ring's modes when none is given [-]. An assumption: 2 %,
+#: the middle of the 1–5 % usually measured on steel rings bolted or fitted into a housing.
+DEFAULT_DAMPING_RATIO = 0.02
+
+#: Highest Fourier order of a flexible ring's modes when none is given [-]: the static
+#: deflection's truncation error falls as ``max_order⁻³`` (:mod:`rvcore.rings.deflection`).
+DEFAULT_RING_MAX_ORDER = 60
+
+#: The kinds of a flexible ring's support (:class:`RingSupport`).
+RING_SUPPORTS = ("foundation", "housing", "fe_file")
+
+
+@dataclass(frozen=True)
+class RingSupport:
+    """A flexible ring and what holds it, as plain data (docs/model.md §16); the modes are
+    built from it by :func:`rvcore.rings.flexible.bearing_rings`.
+
+    Parameters
+    ----------
+    kind : str
+        One of :data:`RING_SUPPORTS`: ``"foundation"`` (a seat of radial and axial stiffness
+        per unit circumference, ``seat_*``), ``"housing"`` (a second ring of section
+        ``housing_section`` holding it through the seat ``seat_*``, itself on ``ground_*``),
+        ``"fe_file"`` (the support's stiffness per Fourier order, ``orders``,
+        ``radial_stiffness``, ``axial_stiffness``, as reduced from an FE model).
+    max_order : int
+        Highest Fourier order kept [-].
+    damping_ratio : float
+        Modal damping ratio ``ζ`` of the ring's modes [-].
+    section : tuple
+        The ring's own section given: (area [m²], centroid radius [m], ``I_in`` [m⁴],
+        ``I_out`` [m⁴], torsion constant [m⁴]); empty: from the envelope and grooves.
+    shoulder_diameter : float
+        The outer ring's bore at its shoulders [m] (its section from the envelope); 0 for
+        the inner ring (``inner_ring.shoulder_diameter``) or a given section.
+    seat_radial, seat_axial : float
+        The seat's stiffness per unit circumference of the ring [N m⁻²]; ``inf``: bonded.
+    housing_section : tuple
+        The housing's (carrier's) section, as ``section``.
+    housing_material : Material or None
+        The housing's material; None: the ring's.
+    ground_radial, ground_axial : float
+        What holds the housing, per unit circumference of the housing [N m⁻²]; 0: free.
+    orders : tuple of int
+        ``fe_file``: the orders ``k = 0 … N`` of the table [-].
+    radial_stiffness, axial_stiffness : tuple of float
+        ``fe_file``: the support's stiffness per unit modal amplitude at each order,
+        radial and axial [N m⁻¹] (:class:`rvcore.rings.support.OrderStiffness`).
+    """
+
+    kind: str
+    max_order: int = DEFAULT_RING_MAX_ORDER
+    damping_ratio: float = DEFAULT_DAMPING_RATIO
+    section: tuple = ()
+    shoulder_diameter: float = 0.0
+    seat_radial: float = math.inf
+    seat_axial: float = math.inf
+    housing_section: tuple = ()
+    housing_material: Material | None = None
+    ground_radial: float = 0.0
+    ground_axial: float = 0.0
+    orders: tuple = ()
+    radial_stiffness: tuple = ()
+    axial_stiffness: tuple = ()
+
+    def __post_init__(self):
+        if self.kind not in RING_SUPPORTS:
+            raise ValueError(f"ring support {self.kind!r} is not one of {', '.join(RING_SUPPORTS)}")
+
+
 @dataclass(frozen=True)
 class Bearing:
     """A whole bearing: envelope, rows, rings, materials and contact law.
@@ -301,7 +371,8 @@ class Bearing:
     ``radial_clearance`` is given at [K] (20 °C); the loader
     (:func:`rvcore.bearing.thermal.operating_bearing`) has already turned each row's
     clearance into its operating value, ``nominal_radial_clearances`` keeping the given
-    ones (empty where nothing moved). ``warnings`` carries caveats that every output of a run must repeat (for example a
+    ones (empty where nothing moved). ``inner_ring_support`` and ``outer_ring_support`` make a ring flexible in its
+    support (:class:`RingSupport`; None, the default: rigid). ``warnings`` carries caveats that every output of a run must repeat (for example a
     ball overlap accepted through ``allow_ball_overlap``). ``assumptions`` lists the
     dotted keys whose values the source does not give.
     """
@@ -330,6 +401,8 @@ class Bearing:
     nominal_radial_clearances: tuple = ()
     source: str = ""
     description: str = ""
+    inner_ring_support: RingSupport | None = None
+    outer_ring_support: RingSupport | None = None
 
     @property
     def operating_viscosity(self) -> float:

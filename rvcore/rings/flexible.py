@@ -23,13 +23,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bearing.geometry import INNER, OUTER, Bearing, Material
-from .deflection import static_deflection
+from ..bearing.geometry import INNER, OUTER, Bearing, Material, RingSupport
+from .deflection import modal_displacement, static_amplitudes, static_deflection
 from .modes import DEFAULT_DAMPING_RATIO, RingModes
-from .section import RingSection, ring_section
-from .support import supported_ring_modes
+from .section import RingSection, given_section, ring_section
+from .support import Foundation, HousingRing, OrderStiffness, supported_ring_modes
 
-__all__ = ["FlexibleRings", "RIGID_RINGS", "flexible_rings", "flexible_ring"]
+__all__ = ["FlexibleRings", "RIGID_RINGS", "bearing_rings", "flexible_rings", "flexible_ring", "ring_support",
+           "DEFORMATION_POINTS"]
+
+#: Points round a ring at which its largest deformation is read (every half degree) [-].
+DEFORMATION_POINTS = 720
 
 
 @dataclass(frozen=True)
@@ -88,6 +92,46 @@ class FlexibleRings:
         u = np.zeros_like(psi) if axial is None else static_deflection(axial, axial_forces, psi, psi)
         return w, u
 
+    def deformation(self, ring: int, radial_forces, axial_forces, angles) -> dict:
+        """One ring's deformation under the balls' forces: its ovalisation and its largest
+        radial and axial displacement round the ring.
+
+        Parameters
+        ----------
+        ring : int
+            :data:`rvcore.bearing.geometry.INNER` or :data:`~rvcore.bearing.geometry.OUTER`.
+        radial_forces, axial_forces : array_like
+            The balls' forces on the ring [N], outward and towards +z positive.
+        angles : array_like
+            The balls' azimuths [rad].
+
+        Returns
+        -------
+        dict
+            ``ovalisation`` [m]: the amplitude ``√(a_2c² + a_2s²)`` of the radial order
+            ``k = 2`` (the diameter changes by twice it, up along one axis and down across);
+            ``max_radial``, ``max_axial`` [m]: the largest ``|w(θ)|`` and ``|u(θ)|`` over
+            :data:`DEFORMATION_POINTS` angles, relative to the support; NaN where the ring
+            (direction) is rigid.
+
+        Notes
+        -----
+        The amplitudes are :func:`rvcore.rings.deflection.static_amplitudes`'
+        ``a_k = Q_k/K_k``; the displacement their Fourier sum (module Notes).
+        """
+        radial, axial = ((self.inner_radial, self.inner_axial) if ring == INNER
+                         else (self.outer_radial, self.outer_axial))
+        theta = np.linspace(0.0, 2.0 * np.pi, DEFORMATION_POINTS, endpoint=False)
+        out = dict.fromkeys(("ovalisation", "max_radial", "max_axial"), float("nan"))
+        if radial is not None:
+            ac, as_ = static_amplitudes(radial, radial_forces, angles)
+            out["ovalisation"] = float(np.hypot(ac[2], as_[2])) if radial.orders.size > 2 else 0.0
+            out["max_radial"] = float(np.abs(modal_displacement(radial, ac, as_, theta)).max())
+        if axial is not None:
+            ac, as_ = static_amplitudes(axial, axial_forces, angles)
+            out["max_axial"] = float(np.abs(modal_displacement(axial, ac, as_, theta)).max())
+        return out
+
 
 #: Every ring rigid: today's model.
 RIGID_RINGS = FlexibleRings()
@@ -101,7 +145,7 @@ def flexible_ring(section: RingSection, material: Material, support, max_order: 
     ----------
     section : rvcore.rings.section.RingSection
     material : rvcore.bearing.geometry.Material
-    support : rvcore.rings.support.Foundation or rvcore.rings.support.HousingRing
+    support : rvcore.rings.support.Foundation, HousingRing or OrderStiffness
     max_order : int
         Highest Fourier order kept [-].
     damping_ratio : float
@@ -112,7 +156,8 @@ def flexible_ring(section: RingSection, material: Material, support, max_order: 
     radial, axial : rvcore.rings.modes.RingModes
     """
     if support is None:
-        raise ValueError("flexible ring: a flexible ring needs a support (a Foundation or a HousingRing)")
+        raise ValueError("flexible ring: a flexible ring needs a support (a Foundation, a HousingRing or an "
+                         "OrderStiffness)")
     return tuple(supported_ring_modes(section, material, max_order, d, support, damping_ratio=damping_ratio)
                  for d in ("radial", "axial"))
 
@@ -144,3 +189,61 @@ def flexible_rings(bearing: Bearing, inner=None, outer=None, *, max_order: int =
         out["outer_radial"], out["outer_axial"] = flexible_ring(sec, bearing.ring_material, outer, max_order,
                                                                 damping_ratio=damping_ratio)
     return FlexibleRings(**out)
+
+
+def ring_support(spec: RingSupport, ring_material: Material):
+    """The support object a :class:`rvcore.bearing.geometry.RingSupport` describes.
+
+    Parameters
+    ----------
+    spec : rvcore.bearing.geometry.RingSupport
+    ring_material : rvcore.bearing.geometry.Material
+        The bearing ring's material (the housing's when the spec names none).
+
+    Returns
+    -------
+    Foundation or HousingRing or OrderStiffness
+    """
+    seat = Foundation(spec.seat_radial, spec.seat_axial)
+    if spec.kind == "foundation":
+        return seat
+    if spec.kind == "housing":
+        material = spec.housing_material if spec.housing_material is not None else ring_material
+        return HousingRing(given_section(*spec.housing_section), material, seat,
+                           Foundation(spec.ground_radial, spec.ground_axial))
+    return OrderStiffness(tuple(spec.orders), tuple(spec.radial_stiffness), tuple(spec.axial_stiffness))
+
+
+def _spec_section(bearing: Bearing, ring: int, spec: RingSupport) -> RingSection:
+    """The ring's own section: given, or from the envelope and grooves."""
+    if spec.section:
+        return given_section(*spec.section)
+    return ring_section(bearing, ring, other_diameter=spec.shoulder_diameter or None)
+
+
+def bearing_rings(bearing: Bearing, *, max_order: int | None = None) -> FlexibleRings:
+    """A bearing's rings as its ``inner_ring_support`` and ``outer_ring_support`` describe
+    them (:class:`rvcore.bearing.geometry.RingSupport`; None: rigid).
+
+    Parameters
+    ----------
+    bearing : rvcore.bearing.geometry.Bearing
+    max_order : int, optional
+        Highest Fourier order kept [-], for both rings; by default each ring's own
+        (``RingSupport.max_order``).
+
+    Returns
+    -------
+    FlexibleRings
+        :data:`RIGID_RINGS` when both rings are rigid.
+    """
+    out = {}
+    for ring, name, spec in ((INNER, "inner", bearing.inner_ring_support),
+                             (OUTER, "outer", bearing.outer_ring_support)):
+        if spec is None:
+            continue
+        order = spec.max_order if max_order is None else int(max_order)
+        out[f"{name}_radial"], out[f"{name}_axial"] = flexible_ring(
+            _spec_section(bearing, ring, spec), bearing.ring_material, ring_support(spec, bearing.ring_material),
+            order, damping_ratio=spec.damping_ratio)
+    return FlexibleRings(**out) if out else RIGID_RINGS

@@ -59,15 +59,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..bearing.geometry import Material
+from ..bearing.geometry import DEFAULT_DAMPING_RATIO, Material
 from .section import RingSection
 
 __all__ = ["DEFAULT_DAMPING_RATIO", "DIRECTIONS", "RingModes", "free_ring_modes", "in_plane_mass",
            "in_plane_stiffness", "out_of_plane_mass", "out_of_plane_stiffness", "shear_modulus"]
 
-#: Modal damping ratio of a ring's modes when none is given [-]. An assumption: 2 %, the
-#: middle of the 1–5 % usually measured on steel rings bolted or fitted into a housing.
-DEFAULT_DAMPING_RATIO = 0.02
 
 #: The two families of modes: ``"radial"`` (in plane) and ``"axial"`` (out of plane).
 DIRECTIONS = ("radial", "axial")

@@ -33,6 +33,17 @@ radial offset of the seat neglected). ``K_k^ground`` is the ground's foundation 
 A rigid seat on a free housing therefore gives ``K_k = K_k^ring + K_k^housing``: the two rings
 bending together.
 
+**A support reduced from an FE model** (:class:`OrderStiffness`): the housing's or carrier's
+stiffness per Fourier order as the FE model gives it, read at the bearing ring's seat.
+Order ``k``'s radial (axial) stiffness is the generalized force ``Q_k = ∫q(θ)·cos kθ·R dθ``
+of the line load ``q(θ)`` [N m⁻¹] that holds the seat displaced by ``a·cos kθ`` radially
+(axially), over ``a`` [N m⁻¹] (a modal compliance ``c_k`` gives ``K_k = 1/c_k``). For a
+distributed seat load ``q = q_0·cos kθ``: ``K_k = π·R·q_0/a`` (``k ≥ 1``) and ``2π·R·q_0/a``
+(``k = 0``); a Winkler foundation of ``k_r`` is then ``K_k = π·k_r·R`` (``2π·k_r·R`` at 0),
+as above. The FE model's seat is taken as the ring's centroid circle (the thin ring).
+The per-order stiffness adds to the ring's own like the foundation's (a condensed,
+massless support: Craig–Bampton without its interior modes).
+
 The support's stiffness is relative to what holds it: the ring's rigid translations and
 tilts (``k = 0, 1``) then have the support's stiffness, and its displacements are those
 relative to the support (the statics' pose is the support's). A free ring (no support)
@@ -55,7 +66,7 @@ from ..bearing.geometry import Material
 from .modes import (DEFAULT_DAMPING_RATIO, RingModes, free_ring_modes)
 from .section import RingSection
 
-__all__ = ["Foundation", "HousingRing", "RIGID_SEAT", "support_stiffness", "supported_ring_modes"]
+__all__ = ["Foundation", "HousingRing", "OrderStiffness", "RIGID_SEAT", "support_stiffness", "supported_ring_modes"]
 
 
 @dataclass(frozen=True)
@@ -124,6 +135,56 @@ class HousingRing:
     ground: Foundation = Foundation()
 
 
+@dataclass(frozen=True)
+class OrderStiffness:
+    """A support's stiffness per Fourier order, as reduced from an FE model (module Notes).
+
+    Parameters
+    ----------
+    orders : array_like of int
+        ``k = 0, 1, …, N``, every order once, in order [-].
+    radial, axial : array_like
+        ``K_k^support`` per unit radial and axial modal amplitude [N m⁻¹], ≥ 0 (``inf``: held).
+    """
+
+    orders: tuple
+    radial: tuple
+    axial: tuple
+
+    def __post_init__(self):
+        k = np.asarray(self.orders)
+        if k.ndim != 1 or k.size == 0 or not np.array_equal(k, np.arange(k.size)):
+            raise ValueError(f"order stiffness: the orders must run 0, 1, …, N once each, got {self.orders!r}")
+        for name in ("radial", "axial"):
+            v = np.asarray(getattr(self, name), dtype=float)
+            if v.shape != k.shape or np.any(np.isnan(v)) or np.any(v < 0.0):
+                raise ValueError(f"order stiffness: {name} needs one value >= 0 N/m per order, got "
+                                 f"{getattr(self, name)!r}")
+
+    @property
+    def max_order(self) -> int:
+        """``N``, the highest order given [-]."""
+        return len(self.orders) - 1
+
+    def stiffness(self, orders, direction, radius=None):
+        """``K_k^support`` per order [N m⁻¹].
+
+        Parameters
+        ----------
+        orders : array_like of int
+            ``k`` [-], at most :attr:`max_order`.
+        direction : {"radial", "axial"}
+        radius : float, optional
+            Unused: the table is already at the ring's seat [m].
+        """
+        k = np.asarray(orders, dtype=int)
+        if k.size and int(k.max()) > self.max_order:
+            raise ValueError(f"order stiffness: order {int(k.max())} asked for, the table gives orders up to "
+                             f"{self.max_order}")
+        table = np.asarray(self.radial if direction == "radial" else self.axial, dtype=float)
+        return table[k]
+
+
 def _series(a, b):
     """``1/(1/a + 1/b)`` elementwise, with 0 and ``inf`` as limits."""
     a, b = np.broadcast_arrays(np.asarray(a, float), np.asarray(b, float))
@@ -141,7 +202,7 @@ def support_stiffness(support, orders, direction, radius):
 
     Parameters
     ----------
-    support : Foundation or HousingRing or None
+    support : Foundation or HousingRing or OrderStiffness or None
         ``None``: a free ring (0).
     orders : array_like of int
         ``k`` [-].
@@ -152,13 +213,13 @@ def support_stiffness(support, orders, direction, radius):
     k = np.asarray(orders, dtype=int)
     if support is None:
         return np.zeros(k.shape)
-    if isinstance(support, Foundation):
+    if isinstance(support, (Foundation, OrderStiffness)):
         return support.stiffness(k, direction, radius)
     if isinstance(support, HousingRing):
         housing = free_ring_modes(support.section, support.material, int(k.max(initial=0)), direction)
         own = housing.stiffness[k] + support.ground.stiffness(k, direction, support.section.centroid_radius)
         return _series(support.seat.stiffness(k, direction, radius), own)
-    raise TypeError(f"support {support!r} is not a Foundation, a HousingRing or None")
+    raise TypeError(f"support {support!r} is not a Foundation, a HousingRing, an OrderStiffness or None")
 
 
 def supported_ring_modes(section: RingSection, material: Material, max_order: int, direction: str = "radial",
@@ -173,7 +234,7 @@ def supported_ring_modes(section: RingSection, material: Material, max_order: in
     max_order : int
         Highest order ``k`` kept [-].
     direction : {"radial", "axial"}
-    support : Foundation or HousingRing or None
+    support : Foundation or HousingRing or OrderStiffness or None
     extension : bool
         In plane: the ring's ``k = 0`` extensional (True) or inextensible.
     damping_ratio : float

@@ -203,6 +203,9 @@ class StaticResult:
     # flexible rings (rvcore.rings.flexible): (n_balls, 4) displacement of the inner ring's
     # raceway (radial outward, axial) and of the outer ring's at each ball [m]; None when rigid
     ring_iterations: int = 0      # iterations of the rings' fixed point (0 when rigid)
+    ring_forces: np.ndarray | None = None
+    # flexible rings: (n_balls, 4) the balls' radial (outward) and axial forces on the inner
+    # ring and on the outer ring at the equilibrium [N]; None when rigid
 
     @property
     def row_axial_loads(self) -> np.ndarray:
@@ -452,6 +455,9 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     p_max = float(np.max(np.cbrt(pc3[None, :] * q_out))) if q_out.size else 0.0
     result = dict(ball_positions=ball_rz.copy(), ball_loads=q_out.copy(),
                   max_contact_load=float(q_out.max(initial=0.0)))
+    if flexing:   # the balls' forces on each ring at the equilibrium: the rings' deformation
+        radial, axial = _ring_forces(rows, arcs, pockets, q_out, n_out)
+        result["ring_forces"] = np.stack([radial[:, 0], axial[:, 0], radial[:, 1], axial[:, 1]], axis=1)
     k_matrix, k_change = None, float("nan")
     if stiffness:
         base = ball_rz.copy()

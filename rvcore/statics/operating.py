@@ -46,10 +46,12 @@ def steady_loads(profile: Profile, op: OperatingPoint):
     return tuple(resolved.value(c, t) for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT, CH_DIRECTION))
 
 
-def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> StaticResult:
-    """Quasi-static equilibrium, ball loads and stiffness at the steady operating point."""
+def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True,
+                   rings=None) -> StaticResult:
+    """Quasi-static equilibrium, ball loads and stiffness at the steady operating point;
+    ``rings`` (:class:`rvcore.rings.flexible.FlexibleRings`) as :func:`solve_statics` takes them."""
     fr, fa, m, psi = steady_loads(profile, op)
-    return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True)
+    return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True, rings=rings)
 
 
 def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:

@@ -83,8 +83,35 @@ def _sample(f):
             "lubricant.viscosity_100": "8.5 mm^2/s"}.get(f.path)
 
 
+#: A valid [<ring>_ring.flexible] table for each of its keys (pipeline.schema.ringfile):
+#: the support that takes the key, the key given.
+_SEAT = {"seat_radial_stiffness": "1e4 N/mm^2", "seat_axial_stiffness": "1e4 N/mm^2"}
+_SECTION = {"area": "250 mm^2", "centroid_diameter": "334 mm", "i_in_plane": "5000 mm^4",
+            "i_out_of_plane": "30000 mm^4", "torsion_constant": "15000 mm^4"}
+_GROUND = {"ground_radial_stiffness": "5e3 N/mm^2", "ground_axial_stiffness": "1e3 N/mm^2"}
+
+
+def _flexible_table(ring: str, leaf: str) -> dict:
+    shoulder = {"shoulder_diameter": "366.8 mm"} if ring == "outer" else {}
+    if leaf == "file":
+        return {"support": "fe_file", "file": str(SWEEPS / "bearings" / "supports" / "carrier-fe.csv"), **shoulder}
+    if leaf.startswith("housing."):
+        given = leaf.split(".")[1] in _SECTION
+        housing = {**(_SECTION if given else {"inner_diameter": "280 mm", "outer_diameter": "320 mm",
+                                              "width": "40 mm"}), **_GROUND,
+                   "material": {"density": "7850 kg/m^3", "youngs_modulus": "206 GPa", "poisson_ratio": 0.3}}
+        return {"support": "housing", "housing": housing, **shoulder}
+    if leaf.startswith("section."):
+        return {"support": "foundation", **_SEAT, "section": dict(_SECTION)}
+    return {"support": "foundation", **_SEAT, **shoulder, "max_order": 12, "damping_ratio": 0.05}
+
+
 def _with_bearing_field(raw, f):
     raw = copy.deepcopy(raw)
+    if f.path.startswith(("inner_ring.flexible.", "outer_ring.flexible.")):
+        ring, _, leaf = f.path.partition("_ring.flexible.")
+        raw.setdefault(f"{ring}_ring", {})["flexible"] = _flexible_table(ring, leaf)
+        return raw, f.path
     head = f.path.split(".")[0]
     if head in ("ring_material", "ball_material"):
         mat = raw.pop("material")

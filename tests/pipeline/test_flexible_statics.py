@@ -1,0 +1,161 @@
+"""Flexible rings from the bearing file to the outputs (issue 41): ``rvsweep statics`` sets the
+flexible rings' numbers beside the rigid rings' (a very stiff seat gives the rigid ones
+within 0.1 %), the sweep's ``statics.nc`` carries them with units and the report shows them,
+and a dynamic run refuses a flexible bearing in one line before any work."""
+from __future__ import annotations
+
+import copy
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import tomli_w
+import xarray as xr
+
+from pipeline.cli import main
+from pipeline.schema.tomlfile import read_toml
+
+ROOT = Path(__file__).resolve().parents[2]
+REDUCED = ROOT / "sweeps" / "bearings" / "reduced-test.toml"
+
+#: the compared numbers of the JSON, the rigid rings' under "rigid_rings"
+COMPARED = ("max_contact_load_N", "static_safety_factor_pressure", "reference_rating_life_L10r_Mrev",
+            "radial_stiffness_N_per_m", "axial_stiffness_N_per_m", "tilting_stiffness_Nm_per_rad")
+
+
+def flexible_bearing(tmp_path, k_seat: float, name="flex.toml") -> Path:
+    """The 12-ball reduced bearing, its inner ring on a seat of ``k_seat`` [N m^-2] both ways."""
+    raw = copy.deepcopy(read_toml(REDUCED))
+    raw["name"] = "reduced-flexible"
+    raw["inner_ring"]["flexible"] = {"support": "foundation", "seat_radial_stiffness": f"{k_seat!r} Pa",
+                                     "seat_axial_stiffness": f"{k_seat!r} Pa", "max_order": 30}
+    path = tmp_path / name
+    path.write_text(tomli_w.dumps(raw))
+    return path
+
+
+def statics(capsys, *args) -> dict:
+    assert main(["statics", "--json", *args]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_a_very_stiff_seat_gives_the_rigid_rings_statics_within_a_tenth_of_a_percent(tmp_path, capsys):
+    """A seat of 1e16 N/m^2 per unit circumference: K_k = π·k·R ~ 5e15 N/m against contacts of
+    ~1e8 N/m, so the raceways move by picometres and every number is the rigid rings'."""
+    out = statics(capsys, "--bearing", str(flexible_bearing(tmp_path, 1e16)), "--radial-load", "30kN",
+                  "--axial-load", "10kN")
+    assert out["flexible_rings"] == {"inner": "foundation", "outer": "rigid"}
+    for key in COMPARED:
+        assert out["flexible"][key] == pytest.approx(out["rigid_rings"][key], rel=1e-3), key
+    np.testing.assert_allclose(out["flexible"]["ball_contact_load_N"], out["rigid_rings"]["ball_contact_load_N"],
+                               rtol=1e-3, atol=1e-3 * out["rigid_rings"]["max_contact_load_N"])
+    assert out["ring_deformation_m"]["inner_ring_max_radial_deformation"] < 1e-9
+    assert out["ring_deformation_m"]["outer_ring_ovalisation"] is None   # rigid
+    # the flexible numbers are the output's own headline numbers
+    assert out["max_contact_load_N"] == out["flexible"]["max_contact_load_N"]
+
+
+def test_a_soft_seat_spreads_the_load_and_keeps_l10_and_the_balance(tmp_path, capsys):
+    """A soft seat: the ring bends under the heaviest balls, which share the load with their
+    neighbours (a smaller Q_max, the same resultant); ISO 281's L10 depends on the applied
+    loads only, so it does not move; the bearing is softer."""
+    out = statics(capsys, "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--radial-load", "30kN",
+                  "--axial-load", "10kN", "--no-gravity")
+    f, r = out["flexible"], out["rigid_rings"]
+    assert f["max_contact_load_N"] < r["max_contact_load_N"]
+    assert f["basic_rating_life_L10_Mrev"] == r["basic_rating_life_L10_Mrev"]
+    assert f["radial_stiffness_N_per_m"] < r["radial_stiffness_N_per_m"]
+    assert max(abs(x) for x in out["force_residual"][:3]) < 1e-3 * 30e3
+    assert out["ring_deformation_m"]["inner_ring_ovalisation"] > 0.0
+
+
+def test_the_text_output_sets_flexible_beside_rigid(tmp_path, capsys):
+    assert main(["statics", "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--radial-load", "30kN",
+                 "--axial-load", "10kN", "--runout", "2"]) == 0
+    text = capsys.readouterr().out
+    assert "flexible | rigid rings | change" in text and "inner ring deformation ovalisation" in text
+    assert "Q_inner rigid[N]" in text
+    assert "runout path          (rigid rings)" in text   # rvcore.statics.runout solves rigid rings
+
+
+def test_a_rigid_bearing_prints_nothing_of_flexible_rings(capsys):
+    out = statics(capsys, "--bearing", str(REDUCED), "--radial-load", "30kN", "--axial-load", "10kN")
+    assert "flexible_rings" not in out and "rigid_rings" not in out
+
+
+@pytest.mark.parametrize("command", ["simulate", "sweep"])
+def test_a_dynamic_run_refuses_flexible_rings_in_one_line(tmp_path, capsys, command):
+    bearing = flexible_bearing(tmp_path, 2e9)
+    if command == "simulate":
+        argv = ["simulate", "--bearing", str(bearing), "--speed", "120deg/s", "--radial-load", "30kN",
+                "--out", str(tmp_path / "case.nc")]
+    else:
+        sweep = tmp_path / "s.toml"
+        sweep.write_text(tomli_w.dumps({"name": "s", "bearing": str(bearing), "profile": "profiles/short.toml",
+                                        "axes": {"speed": ["120 deg/s"]}, "fixed": {"radial_load": "30 kN",
+                                                                                   "axial_load": "10 kN"}}))
+        argv = ["sweep", str(sweep), "--out", str(tmp_path / "out"), "--serial", "--yes"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "flexible rings: statics only in this version" in err
+    assert not (tmp_path / "case.nc").exists() and not (tmp_path / "out").exists()   # before any work
+
+
+def test_compute_case_refuses_flexible_rings_as_a_failed_case(tmp_path):
+    from pipeline.run.cases import FLEXIBLE_DYNAMICS, compute_case
+    from pipeline.schema import sweep_from_dict
+
+    sweep = sweep_from_dict({"name": "s", "bearing": str(flexible_bearing(tmp_path, 2e9)),
+                             "profile": "profiles/short.toml", "axes": {"speed": ["120 deg/s"]},
+                             "fixed": {"radial_load": "30 kN", "axial_load": "10 kN"}}, tmp_path / "s.toml")
+    called = []
+    outcome = compute_case(sweep.cases[0], case_fn=lambda *a, **k: called.append(a))
+    assert not outcome.ok and outcome.reason == FLEXIBLE_DYNAMICS and not called
+
+
+def test_statics_nc_carries_the_flexible_and_rigid_numbers_and_the_report_shows_them(tmp_path):
+    from pipeline.io.statics import FLEXIBLE_VARIABLES, statics_dataset, write_statics
+    from pipeline.report.loads import flexible_blocks, read_statics
+    from pipeline.report.render import Table
+    from pipeline.run.corners import corner_statics
+    from pipeline.schema import sweep_from_dict
+
+    sweep = sweep_from_dict({"name": "s", "bearing": str(flexible_bearing(tmp_path, 2e9)),
+                             "profile": "profiles/short.toml", "axes": {"speed": ["120 deg/s"]},
+                             "fixed": {"radial_load": "30 kN", "axial_load": "10 kN"}}, tmp_path / "s.toml")
+    corner = corner_statics(sweep.cases[0])
+    assert not corner.error and corner.values["flexible_rings"] == 1
+    write_statics(statics_dataset([corner], gravity=True, tilt="free", sweep_name="s"), tmp_path)
+    with xr.open_dataset(tmp_path / "statics.nc") as ds:
+        for name in FLEXIBLE_VARIABLES:
+            assert ds[name].attrs["units"] and ds[name].attrs["long_name"], name
+        assert float(ds["max_contact_load"][0]) < float(ds["max_contact_load_rigid"][0])
+        assert math.isnan(float(ds["outer_ring_ovalisation"][0]))   # the outer ring is rigid
+        # the flexible ball loads balance the same radial load as the rigid ones (Σ Q·cos α·cos ψ)
+        assert ds["ball_load"].shape == ds["ball_load_rigid"].shape
+    c, = read_statics(tmp_path).corners
+    assert c.flexible is not None and c.flexible["ball_load_rigid"].shape == c.ball_load.shape
+    tables = [b for b in flexible_blocks([c]) if isinstance(b, Table)]
+    assert len(tables) == 2 and any("Q_max" in row[1] for row in tables[0].rows)
+
+
+def test_statics_nc_of_a_rigid_sweep_has_no_flexible_variables(tmp_path):
+    from pipeline.io.statics import FLEXIBLE_VARIABLES, statics_dataset
+    from pipeline.run.corners import corner_statics
+    from pipeline.schema import sweep_from_dict
+
+    sweep = sweep_from_dict({"name": "s", "bearing": str(REDUCED), "profile": "profiles/short.toml",
+                             "axes": {"speed": ["120 deg/s"]}, "fixed": {"radial_load": "30 kN",
+                                                                        "axial_load": "10 kN"}},
+                            tmp_path / "s.toml")
+    ds = statics_dataset([corner_statics(sweep.cases[0])], gravity=True, tilt="free")
+    assert not set(FLEXIBLE_VARIABLES) & set(ds.data_vars)
+
+
+def test_check_says_which_rings_are_flexible(tmp_path, capsys):
+    assert main(["check", str(flexible_bearing(tmp_path, 2e9))]) == 0
+    assert "rings: inner foundation, outer rigid" in capsys.readouterr().out
+    assert main(["check", "--json", str(REDUCED)]) == 0
+    assert json.loads(capsys.readouterr().out)["ring_supports"] == {"inner": "rigid", "outer": "rigid"}
