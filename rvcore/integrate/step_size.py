@@ -39,6 +39,7 @@ from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from . import imex
 from .imex import FRICTION_LIMIT, ONSET_LIMIT
+from ..dynamics.ring_modes import modal_rates
 from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
 
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
@@ -86,6 +87,7 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     for omega, m, rot in row_rates(model, q):
         lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    dts.extend(_modal_steps(model, q))
     return safety * min(dts)
 
 
@@ -120,7 +122,16 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
                        ONSET_LIMIT * math.sqrt(2.0) / omega))
+    dts.extend(_modal_steps(model, q))
     return safety * min(dts)
+
+
+def _modal_steps(model, q: float):
+    """The explicit limits of a flexible ring's modal states at the contact load ``q`` [N]
+    (:func:`rvcore.dynamics.ring_modes.modal_rates`), on RK4's imaginary- and real-axis
+    limits: both integrators keep the modes explicit. Empty for rigid rings."""
+    return [min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf)
+            for omega, lam in modal_rates(model, q)]
 
 
 def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:

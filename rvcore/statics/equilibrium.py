@@ -202,6 +202,9 @@ class StaticResult:
     # flexible rings (rvcore.rings.flexible): (n_balls, 4) displacement of the inner ring's
     # raceway (radial outward, axial) and of the outer ring's at each ball [m]; None when rigid
     ring_iterations: int = 0      # iterations of the rings' fixed point (0 when rigid)
+    ring_forces: np.ndarray | None = None
+    # flexible rings: (n_balls, 4) the balls' normal forces on the inner ring (radial
+    # outward, axial) and on the outer ring at each ball [N], at the equilibrium; None when rigid
 
     @property
     def row_axial_loads(self) -> np.ndarray:
@@ -419,6 +422,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
     # and the applied moment leave
     full = np.array(ring_balance(u, rows, arcs, pockets, ball_rz, q_out, n_out, 1e-15, spin, flex)[:5]) + applied
     reaction = -full[3:5] if tilt == "held" else np.zeros(2)
+    ring_forces = np.column_stack(_ring_forces(rows, arcs, pockets, q_out, n_out))[:, [0, 2, 1, 3]] if flexing else None
     res = np.concatenate([res, full[3:5] + reaction]) if tilt == "held" else res
     loaded = (q_out > 0).any(axis=1)
     if np.any(applied) and not loaded.any():
@@ -480,7 +484,7 @@ def solve_statics(bearing_or_model, radial_load: float = 0.0, axial_load: float 
         applied=applied, row_of_ball=row_of_ball, row_forces=row_forces,
         stiffness_matrix=k_matrix, stiffness_change=k_change, load_angle=float(load_angle), tilt=tilt,
         reaction_moment=reaction, ring_displacements=flex.copy() if flexing else None,
-        ring_iterations=flex_iterations, **result,
+        ring_iterations=flex_iterations, ring_forces=ring_forces, **result,
     )
 
 
