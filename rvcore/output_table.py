@@ -70,6 +70,8 @@ SIGNALS = (
     Signal("drive_power", "W", "the drive's power T omega"),
     Signal("tilt_reaction_moment_x", "N m", "moment about x that holds a held ring's tilt at 0 (0 when free)"),
     Signal("tilt_reaction_moment_y", "N m", "moment about y that holds a held ring's tilt at 0 (0 when free)"),
+    Signal("max_ring_radial_deformation", "m", "largest |w| of a flexible ring's raceway at a ball (0 when rigid)"),
+    Signal("max_ring_axial_deformation", "m", "largest |u| of a flexible ring's raceway at a ball (0 when rigid)"),
     Signal("inner_ring_x", "m", "inner-ring centre x", STATE),
     Signal("inner_ring_y", "m", "inner-ring centre y", STATE),
     Signal("inner_ring_z", "m", "inner-ring centre z", STATE),
@@ -84,6 +86,8 @@ SIGNALS = (
     Signal("load_direction", "rad", "the profile's radial-load direction", STATE),
     Signal("tilt_reaction_moment", "N m", "magnitude of the moment that holds a held ring square", STATE),
     Signal("revolutions", "1", "revolutions of the inner ring over the step", STATE),
+    Signal("inner_ring_ovalisation", "m", "amplitude of the inner ring's k = 2 radial mode (0 when rigid)", STATE),
+    Signal("outer_ring_ovalisation", "m", "amplitude of the outer ring's k = 2 radial mode (0 when rigid)", STATE),
     Signal("drive_torque_step", "N m", "the step's drive torque, stage-weighted (the impulse the step gave)", STEP),
     Signal("drive_torque_band_limited", "N m", "the step's drive torque band-limited to "
                                                 "rvcore.integrate.loop.TORQUE_BANDWIDTH", STEP),
@@ -241,13 +245,34 @@ OUTPUTS = (
                                              f"tilt at 0 {_HELD}"),
     _series("tilt_reaction_moment_y", "N m", f"moment about y that the support applies to hold the inner ring's "
                                              f"tilt at 0 {_HELD}"),
-    _series("sensor_displacement", "m", "inner-ring displacement read by each virtual sensor along its direction",
+    _series("sensor_displacement", "m", "inner-ring displacement read by each virtual sensor along its direction "
+                                        "(a flexible inner ring's surface deformation included)",
             over="sensor", group="displacement"),
+    _series("max_ring_radial_deformation", "m", "largest radial displacement (magnitude) of a flexible ring's "
+                                                "raceway at a ball, relative to its support, either ring (0 when "
+                                                "both rings are rigid)", group="displacement"),
+    _series("max_ring_axial_deformation", "m", "largest axial displacement (magnitude) of a flexible ring's raceway "
+                                               "at a ball, relative to its support, either ring (0 when both rings "
+                                               "are rigid)", group="displacement"),
+    _series("inner_ring_ovalisation", "m", "amplitude sqrt(a_c^2 + a_s^2) of the inner ring's ovalisation, its "
+                                           "k = 2 radial mode (0 when rigid)", group="displacement"),
+    _series("outer_ring_ovalisation", "m", "amplitude sqrt(a_c^2 + a_s^2) of the outer ring's ovalisation, its "
+                                           "k = 2 radial mode (0 when rigid)", group="displacement"),
 
     # ---- phase metrics, reduced at every integrator step
     *_displacement_metrics("radial_displacement", "delta_r at the ring centre", "radial_displacement"),
     *_displacement_metrics("axial_displacement", "delta_a at the ring centre", "axial_displacement"),
     *_displacement_metrics("sensor_displacement", "the sensor reading", "sensor_displacement", over="sensor"),
+    _phase("max_ring_radial_deformation_peak", "m", "largest radial displacement (magnitude) of a flexible ring's "
+                                                    "raceway at a ball over the phase (0 when rigid)",
+           "max_ring_radial_deformation", "max", group="displacement"),
+    _phase("max_ring_axial_deformation_peak", "m", "largest axial displacement (magnitude) of a flexible ring's "
+                                                   "raceway at a ball over the phase (0 when rigid)",
+           "max_ring_axial_deformation", "max", group="displacement"),
+    _phase("inner_ring_ovalisation_peak", "m", "largest amplitude of the inner ring's ovalisation over the phase "
+                                               "(0 when rigid)", "inner_ring_ovalisation", "max", group="displacement"),
+    _phase("outer_ring_ovalisation_peak", "m", "largest amplitude of the outer ring's ovalisation over the phase "
+                                               "(0 when rigid)", "outer_ring_ovalisation", "max", group="displacement"),
     _phase("cage_speed_mean", "rad s-1", "time mean of the cage speed over the phase", "cage_speed", "mean",
            over="row", group="kinematics"),
     _phase("inner_ring_speed_mean", "rad s-1", "time mean of the inner-ring speed over the phase",

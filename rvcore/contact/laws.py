@@ -444,7 +444,7 @@ def land_penetration(xc, yc, land_clearance):
 
 @kernel(inline=True)
 def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, rho_b, inv_rho_b,
-                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer):
+                         half_d, dr_inner, dr_outer, d_half, slope_inner, slope_outer, zslope_inner, zslope_outer):
     """Penetration of a ball into arc ``a`` of either ring (:func:`arc_penetration`).
 
     An inner-ring arc (``arcs[a, A_RING] == 0``) is taken in the ring frame, the ball
@@ -454,7 +454,8 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     An imperfect bearing (:func:`rvcore.dynamics.raceway.ball_offsets`) moves the inner or outer
     groove radially by ``dr_inner``/``dr_outer`` at this ball, with the slopes
     ``slope_*`` = dΔr/dφ along the ring, and has the ball larger by ``2·d_half`` [m]; all
-    0 for a perfect one.
+    0 for a perfect one. A flexible ring (:mod:`rvcore.dynamics.ring_modes`) shifts its
+    groove axially too, with the slope ``zslope_*`` = dΔz/dφ [m] (0 when rigid).
 
     Returns ``(inner, delta, nx, ny, nz)``: whether the arc is on the inner ring, the
     penetration [m] and the unit normal C→P in that ring's frame [-].
@@ -465,21 +466,25 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     from it to the ball is perpendicular to the curve's tangent ``Δr'·ê_r + c_r·ê_φ``, so
     it leaves the meridian plane by ``n_φ = −n_r·Δr'/c_r`` (to first order in Δr/c_r, as
     the penetration): an eccentric raceway's normals point from its own centre, not the
-    ring's.
+    ring's. A groove displaced axially along the ring by ``Δz(φ)`` has the tangent
+    ``Δr'·ê_r + c_r·ê_φ + Δz'·ẑ``: ``n_φ = −(n_r·Δr' + n_z·Δz')/c_r``.
     """
     inner = arcs[a, A_RING] == 0.0
     if inner:
         cr = arcs[a, A_CR] + dr_inner
         delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr,
                                             arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
-        slope, ux, uy = slope_inner, plx * inv_rho_l, ply * inv_rho_l
+        slope, zslope, ux, uy = slope_inner, zslope_inner, plx * inv_rho_l, ply * inv_rho_l
     else:
         cr = arcs[a, A_CR] + dr_outer
         delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr,
                                             arcs[a, A_CZ], arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
-        slope, ux, uy = slope_outer, px * inv_rho_b, py * inv_rho_b
-    if slope != 0.0:
-        n_phi = -(nx * ux + ny * uy) * slope / cr
+        slope, zslope, ux, uy = slope_outer, zslope_outer, px * inv_rho_b, py * inv_rho_b
+    if slope != 0.0 or zslope != 0.0:
+        turn = (nx * ux + ny * uy) * slope
+        if zslope != 0.0:
+            turn += nz * zslope
+        n_phi = -turn / cr
         scale = 1.0 / math.sqrt(1.0 + n_phi * n_phi)
         nx, ny, nz = (nx - n_phi * uy) * scale, (ny + n_phi * ux) * scale, nz * scale
     return inner, delta, nx, ny, nz

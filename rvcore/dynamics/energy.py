@@ -133,18 +133,24 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
                 dr_i, dr_o, d_half, sl_i, sl_o = ball_offsets(rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin,
                                                   sin_spin, px / rho_b, py / rho_b)
             pzr = pz - zrow
+            zs_i, zs_o = 0.0, 0.0
             if flex:
-                w, _ = surface(params, y, F_INNER_RADIAL, plx / rho_l, ply / rho_l)
-                u, _ = surface(params, y, F_INNER_AXIAL, plx / rho_l, ply / rho_l)
+                w, _, ws = surface(params, y, F_INNER_RADIAL, plx / rho_l, ply / rho_l)
+                u, _, us = surface(params, y, F_INNER_AXIAL, plx / rho_l, ply / rho_l)
                 dr_i += w
+                sl_i += ws
                 plz -= u
-                w, _ = surface(params, y, F_OUTER_RADIAL, px / rho_b, py / rho_b)
-                u, _ = surface(params, y, F_OUTER_AXIAL, px / rho_b, py / rho_b)
+                zs_i = us
+                w, _, ws = surface(params, y, F_OUTER_RADIAL, px / rho_b, py / rho_b)
+                u, _, us = surface(params, y, F_OUTER_AXIAL, px / rho_b, py / rho_b)
                 dr_o += w
+                sl_o += ws
                 pzr -= u
+                zs_o = us
             for a in range(a0, a0 + na):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                     px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
+                                                     px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,
+                                                     zs_i, zs_o)
                 e += hertz_energy(arcs[a, A_K], d)
             e += pocket_energy(y, rows, pockets, r, j, cphi, sphi)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:

@@ -53,7 +53,7 @@ from ..contact.pose import ring_to_global, to_ring_frame
 # the axis (fixed frame) and its inverse, their centres in the inner ring's frame with
 # that distance and its inverse, the offsets of an imperfect row's raceways at them, and
 # their pockets' angles, and a flexible ring's (rvcore.dynamics.ring_modes) axial shift of
-# the outer groove and each groove's modal velocity in its ring's frame (three values from
+# the outer groove, each groove's axial slope dΔz/dφ and each groove's modal velocity in its ring's frame (three values from
 # G_VG_I and from G_VG_O; all 0 for rigid rings, :func:`ring_surfaces`) (G_*); per raceway arc of the row the penetration, the normal in
 # the arc's ring's frame and in the fixed frame, the slip of the ball against the race,
 # its normal rate, the normal load, the force and moment on the ball, and dδ/dt with the
@@ -62,9 +62,9 @@ from ..contact.pose import ring_to_global, to_ring_frame
 W = MAX_ROW_BALLS + 8
 S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 (G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
- G_SL_O, G_CS0, G_SN0, G_DZ_O) = range(BALL_STATES, BALL_STATES + 15)
-G_VG_I, G_VG_O = BALL_STATES + 15, BALL_STATES + 18    # three values each
-N_BALL_FIELDS = BALL_STATES + 21
+ G_SL_O, G_CS0, G_SN0, G_DZ_O, G_ZS_I, G_ZS_O) = range(BALL_STATES, BALL_STATES + 17)
+G_VG_I, G_VG_O = BALL_STATES + 17, BALL_STATES + 20    # three values each
+N_BALL_FIELDS = BALL_STATES + 23
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
 # rvcore.contact.laws.contact_film, NO_FILM when the law needs none)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
@@ -148,35 +148,45 @@ def ring_surfaces(buf, params, y, nz):
     """Every ball's raceway displacements and modal velocities of flexible rings
     (:mod:`rvcore.dynamics.ring_modes`), after :func:`ball_geometry` and
     :func:`raceway_offsets`: each groove's radial shift ``w`` added to ``G_DR_I``/``G_DR_O``
-    (as an imperfection's), the inner groove's axial shift ``u`` taken from the ball's
-    height in the ring frame ``G_PLZ`` and the outer one's kept in ``G_DZ_O``, and each
+    (as an imperfection's, and its slope ``∂w/∂θ`` to ``G_SL_I``/``G_SL_O``), the inner
+    groove's axial shift ``u`` taken from the ball's height in the ring frame ``G_PLZ`` and
+    the outer one's kept in ``G_DZ_O``, their slopes ``∂u/∂θ`` in ``G_ZS_I``/``G_ZS_O``, and each
     groove's velocity ``ẇ·ê_r + u̇·ẑ`` in its ring's frame from ``G_VG_I``/``G_VG_O``; the
     same shifts as the flexible statics' (:func:`rvcore.statics.equilibrium._ball_contacts`).
     The angles: the ball's direction in the inner ring's frame and in the fixed frame.
-    With rigid rings the fields it owns are set to 0 and nothing else is touched."""
+    With rigid rings the fields it owns are set to 0 and nothing else is touched.
+    Returns the largest ``|w|`` and ``|u|`` of either ring at the balls [m]."""
     flex = flexible(params)
+    max_w, max_u = 0.0, 0.0
     for j in range(nz):
-        dz_o, vxi, vyi, vzi, vxo, vyo, vzo = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        dz_o, zs_i, zs_o, vxi, vyi, vzi, vxo, vyo, vzo = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         if flex:
             ci, si = buf[G_PLX * W + j] * buf[G_INV_RHO_L * W + j], buf[G_PLY * W + j] * buf[G_INV_RHO_L * W + j]
             co, so = buf[S_PX * W + j] * buf[G_INV_RHO_B * W + j], buf[S_PY * W + j] * buf[G_INV_RHO_B * W + j]
-            w_i, wd_i = surface(params, y, F_INNER_RADIAL, ci, si)
-            u_i, ud_i = surface(params, y, F_INNER_AXIAL, ci, si)
-            w_o, wd_o = surface(params, y, F_OUTER_RADIAL, co, so)
-            u_o, ud_o = surface(params, y, F_OUTER_AXIAL, co, so)
+            w_i, wd_i, ws_i = surface(params, y, F_INNER_RADIAL, ci, si)
+            u_i, ud_i, zs_i = surface(params, y, F_INNER_AXIAL, ci, si)
+            w_o, wd_o, ws_o = surface(params, y, F_OUTER_RADIAL, co, so)
+            u_o, ud_o, zs_o = surface(params, y, F_OUTER_AXIAL, co, so)
             buf[G_DR_I * W + j] += w_i
+            buf[G_SL_I * W + j] += ws_i
             buf[G_PLZ * W + j] -= u_i
             buf[G_DR_O * W + j] += w_o
+            buf[G_SL_O * W + j] += ws_o
             dz_o = u_o
+            max_w = max(max_w, abs(w_i), abs(w_o))
+            max_u = max(max_u, abs(u_i), abs(u_o))
             vxi, vyi, vzi = wd_i * ci, wd_i * si, ud_i
             vxo, vyo, vzo = wd_o * co, wd_o * so, ud_o
         buf[G_DZ_O * W + j] = dz_o
+        buf[G_ZS_I * W + j] = zs_i
+        buf[G_ZS_O * W + j] = zs_o
         buf[G_VG_I * W + j] = vxi
         buf[(G_VG_I + 1) * W + j] = vyi
         buf[(G_VG_I + 2) * W + j] = vzi
         buf[G_VG_O * W + j] = vxo
         buf[(G_VG_O + 1) * W + j] = vyo
         buf[(G_VG_O + 2) * W + j] = vzo
+    return max_w, max_u
 
 
 @kernel
@@ -203,7 +213,7 @@ def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, 
             buf[G_INV_RHO_L * W + j], px, py, pz - zrow - buf[G_DZ_O * W + j], buf[G_RHO_B * W + j],
             buf[G_INV_RHO_B * W + j], h,
             buf[G_DR_I * W + j], buf[G_DR_O * W + j], buf[G_D_HALF * W + j], buf[G_SL_I * W + j],
-            buf[G_SL_O * W + j])
+            buf[G_SL_O * W + j], buf[G_ZS_I * W + j], buf[G_ZS_O * W + j])
         gx, gy, gz = ring_to_global(nlx, nly, nlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         nx = gx if inner else nlx
         ny = gy if inner else nly

@@ -71,6 +71,7 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = 
     "friction_power", "damping_power", "load_power", "tilt_power", "max_pocket_force", "cage_land_force",
     "max_race_sliding_speed_squared", "max_race_pv_sixth", "max_race_pressure_cubed", "sin_contact_angle_min",
     "sin_contact_angle_max", "drive_power", "tilt_reaction_moment_x", "tilt_reaction_moment_y"))
+D_RING_W, D_RING_U = SLOT["max_ring_radial_deformation"], SLOT["max_ring_axial_deformation"]
 #: Row r's mean cos α of its loaded balls (for its epicyclic cage speed) is at
 #: ``D_ROW0 + D_ROW_STRIDE·r + D_COS_ALPHA``.
 D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_contact_angle"]
@@ -191,6 +192,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     # the designer's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
     p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
+    ring_w, ring_u = 0.0, 0.0
     for r in range(rows.shape[0]):
         cos_sum, cos_balls = 0.0, 0.0
         nz_balls = int(rows[r, R_Z])
@@ -214,7 +216,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
         gather_balls(y, buf, rows, r, pockets)
         ball_geometry(buf, nz_balls, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow)
         raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin)
-        ring_surfaces(buf, params, y, nz_balls)
+        row_w, row_u = ring_surfaces(buf, params, y, nz_balls)
+        ring_w, ring_u = max(ring_w, row_w), max(ring_u, row_u)
         for a in range(a0, a0 + na):
             arc_contacts(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, xi, yi, zi,
                          vxi, vyi, vzi, omx, omy, omz, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race,
@@ -515,3 +518,5 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     diag[D_SIN_MAX] = sin_max
     diag[D_HOLD_MX] = hold_x
     diag[D_HOLD_MY] = hold_y
+    diag[D_RING_W] = ring_w
+    diag[D_RING_U] = ring_u

@@ -39,9 +39,12 @@ step; the friction's radial and axial parts are ``μ`` times the normal force's 
 So with friction and damping off the modes and the contacts conserve
 ``Σ ½M_k·ȧ_k² + ½K_k·a_k² + Σ ⅖K·δ^2.5`` (:mod:`rvcore.dynamics.energy`).
 
-**Integration.** The modal states are explicit in both integrators (RK4 and the IMEX
-scheme, whose implicit unknowns stay the ring's pose and the balls); the step includes
-their rates (:func:`modal_rates`, :mod:`rvcore.integrate.step_size`).
+**Integration.** RK4 takes the modal states explicitly, its step bounded by their rates
+with the contacts' stiffness on them (:func:`modal_rates`, :mod:`rvcore.integrate.step_size`).
+The IMEX scheme takes each mode's own stiffness and damping (the support's included)
+implicitly, a diagonal solve per mode beside its arrowhead system (:func:`modal_solve`),
+and the contact forces on the modes explicitly: its step is bounded by the contacts'
+stiffness on the modes alone.
 
 **Packing** (the kernels take no objects): a record after the bearing's ``params``
 (:data:`FX_HEAD`): per family its number of orders (0: rigid), the index of its first
@@ -62,7 +65,8 @@ from ..rings.flexible import FlexibleRings
 
 __all__ = ["DYNAMICS_MAX_ORDER", "FAMILIES", "truncated", "with_ring_modes", "family_states", "set_static_modes",
            "modal_rates",
-           "flexible", "surface", "add_modal_force", "modal_rhs", "modal_energy"]
+           "flexible", "surface", "add_modal_force", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_solve",
+           "order_amplitude"]
 
 #: The highest Fourier order the dynamics keep by default [-]: 0 (breathing, axial
 #: translation) and 1 (translation, tilt) against the support, 2 (ovalisation),
@@ -172,7 +176,48 @@ def family_states(model: CompiledBearing, name: str):
     return (n, int(p[FX_HEAD + FX_STRIDE * f + 1])) if n > 0 else (0, -1)
 
 
-def modal_rates(model: CompiledBearing, q: float):
+def modal_implicit_masses(model: CompiledBearing):
+    """``(amplitude state, rate state, M_k)`` of every mode (both of an order's), for the
+    IMEX scheme's implicit unknowns (:func:`modal_solve`); none for rigid rings."""
+    p = model.params
+    out = []
+    if p.size <= N_PARAMS:
+        return out
+    for f in range(len(FAMILIES)):
+        n, s0, d0 = (int(p[FX_HEAD + FX_STRIDE * f + c]) for c in range(3))
+        for i in range(n):
+            for s in range(2):
+                out.append((s0 + 2 * i + s, s0 + 2 * n + 2 * i + s, p[d0 + FX_ORDER * i + 1]))
+    return out
+
+
+@kernel(inline=True)
+def modal_solve(params, v, g, hg):
+    """The IMEX stage's solve (:mod:`rvcore.integrate.imex`) for the modes: their own
+    stiffness ``K_k`` and damping ``c_k`` are its implicit part (the contact forces on them
+    stay explicit), each mode a diagonal block of ``J = [[0, 1], [−K/M, −c/M]]``::
+
+        e_v = (M·ê_v − h·γ·K·ê_x) / (M + h·γ·c + (h·γ)²·K),   e_x = ê_x + h·γ·e_v,   g_x = e_v
+
+    ``v`` holds ``ê`` in and ``e`` out; ``g`` receives ``g_x`` (the rate's ``g_v`` the
+    stage computes from ``ê_v`` left in ``g``); ``hg = h·γ`` [s]. Nothing for rigid rings."""
+    if params.shape[0] <= N_PARAMS:
+        return
+    for f in range(4):
+        n = int(params[FX_HEAD + FX_STRIDE * f])
+        s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
+        d0 = int(params[FX_HEAD + FX_STRIDE * f + 2])
+        for i in range(n):
+            m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
+            for s in range(2):
+                a, r = s0 + 2 * i + s, s0 + 2 * n + 2 * i + s
+                ev = (m * v[r] - hg * k * v[a]) / (m + hg * c + hg * hg * k)
+                v[r] = ev
+                v[a] = v[a] + hg * ev
+                g[a] = ev
+
+
+def modal_rates(model: CompiledBearing, q: float, *, implicit: bool = False):
     """The rates of the modal states at the contact load ``q`` [N]: per family and order,
     ``(ω, λ)`` [rad s⁻¹, s⁻¹], the oscillation on the imaginary axis and the damping on the
     real one, for the explicit step (:mod:`rvcore.integrate.step_size`).
@@ -186,6 +231,7 @@ def modal_rates(model: CompiledBearing, q: float):
         ω² = (K_k + Σ_rows Z·k_n) / M_k          λ = (c_k + Σ_rows Z·c_max) / M_k
 
     ``c_max`` the contact damper's full coefficient (``P_DAMP_C``, on when ``P_DAMPING``).
+    ``implicit`` (the IMEX scheme, :func:`modal_solve`) leaves ``K_k`` and ``c_k`` out.
     """
     from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, R_ARC0, R_NARC
 
@@ -205,6 +251,8 @@ def modal_rates(model: CompiledBearing, q: float):
         n, d0 = int(p[FX_HEAD + FX_STRIDE * f]), int(p[FX_HEAD + FX_STRIDE * f + 2])
         for i in range(n):
             _, m, k, c = p[d0 + FX_ORDER * i:d0 + FX_ORDER * (i + 1)]
+            if implicit:
+                k, c = 0.0, 0.0
             out.append((math.sqrt((k + k_contacts) / m), (c + c_contacts) / m))
     return out
 
@@ -217,18 +265,35 @@ def flexible(params):
 
 @kernel(inline=True)
 def surface(params, y, f, c1, s1):
-    """``(w, ẇ)`` of family ``f`` at the angle of cosine ``c1`` and sine ``s1`` [m, m s⁻¹]:
-    ``Σ_k a_k^c·cos kθ + a_k^s·sin kθ`` and its rate; ``(0, 0)`` for a rigid one.
-    ``cos kθ``, ``sin kθ`` by the rotation recurrence (no library trigonometry)."""
+    """``(w, ẇ, ∂w/∂θ)`` of family ``f`` at the angle of cosine ``c1`` and sine ``s1``
+    [m, m s⁻¹, m]: ``Σ_k a_k^c·cos kθ + a_k^s·sin kθ``, its rate and its slope along the
+    ring (which turns the contact normal, :func:`rvcore.contact.laws.race_arc_penetration`);
+    0 for a rigid one. ``cos kθ``, ``sin kθ`` by the rotation recurrence (no library
+    trigonometry)."""
     n = int(params[FX_HEAD + FX_STRIDE * f])
     s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
-    w, wd = 0.0, 0.0
+    w, wd, ws = 0.0, 0.0, 0.0
     ck, sk = 1.0, 0.0
-    for i in range(n):
-        w += y[s0 + 2 * i] * ck + y[s0 + 2 * i + 1] * sk
+    for i in range(n):     # the orders are 0 … n − 1 (with_ring_modes)
+        ac, as_ = y[s0 + 2 * i], y[s0 + 2 * i + 1]
+        w += ac * ck + as_ * sk
         wd += y[s0 + 2 * n + 2 * i] * ck + y[s0 + 2 * n + 2 * i + 1] * sk
+        ws += i * (as_ * ck - ac * sk)
         ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
-    return w, wd
+    return w, wd, ws
+
+
+@kernel(inline=True)
+def order_amplitude(params, y, f, k):
+    """``√(a_k^c² + a_k^s²)`` of family ``f``'s order ``k`` [m]; 0 for a rigid family or
+    an order it does not keep (:func:`rvcore.recording.plan.fill_state_signals`: the ovalisation)."""
+    if params.shape[0] <= N_PARAMS:
+        return 0.0
+    n = int(params[FX_HEAD + FX_STRIDE * f])
+    if k >= n:
+        return 0.0
+    s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
+    return math.sqrt(y[s0 + 2 * k] ** 2 + y[s0 + 2 * k + 1] ** 2)
 
 
 @kernel(inline=True)

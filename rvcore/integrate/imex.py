@@ -151,6 +151,7 @@ from .pocket_check import pocket_energy_kept
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
 from .protocol import new_state as new_counters
 from .rk4 import stage_weighted_inertia
+from ..dynamics.ring_modes import modal_implicit_masses, modal_solve
 from ..dynamics.rhs import rhs
 from ..recording.plan import add_substep_integrals, in_window
 
@@ -243,6 +244,11 @@ def new_work(model, pocket_tolerance, load_tolerance):
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
             work[W_ISP, b:b + 3] = 1.0
+    # a flexible ring's modes (rvcore.dynamics.ring_modes): their own stiffness and damping
+    # implicit, a diagonal solve each (modal_solve)
+    for amplitude, rate, m in modal_implicit_masses(model):
+        inv_m[rate] = 1.0 / m
+        work[W_ISP, amplitude] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     work[W_SET, 0] = pocket_tolerance
@@ -298,6 +304,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
     hg = dt * GAMMA
     inv_hg = 1.0 / hg
+    modal_solve(params, tmp, g, hg)
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
     for m in range(5):
         g[m] = tmp[m + 5]

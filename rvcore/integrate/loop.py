@@ -96,7 +96,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
                     return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
         if diag[D_MAX_PEN] > pen_limit:
             return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
-        fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal)
+        fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal, params)
         if i > 0:
             tp = t - dt
             for k in range(n_ph + 1):

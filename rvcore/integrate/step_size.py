@@ -44,6 +44,13 @@ from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, P_LAW, R_ARC0, R_HALF_D, 
 
 RK4_IMAG_LIMIT = 2.0 * math.sqrt(2.0)
 RK4_REAL_LIMIT = 2.785
+#: ``ω_c·h`` at most, ``ω_c`` the contacts' stiffness on a flexible ring's modes, which the
+#: IMEX scheme takes explicitly (:mod:`rvcore.dynamics.ring_modes`): an accuracy limit, not
+#: stability's (2√2). Measured on the 12-ball section, rings on a 1e10 N/m² seat, friction
+#: and damping off (tests/core/test_ring_dynamics.py): the energy drifted by 1.6e-3 of the
+#: oscillation at ω_c·h = 1.6 (the rigid step there), 9.6e-5 at 0.80, 2.1e-5 at 0.40; at
+#: this limit (0.64 at the default safety) it keeps docs/model.md §9.4's 1e-4.
+IMEX_MODAL_LIMIT = 0.8
 
 
 def time_step(model, peak_contact_load: float, method: str, *, safety: float = 0.8) -> float:
@@ -122,16 +129,18 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
                        ONSET_LIMIT * math.sqrt(2.0) / omega))
-    dts.extend(_modal_steps(model, q))
+    dts.extend(_modal_steps(model, q, implicit=True))
     return safety * min(dts)
 
 
-def _modal_steps(model, q: float):
+def _modal_steps(model, q: float, *, implicit: bool = False):
     """The explicit limits of a flexible ring's modal states at the contact load ``q`` [N]
     (:func:`rvcore.dynamics.ring_modes.modal_rates`), on RK4's imaginary- and real-axis
-    limits: both integrators keep the modes explicit. Empty for rigid rings."""
-    return [min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf)
-            for omega, lam in modal_rates(model, q)]
+    limits; ``implicit`` (IMEX) with the modes' own stiffness and damping implicit, the
+    contacts' on them explicit, on :data:`IMEX_MODAL_LIMIT`. Empty for rigid rings."""
+    imag = IMEX_MODAL_LIMIT if implicit else RK4_IMAG_LIMIT
+    return [min(imag / omega if omega > 0 else np.inf, RK4_REAL_LIMIT / lam if lam > 0 else np.inf)
+            for omega, lam in modal_rates(model, q, implicit=implicit)]
 
 
 def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:

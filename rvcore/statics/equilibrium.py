@@ -80,7 +80,8 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
     for k in range(na):
         a = a0 + k
         inner, d, nx, ny, nz = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l,
-                                                    px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o)
+                                                    px, py, pzr, rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,
+                                                    0.0, 0.0)
         if inner:
             nx, ny, nz = ring_to_global(nx, ny, nz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
         n_out[j, k, 0], n_out[j, k, 1], n_out[j, k, 2] = nx, ny, nz
