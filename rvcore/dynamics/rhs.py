@@ -25,6 +25,10 @@ come out of these; ``g`` is the gravity vector of the bearing's mounting)::
             I_t·θ̈y − I_p·(ω̇·θx + ω·θ̇x) = M_y             ring spinning at the prescribed ω)
     cage:   m_c·dv/dt = ΣF + m_c·g,     I_c·dφ̇/dt = ΣT_z
 
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`, states after the rows) move its
+raceway at every ball (:func:`rvcore.dynamics.races.ring_surfaces`) and take the balls'
+normal forces on it as their generalized forces.
+
 The applied loads are the profile's channels at ``t`` (:mod:`rvcore.profile`):
 ``F_ext = F_r·(cos ψ, sin ψ, 0) + F_a·ẑ`` and the tilting moment ``M·(−sin ψ, cos ψ, 0)``
 (about the axis normal to the radial load) added to ``(M_x, M_y)``; ψ is read per call

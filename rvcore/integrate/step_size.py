@@ -85,6 +85,9 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         ω_n = √(2k/m_b)                        (contact oscillation)
         λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
         dt  = safety · min(2√2/ω_n, 2.785/λ)
+
+    and a flexible ring's modes on the same limits at their rates with the contacts'
+    stiffness on them (:func:`rvcore.dynamics.ring_modes.modal_rates`).
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
@@ -111,6 +114,8 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
         dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
 
+    and a flexible ring's modes at ``ω_c·h ≤`` :data:`IMEX_MODAL_LIMIT`, ``ω_c`` the contacts'
+    stiffness on them (their own is implicit, :func:`rvcore.dynamics.ring_modes.modal_solve`).
     ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
     and ω_n the contact oscillation of :func:`row_rates`, here only for a contact's first
     step (its oscillation is implicit from the next: the tableau keeps it undamped at any
