@@ -121,8 +121,8 @@ def test_a_very_stiff_support_gives_the_rigid_rings_dynamics():
     ``w = Q·β/(2k)`` with ``β = (k/4EI)^¼`` (Hetényi), is ~4e-11 m at 500 N, 1e-5 of the
     contacts' approach and 2e-4 of the ring's axial travel here. A rolling start under a
     combined load gives the ring's displacements and the contact loads of rigid rings
-    within 0.1 % of their scale, both at the flexible case's step (the seat's modes,
-    ~2.5e7 rad/s, set it)."""
+    within 0.1 % of their scale, both at the flexible case's IMEX step (the seat's own
+    stiffness, ~2.5e7 rad/s on the modes, is in its implicit part)."""
     bearing = section_bearing(12)
     rings = rings_of(bearing, 1e15, damping_ratio=0.02)
     profile = constant_profile(0.0, 0.001)
