@@ -79,7 +79,7 @@ def test_the_arc_passes_hold_each_ball_s_race_contacts_bit_for_bit(running_four_
                                cos_spin, sin_spin, px * inv_rho_b, py * inv_rho_b)
         for a in range(a0, a0 + 4):
             inner, delta, nlx, nly, nlz = contact.race_arc_penetration(
-                model.arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h, *offsets, 0.0, 0.0)
+                model.arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pz - zrow, rho_b, inv_rho_b, h, *offsets)
             assert inner == (model.arcs[a, A_RING] == 0.0)
             o = races.arc(a - a0) + j
             assert buf[o + races.C_DELTA * races.W] == delta
