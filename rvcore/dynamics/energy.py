@@ -16,7 +16,7 @@ from ..bearing.layout import (A_K, BALL_STATES, GUIDE_OUTER_LAND, P_GX, P_GY, P_
                     R_ZROW)
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, channel_value
 from .raceway import ball_offsets, spin_of
-from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, modal_energy, surface
+from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove, modal_energy
 
 
 def kinetic_energy_limit(model, resolved, outer_diameter: float) -> float:
@@ -132,19 +132,11 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             if rows[r, R_IMPERFECT] != 0.0:
                 dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = ball_offsets(
                     rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin, sin_spin, px / rho_b, py / rho_b)
-            if flex:    # the groove's modal displacement and slopes added to the imperfections'
-                w, _, ws = surface(params, y, F_INNER_RADIAL, plx / rho_l, ply / rho_l)
-                u, _, us = surface(params, y, F_INNER_AXIAL, plx / rho_l, ply / rho_l)
-                dr_i += w
-                sl_i += ws
-                dz_i += u
-                zs_i += us
-                w, _, ws = surface(params, y, F_OUTER_RADIAL, px / rho_b, py / rho_b)
-                u, _, us = surface(params, y, F_OUTER_AXIAL, px / rho_b, py / rho_b)
-                dr_o += w
-                sl_o += ws
-                dz_o += u
-                zs_o += us
+            if flex:    # the grooves' modal displacements and slopes added to the imperfections'
+                w, _, ws, u, _, us = groove(params, y, F_INNER_RADIAL, F_INNER_AXIAL, plx / rho_l, ply / rho_l)
+                dr_i, sl_i, dz_i, zs_i = dr_i + w, sl_i + ws, dz_i + u, zs_i + us
+                w, _, ws, u, _, us = groove(params, y, F_OUTER_RADIAL, F_OUTER_AXIAL, px / rho_b, py / rho_b)
+                dr_o, sl_o, dz_o, zs_o = dr_o + w, sl_o + ws, dz_o + u, zs_o + us
             for a in range(a0, a0 + na):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l, px, py, pz - zrow,
                                                      rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,

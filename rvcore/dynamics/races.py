@@ -44,7 +44,7 @@ from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, cage_po
                             race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
-from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, surface
+from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove
 from ..contact.pose import ring_to_global, to_ring_frame
 
 # The scratch: quantity ``f`` of the row's ball ``j`` (its index in the row, from 0) at
@@ -204,10 +204,8 @@ def ring_surfaces(buf, params, y, nz):
         if flex:
             ci, si = buf[G_PLX * W + j] * buf[G_INV_RHO_L * W + j], buf[G_PLY * W + j] * buf[G_INV_RHO_L * W + j]
             co, so = buf[S_PX * W + j] * buf[G_INV_RHO_B * W + j], buf[S_PY * W + j] * buf[G_INV_RHO_B * W + j]
-            w_i, wd_i, ws_i = surface(params, y, F_INNER_RADIAL, ci, si)
-            u_i, ud_i, zs_i = surface(params, y, F_INNER_AXIAL, ci, si)
-            w_o, wd_o, ws_o = surface(params, y, F_OUTER_RADIAL, co, so)
-            u_o, ud_o, zs_o = surface(params, y, F_OUTER_AXIAL, co, so)
+            w_i, wd_i, ws_i, u_i, ud_i, zs_i = groove(params, y, F_INNER_RADIAL, F_INNER_AXIAL, ci, si)
+            w_o, wd_o, ws_o, u_o, ud_o, zs_o = groove(params, y, F_OUTER_RADIAL, F_OUTER_AXIAL, co, so)
             buf[G_DR_I * W + j] += w_i
             buf[G_SL_I * W + j] += ws_i
             buf[G_DZ_I * W + j] += u_i

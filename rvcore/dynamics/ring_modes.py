@@ -65,7 +65,7 @@ from ..rings.flexible import FlexibleRings
 
 __all__ = ["DYNAMICS_MAX_ORDER", "FAMILIES", "truncated", "with_ring_modes", "family_states", "set_static_modes",
            "modal_rates",
-           "flexible", "surface", "add_modal_force", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_solve",
+           "flexible", "surface", "groove", "add_modal_force", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_solve",
            "order_amplitude"]
 
 #: The highest Fourier order the dynamics keep by default [-]: 0 (breathing, axial
@@ -192,6 +192,14 @@ def modal_implicit_masses(model: CompiledBearing):
 
 
 @kernel(inline=True)
+def family_record(params, f):
+    """Family ``f``'s record in ``params`` (module Notes): its number of orders, its first
+    state and where its per-order data start."""
+    base = FX_HEAD + FX_STRIDE * f
+    return int(params[base]), int(params[base + 1]), int(params[base + 2])
+
+
+@kernel(inline=True)
 def modal_solve(params, v, g, hg):
     """The IMEX stage's solve (:mod:`rvcore.integrate.imex`) for the modes: their own
     stiffness ``K_k`` and damping ``c_k`` are its implicit part (the contact forces on them
@@ -204,9 +212,7 @@ def modal_solve(params, v, g, hg):
     if params.shape[0] <= N_PARAMS:
         return
     for f in range(4):
-        n = int(params[FX_HEAD + FX_STRIDE * f])
-        s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
-        d0 = int(params[FX_HEAD + FX_STRIDE * f + 2])
+        n, s0, d0 = family_record(params, f)
         for i in range(n):
             m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
             for s in range(2):
@@ -284,6 +290,17 @@ def surface(params, y, f, c1, s1):
 
 
 @kernel(inline=True)
+def groove(params, y, radial, axial, c1, s1):
+    """One ring's groove at the angle of cosine ``c1`` and sine ``s1``: ``(w, ẇ, ∂w/∂θ,
+    u, u̇, ∂u/∂θ)`` of its radial family ``radial`` and axial family ``axial``
+    (:func:`surface`) [m, m s⁻¹, m, m, m s⁻¹, m]; the raceway's displacement that adds to
+    an imperfection's (:func:`rvcore.dynamics.races.ring_surfaces`)."""
+    w, wd, ws = surface(params, y, radial, c1, s1)
+    u, ud, us = surface(params, y, axial, c1, s1)
+    return w, wd, ws, u, ud, us
+
+
+@kernel(inline=True)
 def order_amplitude(params, y, f, k):
     """``√(a_k^c² + a_k^s²)`` of family ``f``'s order ``k`` [m]; 0 for a rigid family or
     an order it does not keep (:func:`rvcore.recording.plan.fill_state_signals`: the ovalisation)."""
@@ -325,9 +342,7 @@ def modal_rhs(params, y, dy):
     """Every mode's ``dy/dt`` from its generalized force (in ``dy``'s rate slot, module
     Notes): ``ȧ`` and ``ä = (Q − K·a − c·ȧ)/M``."""
     for f in range(4):
-        n = int(params[FX_HEAD + FX_STRIDE * f])
-        s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
-        d0 = int(params[FX_HEAD + FX_STRIDE * f + 2])
+        n, s0, d0 = family_record(params, f)
         for i in range(n):
             m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
             for s in range(2):
@@ -344,9 +359,7 @@ def modal_energy(params, y):
     if params.shape[0] <= N_PARAMS:
         return kin, pot
     for f in range(4):
-        n = int(params[FX_HEAD + FX_STRIDE * f])
-        s0 = int(params[FX_HEAD + FX_STRIDE * f + 1])
-        d0 = int(params[FX_HEAD + FX_STRIDE * f + 2])
+        n, s0, d0 = family_record(params, f)
         for i in range(n):
             m, k = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2]
             for s in range(2):
