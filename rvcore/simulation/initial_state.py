@@ -45,7 +45,7 @@ def race_contacts(model, y, r, j):
     best = {0: (-np.inf, None), 1: (-np.inf, None)}
     for a in range(int(row[R_ARC0]), int(row[R_ARC0] + row[R_NARC])):
         ring = int(model.arcs[a, A_RING])
-        geo = (model.arcs[a, A_CR], model.arcs[a, A_CZ], model.arcs[a, A_RMH], model.arcs[a, A_SIDE], h)
+        geo = (model.arcs[a, A_CR], model.arcs[a, A_CZ], model.arcs[a, A_RMH], model.arcs[a, A_SIDE], h, 0.0)
         if ring == 0:
             d, nx, ny, nz = arc_penetration(pl[0], pl[1], pl[2], rho_l, 1.0 / rho_l, *geo)
             n = rot @ np.array([nx, ny, nz])
