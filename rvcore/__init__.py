@@ -32,7 +32,7 @@ Shared
 - ``bearing.laws``             the friction law as data: its name and its record of parameters
 - ``bearing.layout``           a Bearing compiled into flat arrays for the numba kernels
 
-``rings``: flexible rings, their theory (issue 41; from the bearing file into the statics; rigid by default)
+``rings``: flexible rings, their theory (issue 41; from the bearing file into the statics and, as states, the dynamics; rigid by default)
 - ``rings.section``            a ring's section from its envelope and grooves, or given: area, centroid, second moments, torsion constant
 - ``rings.modes``              thin-ring Fourier modes, in plane and out of plane with twist: modal masses, stiffnesses, damping
 - ``rings.support``            what holds a ring: an elastic foundation, or a housing ring through a seat; the supported modes
@@ -50,6 +50,7 @@ Shared
 ``dynamics``: the equations of motion
 - ``dynamics.raceway``         an imperfect raceway's radial shift and slope at a contact; its turned angle
 - ``dynamics.races``           the ball contacts of a row, every ball at once (the vectorised passes)
+- ``dynamics.ring_modes``      a flexible ring's Fourier modes as states: the raceway's displacement at a ball, the forces that drive them
 - ``dynamics.rhs``             the right-hand side
 - ``dynamics.tangent``         the stiff velocity tangent of the contacts (the IMEX scheme's blocks)
 - ``dynamics.energy``          kinetic and potential energy (the conservation checks)

@@ -76,6 +76,8 @@ SIGNALS = (
                                 "none is loaded)"),
     Signal("film_parameter", "1", "smallest film parameter h_min/sigma over the loaded ball-race contacts (NaN when "
                                   "none is loaded)"),
+    Signal("max_ring_radial_deformation", "m", "largest |w| of a flexible ring's raceway at a ball (0 when rigid)"),
+    Signal("max_ring_axial_deformation", "m", "largest |u| of a flexible ring's raceway at a ball (0 when rigid)"),
     Signal("inner_ring_x", "m", "inner-ring centre x", STATE),
     Signal("inner_ring_y", "m", "inner-ring centre y", STATE),
     Signal("inner_ring_z", "m", "inner-ring centre z", STATE),
@@ -95,6 +97,8 @@ SIGNALS = (
                          "load (NaN when nothing is loaded)", STATE),
     Signal("revolutions_kappa_below_scope", "1", "revolutions of the step when its kappa is below ISO 281's 0.1, "
                                                  "else 0", STATE),
+    Signal("inner_ring_ovalisation", "m", "amplitude of the inner ring's k = 2 radial mode (0 when rigid)", STATE),
+    Signal("outer_ring_ovalisation", "m", "amplitude of the outer ring's k = 2 radial mode (0 when rigid)", STATE),
     Signal("drive_torque_step", "N m", "the step's drive torque, stage-weighted (the impulse the step gave)", STEP),
     Signal("drive_torque_band_limited", "N m", "the step's drive torque band-limited to "
                                                 "rvcore.integrate.loop.TORQUE_BANDWIDTH", STEP),
@@ -260,17 +264,38 @@ OUTPUTS = (
                                              f"tilt at 0 {_HELD}"),
     _series("tilt_reaction_moment_y", "N m", f"moment about y that the support applies to hold the inner ring's "
                                              f"tilt at 0 {_HELD}"),
-    _series("sensor_displacement", "m", "inner-ring displacement read by each virtual sensor along its direction",
+    _series("sensor_displacement", "m", "inner-ring displacement read by each virtual sensor along its direction "
+                                        "(a flexible inner ring's surface deformation included)",
             over="sensor", group="displacement"),
     _series("film_parameter", "1", f"smallest film parameter lambda = h_min/sigma over the loaded ball-race "
                                    f"contacts {_FILM}", group="lubrication"),
     _series("kappa", "1", "ISO 281 viscosity ratio kappa = nu/nu1 at the inner ring's speed (nu1 of ISO 281 "
                           "9.3.3 at n = |omega|; 0 at standstill)", group="lubrication"),
+    _series("max_ring_radial_deformation", "m", "largest radial displacement (magnitude) of a flexible ring's "
+                                                "raceway at a ball, relative to its support, either ring (0 when "
+                                                "both rings are rigid)", group="displacement"),
+    _series("max_ring_axial_deformation", "m", "largest axial displacement (magnitude) of a flexible ring's raceway "
+                                               "at a ball, relative to its support, either ring (0 when both rings "
+                                               "are rigid)", group="displacement"),
+    _series("inner_ring_ovalisation", "m", "amplitude sqrt(a_c^2 + a_s^2) of the inner ring's ovalisation, its "
+                                           "k = 2 radial mode (0 when rigid)", group="displacement"),
+    _series("outer_ring_ovalisation", "m", "amplitude sqrt(a_c^2 + a_s^2) of the outer ring's ovalisation, its "
+                                           "k = 2 radial mode (0 when rigid)", group="displacement"),
 
     # ---- phase metrics, reduced at every integrator step
     *_displacement_metrics("radial_displacement", "delta_r at the ring centre", "radial_displacement"),
     *_displacement_metrics("axial_displacement", "delta_a at the ring centre", "axial_displacement"),
     *_displacement_metrics("sensor_displacement", "the sensor reading", "sensor_displacement", over="sensor"),
+    _phase("max_ring_radial_deformation_peak", "m", "largest radial displacement (magnitude) of a flexible ring's "
+                                                    "raceway at a ball over the phase (0 when rigid)",
+           "max_ring_radial_deformation", "max", group="displacement"),
+    _phase("max_ring_axial_deformation_peak", "m", "largest axial displacement (magnitude) of a flexible ring's "
+                                                   "raceway at a ball over the phase (0 when rigid)",
+           "max_ring_axial_deformation", "max", group="displacement"),
+    _phase("inner_ring_ovalisation_peak", "m", "largest amplitude of the inner ring's ovalisation over the phase "
+                                               "(0 when rigid)", "inner_ring_ovalisation", "max", group="displacement"),
+    _phase("outer_ring_ovalisation_peak", "m", "largest amplitude of the outer ring's ovalisation over the phase "
+                                               "(0 when rigid)", "outer_ring_ovalisation", "max", group="displacement"),
     _phase("cage_speed_mean", "rad s-1", "time mean of the cage speed over the phase", "cage_speed", "mean",
            over="row", group="kinematics"),
     _phase("inner_ring_speed_mean", "rad s-1", "time mean of the inner-ring speed over the phase",

@@ -279,8 +279,10 @@ def _format_bearing(s: dict) -> list:
     lines.append(f"  inner ring mass {s['inner_ring_mass_kg']:.4g} kg (with attachments); gravity "
                  f"{_bearing_value('gravity', s['gravity_m_per_s2'])} in the bearing frame")
     if set(s["ring_supports"].values()) != {"rigid"}:
-        lines.append(f"  rings: inner {s['ring_supports']['inner']}, outer {s['ring_supports']['outer']} (flexible "
-                     "rings: statics only in this version)")
+        from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
+
+        lines.append(f"  rings: inner {s['ring_supports']['inner']}, outer {s['ring_supports']['outer']} (flexible; "
+                     f"the dynamics keep their modes up to order {DYNAMICS_MAX_ORDER}, docs/model.md §16.1)")
     if s["assumptions"]:
         lines.append(f"  assumptions ({len(s['assumptions'])}): {', '.join(s['assumptions'])}")
     lines.append(_warning_count(s))

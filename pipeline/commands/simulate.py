@@ -22,12 +22,10 @@ def run(args):
     from rvcore.recording.results import SimulationError
     from ..io import write_atomic
     from ..run import run_one_case
-    from ..run.cases import refuse_flexible_dynamics
     from ..run.estimate import say_if_compiling
 
     check_out_option(args.out)   # before any work
     sweep = one_case_sweep(args, profile=args.profile)
-    refuse_flexible_dynamics(sweep.cases, f"--bearing {args.bearing}")
     out = writable_file(args.out, f"--out {args.out}")   # before the case, not after it
     spec = sweep.cases[0]
     for w in spec.bearing.warnings:

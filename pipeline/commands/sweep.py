@@ -165,7 +165,6 @@ def _end_children() -> None:
 
 def run(args) -> int:
     from ..run import run_sweep, summary
-    from ..run.cases import refuse_flexible_dynamics
     from ..schema import read_sweep_file
 
     if args.workers is not None:
@@ -177,7 +176,6 @@ def run(args) -> int:
     check_scheduler(args)
     check_out_option(args.out)   # before any work
     sweep = read_sweep_file(sweep_path(args.sweep_file))   # every ConfigError before any case runs
-    refuse_flexible_dynamics(sweep.cases, str(args.sweep_file))
     out = Path(args.out) / sweep.name
     writable_folder(out / "cases", f"--out {args.out}")
     _announce(sweep, out, args)

@@ -25,34 +25,25 @@ from ..schema import CaseSpec
 TIMING_INFO = ("wall_time",)
 
 
-#: Why a bearing with flexible rings runs no dynamic case yet (issue 41: the ring modes
-#: enter the dynamics later; ``rvsweep statics`` solves them).
-FLEXIBLE_DYNAMICS = "flexible rings: statics only in this version"
-
-
 def flexible(bearing) -> bool:
     """Whether either of ``bearing``'s rings is flexible (``inner_ring_support``,
     ``outer_ring_support``)."""
     return bearing.inner_ring_support is not None or bearing.outer_ring_support is not None
 
 
-def refuse_flexible_dynamics(specs, where: str) -> None:
-    """One line, before any work, where a dynamic run would take a bearing with flexible
-    rings (:data:`FLEXIBLE_DYNAMICS`).
+def case_keywords(spec: CaseSpec) -> dict:
+    """The keywords of ``run_case`` for ``spec`` besides its four arguments: its sensors,
+    and a flexible bearing's rings (:func:`rvcore.rings.flexible.bearing_rings`) with their
+    Fourier orders up to the dynamics' :data:`rvcore.dynamics.ring_modes.DYNAMICS_MAX_ORDER`
+    (the statics keep the bearing file's ``max_order``; docs/model.md §16.1). A rigid
+    bearing's call is as before (no ``rings``)."""
+    keywords = {"sensors": spec.sensors}
+    if flexible(spec.bearing):
+        from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
+        from rvcore.rings.flexible import bearing_rings
 
-    Parameters
-    ----------
-    specs : iterable of pipeline.schema.CaseSpec
-    where : str
-        The file or option that named the bearing.
-    """
-    from ..errors import UserError
-
-    for spec in specs:
-        if flexible(spec.bearing):
-            raise UserError(f"{where}: bearing {spec.bearing.name!r}: {FLEXIBLE_DYNAMICS} (rvsweep statics "
-                            "solves its rings; a dynamic case needs rigid rings: leave [inner_ring.flexible] "
-                            "and [outer_ring.flexible] out)")
+        keywords["rings"] = bearing_rings(spec.bearing, max_order=DYNAMICS_MAX_ORDER)
+    return keywords
 
 
 @dataclass
@@ -111,15 +102,14 @@ def compute_case(spec: CaseSpec, case_fn=None) -> CaseOutcome:
     spec : pipeline.schema.sweepfile.CaseSpec
         The resolved case (SI).
     case_fn : callable, optional
-        ``case_fn(bearing, profile, op, settings, sensors=()) -> CaseResult``; default
+        ``case_fn(bearing, profile, op, settings, sensors=(), rings=...) -> CaseResult``
+        (``rings`` only for a flexible bearing, :func:`case_keywords`); default
         ``rvcore.simulation.run.run_case``.
     """
     t0 = time.perf_counter()
-    if flexible(spec.bearing):   # the commands refuse it first; a guard for every other caller
-        return CaseOutcome(spec.case_id, False, None, FLEXIBLE_DYNAMICS, "", 0.0)
     fn = case_fn if case_fn is not None else _default_case_fn()
     try:
-        result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
+        result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, **case_keywords(spec))
     except Exception as exc:  # the case failed: record why and let the others go on
         return CaseOutcome(spec.case_id, False, None, failure_reason(exc), traceback.format_exc(),
                            time.perf_counter() - t0)
@@ -216,5 +206,5 @@ def source_name(case_fn) -> str:
 def run_one_case(spec: CaseSpec, case_fn=None) -> xr.Dataset:
     """Build, run and label one case (in this process); raises if the case fails."""
     fn = case_fn if case_fn is not None else _default_case_fn()
-    result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, sensors=spec.sensors)
+    result = fn(spec.bearing, spec.profile, spec.operating_point, spec.settings, **case_keywords(spec))
     return label_case(spec, result, source=source_name(case_fn))

@@ -11,6 +11,7 @@ State vector layout (all SI)::
     [+0:8]   cage        x, y, z, angle, vx, vy, vz, angular speed
     per ball, at rows[r, R_BALL0] + 9·j:
     [+0:9]   ball        x, y, z, vx, vy, vz, wx, wy, wz
+    after the rows, a flexible ring's modal amplitudes and rates (rvcore.dynamics.ring_modes)
 """
 from __future__ import annotations
 

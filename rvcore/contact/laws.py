@@ -347,7 +347,7 @@ def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, p, h, 
 
 
 @kernel(inline=True)
-def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
+def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d, mid):
     """Penetration of a ball into one groove arc, in the ring's own frame.
 
     Parameters
@@ -364,6 +364,9 @@ def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
         0, or ±1 for an arc that exists only on that side of the groove mid-plane [-].
     half_d : float
         Ball radius [m].
+    mid : float
+        Axial position of the groove's mid-plane [m]: 0, or the groove's axial shift (an
+        imperfection's and a flexible ring's, which ``cz`` includes; the arcs move with it).
 
     Returns
     -------
@@ -381,7 +384,7 @@ def arc_penetration(plx, ply, plz, rho, inv_rho, cr, cz, rmh, side, half_d):
     nz = dz * inv
     nx = nr * plx * inv_rho
     ny = nr * ply * inv_rho
-    if side != 0.0 and side * (plz + half_d * nz) < 0.0:
+    if side != 0.0 and side * (plz - mid + half_d * nz) < 0.0:
         delta = -1.0
     return delta, nx, ny, nz
 
@@ -517,12 +520,12 @@ def race_arc_penetration(arcs, a, plx, ply, plz, rho_l, inv_rho_l, px, py, pzr, 
     if inner:
         cr = arcs[a, A_CR] + dr_inner
         delta, nx, ny, nz = arc_penetration(plx, ply, plz, rho_l, inv_rho_l, cr, arcs[a, A_CZ] + dz_inner,
-                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d, dz_inner)
         slope, zslope, ux, uy = slope_inner, zslope_inner, plx * inv_rho_l, ply * inv_rho_l
     else:
         cr = arcs[a, A_CR] + dr_outer
         delta, nx, ny, nz = arc_penetration(px, py, pzr, rho_b, inv_rho_b, cr, arcs[a, A_CZ] + dz_outer,
-                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d)
+                                            arcs[a, A_RMH] - d_half, arcs[a, A_SIDE], half_d, dz_outer)
         slope, zslope, ux, uy = slope_outer, zslope_outer, px * inv_rho_b, py * inv_rho_b
     if slope != 0.0 or zslope != 0.0:
         n_phi = -(nx * ux + ny * uy) * slope / cr

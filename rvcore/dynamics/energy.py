@@ -16,6 +16,7 @@ from ..bearing.layout import (A_K, BALL_STATES, GUIDE_OUTER_LAND, P_GX, P_GY, P_
                     R_ZROW)
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, channel_value
 from .raceway import ball_offsets, spin_of
+from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove, modal_energy
 
 
 def kinetic_energy_limit(model, resolved, outer_diameter: float) -> float:
@@ -69,8 +70,11 @@ def pocket_energy(y, rows, pockets, r, j, cphi, sphi):
 
 @kernel
 def kinetic_energy(y, params, rows):
-    """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded)."""
+    """Kinetic energy of the free motion [J] (the prescribed spin of the ring excluded),
+    a flexible ring's modes' included (:func:`rvcore.dynamics.ring_modes.modal_energy`)."""
     e = 0.5 * params[P_RING_M] * (y[5] ** 2 + y[6] ** 2 + y[7] ** 2)
+    if flexible(params):
+        e += modal_energy(params, y)[0]
     e += 0.5 * params[P_RING_IT] * (y[8] ** 2 + y[9] ** 2)
     for r in range(rows.shape[0]):
         c0 = int(rows[r, R_CAGE0])
@@ -90,7 +94,9 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
 
     ``Σ ⅖·K·δ^2.5`` over ball–race, ball–pocket and cage–land contacts, minus
     ``F·r_ring + M·θ`` with the loads at ``t`` held constant, minus ``Σ m·g·r`` of every
-    body (gravity). With the kinetic energy
+    body (gravity), plus a flexible ring's strain energy in its support
+    (:func:`rvcore.dynamics.ring_modes.modal_energy`; its raceways displaced at each ball as
+    in the right-hand side, :func:`rvcore.dynamics.races.ring_surfaces`). With the kinetic energy
     (:func:`kinetic_energy`) it is conserved when friction and damping
     are off, the loads are constant and the ring does not spin.
     """
@@ -105,6 +111,9 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
     e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
     e -= params[P_RING_M] * (gx * xi + gy * yi + gz * zi)
+    flex = flexible(params)
+    if flex:
+        e += modal_energy(params, y)[1]
     for r in range(rows.shape[0]):
         b0, c0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_CAGE0]), int(rows[r, R_POCKET0])
         a0, na = int(rows[r, R_ARC0]), int(rows[r, R_NARC])
@@ -123,6 +132,11 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
             if rows[r, R_IMPERFECT] != 0.0:
                 dr_i, dr_o, d_half, sl_i, sl_o, dz_i, dz_o, zs_i, zs_o = ball_offsets(
                     rows, r, pockets, p0 + j, plx, ply, 1.0 / rho_l, cos_spin, sin_spin, px / rho_b, py / rho_b)
+            if flex:    # the grooves' modal displacements and slopes added to the imperfections'
+                w, _, ws, u, _, us = groove(params, y, F_INNER_RADIAL, F_INNER_AXIAL, plx / rho_l, ply / rho_l)
+                dr_i, sl_i, dz_i, zs_i = dr_i + w, sl_i + ws, dz_i + u, zs_i + us
+                w, _, ws, u, _, us = groove(params, y, F_OUTER_RADIAL, F_OUTER_AXIAL, px / rho_b, py / rho_b)
+                dr_o, sl_o, dz_o, zs_o = dr_o + w, sl_o + ws, dz_o + u, zs_o + us
             for a in range(a0, a0 + na):
                 _, d, _, _, _ = race_arc_penetration(arcs, a, plx, ply, plz, rho_l, 1.0 / rho_l, px, py, pz - zrow,
                                                      rho_b, 1.0 / rho_b, h, dr_i, dr_o, d_half, sl_i, sl_o,

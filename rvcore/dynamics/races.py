@@ -44,6 +44,7 @@ from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, cage_po
                             race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
+from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove
 from ..contact.pose import ring_to_global, to_ring_frame
 
 # The scratch: quantity ``f`` of the row's ball ``j`` (its index in the row, from 0) at
@@ -57,20 +58,26 @@ from ..contact.pose import ring_to_global, to_ring_frame
 # quantities: the balls' states (S_*, :func:`gather_balls`); their centres' distance from
 # the axis (fixed frame) and its inverse, their centres in the inner ring's frame with
 # that distance and its inverse, the offsets of an imperfect row's raceways at them, and
-# their pockets' angles (G_*); per raceway arc of the row the penetration, the normal in
+# their pockets' angles; each groove's radial and axial displacement and their slopes along
+# the ring are an imperfection's plus a flexible ring's modal sum (rvcore.dynamics.ring_modes,
+# :func:`ring_surfaces`), and each groove's modal velocity in its ring's frame (three values
+# from G_VG_I and from G_VG_O; 0 for rigid rings) (G_*); per raceway arc of the row the
+# penetration, the normal in
 # the arc's ring's frame and in the fixed frame, the slip of the ball against the race,
-# its normal rate, the normal load, and the force and moment on the ball (C_*, from
+# its normal rate, the normal load, the force and moment on the ball, and dδ/dt with the
+# groove's modal velocity (C_DD; the normal rate C_UN leaves it out: it is the slip's) (C_*, from
 # ``arc(slot)``); and the pocket contact's (P_*, from POCKET).
 W = MAX_ROW_BALLS + 8
 S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 (G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
  G_SL_O, G_DZ_I, G_DZ_O, G_ZSL_I, G_ZSL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 18)
-N_BALL_FIELDS = BALL_STATES + 18
+G_VG_I, G_VG_O = BALL_STATES + 18, BALL_STATES + 21    # three values each
+N_BALL_FIELDS = BALL_STATES + 24
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
 # rvcore.contact.laws.contact_film, NO_FILM when the law needs none)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
- C_MZ, C_P, C_H, C_LAM) = range(21)
-N_ARC_FIELDS = 21
+ C_MZ, C_P, C_H, C_LAM, C_DD) = range(22)
+N_ARC_FIELDS = 22
 # the pocket contact: penetration, arm, gradient, slip, its normal rate, normal load, its
 # Hertz part, force and moment on the ball
 (P_DELTA, P_AX, P_AY, P_AZ, P_DGX, P_DGY, P_DGZ, P_UX, P_UY, P_UZ, P_UN, P_Q, P_QH, P_FX, P_FY, P_FZ, P_MX, P_MY,
@@ -179,6 +186,48 @@ def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
 
 
 @kernel
+def ring_surfaces(buf, params, y, nz):
+    """Every ball's raceway displacements and modal velocities of flexible rings
+    (:mod:`rvcore.dynamics.ring_modes`), after :func:`ball_geometry` and
+    :func:`raceway_offsets`: each groove's radial shift ``w`` and axial shift ``u`` added to
+    the imperfections' ``G_DR_*`` and ``G_DZ_*``, their slopes ``∂w/∂θ``, ``∂u/∂θ`` to
+    ``G_SL_*`` and ``G_ZSL_*`` (one raceway displacement, imperfections plus modes), and each
+    groove's velocity ``ẇ·ê_r + u̇·ẑ`` in its ring's frame in ``G_VG_I``/``G_VG_O``; the
+    same shifts as the flexible statics' (:func:`rvcore.statics.equilibrium._ball_contacts`).
+    The angles: the ball's direction in the inner ring's frame and in the fixed frame.
+    With rigid rings the velocities are set to 0 and nothing else is touched.
+    Returns the largest ``|w|`` and ``|u|`` of either ring at the balls [m]."""
+    flex = flexible(params)
+    max_w, max_u = 0.0, 0.0
+    for j in range(nz):
+        vxi, vyi, vzi, vxo, vyo, vzo = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        if flex:
+            ci, si = buf[G_PLX * W + j] * buf[G_INV_RHO_L * W + j], buf[G_PLY * W + j] * buf[G_INV_RHO_L * W + j]
+            co, so = buf[S_PX * W + j] * buf[G_INV_RHO_B * W + j], buf[S_PY * W + j] * buf[G_INV_RHO_B * W + j]
+            w_i, wd_i, ws_i, u_i, ud_i, zs_i = groove(params, y, F_INNER_RADIAL, F_INNER_AXIAL, ci, si)
+            w_o, wd_o, ws_o, u_o, ud_o, zs_o = groove(params, y, F_OUTER_RADIAL, F_OUTER_AXIAL, co, so)
+            buf[G_DR_I * W + j] += w_i
+            buf[G_SL_I * W + j] += ws_i
+            buf[G_DZ_I * W + j] += u_i
+            buf[G_ZSL_I * W + j] += zs_i
+            buf[G_DR_O * W + j] += w_o
+            buf[G_SL_O * W + j] += ws_o
+            buf[G_DZ_O * W + j] += u_o
+            buf[G_ZSL_O * W + j] += zs_o
+            max_w = max(max_w, abs(w_i), abs(w_o))
+            max_u = max(max_u, abs(u_i), abs(u_o))
+            vxi, vyi, vzi = wd_i * ci, wd_i * si, ud_i
+            vxo, vyo, vzo = wd_o * co, wd_o * so, ud_o
+        buf[G_VG_I * W + j] = vxi
+        buf[(G_VG_I + 1) * W + j] = vyi
+        buf[(G_VG_I + 2) * W + j] = vzi
+        buf[G_VG_O * W + j] = vxo
+        buf[(G_VG_O + 1) * W + j] = vyo
+        buf[(G_VG_O + 2) * W + j] = vzo
+    return max_w, max_u
+
+
+@kernel
 def arc_contacts(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz,
                  r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race, inv_dmax, law):
     """Every ball's contact with arc ``a`` into ``out``, the arc's part of the scratch
@@ -215,6 +264,7 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
     if uses_film:
         p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
     p_none, h_none, lam_none = NO_FILM
+    vg = G_VG_I if inner else G_VG_O    # the groove's modal velocity (ring_surfaces)
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
         vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
@@ -241,8 +291,10 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         ux = ux - (vxi + omy * qz - omz * qy) if inner else ux
         uy = uy - (vyi + omz * qx - omx * qz) if inner else uy
         uz = uz - (vzi + omx * qy - omy * qx) if inner else uz
-        un = ux * nx + uy * ny + uz * nz_    # dδ/dt
-        q = normal_force(delta, un, k_hertz, c_race, inv_dmax)
+        un = ux * nx + uy * ny + uz * nz_    # dδ/dt of rigid rings
+        # less the groove's modal velocity along the normal (∂δ/∂(groove) = −n; 0 when rigid)
+        dd = un - (nlx * buf[vg * W + j] + nly * buf[(vg + 1) * W + j] + nlz * buf[(vg + 2) * W + j])
+        q = normal_force(delta, dd, k_hertz, c_race, inv_dmax)
         p_f, h_f, lam_f = p_none, h_none, lam_none
         if uses_film:
             ue = entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, buf[G_INV_RHO_B * W + j], ux, uy, uz,
@@ -271,6 +323,7 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         out[C_P * W + j] = p_f
         out[C_H * W + j] = h_f
         out[C_LAM * W + j] = lam_f
+        out[C_DD * W + j] = dd
 
 
 @kernel

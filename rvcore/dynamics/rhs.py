@@ -25,6 +25,10 @@ come out of these; ``g`` is the gravity vector of the bearing's mounting)::
             I_t·θ̈y − I_p·(ω̇·θx + ω·θ̇x) = M_y             ring spinning at the prescribed ω)
     cage:   m_c·dv/dt = ΣF + m_c·g,     I_c·dφ̇/dt = ΣT_z
 
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`, states after the rows) move its
+raceway at every ball (:func:`rvcore.dynamics.races.ring_surfaces`) and take the balls'
+normal forces on it as their generalized forces.
+
 The applied loads are the profile's channels at ``t`` (:mod:`rvcore.profile`):
 ``F_ext = F_r·(cos ψ, sin ψ, 0) + F_a·ẑ`` and the tilting moment ``M·(−sin ψ, cos ψ, 0)``
 (about the axis normal to the radial load) added to ``(M_x, M_y)``; ψ is read per call
@@ -51,13 +55,14 @@ from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, 
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from ..output_table import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
-from .races import (C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
+from .races import (C_DD, C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
                     POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, entrainment_speed, gather_balls,
-                    pocket_contacts,
-                    raceway_offsets, scratch)
+                    pocket_contacts, raceway_offsets, ring_surfaces, scratch)
 from .raceway import spin_of
+from .ring_modes import (F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, add_modal_force,
+                         clear_modal_forces, flexible, modal_rhs)
 
 # The slots of the diagnostics vector this kernel writes, by the names of the output
 # table (rvcore.output_table.SIGNALS, where each is described with its units). rhs() writes
@@ -73,6 +78,7 @@ D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = 
     "sin_contact_angle_max", "drive_power", "tilt_reaction_moment_x", "tilt_reaction_moment_y"))
 D_FILM_C, D_FILM_MIN, D_FILM_LAMBDA = (SLOT[n] for n in (
     "film_central", "film_minimum", "film_parameter"))
+D_RING_W, D_RING_U = SLOT["max_ring_radial_deformation"], SLOT["max_ring_axial_deformation"]
 #: Row r's mean cos α of its loaded balls (for its epicyclic cage speed) is at
 #: ``D_ROW0 + D_ROW_STRIDE·r + D_COS_ALPHA``.
 D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_contact_angle"]
@@ -170,6 +176,10 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
 
     gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     buf = scratch(diag)    # rvcore.dynamics.races's (new_diagnostics)
+    # flexible rings (rvcore.dynamics.ring_modes): their generalized forces are summed in dy
+    flex = flexible(params)
+    if flex:
+        clear_modal_forces(params, dy)
     if jac:
         for i in range(schur.shape[0]):
             for k in range(schur.shape[1]):
@@ -192,6 +202,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     # the smallest film over the loaded race contacts, as logarithms (docs/model.md, "The film
     # along the cycle"): log h_c, log λ; +inf while none is loaded
     log_hc_min, log_lam_min = math.inf, math.inf
+    ring_w, ring_u = 0.0, 0.0
     for r in range(rows.shape[0]):
         cos_sum, cos_balls = 0.0, 0.0
         nz_balls = int(rows[r, R_Z])
@@ -215,6 +226,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
         gather_balls(y, buf, rows, r, pockets)
         ball_geometry(buf, nz_balls, xi, yi, zi, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow)
         raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin)
+        row_w, row_u = ring_surfaces(buf, params, y, nz_balls)
+        ring_w, ring_u = max(ring_w, row_w), max(ring_u, row_u)
         for a in range(a0, a0 + na):
             arc_contacts(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, xi, yi, zi,
                          vxi, vyi, vzi, omx, omy, omz, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race,
@@ -234,6 +247,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             fbx, fby, fbz, mbx, mby, mbz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
             qi_sum, qo_sum, fi_rad, fo_rad = 0.0, 0.0, 0.0, 0.0
             cos_b, n_b = 0.0, 0.0
+            f_ir, f_iz, f_or, f_oz = 0.0, 0.0, 0.0, 0.0    # normal forces on flexible rings
             inv_rho_b = buf[G_INV_RHO_B * W + j]
             if jac:
                 for i in range(J_W):
@@ -266,10 +280,19 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                 q = buf[o + C_Q * W]
                 # the damper's dissipation: the normal force's power beyond the elastic one
                 # (also when the force is clipped to zero and the spring unloads unresisted)
-                if full:
-                    p_damp += (q - hertz_load(arcs[a, A_K], delta)) * un
+                if full:    # at dδ/dt with the grooves' modal velocity (rvcore.dynamics.races)
+                    p_damp += (q - hertz_load(arcs[a, A_K], delta)) * buf[o + C_DD * W]
                 if q <= 0.0:
                     continue
+                if flex:
+                    # the normal force q·n on the ring, radial and axial in its own frame
+                    nlx, nly, nlz = buf[o + C_NLX * W], buf[o + C_NLY * W], buf[o + C_NLZ * W]
+                    if inner:
+                        f_ir += q * (nlx * plx + nly * ply) * inv_rho_l
+                        f_iz += q * nlz
+                    else:
+                        f_or += q * (nlx * erx + nly * ery)
+                        f_oz += q * nlz
                 fx, fy, fz = buf[o + C_FX * W], buf[o + C_FY * W], buf[o + C_FZ * W]
                 dmx, dmy, dmz = buf[o + C_MX * W], buf[o + C_MY * W], buf[o + C_MZ * W]
                 if jac:
@@ -348,6 +371,11 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     qo_sum += q
                     fo_rad += fx * erx + fy * ery
 
+            if flex:    # the ball's normal forces drive the rings' modes, at its angle in each ring
+                add_modal_force(params, dy, F_INNER_RADIAL, plx * inv_rho_l, ply * inv_rho_l, f_ir)
+                add_modal_force(params, dy, F_INNER_AXIAL, plx * inv_rho_l, ply * inv_rho_l, f_iz)
+                add_modal_force(params, dy, F_OUTER_RADIAL, erx, ery, f_or)
+                add_modal_force(params, dy, F_OUTER_AXIAL, erx, ery, f_oz)
             if qi_sum > LOADED_BALL_LOAD and qo_sum > LOADED_BALL_LOAD:
                 loaded += 1.0
             if qi_sum > 0.0 or qo_sum > 0.0:
@@ -482,6 +510,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
         hold_x, hold_y = 0.0, 0.0
         dy[8] = (mxi - moment * ls - ip * (dw_ring * ty + w_ring * wyi)) / it
         dy[9] = (myi + moment * lc + ip * (dw_ring * tx + w_ring * wxi)) / it
+    if flex:
+        modal_rhs(params, y, dy)
 
     diag[D_MAX_QI] = max_qi
     diag[D_MAX_QO] = max_qo
@@ -515,3 +545,5 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     diag[D_FILM_C] = math.exp(log_hc_min) if loaded_film else math.nan
     diag[D_FILM_LAMBDA] = math.exp(log_lam_min) if loaded_film else math.nan
     diag[D_FILM_MIN] = diag[D_FILM_LAMBDA] * params[P_LUB_SIGMA] if loaded_film else math.nan
+    diag[D_RING_W] = ring_w
+    diag[D_RING_U] = ring_u

@@ -151,9 +151,10 @@ from .pocket_check import pocket_energy_kept
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
-from .step_size import row_rates
+from .step_size import modal_steps, row_rates
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
+from ..dynamics.ring_modes import modal_implicit_masses, modal_solve
 from ..dynamics.rhs import rhs
 from ..recording.plan import add_substep_integrals, in_window
 
@@ -246,6 +247,11 @@ def new_work(model, pocket_tolerance, load_tolerance):
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
             work[W_ISP, b:b + 3] = 1.0
+    # a flexible ring's modes (rvcore.dynamics.ring_modes): their own stiffness and damping
+    # implicit, a diagonal solve each (modal_solve)
+    for amplitude, rate, m in modal_implicit_masses(model):
+        inv_m[rate] = 1.0 / m
+        work[W_ISP, amplitude] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     work[W_SET, 0] = pocket_tolerance
@@ -301,6 +307,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
     hg = dt * GAMMA
     inv_hg = 1.0 / hg
+    modal_solve(params, tmp, g, hg)
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
     for m in range(5):
         g[m] = tmp[m + 5]
@@ -467,6 +474,15 @@ STAGES = 4
 S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
 
 
+#: ``ω_c·h`` at most, ``ω_c`` the contacts' stiffness on a flexible ring's modes, which the
+#: IMEX scheme takes explicitly (:mod:`rvcore.dynamics.ring_modes`): an accuracy limit, not
+#: stability's (2√2). Measured on the 12-ball section, rings on a 1e10 N/m² seat, friction
+#: and damping off (tests/core/test_ring_dynamics.py): the energy drifted by 1.6e-3 of the
+#: oscillation at ω_c·h = 1.6 (the rigid step there), 9.6e-5 at 0.80, 2.1e-5 at 0.40; at
+#: this limit (0.64 at the default safety) it keeps docs/model.md §9.4's 1e-4.
+IMEX_MODAL_LIMIT = 0.8
+
+
 def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
     """IMEX's fixed step [s] (:func:`imex_time_step`)."""
     return imex_time_step(model, peak_contact_load, safety=safety)
@@ -485,6 +501,9 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
         dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
 
+    and a flexible ring's modes at ``ω_c·h ≤`` :data:`IMEX_MODAL_LIMIT`, ``ω_c`` the contacts'
+    stiffness on them (their own is implicit, :func:`rvcore.dynamics.ring_modes.modal_solve`;
+    :func:`rvcore.integrate.step_size.modal_steps`).
     ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
     and ω_n the contact oscillation of :func:`rvcore.integrate.step_size.row_rates`, here only for a contact's first
     step (its oscillation is implicit from the next: the tableau keeps it undamped at any
@@ -503,6 +522,7 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
                        ONSET_LIMIT * math.sqrt(2.0) / omega))
+    dts.extend(modal_steps(model, q, IMEX_MODAL_LIMIT, RK4_REAL_LIMIT, implicit=True))
     return safety * min(dts)
 
 

@@ -17,7 +17,7 @@ from ..bearing.layout import P_DAMP_C, P_DAMPING, P_LAW, P_RING_IP
 from ..contact.laws import friction_slope_at_zero_slip
 from ..dynamics.rhs import D_DRIVE_POWER, D_DRIVE_TORQUE, rhs, rhs_stage
 from ..profile import CH_SPEED, channel_rate
-from .step_size import row_rates
+from .step_size import modal_steps, row_rates
 
 #: The weights b, by which both integrators weigh the stages' drive torques (their nodes
 #: are 0, ½, ½, 1 alike; rvcore.integrate.imex keeps b̂ = b for that reason).
@@ -90,6 +90,9 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         ω_n = √(2k/m_b)                        (contact oscillation)
         λ   = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)   (friction and damping, real axis)
         dt  = safety · min(2√2/ω_n, 2.785/λ)
+
+    and a flexible ring's modes on the same limits at their rates with the contacts'
+    stiffness on them (:func:`rvcore.integrate.step_size.modal_steps`).
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
@@ -99,6 +102,7 @@ def rk4_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     for omega, m, rot in row_rates(model, q):
         lam = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         dts.append(min(RK4_IMAG_LIMIT / omega, RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
+    dts.extend(modal_steps(model, q, RK4_IMAG_LIMIT, RK4_REAL_LIMIT))
     return safety * min(dts)
 
 

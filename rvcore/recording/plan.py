@@ -24,6 +24,7 @@ from .._numba import kernel
 
 from ..contact.pose import ring_rotation
 from ..dynamics.rhs import B_QI, B_QO
+from ..dynamics.ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_RADIAL, flexible, order_amplitude, surface
 from ..bearing.layout import (P_LUB_C, P_LUB_DM, P_LUB_EC, P_LUB_ECCU, P_LUB_EP, P_LUB_NU, P_LUB_QCE, P_LUB_QCI,
                               R_CAGE0, R_HALF_D, R_PITCH_R, R_POCKET0, R_Z)
 from ..output_table import (ARCSINE_LOADED, CUBE_ROOT, ISO76_LOAD_RATIO, N_ROW_SIGNALS, N_SIGNALS, OUTPUTS, PHASE,
@@ -70,6 +71,7 @@ _R = ROW_SLOT
      "drive_power_step"))
 SL_KAPPA, SL_A_ISO, SL_REV_LOW = _S["kappa"], _S["a_iso"], _S["revolutions_kappa_below_scope"]
 SL_HOLD_X, SL_HOLD_Y = _S["tilt_reaction_moment_x"], _S["tilt_reaction_moment_y"]
+SL_OVAL_I, SL_OVAL_O = _S["inner_ring_ovalisation"], _S["outer_ring_ovalisation"]
 (RS_COS, RS_CAGE, RS_EPI, RS_EPI_NOMINAL, RS_LIFE_I, RS_LIFE_O, RS_LIFE_I_MOD, RS_LIFE_O_MOD) = (_R[n] for n in (
     "cos_contact_angle", "cage_speed", "epicyclic_cage_speed", "epicyclic_cage_speed_nominal", "life_sum_inner",
     "life_sum_outer", "life_sum_inner_modified", "life_sum_outer_modified"))
@@ -197,10 +199,33 @@ def sensor_reading(y, sensor):
     return sensor[3] * ux + sensor[4] * uy + sensor[5] * uz
 
 
+@kernel(inline=True)
+def sensor_surface_reading(params, y, sensor):
+    """What a flexible inner ring's deformation adds to :func:`sensor_reading` [m]: the
+    surface at the sensor's point moved by ``w(θ)·ê_r + u(θ)·ẑ`` in the ring's frame
+    (:func:`rvcore.dynamics.ring_modes.surface`, ``θ`` the point's angle there; a thin
+    ring's radial displacement is the same through its thickness, and its axial one is
+    the centroid's, the section's twist neglected), turned by the ring's tilt, along the
+    sensor's direction. 0 at a point on the axis."""
+    px, py = sensor[0], sensor[1]
+    rho = math.sqrt(px * px + py * py)
+    if rho == 0.0:
+        return 0.0
+    c, s = px / rho, py / rho
+    w, _, _ = surface(params, y, F_INNER_RADIAL, c, s)
+    u, _, _ = surface(params, y, F_INNER_AXIAL, c, s)
+    lx, ly, lz = w * c, w * s, u
+    r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(y[3], y[4])
+    return (sensor[3] * (r00 * lx + r01 * ly + r02 * lz) + sensor[4] * (r10 * lx + r11 * ly + r12 * lz)
+            + sensor[5] * (r20 * lx + r21 * ly + r22 * lz))
+
+
 @kernel
 def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal, params):
     """Write the signals of the state ``y`` at ``t`` that the right-hand side does not
-    (rvcore.output_table: ``written = "state"``), for a step of ``dt`` from it.
+    (rvcore.output_table: ``written = "state"``), for a step of ``dt`` from it; ``params``
+    the compiled bearing's (its lubrication, and a flexible ring's modes,
+    :mod:`rvcore.dynamics.ring_modes`).
 
     Notes
     -----
@@ -266,9 +291,14 @@ def fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_no
         li, lo = diag[base + RS_LIFE_I], diag[base + RS_LIFE_O]
         diag[base + RS_LIFE_I_MOD] = li / a_iso if li > 0.0 else 0.0
         diag[base + RS_LIFE_O_MOD] = lo / a_iso if lo > 0.0 else 0.0
+    flex = flexible(params)
+    diag[SL_OVAL_I] = order_amplitude(params, y, F_INNER_RADIAL, 2)
+    diag[SL_OVAL_O] = order_amplitude(params, y, F_OUTER_RADIAL, 2)
     s0 = N_SIGNALS + N_ROW_SIGNALS * rows.shape[0]
     for s in range(sensors.shape[0]):
         diag[s0 + s] = sensor_reading(y, sensors[s])
+        if flex:
+            diag[s0 + s] += sensor_surface_reading(params, y, sensors[s])
 
 
 @kernel(inline=True)

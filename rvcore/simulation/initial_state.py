@@ -14,6 +14,7 @@ from ..bearing.layout import (A_CR, A_CZ, A_RING, A_RMH, A_SIDE, BALL_STATES, R_
                     R_NARC, R_PITCH_R, R_POCKET0, R_POCKET_R, R_Z, R_ZROW, nominal_state)
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_integral
 from ..statics.equilibrium import solve_statics
+from ..dynamics.ring_modes import set_static_modes
 
 
 def _tangent_rows(n, arm):
@@ -44,7 +45,7 @@ def race_contacts(model, y, r, j):
     best = {0: (-np.inf, None), 1: (-np.inf, None)}
     for a in range(int(row[R_ARC0]), int(row[R_ARC0] + row[R_NARC])):
         ring = int(model.arcs[a, A_RING])
-        geo = (model.arcs[a, A_CR], model.arcs[a, A_CZ], model.arcs[a, A_RMH], model.arcs[a, A_SIDE], h)
+        geo = (model.arcs[a, A_CR], model.arcs[a, A_CZ], model.arcs[a, A_RMH], model.arcs[a, A_SIDE], h, 0.0)
         if ring == 0:
             d, nx, ny, nz = arc_penetration(pl[0], pl[1], pl[2], rho_l, 1.0 / rho_l, *geo)
             n = rot @ np.array([nx, ny, nz])
@@ -128,8 +129,12 @@ def random_start(model, y, seed: int) -> None:
             y[b], y[b + 1] = c * px - s * py, s * px + c * py
 
 
-def initial_state(model, resolved, t_start, seed: int = -1):
+def initial_state(model, resolved, t_start, seed: int = -1, rings=None):
     """Quasi-static equilibrium of the loads (and the ring's weight) at ``t_start``.
+
+    Flexible rings (``rings``, the modes ``model`` keeps: :func:`rvcore.dynamics.ring_modes.truncated`)
+    start in the flexible statics' equilibrium, their modes at its static amplitudes
+    (:func:`rvcore.dynamics.ring_modes.set_static_modes`).
 
     Balls take the equilibrium radial and axial positions at their pocket azimuths, or,
     with ``seed`` ≥ 0, at a random position within their pocket play
@@ -148,8 +153,10 @@ def initial_state(model, resolved, t_start, seed: int = -1):
 
     table, meta = resolved.arrays()
     st = solve_statics(model, fr, fa, moment, psi, stiffness=False,
-                       ring_angle=channel_integral(table, meta, CH_SPEED, t_start))
+                       ring_angle=channel_integral(table, meta, CH_SPEED, t_start), rings=rings)
     y[0:5] = st.displacement
+    if st.ring_forces is not None:
+        set_static_modes(model, rings, st.ring_forces, st.azimuths, y)
     for r in range(model.rows.shape[0]):
         b0, z, p0 = int(model.rows[r, R_BALL0]), int(model.rows[r, R_Z]), int(model.rows[r, R_POCKET0])
         for j in range(z):

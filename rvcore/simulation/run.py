@@ -32,10 +32,12 @@ from ..recording.results import (CaseResult, SimulationError, duty_cycle_outputs
 from .settings import SolverSettings
 from ..recording.spectra import kinematic_frequencies, steady_spectra
 from ..integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
+from ..dynamics.ring_modes import DYNAMICS_MAX_ORDER, truncated, with_ring_modes
+from ..rings.flexible import RIGID_RINGS, FlexibleRings
 
 
 def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,
-             sensors=()) -> CaseResult:
+             sensors=(), rings: FlexibleRings = RIGID_RINGS, ring_max_order: int = DYNAMICS_MAX_ORDER) -> CaseResult:
     """Integrate one case through its duty cycle.
 
     Parameters
@@ -50,6 +52,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         ``settings.seed`` ≥ 0).
     sensors : sequence of Sensor
         Virtual displacement sensors; each adds a reading over time and its phase metrics.
+    rings : rvcore.rings.flexible.FlexibleRings
+        Each ring rigid (the default) or flexible in its support: its modes of orders
+        ``0 … ring_max_order`` are then states (:mod:`rvcore.dynamics.ring_modes`).
+    ring_max_order : int
+        Highest Fourier order of a flexible ring the dynamics keep [-].
 
     Returns
     -------
@@ -65,6 +72,10 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     bearing = realize(bearing, int(settings.seed))
     model = with_film_columns(compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
                                               gravity=settings.gravity), bearing)
+    flexing = rings is not None and not rings.rigid
+    if flexing:
+        rings = truncated(rings, ring_max_order)
+        model = with_ring_modes(model, rings, ring_max_order)
     resolved = profile.resolve(op)
     table, meta = resolved.arrays()
     t_start = settings.start_time
@@ -72,7 +83,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if t_end <= t_start:
         raise ValueError(f"end time {t_end} s is not after start time {t_start} s")
     y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
-         else initial_state(model, resolved, t_start, seed=int(settings.seed)))
+         else initial_state(model, resolved, t_start, seed=int(settings.seed), rings=rings if flexing else None))
     if y.shape != (model.n_states,):
         raise ValueError(f"initial state has {y.size} values; this bearing needs {model.n_states}")
 

@@ -70,12 +70,12 @@ def _ball_contacts(px, py, pz, u, rot, r, rows, arcs, pockets, spin, q_out, n_ou
             rows, r, pockets, j, plx, ply, 1.0 / rho_l, spin[0], spin[1], px / rho_b, py / rho_b)
     pzr = pz - zrow
     if flex.shape[0] > 0:
-        # each groove's centre displaced with its ring's raceway at this ball: the inner one
-        # in the ring frame (plz is read for inner arcs only), the outer one in the fixed frame
+        # each groove's centre displaced with its ring's raceway at this ball, added to the
+        # imperfections' (the inner one in the ring frame, the outer one in the fixed frame)
         dr_i += flex[j, 0]
-        plz -= flex[j, 1]
+        dz_i += flex[j, 1]
         dr_o += flex[j, 2]
-        pzr -= flex[j, 3]
+        dz_o += flex[j, 3]
     energy = 0.0
     for k in range(na):
         a = a0 + k

@@ -218,3 +218,33 @@ def test_rhs_forces_are_minus_the_energy_gradient_with_axial_runout():
         p = int(model.rows[0, R_BALL0]) + BALL_STATES * j
         for k in range(3):
             assert m_b * dy[p + 3 + k] == pytest.approx(minus_gradient(energy, y, p + k), rel=1e-4, abs=1e-3), (j, k)
+
+
+def test_an_axially_shifted_gothic_arch_is_the_unshifted_one_translated():
+    """A groove shifted axially by Δz (an axial runout's, or a flexible ring's modes') moves its
+    arcs and the mid-plane between a gothic arch's two arcs with it: a ball at height z + Δz
+    in the shifted groove sees what a ball at z sees in the unshifted one, on every arc of
+    either ring, near the crown too, where the mid-plane decides which arc exists (a
+    translation: the expectation is the unshifted groove's own contact)."""
+    from rvcore.bearing.layout import A_RING, R_HALF_D, R_PITCH_R, compile_bearing
+    from rvcore.contact.laws import race_arc_penetration
+
+    model = compile_bearing(section_bearing(Z, four_point=True))
+    arcs, h, rho = model.arcs, model.rows[0, R_HALF_D], model.rows[0, R_PITCH_R]
+    shift = 3e-5
+    excluded = 0
+    for a in range(arcs.shape[0]):
+        inner = arcs[a, A_RING] == 0.0
+        for z in np.linspace(-2e-4, 2e-4, 81):
+            def contact(z_ball, dz):
+                zi, zo = (z_ball, 0.0) if inner else (0.0, z_ball)
+                return race_arc_penetration(arcs, a, rho, 0.0, zi, rho, 1.0 / rho, rho, 0.0, zo, rho, 1.0 / rho, h,
+                                            0.0, 0.0, 0.0, 0.0, 0.0, dz if inner else 0.0, 0.0 if inner else dz,
+                                            0.0, 0.0)
+            got, want = contact(z + shift, shift), contact(z, 0.0)
+            assert got[0] == want[0]
+            assert (got[1] == -1.0) == (want[1] == -1.0), (a, z)
+            assert got[1] == pytest.approx(want[1], abs=1e-15)
+            assert np.allclose(got[2:], want[2:], rtol=0.0, atol=1e-12)
+            excluded += want[1] == -1.0
+    assert 0 < excluded < arcs.shape[0] * 81    # the mid-plane's rule was exercised both ways

@@ -1,7 +1,7 @@
 """Flexible rings from the bearing file to the outputs (issue 41): ``rvsweep statics`` sets the
 flexible rings' numbers beside the rigid rings' (a very stiff seat gives the rigid ones
 within 0.1 %), the sweep's ``statics.nc`` carries them with units and the report shows them,
-and a dynamic run refuses a flexible bearing in one line before any work."""
+and a dynamic run takes a flexible bearing's rings into the dynamics."""
 from __future__ import annotations
 
 import copy
@@ -85,34 +85,53 @@ def test_a_rigid_bearing_prints_nothing_of_flexible_rings(capsys):
     assert "flexible_rings" not in out and "rigid_rings" not in out
 
 
-@pytest.mark.parametrize("command", ["simulate", "sweep"])
-def test_a_dynamic_run_refuses_flexible_rings_in_one_line(tmp_path, capsys, command):
-    bearing = flexible_bearing(tmp_path, 2e9)
-    if command == "simulate":
-        argv = ["simulate", "--bearing", str(bearing), "--speed", "120deg/s", "--radial-load", "30kN",
-                "--out", str(tmp_path / "case.nc")]
-    else:
-        sweep = tmp_path / "s.toml"
-        sweep.write_text(tomli_w.dumps({"name": "s", "bearing": str(bearing), "profile": "profiles/short.toml",
-                                        "axes": {"speed": ["120 deg/s"]}, "fixed": {"radial_load": "30 kN",
-                                                                                   "axial_load": "10 kN"}}))
-        argv = ["sweep", str(sweep), "--out", str(tmp_path / "out"), "--serial", "--yes"]
-    assert main(argv) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "flexible rings: statics only in this version" in err
-    assert not (tmp_path / "case.nc").exists() and not (tmp_path / "out").exists()   # before any work
+def short_window(tmp_path) -> Path:
+    """A 4 ms profile at full load and speed from the start: a short window of the dynamics."""
+    path = tmp_path / "window.toml"
+    full = {"time": ["0 s", "4 ms"], "fraction": [1, 1], "interpolation": "linear"}
+    phases = {"startup": ["0 s", "1 ms"], "steady": ["1 ms", "3 ms"], "deceleration": ["3 ms", "4 ms"]}
+    path.write_text(tomli_w.dumps({"name": "window", "duration": "4 ms", "radial_load": full,
+                                   "axial_load": full, "speed": full, "phases": phases}))
+    return path
 
 
-def test_compute_case_refuses_flexible_rings_as_a_failed_case(tmp_path):
-    from pipeline.run.cases import FLEXIBLE_DYNAMICS, compute_case
+def test_simulate_runs_a_flexible_bearing_with_its_rings_modes(tmp_path, capsys):
+    """`rvsweep simulate` of a flexible bearing runs the dynamics with its rings' modes: the
+    inner ring's raceway deforms (the outputs of its deformation are positive and finite)
+    and the rigid outer ring's stays round (its ovalisation exactly 0)."""
+    out = tmp_path / "case.nc"
+    code = main(["simulate", "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--profile",
+                 str(short_window(tmp_path)), "--speed", "120deg/s", "--radial-load", "30kN",
+                 "--axial-load", "10kN", "--out", str(out)])
+    assert code == 0, capsys.readouterr().err
+    with xr.open_dataset(out) as ds:
+        deformation = ds["max_ring_radial_deformation"].values
+        oval_i, oval_o = ds["inner_ring_ovalisation"].values, ds["outer_ring_ovalisation"].values
+    assert np.all(np.isfinite(deformation)) and deformation.max() > 0.0
+    assert np.all(np.isfinite(oval_i)) and oval_i.max() > 0.0
+    assert np.all(oval_o == 0.0)
+
+
+def test_compute_case_gives_run_case_the_rings_up_to_the_dynamics_order(tmp_path):
+    """A flexible bearing's case gets its rings (the bearing file's, cut at the dynamics'
+    DYNAMICS_MAX_ORDER: the file asks for 30 orders); a rigid bearing's call is unchanged."""
+    from pipeline.run.cases import compute_case
     from pipeline.schema import sweep_from_dict
+    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
 
-    sweep = sweep_from_dict({"name": "s", "bearing": str(flexible_bearing(tmp_path, 2e9)),
-                             "profile": "profiles/short.toml", "axes": {"speed": ["120 deg/s"]},
-                             "fixed": {"radial_load": "30 kN", "axial_load": "10 kN"}}, tmp_path / "s.toml")
+    def case(bearing):
+        return sweep_from_dict({"name": "s", "bearing": str(bearing), "profile": "profiles/short.toml",
+                                "axes": {"speed": ["120 deg/s"]},
+                                "fixed": {"radial_load": "30 kN", "axial_load": "10 kN"}}, tmp_path / "s.toml").cases[0]
+
     called = []
-    outcome = compute_case(sweep.cases[0], case_fn=lambda *a, **k: called.append(a))
-    assert not outcome.ok and outcome.reason == FLEXIBLE_DYNAMICS and not called
+    assert compute_case(case(flexible_bearing(tmp_path, 2e9)), case_fn=lambda *a, **k: called.append(k)).ok
+    rings = called[-1]["rings"]
+    assert rings.inner_radial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
+    assert rings.inner_axial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
+    assert rings.outer_radial is None and rings.outer_axial is None
+    assert compute_case(case(REDUCED), case_fn=lambda *a, **k: called.append(k)).ok
+    assert "rings" not in called[-1]
 
 
 def test_statics_nc_carries_the_flexible_and_rigid_numbers_and_the_report_shows_them(tmp_path):
