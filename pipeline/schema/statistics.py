@@ -36,10 +36,14 @@ assumption: ISO 492 gives limits, not distributions):
 - ``inner_waviness``, ``outer_waviness``: each term's amplitude in ``[0, A_k]``, A_k the
   bearing file's (ISO 492 gives no waviness limit: the file's terms are the limits);
 - ``ball_diameter_deviation``: each ball's in ``±V_DwL/2`` of the row's ball grade
-  (ISO 3290-1), as :func:`rvcore.bearing.imperfections.realize_row` draws it.
+  (ISO 3290-1), as :func:`rvcore.bearing.imperfections.realize_row` draws it;
+- ``inner_axial_runout``, ``outer_axial_runout``: the tilted groove's amplitude ``a ∈ [0, S/2]``
+  with S the class's ``S_ia`` / ``S_ea`` (classes 5 and 4; Normal and 6 have none), or
+  ``[0, a]`` where the file gives the amplitude; ``inner_axial_angle``, ``outer_axial_angle``:
+  its high point in ``[0, 2π)``.
 
-A new imperfection (an axial runout) is one more :class:`ToleranceInput` entry in
-:data:`INPUTS`: how many columns it takes in a row and what a row's ``u`` sets.
+A new imperfection is one more :class:`ToleranceInput` entry in :data:`INPUTS`: how many
+columns it takes in a row and what a row's ``u`` sets.
 """
 from __future__ import annotations
 
@@ -51,8 +55,8 @@ from typing import Callable
 import numpy as np
 
 from rvcore.bearing.imperfections import Imperfections, Waviness
-from rvcore.standards.iso492 import (ToleranceError, ball_lot_variation, default_ball_grade, inner_runout,
-                                     outer_runout)
+from rvcore.standards.iso492 import (ToleranceError, axial_runout_limits, ball_lot_variation, default_ball_grade,
+                                     inner_runout, outer_runout)
 
 from ..errors import ConfigError
 from . import fields as _fields
@@ -133,6 +137,34 @@ def _angle(ring: str):
     return draw
 
 
+def _axial_runout(ring: str):
+    def draw(row, bearing, u):
+        given = getattr(row.imperfections, f"{ring}_axial_amplitude")
+        limit = 0.0
+        if given is not None:
+            limit = float(given)
+        elif row.imperfections.tolerance_class:
+            try:
+                limits = axial_runout_limits(bearing.bore, bearing.outer_diameter, row.imperfections.tolerance_class)
+            except ToleranceError as exc:
+                raise NoLimit(str(exc)) from None
+            limit = limits[0 if ring == "inner" else 1] or 0.0
+        if not limit > 0:
+            raise NoLimit(f"the row has no {ring} axial runout to draw within: give imperfections.tolerance_class "
+                          f"(classes 5, 4) or imperfections.{ring}_axial_amplitude")
+        return {f"{ring}_axial_amplitude": float(u[0]) * limit}
+    return draw
+
+
+def _axial_angle(ring: str):
+    amplitude = _axial_runout(ring)
+
+    def draw(row, bearing, u):
+        amplitude(row, bearing, u)   # a high point needs a runout (NoLimit without one)
+        return {f"{ring}_axial_angle": 2.0 * math.pi * float(u[0])}
+    return draw
+
+
 def _waviness_columns(ring: str):
     return lambda row: len(getattr(row.imperfections, f"{ring}_waviness"))
 
@@ -178,6 +210,14 @@ INPUTS = {t.name: t for t in (
                    _waviness_columns("outer"), _waviness("outer")),
     ToleranceInput("ball_diameter_deviation", "each ball's diameter deviation, uniform in +-V_DwL/2 of its grade",
                    lambda row: row.ball_count, _balls),
+    ToleranceInput("inner_axial_runout", "inner raceway axial runout amplitude, uniform in [0, S_ia/2] (or [0, a] "
+                   "given)", _one, _axial_runout("inner")),
+    ToleranceInput("inner_axial_angle", "inner raceway axial runout's high point, uniform in [0, 360) deg",
+                   _one, _axial_angle("inner")),
+    ToleranceInput("outer_axial_runout", "outer raceway axial runout amplitude, uniform in [0, S_ea/2] (or [0, a] "
+                   "given)", _one, _axial_runout("outer")),
+    ToleranceInput("outer_axial_angle", "outer raceway axial runout's high point, uniform in [0, 360) deg",
+                   _one, _axial_angle("outer")),
 )}
 
 

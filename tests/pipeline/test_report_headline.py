@@ -134,9 +134,13 @@ def test_headline_states_each_worst_value_where_and_its_verdict(headline):
     assert row[1] == f"{fmt_g3(k_r)} N/µm" and row[2] == f"every speed with a result, {LOADS[0] / 1e3:g} kN"
     assert row[5] == "✓ pass"
 
-    # no target: said so, no mark; L_nm has its slot
+    # no target: said so, no mark; L_nm of the cycle, its worst point as L10r's
     assert _row(md, "smallest axial stiffness")[5] == "no target set"
-    assert _row(md, "modified rating life L_nm")[1].startswith("not computed")
+    l_nm, at = _worst(lambda s, f: float(made_up("rating_life_L_nm", s, f)) / 1e6, "min")
+    row = _row(md, "shortest modified rating life L_nm")
+    (s, f), = at
+    assert row[1] == f"{fmt_g3(l_nm)} Mrev" and row[2] == f"{s:g} °/s, {f / 1e3:g} kN"
+    assert row[5] == "no target set"
     assert "**3 of 4 targets met**: missed: smallest static safety factor s₀." in md
     assert '<td class="fail">✗ FAIL</td>' in html and '<td class="pass">✓ pass</td>' in html
 
