@@ -40,7 +40,8 @@ assumption: ISO 492 gives limits, not distributions):
 - ``inner_axial_runout``, ``outer_axial_runout``: the tilted groove's amplitude ``a ∈ [0, S/2]``
   with S the class's ``S_ia`` / ``S_ea`` (classes 5 and 4; Normal and 6 have none), or
   ``[0, a]`` where the file gives the amplitude; ``inner_axial_angle``, ``outer_axial_angle``:
-  its high point in ``[0, 2π)``.
+  its high point in ``[0, 2π)``. A case whose class tabulates none (Normal, 6) keeps none:
+  the input is not drawn there (:class:`ZeroByClass`).
 
 A new imperfection is one more :class:`ToleranceInput` entry in :data:`INPUTS`: how many
 columns it takes in a row and what a row's ``u`` sets.
@@ -76,6 +77,12 @@ MAX_DRAWS = _fields.field("statistics", "statistics.draws").maximum
 
 class NoLimit(ValueError):
     """An input has nothing to draw within in this row (said why)."""
+
+
+class ZeroByClass(NoLimit):
+    """The row's tolerance class tabulates no limit for this input (ISO 492 gives Normal and 6
+    no axial runout): a case of that class keeps its bearing's value (none), and the input is
+    not drawn there; a base bearing of that class does not offer the input."""
 
 
 @dataclass(frozen=True)
@@ -149,6 +156,8 @@ def _axial_runout(ring: str):
             except ToleranceError as exc:
                 raise NoLimit(str(exc)) from None
             limit = limits[0 if ring == "inner" else 1] or 0.0
+            if not limit > 0:
+                raise ZeroByClass(f"ISO 492 gives class {row.imperfections.tolerance_class} no {ring} axial runout")
         if not limit > 0:
             raise NoLimit(f"the row has no {ring} axial runout to draw within: give imperfections.tolerance_class "
                           f"(classes 5, 4) or imperfections.{ring}_axial_amplitude")
@@ -443,6 +452,8 @@ def apply_draw(bearing, draws: Draws, draw: int, sample: str, file, where: str):
         for r, s in places:
             try:
                 fields[r].update(INPUTS[name].draw(bearing.rows[r], bearing, u[s]))
+            except ZeroByClass:   # this case's class has none (Normal's axial runout): kept as it is
+                continue
             except NoLimit as exc:
                 raise ConfigError(file, where, None, f"statistics input {name}: {exc}") from None
     rows = tuple(dataclasses.replace(row, imperfections=dataclasses.replace(row.imperfections, **f))
