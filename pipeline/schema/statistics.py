@@ -112,66 +112,64 @@ def _one(row) -> int:
     return 1
 
 
-def _eccentricity(ring: str):
-    runout = inner_runout if ring == "inner" else outer_runout
+def _eccentricity_limit(ring: str, bearing, cls: str) -> float:
+    """Half the class's radial runout K_ia or K_ea (ISO 492) [m]."""
+    runout = inner_runout(bearing.bore, cls) if ring == "inner" else outer_runout(bearing.outer_diameter, cls)
+    return runout / 2
 
+
+def _axial_limit(ring: str, bearing, cls: str) -> float | None:
+    """Half the class's axial runout S_ia or S_ea (ISO 492) [m]; None where the class has none."""
+    return axial_runout_limits(bearing.bore, bearing.outer_diameter, cls)[0 if ring == "inner" else 1]
+
+
+def _amplitude(ring: str, key: str, class_limit, what: str, classes: str = ""):
+    """The draw of one raceway's amplitude ``key`` (``inner_eccentricity``, ``inner_axial_amplitude``)
+    uniform in [0, limit]: the file's value where it gives one, else ``class_limit(ring, bearing,
+    class)``; a class that tabulates none raises :class:`ZeroByClass`, no class :class:`NoLimit`."""
     def draw(row, bearing, u):
         imp = row.imperfections
-        given = getattr(imp, f"{ring}_eccentricity")
-        if given is not None:
-            limit = float(given)
-        elif imp.tolerance_class:
-            size = bearing.bore if ring == "inner" else bearing.outer_diameter
-            try:
-                limit = runout(size, imp.tolerance_class) / 2
-            except ToleranceError as exc:
-                raise NoLimit(str(exc)) from None
-        else:
-            limit = 0.0
-        if not limit > 0:
-            raise NoLimit(f"the row has no {ring} eccentricity to draw within: give "
-                          f"imperfections.tolerance_class or imperfections.{ring}_eccentricity")
-        return {f"{ring}_eccentricity": float(u[0]) * limit}
-    return draw
-
-
-def _angle(ring: str):
-    eccentricity = _eccentricity(ring)
-
-    def draw(row, bearing, u):
-        eccentricity(row, bearing, u)   # a high point needs an eccentricity (NoLimit without one)
-        return {f"{ring}_eccentricity_angle": 2.0 * math.pi * float(u[0])}
-    return draw
-
-
-def _axial_runout(ring: str):
-    def draw(row, bearing, u):
-        given = getattr(row.imperfections, f"{ring}_axial_amplitude")
+        given = getattr(imp, key)
         limit = 0.0
         if given is not None:
             limit = float(given)
-        elif row.imperfections.tolerance_class:
+        elif imp.tolerance_class:
             try:
-                limits = axial_runout_limits(bearing.bore, bearing.outer_diameter, row.imperfections.tolerance_class)
+                limit = class_limit(ring, bearing, imp.tolerance_class)
             except ToleranceError as exc:
                 raise NoLimit(str(exc)) from None
-            limit = limits[0 if ring == "inner" else 1] or 0.0
-            if not limit > 0:
-                raise ZeroByClass(f"ISO 492 gives class {row.imperfections.tolerance_class} no {ring} axial runout")
+            if limit is None:
+                raise ZeroByClass(f"ISO 492 gives class {imp.tolerance_class} no {ring} {what}")
         if not limit > 0:
-            raise NoLimit(f"the row has no {ring} axial runout to draw within: give imperfections.tolerance_class "
-                          f"(classes 5, 4) or imperfections.{ring}_axial_amplitude")
-        return {f"{ring}_axial_amplitude": float(u[0]) * limit}
+            raise NoLimit(f"the row has no {ring} {what} to draw within: give imperfections.tolerance_class"
+                          f"{classes} or imperfections.{key}")
+        return {key: float(u[0]) * limit}
     return draw
+
+
+def _high_point(amplitude, key: str):
+    """The draw of the high point ``key`` of ``amplitude``'s imperfection, uniform in [0, 2π): only
+    where that imperfection has a limit (:class:`NoLimit` without one)."""
+    def draw(row, bearing, u):
+        amplitude(row, bearing, u)
+        return {key: 2.0 * math.pi * float(u[0])}
+    return draw
+
+
+def _eccentricity(ring: str):
+    return _amplitude(ring, f"{ring}_eccentricity", _eccentricity_limit, "eccentricity")
+
+
+def _angle(ring: str):
+    return _high_point(_eccentricity(ring), f"{ring}_eccentricity_angle")
+
+
+def _axial_runout(ring: str):
+    return _amplitude(ring, f"{ring}_axial_amplitude", _axial_limit, "axial runout", " (classes 5, 4)")
 
 
 def _axial_angle(ring: str):
-    amplitude = _axial_runout(ring)
-
-    def draw(row, bearing, u):
-        amplitude(row, bearing, u)   # a high point needs a runout (NoLimit without one)
-        return {f"{ring}_axial_angle": 2.0 * math.pi * float(u[0])}
-    return draw
+    return _high_point(_axial_runout(ring), f"{ring}_axial_angle")
 
 
 def _waviness_columns(ring: str):
