@@ -247,10 +247,13 @@ def ehl_traction_per_slip(s2, p, h, lam, law):
     """
     s = math.sqrt(s2)
     w = boundary_weight(lam, law)
+    bnd = _boundary_per_slip(s, s2, law)
+    if w == 1.0:    # λ ≤ λ_b: the film's part, finite, is multiplied by 0 (its exp and expm1 skipped)
+        return bnd
     tau_l, k = _film_constants(p, h, law)
     x = k * s
     film = tau_l * k * _film_per_slip(x, math.expm1(-x)) / p
-    return w * _boundary_per_slip(s, s2, law) + (1.0 - w) * film
+    return w * bnd + (1.0 - w) * film
 
 
 @kernel(inline=True)
@@ -277,6 +280,8 @@ def ehl_tangent_terms(s2, p, h, lam, law):
     exponential and one ``expm1`` for both."""
     s = math.sqrt(s2)
     w = boundary_weight(lam, law)
+    if w == 1.0:    # λ ≤ λ_b: the film's parts, finite, are multiplied by 0 (as ehl_traction_per_slip)
+        return _boundary_per_slip(s, s2, law), _boundary_curvature(s, s2, law)
     tau_l, k = _film_constants(p, h, law)
     x = k * s
     xc = max(x, CURVATURE_X_FLOOR)
