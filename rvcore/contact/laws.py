@@ -309,6 +309,22 @@ def friction_tangent_curvature(s2, p, h, lam, law):
 
 
 @kernel(inline=True)
+def friction_tangent_terms(s2, p, h, lam, law):
+    """``(μ/s, (max(μ', 0) − μ/s)/s²)`` [s m^-1], [s^3 m^-3] at ``s2 = s²``:
+    :func:`friction_per_slip` and :func:`friction_tangent_curvature` together, the lubricated
+    law's sharing its film constants and exponentials
+    (:func:`rvcore.contact.traction_ehl.ehl_tangent_terms`)."""
+    kind = friction_kind(law)
+    if kind == COULOMB_STEP:
+        g, c = coulomb_step.per_slip(s2, law), coulomb_step.tangent_curvature(s2, law)
+    elif kind == EHL_BAIR_WINER:
+        g, c = traction_ehl.ehl_tangent_terms(s2, p, h, lam, _ehl(law))
+    else:
+        g, c = math.nan, math.nan
+    return g, c
+
+
+@kernel(inline=True)
 def friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law, kind):
     """Friction on the ball at a contact of unit normal ``n`` [N].
 

@@ -101,7 +101,7 @@ __all__ = [
     "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX", "CURVATURE_X_FLOOR",
     "pack_ehl_traction_law", "boundary_weight", "film_shear_stress",
     "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
-    "ehl_tangent_curvature", "ehl_slope_at_zero_slip", "ehl_slope_bound",
+    "ehl_tangent_curvature", "ehl_tangent_terms", "ehl_slope_at_zero_slip", "ehl_slope_bound",
 ]
 
 # The record's columns and its packing live in rvcore.bearing.laws (the record is packed by
@@ -205,9 +205,37 @@ def ehl_slope_at_zero_slip(p, h, lam, law):
 
 
 @kernel(inline=True)
-def _expm1_over_x(x):
-    """``(1 − e^(−x))/x`` [-], 1 at x = 0, without cancellation at small x."""
-    return 1.0 - 0.5 * x + x * x / 6.0 if x < 1e-5 else -math.expm1(-x) / x
+def _boundary_per_slip(s, s2, law):
+    """The boundary part of ``μ/s`` [s m⁻¹] at ``s`` [m s⁻¹], ``s2 = s²``: the study law's cubic
+    ``μ_b·(1.5 − 0.5·x²)/v_b``, ``x = s/v_b``, below v_b (docs/model.md §4), ``μ_b/s`` above."""
+    inv_vb = 1.0 / law[EHL_V_B]
+    x2 = s2 * inv_vb * inv_vb
+    return law[EHL_MU_B] * (1.5 - 0.5 * x2) * inv_vb if x2 < 1.0 else law[EHL_MU_B] / s
+
+
+@kernel(inline=True)
+def _boundary_curvature(s, s2, law):
+    """The boundary part of :func:`ehl_tangent_curvature` [s³ m⁻³]: ``−μ_b/v_b³`` below v_b,
+    ``−μ_b/s³`` above."""
+    inv_vb = 1.0 / law[EHL_V_B]
+    if s2 * inv_vb * inv_vb < 1.0:
+        return -law[EHL_MU_B] * inv_vb * inv_vb * inv_vb
+    return -law[EHL_MU_B] / (s * s2)
+
+
+@kernel(inline=True)
+def _film_per_slip(x, em1):
+    """``(1 − e^(−x))/x`` [-] (1 at x = 0, a series below x = 1e-5) from ``em1 = expm1(−x)``."""
+    return 1.0 - 0.5 * x + x * x / 6.0 if x < 1e-5 else -em1 / x
+
+
+@kernel(inline=True)
+def _film_curvature(x, em1):
+    """``φ(x)/x²`` [-], ``φ = e^(−x) − (1 − e^(−x))/x``, from ``em1 = expm1(−x)``
+    (``e^(−x) = 1 + em1``); the series ``−1/(2x) + 1/3 − x/8 + x²/30`` below x = 1e-3."""
+    if x < 1e-3:
+        return -0.5 / x + 1.0 / 3.0 - x / 8.0 + x * x / 30.0
+    return (1.0 + em1 + em1 / x) / (x * x)
 
 
 @kernel(inline=True)
@@ -219,11 +247,12 @@ def ehl_traction_per_slip(s2, p, h, lam, law):
     """
     s = math.sqrt(s2)
     w = boundary_weight(lam, law)
+    bnd = _boundary_per_slip(s, s2, law)
+    if w == 1.0:    # λ ≤ λ_b: the film's part, finite, is multiplied by 0 (its exp and expm1 skipped)
+        return bnd
     tau_l, k = _film_constants(p, h, law)
-    film = tau_l * k * _expm1_over_x(k * s) / p
-    inv_vb = 1.0 / law[EHL_V_B]
-    x2 = s2 * inv_vb * inv_vb
-    bnd = law[EHL_MU_B] * (1.5 - 0.5 * x2) * inv_vb if x2 < 1.0 else law[EHL_MU_B] / s
+    x = k * s
+    film = tau_l * k * _film_per_slip(x, math.expm1(-x)) / p
     return w * bnd + (1.0 - w) * film
 
 
@@ -240,24 +269,30 @@ def ehl_tangent_curvature(s2, p, h, lam, law):
     :data:`CURVATURE_X_FLOOR` at least, so the coefficient stays finite: the tangent's
     term along v_t then errs by at most ``x_floor/2`` times the zero-slip slope.
     """
-    w = boundary_weight(lam, law)
-    inv_vb = 1.0 / law[EHL_V_B]
-    if s2 * inv_vb * inv_vb < 1.0:
-        bnd = -law[EHL_MU_B] * inv_vb * inv_vb * inv_vb
-    else:
-        s_b = math.sqrt(s2)
-        bnd = -law[EHL_MU_B] / (s_b * s2)
-    if s2 == 0.0:
-        return w * bnd
+    return ehl_tangent_terms(s2, p, h, lam, law)[1]
+
+
+@kernel(inline=True)
+def ehl_tangent_terms(s2, p, h, lam, law):
+    """``(μ/s, (μ' − μ/s)/s²)`` [s m⁻¹], [s³ m⁻³] at ``s2 = s²``: :func:`ehl_traction_per_slip`
+    and :func:`ehl_tangent_curvature` together, what the IMEX tangent takes
+    (:func:`rvcore.dynamics.tangent.friction_tangent`), with one square root, one Barus
+    exponential and one ``expm1`` for both."""
     s = math.sqrt(s2)
+    w = boundary_weight(lam, law)
+    if w == 1.0:    # λ ≤ λ_b: the film's parts, finite, are multiplied by 0 (as ehl_traction_per_slip)
+        return _boundary_per_slip(s, s2, law), _boundary_curvature(s, s2, law)
     tau_l, k = _film_constants(p, h, law)
-    x = max(k * s, CURVATURE_X_FLOOR)
-    if x < 1e-3:
-        phi_x2 = -0.5 / x + 1.0 / 3.0 - x / 8.0 + x * x / 30.0
-    else:
-        phi_x2 = (math.exp(-x) + math.expm1(-x) / x) / (x * x)
-    film = tau_l * k * k * k * phi_x2 / p
-    return w * bnd + (1.0 - w) * film
+    x = k * s
+    xc = max(x, CURVATURE_X_FLOOR)
+    # expm1 at the curvature's x serves both: where the per-slip part reads it (x ≥ 1e-5)
+    # the floor (1e-20) does not act, so xc = x there
+    em1 = math.expm1(-xc)
+    g = w * _boundary_per_slip(s, s2, law) + (1.0 - w) * (tau_l * k * _film_per_slip(x, em1) / p)
+    bnd = _boundary_curvature(s, s2, law)
+    if s2 == 0.0:
+        return g, w * bnd
+    return g, w * bnd + (1.0 - w) * (tau_l * k * k * k * _film_curvature(xc, em1) / p)
 
 
 @kernel(inline=True)

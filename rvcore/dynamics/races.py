@@ -297,11 +297,14 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         q = normal_force(delta, dd, k_hertz, c_race, inv_dmax)
         p_f, h_f, lam_f = p_none, h_none, lam_none
         if uses_film:
-            ue = entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, buf[G_INV_RHO_B * W + j], ux, uy, uz,
-                                   un, nx, ny, nz_)
-            p_f, h_f, lam_f = contact_film(q, ue, p1, hc1, lam1)
-        fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
-                                                       p_f, h_f, lam_f, law, kind)
+            # the entrainment speed only, kept in C_P for the film's own pass below, so that
+            # this loop stays free of exp and log (and vectorised)
+            p_f = entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, buf[G_INV_RHO_B * W + j], ux, uy, uz,
+                                    un, nx, ny, nz_)
+            fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        else:
+            fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
+                                                           p_f, h_f, lam_f, law, kind)
         out[C_DELTA * W + j] = delta
         out[C_NLX * W + j] = nlx
         out[C_NLY * W + j] = nly
@@ -324,6 +327,38 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         out[C_H * W + j] = h_f
         out[C_LAM * W + j] = lam_f
         out[C_DD * W + j] = dd
+    if uses_film:
+        _film_pass(out, nz, h, p1, hc1, lam1, law, kind)
+
+
+@kernel(inline=True)
+def _film_pass(out, nz, h, p1, hc1, lam1, law, kind):
+    """The film (:func:`rvcore.contact.laws.contact_film`) and the law's force of every
+    loaded contact of an arc, after :func:`_arc_loop`'s geometry pass, which left each
+    contact's entrainment speed in ``C_P``. A loop of its own, scalar (its exp, log and
+    expm1; no vector maths library here), so that the geometry's loop stays vectorised; an
+    open contact (q = 0) gets :data:`rvcore.contact.laws.NO_FILM` and no force, its values
+    read by nobody (:func:`rvcore.dynamics.rhs.rhs` skips q ≤ 0)."""
+    p_none, h_none, lam_none = NO_FILM
+    for j in range(nz):
+        q = out[C_Q * W + j]
+        p_f, h_f, lam_f = p_none, h_none, lam_none
+        fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        if q > 0.0:
+            nx, ny, nz_ = out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j]
+            p_f, h_f, lam_f = contact_film(q, out[C_P * W + j], p1, hc1, lam1)
+            fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],
+                                                           out[C_UZ * W + j], nx, ny, nz_, h * nx, h * ny, h * nz_,
+                                                           p_f, h_f, lam_f, law, kind)
+        out[C_FX * W + j] = fx
+        out[C_FY * W + j] = fy
+        out[C_FZ * W + j] = fz
+        out[C_MX * W + j] = dmx
+        out[C_MY * W + j] = dmy
+        out[C_MZ * W + j] = dmz
+        out[C_P * W + j] = p_f
+        out[C_H * W + j] = h_f
+        out[C_LAM * W + j] = lam_f
 
 
 @kernel

@@ -66,7 +66,7 @@ from __future__ import annotations
 
 from .._numba import kernel
 
-from ..contact.laws import friction_per_slip, friction_tangent_curvature
+from ..contact.laws import friction_tangent_terms
 from ..bearing.laws import LAW_ON
 
 #: Columns of the per-ball Jacobian row ``jwork[k]``: the blocks of ``M + h·γ·D + (h·γ)²·K``
@@ -107,7 +107,8 @@ def friction_tangent(q, tx, ty, tz, p, h, lam, law):
     if law[LAW_ON] == 0.0:
         return 0.0, 0.0
     s2 = tx * tx + ty * ty + tz * tz
-    return q * friction_per_slip(s2, p, h, lam, law), q * friction_tangent_curvature(s2, p, h, lam, law)
+    g, c = friction_tangent_terms(s2, p, h, lam, law)
+    return q * g, q * c
 
 
 @kernel(inline=True)

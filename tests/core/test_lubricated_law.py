@@ -77,6 +77,25 @@ def test_the_dispatchers_select_the_lubricated_law_and_it_meets_its_limits():
     assert contact.friction_falling_slope(law) == 0.0
 
 
+@pytest.mark.parametrize("lam", [0.5, 1.0, 2.0, 4.0])
+@pytest.mark.parametrize("s", [0.01, 0.05, 0.3, 2.0])
+def test_the_tangent_terms_are_mu_over_s_and_its_curvature(s, lam):
+    """The IMEX tangent's two terms together (one film evaluation, the film's part skipped
+    where λ ≤ λ_b) against μ(s)/s and (μ' − μ/s)/s² from the law's coefficient and slope."""
+    law = _law()
+    sub = law[bl.LAW_EHL0:]
+    p, h, s2 = 1.5e9, 2e-7, s * s
+    mu, slope = tr.ehl_traction_coefficient(s, p, h, lam, sub), tr.ehl_traction_slope(s, p, h, lam, sub)
+    g, c = tr.ehl_tangent_terms(s2, p, h, lam, sub)
+    assert g == pytest.approx(mu / s, rel=1e-9)
+    assert c == pytest.approx((slope - mu / s) / s2, rel=1e-8)
+    assert g == tr.ehl_traction_per_slip(s2, p, h, lam, sub)
+    assert contact.friction_tangent_terms(s2, p, h, lam, law) == (g, c)
+    dry = bl.pack_friction_law(0.1, 0.1, 0.02, 1.0)
+    assert contact.friction_tangent_terms(s2, p, h, lam, dry) == (
+        contact.friction_per_slip(s2, p, h, lam, dry), contact.friction_tangent_curvature(s2, p, h, lam, dry))
+
+
 @pytest.mark.parametrize("p, h", [(0.5e9, 5e-8), (1.5e9, 2e-7), (2.5e9, 1e-6)])
 def test_slope_at_zero_slip_is_the_film_in_series_with_the_cap(p, h):
     """Full film: ``dμ/ds(0) = 1/(h·p/η(p) + 1/c)``, η(p) = η0·exp(α·p) (Barus), and never
