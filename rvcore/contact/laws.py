@@ -192,10 +192,45 @@ def contact_film(q, ue, p1, hc1, lam1):
     (:mod:`rvcore.contact.film`), so the arc's coefficients at 1 N and 1 m/s and two
     logarithms give them: three exponentials a contact instead of seven powers.
     """
+    return contact_film_or_boundary(q, ue, p1, hc1, lam1, -math.inf)
+
+
+#: Relative margin of :func:`boundary_film_exponent` [-]: far above the rounding of one
+#: ``exp`` and one ``log`` (a few 1e-16), so a contact it calls boundary has λ < λ_b
+#: however its λ would have rounded.
+BOUNDARY_EXPONENT_MARGIN = 1e-9
+
+
+@kernel(inline=True)
+def boundary_film_exponent(lam1, law):
+    """The exponent ``x_b`` [-] of λ's power law (:func:`contact_film`: ``λ = lam1·e^x``,
+    ``x = 0.68·ln u − 0.073·ln Q``) below which a contact is certainly boundary
+    lubricated for the record's law: ``ln(λ_b/lam1)`` less
+    :data:`BOUNDARY_EXPONENT_MARGIN` (−∞ where the law has no such λ_b), with ``λ_b``
+    from :func:`rvcore.contact.traction_ehl.boundary_lambda`. There the law's friction
+    is its boundary part alone (weight exactly 1, its film part multiplied by 0), so
+    :func:`contact_film_or_boundary` skips the film's exponentials."""
+    lam_b = traction_ehl.boundary_lambda(_ehl(law))
+    if not lam_b > 0.0:
+        return -math.inf
+    return math.log(lam_b / lam1) - BOUNDARY_EXPONENT_MARGIN
+
+
+@kernel(inline=True)
+def contact_film_or_boundary(q, ue, p1, hc1, lam1, x_b):
+    """:func:`contact_film`, or :data:`NO_FILM` where the contact is boundary lubricated
+    (λ's exponent below ``x_b``, :func:`boundary_film_exponent`): the same friction
+    either way, bit for bit, the boundary contacts without their three exponentials.
+
+    Parameters as :func:`contact_film`; ``x_b`` [-]. Returns ``(p, h_c, λ)`` [Pa], [m], [-].
+    """
     lw = math.log(max(q, 1e-6))
     lu = math.log(max(ue, 1e-30))
+    x = film.HM_EXP_U * lu + film.HM_EXP_W * lw
+    if x < x_b:
+        return NO_FILM
     return (p1 * math.exp(lw * (1.0 / 3.0)), hc1 * math.exp(film.HC_EXP_U * lu + film.HC_EXP_W * lw),
-            lam1 * math.exp(film.HM_EXP_U * lu + film.HM_EXP_W * lw))
+            lam1 * math.exp(x))
 
 
 @kernel(inline=True)

@@ -99,7 +99,7 @@ from .step import step, step_slope
 __all__ = [
     "EHL_ETA0", "EHL_ALPHA", "EHL_TAU_L0", "EHL_GAMMA_L", "EHL_MU_B", "EHL_V_B",
     "EHL_LAMBDA_B", "EHL_LAMBDA_F", "EHL_LAW_SIZE", "BARUS_EXPONENT_MAX", "CURVATURE_X_FLOOR",
-    "pack_ehl_traction_law", "boundary_weight", "film_shear_stress",
+    "pack_ehl_traction_law", "boundary_lambda", "boundary_weight", "film_shear_stress",
     "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
     "ehl_tangent_curvature", "ehl_tangent_terms", "ehl_slope_at_zero_slip", "ehl_slope_bound",
 ]
@@ -117,6 +117,13 @@ BARUS_EXPONENT_MAX = 200.0
 
 #: Smallest ``x = k·s`` the tangent's curvature is evaluated at [-] (a numerical floor).
 CURVATURE_X_FLOOR = 1e-20
+
+
+@kernel(inline=True)
+def boundary_lambda(law):
+    """``λ_b`` [-]: at and below it the law's friction is its boundary part alone
+    (:func:`boundary_weight` exactly 1), whatever the film's pressure and thickness."""
+    return law[EHL_LAMBDA_B]
 
 
 @kernel(inline=True)

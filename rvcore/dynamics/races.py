@@ -39,9 +39,9 @@ import math
 
 from .._numba import kernel
 
-from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, cage_pocket_penetration, contact_film,
-                            film_coefficients, friction_kind, friction_uses_film, hertz_load, normal_force,
-                            race_arc_penetration)
+from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, boundary_film_exponent,
+                            cage_pocket_penetration, contact_film_or_boundary, film_coefficients, friction_kind,
+                            friction_uses_film, hertz_load, normal_force, race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
 from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove
@@ -260,9 +260,10 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
     inner = arcs[a, A_RING] == 0.0
     k_hertz = arcs[a, A_K]
     uses_film = friction_uses_film(kind)
-    p1, hc1, lam1 = 0.0, 0.0, 0.0
+    p1, hc1, lam1, x_b = 0.0, 0.0, 0.0, 0.0
     if uses_film:
         p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
+        x_b = boundary_film_exponent(lam1, law)
     p_none, h_none, lam_none = NO_FILM
     vg = G_VG_I if inner else G_VG_O    # the groove's modal velocity (ring_surfaces)
     for j in range(nz):
@@ -328,12 +329,13 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         out[C_LAM * W + j] = lam_f
         out[C_DD * W + j] = dd
     if uses_film:
-        _film_pass(out, nz, h, p1, hc1, lam1, law, kind)
+        _film_pass(out, nz, h, p1, hc1, lam1, x_b, law, kind)
 
 
 @kernel(inline=True)
-def _film_pass(out, nz, h, p1, hc1, lam1, law, kind):
-    """The film (:func:`rvcore.contact.laws.contact_film`) and the law's force of every
+def _film_pass(out, nz, h, p1, hc1, lam1, x_b, law, kind):
+    """The film (:func:`rvcore.contact.laws.contact_film_or_boundary`: none where the contact
+    is certainly boundary lubricated, λ's exponent below ``x_b``) and the law's force of every
     loaded contact of an arc, after :func:`_arc_loop`'s geometry pass, which left each
     contact's entrainment speed in ``C_P``. A loop of its own, scalar (its exp, log and
     expm1; no vector maths library here), so that the geometry's loop stays vectorised; an
@@ -346,7 +348,7 @@ def _film_pass(out, nz, h, p1, hc1, lam1, law, kind):
         fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         if q > 0.0:
             nx, ny, nz_ = out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j]
-            p_f, h_f, lam_f = contact_film(q, out[C_P * W + j], p1, hc1, lam1)
+            p_f, h_f, lam_f = contact_film_or_boundary(q, out[C_P * W + j], p1, hc1, lam1, x_b)
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],
                                                            out[C_UZ * W + j], nx, ny, nz_, h * nx, h * ny, h * nz_,
                                                            p_f, h_f, lam_f, law, kind)

@@ -156,6 +156,39 @@ def test_compile_bearing_packs_the_law_and_each_arc_s_film_geometry():
         assert 1e-8 < h < 1e-6      # a real EHL film, tenths of a micrometre
 
 
+def test_a_boundary_contact_skips_its_film_and_keeps_its_friction_bit_for_bit():
+    """:func:`contact_film_or_boundary` returns NO_FILM only where λ (written out here from
+    the arc's coefficients, ``lam1·u^0.68·Q^−0.073``) lies below the law's λ_b, and the
+    contact's friction (per slip and its tangent terms) is then the same bits as with its
+    full film; elsewhere the film is contact_film's, bit for bit."""
+    model = compile_bearing(lubricated(section_bearing(12)))
+    law = model.params[P_LAW:P_LAW + bl.FRICTION_LAW_SIZE]
+    lam_b = law[bl.LAW_EHL0 + bl.EHL_LAMBDA_B]
+    rng = np.random.default_rng(7)
+    skipped = kept = 0
+    for a in range(model.arcs.shape[0]):
+        p1, hc1, lam1 = contact.film_coefficients(model.arcs[a, A_PC3], model.arcs[a, A_RX], model.arcs[a, A_EEFF],
+                                                  model.arcs[a, A_ELL], law)
+        x_b = contact.boundary_film_exponent(lam1, law)
+        # speeds about the one where lambda = lambda_b at 3 kN, and loads 1 N to 10 kN
+        u_b = (lam_b / (lam1 * 3000.0 ** -0.073)) ** (1.0 / 0.68)
+        for q, u in zip(10.0 ** rng.uniform(0, 4, 400), u_b * 10.0 ** rng.uniform(-2, 1, 400)):
+            full = contact.contact_film(q, u, p1, hc1, lam1)
+            film = contact.contact_film_or_boundary(q, u, p1, hc1, lam1, x_b)
+            if film == contact.NO_FILM:
+                skipped += 1
+                assert lam1 * u ** 0.68 * q ** -0.073 < lam_b
+            else:
+                kept += 1
+                assert film == full
+            for s2 in (0.0, 1e-8, 1e-4, 1e-2, 1.0):
+                assert tr.ehl_tangent_terms(s2, *film, law[bl.LAW_EHL0:]) == tr.ehl_tangent_terms(
+                    s2, *full, law[bl.LAW_EHL0:])
+                assert tr.ehl_traction_per_slip(s2, *film, law[bl.LAW_EHL0:]) == tr.ehl_traction_per_slip(
+                    s2, *full, law[bl.LAW_EHL0:])
+    assert skipped > 100 and kept > 100
+
+
 def test_the_contacts_entrain_at_the_pure_rolling_speed_in_steady_rolling():
     """A section bearing under pure thrust, rolling at 300 rad/s for 20 ms: each loaded
     contact's film is Hamrock–Dowson's at the pure-rolling entrainment speed
