@@ -57,7 +57,8 @@ def stand_ins(monkeypatch):
     monkeypatch.setattr(bench, "imperfection_cost", lambda: {
         "imperfection_perfect_wall_s": 2.0, "imperfection_normal_wall_s": 2.1, "imperfection_cost_ratio": 1.05})
     monkeypatch.setattr(bench, "lubricated_cost", lambda: {
-        "lubricated_dry_wall_s": 2.0, "lubricated_wall_s": 2.2, "lubricated_cost_ratio": 1.1})
+        "lubricated_dry_wall_s": 2.0, "lubricated_wall_s": 2.2, "lubricated_cost_ratio": 1.1,
+        "lubricated_cost_ratio_120": 1.05, "lubricated_cost_ratio_660": 1.1, "lubricated_cost_speed": 660.0})
 
 
 def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
@@ -94,6 +95,7 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     assert "Imperfections:" in text and "1.050x" in text
     lubricated = next(line for line in text.splitlines() if line.startswith("Lubricated law"))
     assert "1.100x" in lubricated and "2.20 s vs 2.00 s" in lubricated
+    assert "120 deg/s 1.050x" in lubricated and "660 deg/s 1.100x" in lubricated
 
 
 # --------------------------------------------------------------------------- ball scaling
