@@ -28,6 +28,7 @@ from rvcore.profile import PHASES
 from ..errors import ConfigError, UserError
 from ..io import VARIABLES, history_line, phase_coordinate
 from ..io.case import kinematic_coordinate
+from ..schema.tracefile import DutyChannel
 
 #: Phase metrics of a displacement compared (those the core's reductions give).
 METRIC_KINDS = ("range", "mean", "std", "min_time", "max_time", "range_at_edge")
@@ -108,7 +109,8 @@ def read_trace(trace) -> dict:
     dict
         ``time`` [s] from the first sample (strictly increasing) and, for each channel,
         its ``measures`` name -> samples [m], sign applied; with ``[trace.duty]``, ``duty``:
-        ``speed`` [rad s-1], ``radial_load`` and ``axial_load`` [N] over the same samples.
+        ``speed`` [rad s-1], ``radial_load`` and ``axial_load`` [N] over the same samples
+        (a load the trace file holds constant: its value, a float).
 
     Raises
     ------
@@ -116,7 +118,7 @@ def read_trace(trace) -> dict:
         A file the format's library cannot read, a missing channel, a time base that
         does not increase, series of unequal length or with non-finite values.
     """
-    duty = list(trace.duty.items())
+    duty = [(key, d) for key, d in trace.duty.items() if isinstance(d, DutyChannel)]
     wanted = ([(c.group, c.name) for c in trace.channels] + [(d.group, d.name) for _, d in duty]
               + ([(trace.time_group, trace.time_channel)] if trace.time_channel else []))
     names = list(dict.fromkeys(n for _, n in wanted))
@@ -168,8 +170,9 @@ def read_trace(trace) -> dict:
     out = {"time": t}
     for c in trace.channels:
         out[c.measures] = c.sign * c.scale * cols[c.name]
-    if duty:
-        out["duty"] = {key: d.scale * cols[d.name] for key, d in duty}
+    if trace.duty:
+        out["duty"] = {key: (d.scale * cols[d.name] if isinstance(d, DutyChannel) else d.value)
+                       for key, d in trace.duty.items()}
     return out
 
 

@@ -1,7 +1,8 @@
 """The duty cycle a rig ran, from channels of its data: the breakpoint profile the model runs.
 
 A trace file's ``[trace.duty]`` names the recorded speed and radial and axial loads
-(:mod:`pipeline.schema.tracefile`, units checked there). :func:`profile_from_channels`
+(:mod:`pipeline.schema.tracefile`, units checked there); a load the rig held without
+logging it is a constant instead. :func:`profile_from_channels`
 turns them into a :class:`rvcore.profile.Profile` (linear breakpoint tables as fractions
 of the steady operating point, and the phase windows) and that operating point, so that
 ``rvsweep simulate --profile`` runs the cycle the rig ran; :func:`profile_toml` writes it
@@ -76,7 +77,8 @@ def profile_from_channels(time, duty: dict, *, tolerance: float, name: str = "ri
     time : ndarray
         Sample times from the first sample [s].
     duty : dict
-        ``speed`` [rad s-1], ``radial_load`` and ``axial_load`` [N] over ``time``.
+        ``speed`` [rad s-1] over ``time``; ``radial_load`` and ``axial_load`` [N] over
+        ``time``, or each a float: a load held constant over the record.
     tolerance : float
         Fraction of each channel's scale [1]: the breakpoint line keeps within
         ``tolerance/2`` of it, and the phase edges are where the speed is within
@@ -99,7 +101,7 @@ def profile_from_channels(time, duty: dict, *, tolerance: float, name: str = "ri
     Raises
     ------
     ConfigError
-        A speed channel that never leaves rest, that does not start from rest before its
+        A constant speed (no phases to find), a speed channel that never leaves rest, that does not start from rest before its
         steady value, or that does not come back to rest after it.
 
     Notes
@@ -110,10 +112,16 @@ def profile_from_channels(time, duty: dict, *, tolerance: float, name: str = "ri
     (|ω| ≥ (1 − tol)|ω0|) to that one; deceleration from the last breakpoint at speed to the
     first at rest after it; steady between. The operating point is the mean of each channel
     over the steady window, and each channel's breakpoints (tolerance ``tolerance/2`` of
-    the larger of its steady value and its largest magnitude) are divided by it.
+    the larger of its steady value and its largest magnitude) are divided by it. A load held
+    constant at F is its own operating point, F0 = F exactly (not a mean of samples), and its
+    table is the fraction 1 at the record's first and last sample; at F = 0 the table is the
+    absolute value 0 N there, as for any channel whose steady mean is 0 (nothing is divided).
     """
     t = np.asarray(time, dtype=np.float64)
     names = channels or {}
+    if np.ndim(duty["speed"]) == 0:
+        _fail(source, "trace.duty.speed", duty["speed"], "a constant speed gives no phases: they are found "
+                                                         "from the speed channel")
     w = np.asarray(duty["speed"], dtype=np.float64)
     key = "trace.duty.speed.channel"
     peak = float(np.max(np.abs(w)))
@@ -137,11 +145,14 @@ def profile_from_channels(time, duty: dict, *, tolerance: float, name: str = "ri
     if not t_b < t_c:
         _fail(source, key, names.get("speed"), "the speed holds its steady value for no time: no steady phase")
     steady = (t >= t_b) & (t < t_c)
-    op = {n: float(np.mean(np.asarray(duty[n], dtype=np.float64)[steady])) for n in ("speed", "radial_load",
-                                                                                    "axial_load")}
+    names3 = ("speed", "radial_load", "axial_load")
+    held = {n for n in names3 if np.ndim(duty[n]) == 0}      # a load held constant: a float
+    series = {n: (np.full(t.size, float(duty[n])) if n in held else np.asarray(duty[n], dtype=np.float64))
+              for n in names3}
+    op = {n: float(duty[n]) if n in held else float(np.mean(series[n][steady])) for n in names3}
     tables = {}
-    for n in ("speed", "radial_load", "axial_load"):
-        x = np.asarray(duty[n], dtype=np.float64)
+    for n in names3:
+        x = series[n]
         scale = max(abs(op[n]), float(np.max(np.abs(x))))
         idx = k if n == "speed" else breakpoints(t, x, 0.5 * tolerance * scale)
         relative = op[n] != 0.0
@@ -149,8 +160,9 @@ def profile_from_channels(time, duty: dict, *, tolerance: float, name: str = "ri
         tables[n] = Channel(tuple(float(v) for v in t[idx]), tuple(float(v) for v in values), relative=relative)
     profile = Profile(name, tables["radial_load"], tables["axial_load"], tables["speed"],
                       (("startup", t_a, t_b), ("steady", t_b, t_c), ("deceleration", t_c, t_d)), float(t[-1]),
-                      description=f"the duty cycle recorded with the trace {name!r} (speed and load channels), "
-                                  f"breakpoints within {tolerance / 2:g} of each channel's scale")
+                      description=f"the duty cycle recorded with the trace {name!r} (speed and load channels"
+                                  + "".join(f", {n} held at {op[n]:.6g} N" for n in names3 if n in held)
+                                  + f"), breakpoints within {tolerance / 2:g} of each channel's scale")
     return profile, OperatingPoint(op["speed"], op["radial_load"], op["axial_load"])
 
 

@@ -24,7 +24,7 @@ def run(args) -> int:
     from ..io import write_atomic
     from ..io.folders import writable_folder
     from ..schema.profilefile import load_profile
-    from ..schema.tracefile import load_trace
+    from ..schema.tracefile import DutyChannel, load_trace
 
     trace = load_trace(args.trace)
     phases, cycle, duty_profile, op = None, math.nan, None, None
@@ -40,7 +40,8 @@ def run(args) -> int:
         raw = read_trace(trace)
         duty_profile, op = profile_from_channels(raw["time"], raw["duty"], tolerance=trace.duty_tolerance,
                                                  name=trace.name, source=trace.source,
-                                                 channels={k: d.name for k, d in trace.duty.items()})
+                                                 channels={k: d.name for k, d in trace.duty.items()
+                                                           if isinstance(d, DutyChannel)})
         phases = [(s, e) for (_, s, e) in duty_profile.phases]
         cycle = float(duty_profile.duration) if args.case is None and args.sweep is None else math.nan
         speed = op.speed if not math.isfinite(speed) else speed
@@ -87,7 +88,8 @@ def run(args) -> int:
         from ..analysis.duty import operating_point_text, profile_toml
 
         header = (f"The duty cycle recorded with the trace {trace.source} (channels "
-                  + ", ".join(f"{k} {d.name!r} in {d.unit}" for k, d in trace.duty.items())
+                  + ", ".join(f"{k} {d.name!r} in {d.unit}" if isinstance(d, DutyChannel) else f"{k} held at {d.text}"
+                              for k, d in trace.duty.items())
                   + f"), at the steady operating point {operating_point_text(op)}.\n"
                   f"Written by rvsweep compare; run it with: rvsweep simulate --profile {out / 'profile.toml'} "
                   f"{operating_point_text(op)} --bearing ...")

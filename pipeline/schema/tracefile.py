@@ -5,9 +5,13 @@ which displacement of the inner ring it measures, the sensor's position, its sig
 time base (a time channel or a sample rate), the duty cycle the rig ran (a profile file)
 and the bearing. The duty cycle is either a profile file (``profile``) or channels of the
 data (``[trace.duty]``: the speed and the radial and axial loads the rig recorded), turned
-into a breakpoint profile by :func:`pipeline.analysis.duty.profile_from_channels`. Every bad value is one :class:`pipeline.errors.ConfigError` naming the
-file, the key, the value as typed and the reason, raised before any data is read. The
-layout is in docs/outputs.md ("Measured traces").
+into a breakpoint profile by :func:`pipeline.analysis.duty.profile_from_channels`. A load
+the rig held without logging it (a dead weight, an unlogged preload, none) is a constant
+with its unit instead of a channel: a table is always a channel of the data, a string
+always a constant, so a channel's name is never read as a quantity. The speed must be a
+channel: the phases are found from it. Every bad value is one
+:class:`pipeline.errors.ConfigError` naming the file, the key, the value as typed and the
+reason, raised before any data is read. The layout is in docs/outputs.md ("Measured traces").
 
 Example::
 
@@ -25,7 +29,7 @@ Example::
     # [trace.duty]
     # speed = { channel = "n", unit = "rpm" }
     # radial_load = { channel = "Fr", unit = "kN" }
-    # axial_load = { channel = "Fa", unit = "kN" }
+    # axial_load = { channel = "Fa", unit = "kN" }   # or a constant held over the record: "10 kN", "0 kN"
     # tolerance = 0.02                          # of each channel's steady value
 
     [[trace.channel]]
@@ -38,11 +42,14 @@ Example::
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import ConfigError
 from .tomlfile import read_toml, resolve_path
+from .fields import field as schema_field
+from .reader import check_value
 from .units import SI_UNITS, parse_quantity, registry
 
 #: Formats a trace's data file may have; MAT files of version 7.3 are HDF5 (read by h5py),
@@ -57,6 +64,9 @@ _TOP_KEYS = {"name", "description", "file", "format", "time", "profile", "bearin
 DUTY_KINDS = {"speed": "angular_speed", "radial_load": "force", "axial_load": "force"}
 _DUTY_KEYS = set(DUTY_KINDS) | {"tolerance"}
 _DUTY_CHANNEL_KEYS = {"channel", "unit", "group"}
+#: A constant's text starts with its number (a sign, a digit or a decimal point): ``"Fa"`` is
+#: refused as a channel's name written where a constant goes, never read as a unit.
+_NUMBER_FIRST = re.compile(r"\s*[-+]?(\d|\.\d)")
 #: Unit names pint gives an angle (an angular speed must name one: 'Hz' or '1/s' would
 #: leave revolutions and radians apart by 2π).
 _ANGLES = {"radian", "degree", "revolution", "turn", "arcminute", "arcsecond", "revolutions_per_minute",
@@ -121,6 +131,23 @@ class DutyChannel:
 
 
 @dataclass(frozen=True)
+class DutyConstant:
+    """One duty-cycle quantity the rig held over the whole record without logging it
+    (``[trace.duty]``, e.g. ``axial_load = "10 kN"``).
+
+    Parameters
+    ----------
+    value : float
+        The constant, SI [N].
+    text : str
+        The value as typed [-].
+    """
+
+    value: float
+    text: str
+
+
+@dataclass(frozen=True)
 class Trace:
     """A measured test, validated (:func:`load_trace`). Quantities SI."""
 
@@ -140,7 +167,7 @@ class Trace:
     axial_load: float = math.nan  # [N]
     low_pass: float = math.nan    # [Hz], NaN: none
     description: str = ""
-    duty: dict = field(default_factory=dict)   # "speed"/"radial_load"/"axial_load" -> DutyChannel
+    duty: dict = field(default_factory=dict)   # "speed"/"radial_load"/"axial_load" -> DutyChannel or DutyConstant
     duty_tolerance: float = DUTY_TOLERANCE     # [1]
     extra: dict = field(default_factory=dict)
 
@@ -181,14 +208,43 @@ def _scale(unit, kind: str, file, key: str) -> float:
     target = SI_UNITS[kind]
     if q.dimensionality != ureg.Quantity(1.0, target).dimensionality:
         raise ConfigError(file, key, unit, f"not a {what}: the channel must be in a unit convertible to {target}")
-    if kind == "angular_speed" and not any(ureg.get_name(u) in _ANGLES for u in q.units._units):
-        raise ConfigError(file, key, unit, "not a speed: a frequency without an angle; write 'rpm', 'rev/s', "
-                                           "'rad/s' or 'deg/s'")
+    if kind == "angular_speed":
+        _names_an_angle(q, file, key, unit)
     return float(q.to(target).magnitude)
 
 
+def _names_an_angle(q, file, key: str, typed) -> None:
+    """Refuse an angular speed whose unit names no angle ('Hz', '1/s': revolutions and
+    radians would be 2π apart)."""
+    ureg = registry()
+    if not any(ureg.get_name(u) in _ANGLES for u in q.units._units):
+        raise ConfigError(file, key, typed, "not a speed: a frequency without an angle; write 'rpm', 'rev/s', "
+                                            "'rad/s' or 'deg/s'")
+
+
+def _duty_constant(v, name: str, kind: str, file, key: str) -> DutyConstant:
+    """A constant of ``[trace.duty]`` as typed (a string: a number and its unit), checked as the
+    operating point's key of the same name is (:mod:`pipeline.schema.fields`: unit kind, bounds)."""
+    example = {"force": "'10 kN' or '0 kN'", "angular_speed": "'660 deg/s'"}[kind]
+    channel = "a channel of the data is { channel = ..., unit = ... }"
+    if isinstance(v, (bool, int, float)):
+        raise ConfigError(file, key, v, f"a constant takes its unit, e.g. {example} ({channel})")
+    if not isinstance(v, str):
+        raise ConfigError(file, key, None, f"expected {{ channel = ..., unit = ... }} or a constant with its "
+                                           f"unit, e.g. {example}")
+    if not _NUMBER_FIRST.match(v):
+        raise ConfigError(file, key, v, f"not a constant (a number and its unit, e.g. {example}); {channel}")
+    value = check_value(schema_field("operating_point", name), v, file, key)
+    q = registry().Quantity(v.strip())
+    if not hasattr(q, "units") or q.unitless:
+        raise ConfigError(file, key, v, f"a constant takes its unit, e.g. {example}")
+    if kind == "angular_speed":
+        _names_an_angle(q, file, key, v)
+    return DutyConstant(value, v)
+
+
 def _duty(top: dict, file) -> dict:
-    """The ``[trace.duty]`` table: each channel (name, SI scale, unit, group) and the tolerance."""
+    """The ``[trace.duty]`` table: each channel (name, SI scale, unit, group) or constant, and the tolerance."""
     duty = top["duty"]
     if not isinstance(duty, dict):
         raise ConfigError(file, "trace.duty", duty, "expected a table of channels (speed, radial_load, axial_load)")
@@ -198,16 +254,22 @@ def _duty(top: dict, file) -> dict:
         where = f"trace.duty.{name}"
         if name not in duty:
             raise ConfigError(file, where, None, "missing: the duty cycle needs the speed and both loads "
-                                                 "({ channel = ..., unit = ... })")
+                                                 "({ channel = ..., unit = ... }, or a load held constant "
+                                                 "with its unit, e.g. '0 kN')")
         c = duty[name]
         if not isinstance(c, dict):
-            raise ConfigError(file, where, c, "expected { channel = ..., unit = ... }")
+            out[name] = _duty_constant(c, name, kind, file, where)
+            continue
         _unknown(c, _DUTY_CHANNEL_KEYS, file, where + ".")
         cname = _string(c, "channel", file, where + ".")
         if "unit" not in c:
             raise ConfigError(file, where + ".unit", None, "missing: every measured series carries its unit")
         scale = _scale(c["unit"], kind, file, where + ".unit")
         out[name] = DutyChannel(cname, scale, c["unit"], _string(c, "group", file, where + ".", required=False))
+    if isinstance(out["speed"], DutyConstant):
+        raise ConfigError(file, "trace.duty.speed", duty["speed"],
+                          "a constant speed gives no phases (they are found from the speed channel's rest "
+                          "and steady levels): give the speed channel, or the cycle as a profile file (profile)")
     tol = duty.get("tolerance", DUTY_TOLERANCE)
     if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not (0 < tol < 0.5):
         raise ConfigError(file, "trace.duty.tolerance", tol, "must be a fraction between 0 and 0.5")

@@ -273,6 +273,21 @@ def _one_line_error(capsys, argv):
     (lambda s: s.replace('channel = "Fr"', 'channel = "F_radial"'), "no such channel", True),
     (lambda s: s.replace('format = "csv"', 'format = "csv"\nprofile = "trace-csv.csv"'), "not both", True),
     (lambda s: s.replace("[trace.duty]", "[trace.duty]\ntolerance = 0.7"), "between 0 and 0.5", True),
+    # a quantity held constant instead of a channel
+    (lambda s: s.replace(FA, 'axial_load = 10'), "trace.duty.axial_load = 10: a constant takes its unit", True),
+    (lambda s: s.replace(FA, 'axial_load = "10"'), "trace.duty.axial_load = '10': a constant takes its unit", True),
+    (lambda s: s.replace(FA, 'axial_load = "10 um"'), "trace.duty.axial_load = '10 um': wrong units", True),
+    (lambda s: s.replace(FA, 'axial_load = "Fa"'), "trace.duty.axial_load = 'Fa': not a constant", True),
+    (lambda s: s.replace(FA, 'axial_load = "nan kN"'), "trace.duty.axial_load = 'nan kN': not a constant", True),
+    (lambda s: s.replace(FA, 'axial_load = "1e400 kN"'), "trace.duty.axial_load = '1e400 kN': not a finite", True),
+    (lambda s: s.replace(FA, 'axial_load = ["10 kN"]'), "trace.duty.axial_load: expected { channel", True),
+    (lambda s: s.replace(FR, 'radial_load = "-5 kN"'), "trace.duty.radial_load = '-5 kN': must not be negative",
+     True),
+    (lambda s: s.replace(N, 'speed = "660 deg/s"'), "trace.duty.speed = '660 deg/s': a constant speed gives no "
+                                                   "phases", True),
+    (lambda s: s.replace(N, 'speed = "10 Hz"'), "trace.duty.speed = '10 Hz': not a speed: a frequency without",
+     True),
+    (lambda s: s.replace(N, 'speed = "10 kN"'), "trace.duty.speed = '10 kN': wrong units", True),
 ])
 def test_bad_trace_files_give_one_line(case, tmp_path, capsys, edit, expect, duty):
     path, t, series = case
@@ -377,6 +392,9 @@ axial_load = { channel = "Fa", unit = "kN" }
 """
 
 
+N, FR, FA = (line for line in DUTY_TAIL.splitlines() if "channel" in line)
+
+
 def study_channels(t, speed, fr, fa, eps=(0.0, 0.0), seed=3):
     """The study cycle's speed [rpm] and loads [kN] at ``t``, by numpy from its breakpoints
     (docs/model.md §6: loads 0 -> 1 over 0-0.3 s, back to 0 over 4.3-4.6 s; speed 0 -> 1
@@ -478,6 +496,66 @@ def test_the_command_with_duty_channels_writes_the_profile(case, tmp_path, capsy
         np.testing.assert_allclose(ds["phase_start"].values, [a for _, a, _ in prof.phases])
         assert float(ds["speed"]) == pytest.approx(660)
         assert np.all(np.abs(ds["radial_displacement_sprague_geers_combined"].values) < 1e-6)
+
+
+@pytest.mark.parametrize("key, column, text, held", [
+    ("axial_load", "Fa", "10 kN", 10e3),      # a dead weight the rig did not log
+    ("axial_load", "Fa", "0 kN", 0.0),        # no axial load: no fraction to form
+    ("radial_load", "Fr", "30 kN", 30e3),
+])
+def test_a_load_held_constant_is_the_channel_that_holds_it(case, tmp_path, capsys, key, column, text, held):
+    """A trace with speed and load channels where one load is written as a constant in the
+    trace file gives the profile and operating point of the same trace with a channel
+    holding that constant over the whole record (in kN): the same phases, the constant as
+    the operating point's load, each table within half the tolerance of the other's line;
+    the written profile.toml, run at the printed operating point, holds the load at the
+    constant over the whole record."""
+    from pipeline.analysis.compare import read_trace
+    from pipeline.analysis.duty import profile_from_channels
+    from pipeline.schema.profilefile import load_profile
+    from rvcore.profile import CH_AXIAL, CH_RADIAL, OperatingPoint
+
+    path, t, series = case
+    more = study_channels(t, math.radians(660), 30e3, 10e3, (0.3, 0.01))
+    more[column] = np.full(t.size, held / 1e3)                      # the channel holding it [kN]
+    line = {"axial_load": FA, "radial_load": FR}[key]
+    got = {}
+    for how, tail in (("channel", DUTY_TAIL), ("constant", DUTY_TAIL.replace(line, f'{key} = "{text}"'))):
+        folder = tmp_path / how
+        folder.mkdir()
+        trace = load_trace(write_trace(folder, "csv", t, series, more=more, tail=tail))
+        data = read_trace(trace)
+        got[how] = profile_from_channels(data["time"], data["duty"], tolerance=trace.duty_tolerance)
+    (p_ch, op_ch), (p_k, op_k) = got["channel"], got["constant"]
+    assert p_k.phases == p_ch.phases and p_k.duration == p_ch.duration
+    assert getattr(op_k, key) == held and getattr(op_ch, key) == pytest.approx(held, rel=1e-12, abs=1e-9)
+    for n in ("speed", "radial_load", "axial_load"):
+        a, b = getattr(p_k, n), getattr(p_ch, n)
+        steady = getattr(op_k, n)
+        assert getattr(op_ch, n) == pytest.approx(steady, rel=1e-12, abs=1e-9)
+        assert a.relative == b.relative == (steady != 0.0)
+        va, vb = (np.interp(t, c.times, np.asarray(c.values) * (steady if c.relative else 1.0)) for c in (a, b))
+        scale = max(abs(steady), np.max(np.abs(vb)))
+        assert np.max(np.abs(va - vb)) <= 0.5 * 0.02 * scale + 1e-12, n
+
+    # the command: profile.toml holds the constant; resolved at the printed operating point
+    # (as rvsweep simulate resolves it) the load is the constant at every time of the record
+    toml = tmp_path / "constant" / "trace-csv.toml"
+    out = tmp_path / "out"
+    assert main(["compare", str(toml), "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    flag = {"axial_load": "--axial-load", "radial_load": "--radial-load"}[key]
+    assert f"{flag} {held / 1e3:g}kN" in printed
+    text_file = (out / "profile.toml").read_text()
+    assert f"{key} held at {text}" in text_file
+    prof = load_profile(out / "profile.toml")
+    other = 10e3 if key == "radial_load" else 30e3             # whatever the other load's steady value
+    op = OperatingPoint(math.radians(660), held if key == "radial_load" else other,
+                        held if key == "axial_load" else other)
+    resolved = prof.resolve(op)
+    c = CH_AXIAL if key == "axial_load" else CH_RADIAL
+    for s in np.linspace(0.0, float(t[-1]), 7):
+        assert resolved.value(c, float(s)) == held
 
 
 def test_a_speed_that_never_comes_back_to_rest(case, tmp_path, capsys):
