@@ -16,6 +16,9 @@ asserts a time (these machines are noisy).
   from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
   serial wall / (workers x parallel wall).
+- ``scheduler_cost`` (``rvsweep bench --tasks 1000,10000``): the parent's CPU per case of
+  a sweep on a 2-process LocalCluster, dask's scheduler included, with stand-in cases that
+  compute nothing (:func:`scheduler_cost`): ``parent_cpu_per_task_ms_<N>``.
 - ``ball_scaling`` (``rvsweep bench --balls 51,102,204``): µs per ball-step of the
   default method on the study bearing scaled to hold Z balls (:func:`scaled_study_bearing`:
   its pitch circle and every radial dimension moved out so that the balls' spacing and
@@ -263,6 +266,48 @@ def parallel_efficiency(workers: int = 2, repeats: int = 3) -> dict:
     }
 
 
+def no_case(bearing, profile, op, settings, **keywords):
+    """A case that computes nothing (:func:`scheduler_cost`'s stand-in for the dynamics)."""
+    return None
+
+
+def scheduler_cost(counts=(1000, 10000), workers: int = 2) -> dict:
+    """The parent's CPU per case of a sweep on a local dask cluster, dask's part included.
+
+    For each ``N`` in ``counts``: the smoke sweep's first case copied under ``N`` case ids,
+    submitted through the sweep's own code (:func:`pipeline.run.cluster.client` with
+    ``workers`` processes, :func:`pipeline.run.cluster.on_cluster`) with a case function
+    that computes nothing (:func:`no_case`), and every outcome collected. The parent's
+    CPU (``time.process_time``: this process's threads, the scheduler's event loop
+    among them, since a LocalCluster's scheduler runs here) from the first submission to
+    the last outcome, over N: ``parent_cpu_per_task_ms_<N>``, with the wall time
+    ``scheduler_wall_s_<N>`` and the cluster's start ``cluster_start_s_<N>``. What the
+    cases write and the status lines cost the parent is measured apart (docs/performance.md,
+    "Parent per case").
+    """
+    import dataclasses
+
+    from .run.cluster import client, on_cluster
+    from .schema import read_sweep_file
+
+    spec = read_sweep_file(SMOKE_SWEEP).cases[0]
+    out = {"scheduler_workers": workers}
+    for n in counts:
+        specs = [dataclasses.replace(spec, case_id=f"{i:016x}") for i in range(int(n))]
+        t0 = time.perf_counter()
+        with client(workers=workers, scheduler=None, scheduler_file=None, n_cases=len(specs),
+                    allowed_failures=0) as (c, _):
+            out[f"cluster_start_s_{n}"] = time.perf_counter() - t0
+            w0, c0 = time.perf_counter(), time.process_time()
+            done = sum(1 for _, outcome in on_cluster(c, specs, no_case, 0) if outcome.ok)
+            c1, w1 = time.process_time(), time.perf_counter()
+        if done != len(specs):
+            raise RuntimeError(f"{len(specs) - done} of {len(specs)} stand-in cases failed")
+        out[f"parent_cpu_per_task_ms_{n}"] = 1e3 * (c1 - c0) / len(specs)
+        out[f"scheduler_wall_s_{n}"] = w1 - w0
+    return out
+
+
 def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
     """Wall time of the Normal-class study case over the perfect one (module docstring)."""
     import dataclasses
@@ -414,11 +459,14 @@ def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float
     return out
 
 
-def run_all(*, quick: bool = False, balls=None) -> dict:
+def run_all(*, quick: bool = False, balls=None, tasks=None) -> dict:
     """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``);
-    with ``balls`` (ball counts) only :func:`ball_scaling`'s."""
+    with ``balls`` (ball counts) only :func:`ball_scaling`'s, with ``tasks`` (case counts)
+    only :func:`scheduler_cost`'s."""
     if balls:
         return ball_scaling(tuple(balls))
+    if tasks:
+        return scheduler_cost(tuple(tasks))
     out = {}
     out.update(full_cycle())
     out.update(scipy_comparison("imex"))

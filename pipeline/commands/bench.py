@@ -36,12 +36,30 @@ def _ball_counts(text: str) -> tuple:
     return counts
 
 
+def _task_counts(text: str) -> tuple:
+    """``--tasks 1000,10000``: whole numbers of stand-in cases from 1 to 1,000,000, or a
+    :class:`pipeline.errors.UserError` (one line, before any work)."""
+    from ..errors import UserError
+
+    try:
+        counts = tuple(int(x) for x in text.split(","))
+    except ValueError:
+        counts = ()
+    if not counts or any(not 1 <= n <= 1_000_000 for n in counts):
+        raise UserError(f"--tasks {text!r}: expected numbers of cases separated by commas, each from 1 to "
+                        "1000000 (e.g. 1000,10000)")
+    return counts
+
+
 def add_arguments(parser):
     parser.add_argument("--json", action="store_true", help="print the figures as one JSON object")
     parser.add_argument("--quick", action="store_true", help="skip the sweep parallel-efficiency run")
     parser.add_argument("--balls", default=None, metavar="Z,Z,...",
                         help="only the cost per ball-step of the study bearing scaled to these ball counts "
                              "(e.g. 51,102,204), over 0.03-0.1 s of the short cycle")
+    parser.add_argument("--tasks", default=None, metavar="N,N,...",
+                        help="only the parent's CPU per case on a 2-process local dask cluster, dask's "
+                             "scheduler included, for N stand-in cases that compute nothing (e.g. 1000,10000)")
 
 
 def run(args):
@@ -50,11 +68,20 @@ def run(args):
     from ..bench import run_all
 
     balls = _ball_counts(args.balls) if args.balls is not None else None
-    figures = run_all(quick=args.quick, balls=balls)
+    tasks = _task_counts(args.tasks) if args.tasks is not None else None
+    figures = run_all(quick=args.quick, balls=balls, tasks=tasks)
     if args.json:
         print(json.dumps(figures, indent=1))
         return 0
     f = figures
+    if tasks:
+        print(f"Parent of a sweep on a local dask cluster of {f['scheduler_workers']} processes, stand-in cases "
+              "that compute nothing (the scheduler runs in the parent)")
+        print(f"  {'cases':>8s} {'parent CPU/case [ms]':>21s} {'wall [s]':>9s} {'cluster start [s]':>18s}")
+        for n in tasks:
+            print(f"  {n:8d} {f[f'parent_cpu_per_task_ms_{n}']:21.3f} {f[f'scheduler_wall_s_{n}']:9.1f} "
+                  f"{f[f'cluster_start_s_{n}']:18.1f}")
+        return 0
     if balls:
         t0, t1 = f["ball_scaling_window_s"]
         print(f"Study bearing scaled to Z balls (same spacing, same load a ball), short cycle {t0:g}-{t1:g} s, "

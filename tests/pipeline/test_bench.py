@@ -136,3 +136,20 @@ def test_bench_balls_refuses_a_bad_list_in_one_line(text, capsys):
     assert main(["bench", "--balls", text]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--balls" in err and repr(text) in err
+
+
+@pytest.mark.parametrize("text", ["1000,x", "0", "", "2000000", "10,,20"])
+def test_bench_tasks_refuses_a_bad_list_in_one_line(text, capsys):
+    assert main(["bench", "--tasks", text]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--tasks" in err and repr(text) in err
+
+
+def test_scheduler_cost_runs_every_stand_in_case_through_the_sweep_s_cluster():
+    """Six stand-in cases on the sweep's own local cluster (bound to 127.0.0.1 by
+    pipeline.run.cluster.client): each submitted case comes back (the function raises
+    otherwise), and the figures are those of a CPU time over the cases (no timing asserted)."""
+    f = bench.scheduler_cost((6,), workers=1)
+    assert f["scheduler_workers"] == 1
+    assert f["parent_cpu_per_task_ms_6"] > 0.0 and f["scheduler_wall_s_6"] > 0.0
+    assert f["cluster_start_s_6"] > 0.0
