@@ -93,10 +93,17 @@ def strip_encoding(ds: xr.Dataset) -> xr.Dataset:
 def flag_names(coord: xr.DataArray) -> list:
     """The name of each value of a CF flag coordinate (its ``flag_meanings`` by its
     ``flag_values``); a coordinate without flags: its values as strings."""
-    meanings = str(coord.attrs.get("flag_meanings", "")).split()
-    values = np.atleast_1d(np.asarray(coord.values))
-    if not meanings or values.dtype.kind not in "iu":
-        return [str(v) for v in values]
+    return [flag_name(coord, v) for v in np.atleast_1d(np.asarray(coord.values))]
+
+
+def flag_name(coord, value, default=None) -> str:
+    """The name one value of a CF flag coordinate stands for (its ``flag_meanings`` by its
+    ``flag_values``, which default to 0, 1, …); ``default`` (or the value as a string)
+    where ``coord`` is None, has no flags or lacks the value."""
+    fallback = str(value) if default is None else default
+    meanings = str(coord.attrs.get("flag_meanings", "")).split() if coord is not None else []
+    if not meanings or np.asarray(value).dtype.kind not in "iu":
+        return fallback
     flags = [int(v) for v in np.atleast_1d(coord.attrs.get("flag_values", np.arange(len(meanings))))]
-    return [meanings[flags.index(int(v))] if int(v) in flags and flags.index(int(v)) < len(meanings) else str(v)
-            for v in values]
+    v = int(value)
+    return meanings[flags.index(v)] if v in flags and flags.index(v) < len(meanings) else fallback

@@ -16,6 +16,7 @@ from rvcore.profile import PHASES
 
 from ..analysis import DISPLACEMENT_COORD, REALIZATION
 from ..errors import ConfigError
+from ..io.netcdf import flag_name
 from ..schema import StoredConfiguration, stored_configuration
 from .render import fmt_number
 
@@ -263,11 +264,9 @@ def sensors(ds) -> list:
         return []
     c = ds[SENSOR]
     values = [int(v) for v in np.asarray(c.values).ravel()]
-    meanings = str(c.attrs.get("flag_meanings", "")).split()
-    flags = [int(v) for v in np.atleast_1d(c.attrs.get("flag_values", values))]
     out = []
     for k, v in enumerate(values):
-        name = meanings[flags.index(v)] if v in flags and flags.index(v) < len(meanings) else f"{SENSOR}_{v}"
+        name = flag_name(c, np.int64(v), f"{SENSOR}_{v}")
 
         def vec(prefix):
             return tuple(float(ds[f"{prefix}_{a}"].values[k]) if f"{prefix}_{a}" in ds.coords else math.nan

@@ -12,6 +12,7 @@ import numpy as np
 
 from rvcore.recording.spectra import KINEMATIC_NAMES
 
+from ..io.netcdf import flag_name
 from .context import SENSOR, Context, extra_dims
 from .figures import new_figure, save_figure
 from .render import Heading, Image, Para, Table, fmt_speed, fmt_sci, fmt_number, fmt_kn
@@ -27,10 +28,7 @@ _MARKED = {"shaft": "f_i", "cage": "f_c", "outer_ball_pass": "Z·f_c", "inner_ba
 
 def class_name(ctx: Context, value) -> str:
     """The tolerance class a coordinate value stands for (the flag meaning of a category)."""
-    c = ctx.metrics[CLASS_AXIS] if CLASS_AXIS in ctx.metrics.coords else None
-    meanings = str(c.attrs.get("flag_meanings", "")).split() if c is not None else []
-    flags = list(np.atleast_1d(c.attrs.get("flag_values", []))) if c is not None else []
-    return meanings[flags.index(value)] if value in flags and len(meanings) == len(flags) else str(value)
+    return flag_name(ctx.metrics[CLASS_AXIS] if CLASS_AXIS in ctx.metrics.coords else None, value)
 
 
 def ordered_classes(ctx: Context, values) -> list:

@@ -139,3 +139,23 @@ def test_real_smoke_sweep_end_to_end_is_cf(suite, smoke_run, capsys):
     # rerunning finds every case done
     code = main(["sweep", str(smoke), "--out", str(out.parent), "--serial", "--no-progress"])
     assert code == 0 and "9 reused" in capsys.readouterr().out
+
+
+def test_a_flag_coordinate_names_each_value_by_its_flag_meanings():
+    """CF flags: ``flag_meanings`` names ``flag_values`` in order (CF-1.8 §3.5); a value the
+    coordinate lacks, a coordinate without flags and no coordinate give the fallback."""
+    import xarray as xr
+
+    from pipeline.io.netcdf import flag_name, flag_names
+
+    c = xr.DataArray(np.array([3, 7], dtype=np.int8), dims="k",
+                     attrs={"flag_values": np.array([7, 3], dtype=np.int8), "flag_meanings": "normal 5"})
+    assert flag_names(c) == ["5", "normal"]
+    assert flag_name(c, np.int8(7)) == "normal" and flag_name(c, 3) == "5"
+    assert flag_name(c, 4) == "4" and flag_name(c, 4, "sensor_4") == "sensor_4"
+    plain = xr.DataArray(np.array([0, 1]), dims="k")
+    assert flag_names(plain) == ["0", "1"] and flag_name(plain, 1, "x") == "x"
+    assert flag_name(None, 2) == "2"
+    # flag_values default to 0, 1, ... in the order of the meanings
+    d = xr.DataArray(np.array([1, 0], dtype=np.int8), dims="k", attrs={"flag_meanings": "a b"})
+    assert flag_names(d) == ["b", "a"]
