@@ -374,15 +374,16 @@ def _lock_is_free(folder: Path) -> bool:
 @pytest.mark.parametrize("signame, to_group", [("SIGINT", True), ("SIGTERM", False)])
 def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signame, to_group):
     """``rvsweep sweep`` on a 2-process local cluster, whose workers write their own case
-    files, stopped while a worker is inside the write of the last case submitted: its data
-    are in the temporary file, not yet fsync'ed nor renamed (the write pauses there,
-    RVSWEEP_TEST_PAUSE_IN_WRITE), and at least one case file is finished. Ctrl-C reaches
-    the whole process group (a terminal's), SIGTERM only the sweep (a batch system's kill).
+    files, stopped while a worker is inside the write of the first case submitted: its
+    data are in the temporary file, not yet fsync'ed nor renamed (the write pauses there,
+    RVSWEEP_TEST_PAUSE_IN_WRITE), once the other worker has finished the second case (it
+    then computes the third). Ctrl-C reaches the whole process group (a terminal's),
+    SIGTERM only the sweep (a batch system's kill).
 
     Within 10 s: exit 128 + signal, one line on stderr, no traceback, the lock free, no
     temporary file. The case being written is not kept. How many are kept is read from
-    the disk, not assumed: the other worker may have finished its case before the signal
-    was handled. The line's count is the number of case files; each is one that existed
+    the disk, not assumed: the other worker may have finished (and be writing) the third
+    case before the signal was handled. The line's count is the number of case files; each is one that existed
     before the signal or appeared since, complete (it opens, names its case, every
     variable reads), recorded ok in the status with its SHA-256, and reused unchanged by
     the rerun, which computes only the others."""
@@ -393,13 +394,12 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
     import time
 
     from pipeline.io.files import PAUSE_ENV, PAUSED_ENV
-    from pipeline.run.runner import _read_fully
     from pipeline.schema import read_sweep_file
 
     sig = getattr(signal, signame)
     path = make_sweep(tmp_path, SIGNAL_SWEEP)
     ids = [c.case_id for c in read_sweep_file(path).cases]
-    paused = f"{ids[-1]}.nc"          # submitted last: it starts once a worker is free
+    paused = f"{ids[0]}.nc"           # submitted first, beside the second
     out = tmp_path / "s"
     cases = out / "cases"
     told = tmp_path / "paused.txt"     # the hook writes the temporary file's path there
@@ -450,7 +450,7 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
         assert status[name[:-3]]["sha256"] == hashlib.sha256(data).hexdigest()
         with xr.open_dataset(cases / name) as ds:
             assert ds.attrs["configuration_hash"] == name[:-3]
-        _read_fully(cases / name)
+            ds.load()                                      # every variable reads
     with xr.open_dataset(out / "sweep.nc") as ds:
         assert int((ds["case_status"].values == 0).sum()) == len(kept)
 
