@@ -13,7 +13,6 @@ import contextlib
 import datetime
 import errno
 import hashlib
-import itertools
 import os
 import re
 import tempfile
@@ -27,11 +26,14 @@ from .netcdf import encoding_for
 
 TEMP_SUFFIX = ".tmp"
 
-#: Test hook: ``N:SECONDS`` makes the N-th :func:`write_atomic` of this process sleep for
-#: SECONDS once its temporary file exists, so that a test can send a signal inside a
-#: case write (tests/pipeline/test_trust.py). Unset in normal use.
+#: Test hook: ``NAME:SECONDS`` makes :func:`write_atomic` of the file named NAME sleep for
+#: SECONDS once its temporary file holds the data (before the fsync and the rename), in
+#: whichever process writes it (a worker or the sweep's own), so that a test can send a
+#: signal inside that case's write (tests/pipeline/test_trust.py). The pause starts by
+#: writing the temporary file's path into the file named by :data:`PAUSED_ENV`. Unset in
+#: normal use.
 PAUSE_ENV = "RVSWEEP_TEST_PAUSE_IN_WRITE"
-_writes = itertools.count(1)
+PAUSED_ENV = "RVSWEEP_TEST_PAUSED_FILE"
 
 #: errno values that mean the place, not the data, is at fault: the sweep stops.
 _PLACE_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EPERM, errno.EIO)
@@ -88,12 +90,14 @@ def file_digest(path) -> str:
     return h.hexdigest()
 
 
-def _pause_for_tests() -> None:
+def _pause_for_tests(path: Path, tmp: Path) -> None:
     spec = os.environ.get(PAUSE_ENV)
     if not spec:
         return
-    nth, _, seconds = spec.partition(":")
-    if next(_writes) == int(nth):
+    name, _, seconds = spec.rpartition(":")
+    if path.name == name:
+        if os.environ.get(PAUSED_ENV):
+            Path(os.environ[PAUSED_ENV]).write_text(f"{tmp}\n")
         time.sleep(float(seconds or 60))
 
 
@@ -182,7 +186,6 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
 
     path = Path(path)
     with netcdf_atomic(path) as tmp:
-        _pause_for_tests()
         # The data are numpy arrays in this process. While a distributed Client is
         # active, xarray would take a scheduler-wide write lock (a round trip to the
         # scheduler, and where a signal could leave the write hung); the synchronous
@@ -190,6 +193,7 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
         with dask.config.set(scheduler="synchronous"):
             ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
                          encoding=encoding_for(ds) if encoding is None else encoding)
+        _pause_for_tests(path, tmp)
     return path
 
 
@@ -235,7 +239,7 @@ def remove_stale_temporaries(folder) -> list:
         if not m:
             continue
         pid = int(m.group(1))
-        if pid != os.getpid() and _alive(pid):
+        if pid != os.getpid() and process_alive(pid):
             continue
         try:
             tmp.unlink()
@@ -245,14 +249,25 @@ def remove_stale_temporaries(folder) -> list:
     return removed
 
 
-def _alive(pid: int) -> bool:
+def process_alive(pid: int) -> bool:
+    """Whether process ``pid`` of this host can still run (write a file).
+
+    A process that has exited but not yet been reaped by its parent (a zombie: a worker
+    just killed, whose parent's watcher has not yet joined it) still answers
+    ``kill(pid, 0)``; on Linux its state in ``/proc/<pid>/stat`` tells it apart, and it
+    counts as gone."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
     except PermissionError:
         return True
-    return True
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:   # it ended meanwhile; or no /proc (not Linux): take it as running
+        return not Path("/proc/self").is_dir()
+    # "pid (comm) S ...": the state follows the last ')' (comm may hold one)
+    return stat[stat.rfind(")") + 2:][:1] not in ("Z", "X")
 
 
 def write_bytes_atomic(path, data: bytes) -> Path:

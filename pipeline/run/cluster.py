@@ -197,19 +197,34 @@ def client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
             cluster.close(timeout=5 if stopped else None)
 
 
+#: How long a stopped sweep waits for its killed workers to be gone [s] (SIGKILL takes
+#: milliseconds; a bound, not a delay).
+KILL_WAIT = 2.0
+
+
 def _kill_workers(cluster) -> None:
-    """Kill the worker processes of a local cluster at once.
+    """Kill the worker processes of a local cluster at once, and wait until they are gone.
 
     A closing cluster asks each worker to finish and waits for it (seconds, a case
     long); a stopped sweep abandons those cases anyway, so their processes are killed
-    and the close that follows has nothing to wait for."""
+    and the close that follows has nothing to wait for. Once they are gone (at most
+    :data:`KILL_WAIT`), no case file can appear or change any more: the sweep then counts
+    what is on disk and removes its workers' temporary files
+    (:func:`pipeline.io.files.remove_stale_temporaries`)."""
     import signal
 
+    from ..io.files import process_alive
+
+    killed = []
     for nanny in list(getattr(cluster, "workers", {}).values()):
         with contextlib.suppress(Exception):
             pid = nanny.process.process.pid
             if pid:
                 os.kill(pid, signal.SIGKILL)
+                killed.append(pid)
+    deadline = time.monotonic() + KILL_WAIT
+    while any(process_alive(pid) for pid in killed) and time.monotonic() < deadline:
+        time.sleep(0.01)
 
 
 def on_cluster(client, todo, case_fn, allowed_failures, **write):

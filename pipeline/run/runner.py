@@ -327,6 +327,30 @@ def _recorded_digests(out: Path) -> dict:
     return {cid: str(e.get("sha256", "")) for cid, e in status.items() if e.get("state") == "ok"}
 
 
+def _keep_what_finished(cases_dir: Path, states: dict, *, check: bool) -> None:
+    """After a stop, once every writer of this run has ended (this process; the local
+    cluster's workers, killed and waited for by :func:`pipeline.run.cluster.client`):
+    remove their temporary files, and record as ok each case whose file a worker finished
+    before this process took its outcome.
+
+    Such a file was renamed into place whole (fsync'ed first), but no digest was recorded
+    for it: it is checked as a resume checks a file without one (:func:`_reusable`: it
+    names its case and every variable reads), then recorded with its SHA-256, so that the
+    stop's line, ``status.json``, ``sweep.nc`` and the next run agree on what was kept.
+    With ``check`` False (``resume=False``: files of an earlier run may still sit under
+    the names of cases this run had not reached) nothing is recorded; the next run checks
+    those files before it reuses any.
+    """
+    remove_stale_temporaries(cases_dir)
+    if not check:
+        return
+    for st in states.values():
+        if st.state == "not_run":
+            digest = _reusable(cases_dir / f"{st.case_id}.nc", st.case_id)
+            if digest:
+                st.state, st.sha256, st.computed = "ok", digest, True
+
+
 def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, serial, case_fn,
                progress, resume, allowed_failures, combine_at_end) -> SweepResult:
     """:func:`run_sweep` once its folder is checked and locked."""
@@ -421,6 +445,8 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
                     outcomes.close()
     except KeyboardInterrupt:
         interrupted = True
+        if serial or not (scheduler or scheduler_file):   # this run's writers are gone
+            _keep_what_finished(cases_dir, states, check=resume)
     finally:
         if bar is not None:
             bar.close()

@@ -373,22 +373,37 @@ def _lock_is_free(folder: Path) -> bool:
 @pytest.mark.slow
 @pytest.mark.parametrize("signame, to_group", [("SIGINT", True), ("SIGTERM", False)])
 def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signame, to_group):
-    """``rvsweep sweep`` on a 2-process local cluster, stopped while it writes its second
-    case file (the write pauses there: RVSWEEP_TEST_PAUSE_IN_WRITE): Ctrl-C reaches the
-    whole process group (a terminal's), SIGTERM only the sweep (a batch system's kill).
-    Within 10 s: exit 128 + signal, one line on stderr, no traceback, no temporary file,
-    the lock free, the first case kept; the rerun computes only the two others."""
+    """``rvsweep sweep`` on a 2-process local cluster, whose workers write their own case
+    files, stopped while a worker is inside the write of the first case submitted: its
+    data are in the temporary file, not yet fsync'ed nor renamed (the write pauses there,
+    RVSWEEP_TEST_PAUSE_IN_WRITE), once the other worker has finished the second case (it
+    then computes the third). Ctrl-C reaches the whole process group (a terminal's),
+    SIGTERM only the sweep (a batch system's kill).
+
+    Within 10 s: exit 128 + signal, one line on stderr, no traceback, the lock free, no
+    temporary file. The case being written is not kept. How many are kept is read from
+    the disk, not assumed: the other worker may have finished (and be writing) the third
+    case before the signal was handled. The line's count is the number of case files; each is one that existed
+    before the signal or appeared since, complete (it opens, names its case, every
+    variable reads), recorded ok in the status with its SHA-256, and reused unchanged by
+    the rerun, which computes only the others."""
+    import re
     import signal
     import subprocess
     import sys
     import time
 
-    from pipeline.io.files import PAUSE_ENV
+    from pipeline.io.files import PAUSE_ENV, PAUSED_ENV
+    from pipeline.schema import read_sweep_file
 
     sig = getattr(signal, signame)
     path = make_sweep(tmp_path, SIGNAL_SWEEP)
+    ids = [c.case_id for c in read_sweep_file(path).cases]
+    paused = f"{ids[0]}.nc"           # submitted first, beside the second
     out = tmp_path / "s"
-    env = dict(os.environ, **{PAUSE_ENV: "2:120"})
+    cases = out / "cases"
+    told = tmp_path / "paused.txt"     # the hook writes the temporary file's path there
+    env = dict(os.environ, **{PAUSE_ENV: f"{paused}:120", PAUSED_ENV: str(told)})
     env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).resolve().parents[2])]
                                         + [p for p in [env.get("PYTHONPATH")] if p])
     proc = subprocess.Popen([sys.executable, "-m", "pipeline.cli", "sweep", str(path), "--out", str(tmp_path),
@@ -396,11 +411,11 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
     try:
         deadline = time.monotonic() + 480
-        # the first case file is written and the second one's temporary file exists
-        while not (list((out / "cases").glob("*.nc")) and list((out / "cases").glob(".*.tmp"))):
+        # the paused write holds its data and a case file is finished
+        while not (told.is_file() and told.read_text().endswith("\n") and list(cases.glob("*.nc"))):
             assert proc.poll() is None and time.monotonic() < deadline, proc.communicate()
             time.sleep(0.05)
-        kept = {p.name: p.read_bytes() for p in (out / "cases").glob("*.nc")}
+        before = {p.name: p.read_bytes() for p in cases.glob("*.nc")}
         t0 = time.monotonic()
         if to_group:
             os.killpg(proc.pid, sig)
@@ -412,16 +427,110 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
+    tmp = Path(told.read_text().strip())
+    assert tmp.parent == cases and tmp.name.startswith(f".{paused}.")
+    writer = int(tmp.name[len(paused) + 2:].split(".")[0])
+    assert writer != proc.pid          # a worker process was writing it, not the sweep's own
     assert took < 10.0, took
     assert proc.returncode == 128 + sig, (proc.returncode, stderr)
     assert stderr.count("\n") == 1 and "Traceback" not in stderr, stderr
-    assert f"stopped by {signame}: 1 of 3 cases finished and kept" in stderr, stderr
+    said = re.search(rf"stopped by {signame}: (\d+) of 3 cases finished and kept in (.+); run the same "
+                     "command again", stderr)
+    assert said and Path(said.group(2)) == out, stderr
     assert _lock_is_free(out)
-    assert not list((out / "cases").glob(".*.tmp"))
-    assert {p.name: p.read_bytes() for p in (out / "cases").glob("*.nc")} == kept
+    assert not list(cases.glob(".*.tmp")) and not tmp.exists()
+
+    kept = {p.name: p.read_bytes() for p in cases.glob("*.nc")}
+    assert paused not in kept                              # the write it stopped is dropped
+    assert all(kept.get(name) == data for name, data in before.items())   # nothing finished lost
+    assert int(said.group(1)) == len(kept) >= 1
+    status = read_status(out)
+    assert {cid for cid, e in status.items() if e["state"] == "ok"} == {n[:-3] for n in kept}
+    for name, data in kept.items():
+        assert status[name[:-3]]["sha256"] == hashlib.sha256(data).hexdigest()
+        with xr.open_dataset(cases / name) as ds:
+            assert ds.attrs["configuration_hash"] == name[:-3]
+            ds.load()                                      # every variable reads
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert int((ds["case_status"].values == 0).sum()) == len(kept)
+
     again = run_sweep(path, out, serial=True, progress=False)
-    assert again.ok and len(again.computed) == 2 and again.reused == [p[:-3] for p in kept]
-    assert {p.name: p.read_bytes() for p in (out / "cases").glob("*.nc") if p.name in kept} == kept
+    assert again.ok and sorted(again.reused) == sorted(n[:-3] for n in kept)
+    assert sorted(again.computed) == sorted(set(ids) - {n[:-3] for n in kept})
+    assert {p.name: p.read_bytes() for p in cases.glob("*.nc") if p.name in kept} == kept
+
+
+def test_a_stop_keeps_a_case_file_its_writer_finished_unrecorded_and_removes_dead_writers_temporaries(
+        tmp_path, monkeypatch):
+    """What a stopped sweep finds when its writers are gone (serial here; on a local cluster
+    the killed workers): case 0 recorded, case 1's file renamed into place by its writer
+    before the sweep took that outcome, and a dead writer's temporary file of case 2. The
+    stop keeps case 1 as a resume would (recorded ok with the SHA-256 of its bytes), removes
+    the temporary file, and the rerun computes only cases 2 and 3."""
+    import subprocess
+    import sys
+
+    from pipeline.run import cluster
+    from pipeline.run.cases import compute_and_write
+
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+
+    def stopped(todo, case_fn, **write):
+        yield todo[0], compute_and_write(todo[0], case_fn, **write)
+        compute_and_write(todo[1], case_fn, **write)        # its outcome is never taken
+        half = Path(write["cases_dir"]) / f".{todo[2].case_id}.nc.{dead.pid}.k1l2m3.tmp"
+        half.write_bytes(b"the start of a case file")
+        raise KeyboardInterrupt
+
+    path = make_sweep(tmp_path, GRID)
+    out = tmp_path / "s"
+    with monkeypatch.context() as m:
+        m.setattr(cluster, "serial", stopped)
+        with pytest.raises(KeyboardInterrupt):
+            run_sweep(path, out, serial=True, case_fn=synthetic_case, progress=False)
+    ids = [p.stem for p in case_files(out)]
+    assert not list((out / "cases").glob(".*.tmp"))
+    status = read_status(out)
+    assert {cid for cid, e in status.items() if e["state"] == "ok"} == set(ids) and len(ids) == 2
+    for cid in ids:
+        assert status[cid]["sha256"] == _sha(out / "cases" / f"{cid}.nc")
+    with xr.open_dataset(out / "sweep.nc") as ds:
+        assert int((ds["case_status"].values == 0).sum()) == 2
+    kept = {cid: _sha(out / "cases" / f"{cid}.nc") for cid in ids}
+    again = Counting()
+    result = run_sweep(path, out, serial=True, case_fn=again, progress=False)
+    assert result.ok and sorted(result.reused) == sorted(ids) and len(again.calls) == 2
+    assert {cid: _sha(out / "cases" / f"{cid}.nc") for cid in ids} == kept
+
+
+def test_a_writer_that_has_exited_but_is_not_yet_reaped_counts_as_gone(tmp_path):
+    """A killed worker is a zombie until its parent joins it: it answers kill(pid, 0) but
+    writes nothing more, so its temporary file is stale (Linux: its /proc state is Z)."""
+    import subprocess
+    import sys
+    import time
+
+    from pipeline.io.files import process_alive, remove_stale_temporaries
+
+    if not Path("/proc/self/stat").is_file():
+        pytest.skip("no /proc")
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    try:
+        state = Path(f"/proc/{child.pid}/stat")
+        for _ in range(1000):                       # until it has exited (10 s at most)
+            if state.read_text().rsplit(")", 1)[1].split()[0] == "Z":
+                break
+            time.sleep(0.01)
+        os.kill(child.pid, 0)                       # still there, unreaped
+        half = tmp_path / f".abc.nc.{child.pid}.x1y2.tmp"
+        half.write_bytes(b"half")
+        running = tmp_path / f".def.nc.{os.getppid()}.x1y2.tmp"
+        running.write_bytes(b"in progress")
+        assert not process_alive(child.pid) and process_alive(os.getppid())
+        assert remove_stale_temporaries(tmp_path) == [half] and running.exists()
+    finally:
+        child.wait()
 
 
 # --------------------------------------------------------------------------- item 4
