@@ -18,37 +18,31 @@ _CYCLE_ROWS = (
 )
 
 
-def _ball_counts(text: str) -> tuple:
-    """``--balls 51,102,204``: whole numbers from 12 (the scaled bore stays open) to the layout's limit, or a
-    :class:`pipeline.errors.UserError` (one line, before any work)."""
-    from rvcore.bearing.layout import MAX_ROW_BALLS
-
+def _counts(text: str, flag: str, what: str, lo: int, hi: int, example: str) -> tuple:
+    """``flag text``: whole numbers separated by commas, each from ``lo`` to ``hi``, or a
+    :class:`pipeline.errors.UserError` (one line naming the flag and the text, before any work)."""
     from ..errors import UserError
 
     try:
         counts = tuple(int(x) for x in text.split(","))
     except ValueError:
         counts = ()
-    if not counts or any(not 12 <= z <= MAX_ROW_BALLS for z in counts):
-        raise UserError(
-            f"--balls {text!r}: expected ball counts separated by commas, each from 12 to {MAX_ROW_BALLS} "
-            "(e.g. 51,102,204)")
+    if not counts or any(not lo <= n <= hi for n in counts):
+        raise UserError(f"{flag} {text!r}: expected {what} separated by commas, each from {lo} to {hi} "
+                        f"(e.g. {example})")
     return counts
+
+
+def _ball_counts(text: str) -> tuple:
+    """``--balls 51,102,204``: from 12 (the scaled bore stays open) to the layout's limit."""
+    from rvcore.bearing.layout import MAX_ROW_BALLS
+
+    return _counts(text, "--balls", "ball counts", 12, MAX_ROW_BALLS, "51,102,204")
 
 
 def _task_counts(text: str) -> tuple:
-    """``--tasks 1000,10000``: whole numbers of stand-in cases from 1 to 1,000,000, or a
-    :class:`pipeline.errors.UserError` (one line, before any work)."""
-    from ..errors import UserError
-
-    try:
-        counts = tuple(int(x) for x in text.split(","))
-    except ValueError:
-        counts = ()
-    if not counts or any(not 1 <= n <= 1_000_000 for n in counts):
-        raise UserError(f"--tasks {text!r}: expected numbers of cases separated by commas, each from 1 to "
-                        "1000000 (e.g. 1000,10000)")
-    return counts
+    """``--tasks 1000,10000``: numbers of stand-in cases from 1 to 1,000,000."""
+    return _counts(text, "--tasks", "numbers of cases", 1, 1_000_000, "1000,10000")
 
 
 def add_arguments(parser):
