@@ -63,7 +63,7 @@ from .render import Bullets, Heading, Para, Warning_, render_html, render_markdo
 from .sections import section_cage_slip, section_cases, section_sensors, section_window_edges
 from .sections_fits import section_comparison, section_plane, study_comparison
 from .sections_metrics import section_metrics, section_time_histories
-from .select import base_states
+from .select import base_states, missing_cases
 from .statistics import section_statistics
 from .stiffness import section_stiffness
 from .lubrication import section_lubrication
@@ -250,7 +250,7 @@ def build_report(directory, reference=None, targets=None, dry=None) -> ReportFil
         title = f"Sweep report: {directory.name}"
         md = write_text_atomic(ctx.report_dir / "report.md", render_markdown(blocks))
         ht = write_text_atomic(ctx.report_dir / "report.html", render_html(blocks, title))
-        missing = int((base_states(ctx) != "ok").sum())
+        missing = missing_cases(ctx)
     finally:
         ctx.sweep.close()
     return ReportFiles(markdown=md, html=ht, figures=ctx.figures, metrics=directory / "metrics.nc",

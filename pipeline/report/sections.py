@@ -12,7 +12,8 @@ from .context import (SENSOR, Context, on_base_grid, ensemble_text, extra_dims, 
                       realizations, sensors, status_lookup)
 from .figures import CAGE_SLIPS, figure_cage_slip
 from .render import CENTRE_LABEL, PHASE_TITLE, Heading, Image, Para, Table, fmt_speed, fmt_number, fmt_kn
-from .select import axis_specs, base_states, extreme_points, fmt_mean_se, metric_stat
+from .select import (axis_specs, base_states, extreme_points, fmt_mean_se, metric_stat, missing_cases,
+                     unlisted_points)
 
 #: Largest number of grid points listed by name in the window-edge table.
 _MAX_LISTED = 8
@@ -21,11 +22,16 @@ _MAX_LISTED = 8
 def section_cases(ctx: Context):
     st = base_states(ctx)
     seeds = realizations(ctx.metrics) if REALIZATION in st.dims else None
-    total = st.size
+    unlisted = unlisted_points(ctx)
     n_ok = int((st == "ok").sum())
+    total = n_ok + missing_cases(ctx)
     blocks = [Heading(2, "Cases")]
     speeds = ", ".join(fmt_number(v, 4) for v in ctx.metrics["speed"].values)
     loads = ", ".join(fmt_number(v / 1e3, 4) for v in ctx.metrics["radial_load"].values)
+    if unlisted:
+        blocks.append(Para(f"The sweep lists its cases (`[[cases]]`): {len(unlisted)} of the grid's "
+                           f"{st.sizes['speed'] * st.sizes['radial_load']} speed and load points are not "
+                           "among them and are left out below (empty in sweep.nc, skipped by the fits)."))
     if seeds is None:
         blocks.append(Para(f"Grid: speed {speeds} °/s × radial load {loads} kN: {total} cases, "
                            f"{n_ok} finished ok, {total - n_ok} failed or missing."))
@@ -43,7 +49,7 @@ def section_cases(ctx: Context):
             for ri, r in enumerate(seeds if seeds is not None else [None]):
                 at = st.sel(speed=s, radial_load=l)
                 state = (at.isel({REALIZATION: ri}) if r is not None else at).item()
-                if state == "ok":
+                if state == "ok" or (float(s), float(l)) in unlisted:
                     continue
                 key = (float(s), float(l), None if r is None else float(r))
                 rec = matched.get(key) or matched.get(key[:2] + (None,))

@@ -5,11 +5,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import xarray as xr
 
 from rvcore.profile import PHASES
 
 from ..analysis import REALIZATION, case_states, fit_statistic, nearest
-from .context import ROW, SENSOR, Context, on_base_grid, ensemble_of
+from .context import ROW, SENSOR, Context, on_base_grid, ensemble_of, status_lookup
 from .render import fmt_speed, fmt_number, fmt_kn
 
 
@@ -40,6 +41,31 @@ def base_states(ctx: Context):
     extra = [d for d in st.dims if d not in ("speed", "radial_load", REALIZATION)]
     st = st.isel({d: 0 for d in extra}) if extra else st
     return st.transpose("speed", "radial_load", *[d for d in st.dims if d == REALIZATION])
+
+
+def unlisted_points(ctx: Context) -> set:
+    """The ``(speed °/s, load N)`` grid points that no entry of status.json names: a sweep of
+    listed cases (``[[cases]]``) combined onto the full grid of their values leaves them
+    empty, asked for by nobody. Empty when status.json names no point of the grid."""
+    matched, _ = status_lookup(ctx)
+    listed = {(s, l) for (s, l, _) in matched}
+    if not listed:
+        return set()
+    return {(float(s), float(l)) for s in ctx.metrics["speed"].values for l in ctx.metrics["radial_load"].values
+            if (float(s), float(l)) not in listed}
+
+
+def missing_cases(ctx: Context) -> int:
+    """Cases of :func:`base_states` that the sweep asked for and that did not finish ok."""
+    st = base_states(ctx)
+    unlisted = unlisted_points(ctx)
+    bad = st != "ok"
+    if unlisted:
+        asked = xr.DataArray([[(float(s), float(l)) not in unlisted for l in st["radial_load"].values]
+                              for s in st["speed"].values], dims=("speed", "radial_load"),
+                             coords={"speed": st["speed"], "radial_load": st["radial_load"]})
+        bad = bad & asked
+    return int(bad.sum())
 
 
 def extreme_points(ctx: Context, realization=None):

@@ -342,3 +342,44 @@ def test_the_shipped_study_statistics_sweep_is_both_classes_on_the_studys_two_li
     assert points == {(w, f, cls) for w, f in speed_line | load_line for cls in ("5", "normal")}
     assert len(s.cases) == len(points) * n
     assert all(c.operating_point.axial_load == 10e3 for c in s.cases)
+
+
+def test_a_listed_case_sweep_reports_no_missing_case_for_the_points_it_did_not_ask_for(tmp_path):
+    """[[cases]] at (120 °/s, 20 kN) and (660 °/s, 30 kN) combine onto a 2 × 2 grid: the two
+    other points were asked for by nobody, so the report neither counts nor lists them as
+    missing; a listed case that fails still is."""
+    from pipeline.report import build_report
+    from tests.pipeline.test_sweep import synthetic_case
+
+    body = """
+[fixed]
+axial_load = "10 kN"
+
+[[cases]]
+speed = "120 deg/s"
+radial_load = "20 kN"
+
+[[cases]]
+speed = "660 deg/s"
+radial_load = "30 kN"
+"""
+    out = tmp_path / "out"
+    run_sweep(read_sweep_file(make_sweep(tmp_path, body)), out, serial=True, case_fn=synthetic_case, progress=False)
+    files = build_report(out)
+    cases = files.markdown.read_text().split("## Cases")[1].split("\n## ")[0]
+    assert files.missing == 0
+    assert "2 of the grid's 4 speed and load points are not among them" in cases
+    assert "2 cases, 2 finished ok, 0 failed or missing" in cases and "Missing or failed" not in cases
+
+    def fails_at_660(bearing, profile, op, settings, sensors=()):
+        if op.speed > 10:
+            raise RuntimeError("made to fail (test)")
+        return synthetic_case(bearing, profile, op, settings, sensors)
+
+    out2 = tmp_path / "out2"
+    run_sweep(read_sweep_file(make_sweep(tmp_path, body)), out2, serial=True, case_fn=fails_at_660,
+              progress=False)
+    files = build_report(out2)
+    cases = files.markdown.read_text().split("## Cases")[1].split("\n## ")[0]
+    assert files.missing == 1 and "2 cases, 1 finished ok, 1 failed or missing" in cases
+    assert "made to fail (test)" in cases
