@@ -260,10 +260,6 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
     inner = arcs[a, A_RING] == 0.0
     k_hertz = arcs[a, A_K]
     uses_film = friction_uses_film(kind)
-    p1, hc1, lam1, x_b = 0.0, 0.0, 0.0, 0.0
-    if uses_film:
-        p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
-        x_b = boundary_film_exponent(lam1, law)
     p_none, h_none, lam_none = NO_FILM
     vg = G_VG_I if inner else G_VG_O    # the groove's modal velocity (ring_surfaces)
     for j in range(nz):
@@ -298,8 +294,8 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         q = normal_force(delta, dd, k_hertz, c_race, inv_dmax)
         p_f, h_f, lam_f = p_none, h_none, lam_none
         if uses_film:
-            # the entrainment speed only, kept in C_P for the film's own pass below, so that
-            # this loop stays free of exp and log (and vectorised)
+            # the entrainment speed only, kept in C_P for the film's own pass (arc_film), so
+            # that this loop stays free of exp and log (and vectorised)
             p_f = entrainment_speed(px, py, vx, vy, wx, wy, wz, ax, ay, az, buf[G_INV_RHO_B * W + j], ux, uy, uz,
                                     un, nx, ny, nz_)
             fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
@@ -328,19 +324,43 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
         out[C_H * W + j] = h_f
         out[C_LAM * W + j] = lam_f
         out[C_DD * W + j] = dd
-    if uses_film:
-        _film_pass(out, nz, h, p1, hc1, lam1, x_b, law, kind)
+
+
+@kernel
+def arc_film(out, nz, arcs, a, h, law, held, fresh):
+    """The film and the friction of every loaded contact of arc ``a`` (:func:`_film_pass`),
+    after :func:`arc_contacts` for a law that needs the film
+    (:func:`rvcore.contact.laws.friction_uses_film`); nothing for one that does not.
+
+    ``held[j]`` keeps the row's ball j's film at this arc through a step's stages
+    (:func:`_film_pass`), ``fresh`` the step's first evaluation, which computes and keeps it.
+    """
+    kind = friction_kind(law)
+    k0, k1 = FRICTION_KINDS
+    if kind == k0 and friction_uses_film(k0):
+        _film_pass(out, nz, arcs, a, h, law, k0, held, fresh)
+    elif kind == k1 and friction_uses_film(k1):
+        _film_pass(out, nz, arcs, a, h, law, k1, held, fresh)
 
 
 @kernel(inline=True)
-def _film_pass(out, nz, h, p1, hc1, lam1, x_b, law, kind):
-    """The film (:func:`rvcore.contact.laws.contact_film_or_boundary`: none where the contact
-    is certainly boundary lubricated, λ's exponent below ``x_b``) and the law's force of every
-    loaded contact of an arc, after :func:`_arc_loop`'s geometry pass, which left each
-    contact's entrainment speed in ``C_P``. A loop of its own, scalar (its exp, log and
-    expm1; no vector maths library here), so that the geometry's loop stays vectorised; an
-    open contact (q = 0) gets :data:`rvcore.contact.laws.NO_FILM` and no force, its values
-    read by nobody (:func:`rvcore.dynamics.rhs.rhs` skips q ≤ 0)."""
+def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
+    """:func:`arc_film` for the law of kind ``kind``: the film
+    (:func:`rvcore.contact.laws.contact_film_or_boundary`: none where the contact is certainly
+    boundary lubricated, λ's exponent below the arc's ``x_b``) and the law's force of every
+    loaded contact, after :func:`_arc_loop`'s geometry pass, which left each contact's
+    entrainment speed in ``C_P``. A loop of its own, scalar (its exp, log and expm1; no
+    vector maths library here), so that the geometry's loop stays vectorised; an open
+    contact (q = 0) gets :data:`rvcore.contact.laws.NO_FILM` and no force, its values read by
+    nobody (:func:`rvcore.dynamics.rhs.rhs` skips q ≤ 0).
+
+    The film is held through a step's stages (docs/model.md §4.1, "The film through a
+    step"): the step's first evaluation (``fresh``) computes each loaded contact's
+    ``(p, h_c, λ)`` and keeps it in ``held[j]`` (``p = 0``: none kept, the contact open
+    then); a stage takes the kept film, or computes its own where none was kept (a contact
+    that closed within the step)."""
+    p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
+    x_b = boundary_film_exponent(lam1, law)
     p_none, h_none, lam_none = NO_FILM
     for j in range(nz):
         q = out[C_Q * W + j]
@@ -348,10 +368,17 @@ def _film_pass(out, nz, h, p1, hc1, lam1, x_b, law, kind):
         fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         if q > 0.0:
             nx, ny, nz_ = out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j]
-            p_f, h_f, lam_f = contact_film_or_boundary(q, out[C_P * W + j], p1, hc1, lam1, x_b)
+            if fresh or held[j, 0] == 0.0:
+                p_f, h_f, lam_f = contact_film_or_boundary(q, out[C_P * W + j], p1, hc1, lam1, x_b)
+            else:
+                p_f, h_f, lam_f = held[j, 0], held[j, 1], held[j, 2]
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],
                                                            out[C_UZ * W + j], nx, ny, nz_, h * nx, h * ny, h * nz_,
                                                            p_f, h_f, lam_f, law, kind)
+        if fresh:
+            held[j, 0] = p_f if q > 0.0 else 0.0
+            held[j, 1] = h_f
+            held[j, 2] = lam_f
         out[C_FX * W + j] = fx
         out[C_FY * W + j] = fy
         out[C_FZ * W + j] = fz

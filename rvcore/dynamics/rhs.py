@@ -48,7 +48,7 @@ from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from .tangent import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
                        groove_blocks, stiffness_blocks)
-from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, MAX_ROW_ARCS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_LUB_SIGMA, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
@@ -58,7 +58,7 @@ from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, ch
 from .races import (C_DD, C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
-                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, entrainment_speed, gather_balls,
+                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, arc_film, ball_geometry, entrainment_speed, gather_balls,
                     pocket_contacts, raceway_offsets, ring_surfaces, scratch)
 from .raceway import spin_of
 from .ring_modes import (F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, add_modal_force,
@@ -86,7 +86,10 @@ D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_cont
 # outer race forces on the ball (outward positive), pocket load, and the pocket's elastic
 # energy and its rate (0.4·Q·δ, Q·δ̇ of the Hertz part: rvcore.integrate.imex's impact check)
 B_QI, B_QO, B_FIR, B_FOR, B_QP, B_PV, B_PP = 0, 1, 2, 3, 4, 5, 6
-N_BDIAG = 7
+# then the ball's film at each of its row's arcs, held through a step's stages: (p, h_c, λ)
+# of arc slot s at B_FILM + 3·s (rvcore.dynamics.races._film_pass)
+B_FILM = 7
+N_BDIAG = B_FILM + 3 * MAX_ROW_ARCS
 #: What :func:`_rhs` computes besides dy/dt: the designer's diagnostics (MODE_FULL), only
 #: what the integrator needs (MODE_STAGE), or the diagnostics and the IMEX tangents
 #: (MODE_JAC). Floats, not booleans: numba compiles a function once per value of a
@@ -232,6 +235,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             arc_contacts(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, xi, yi, zi,
                          vxi, vyi, vzi, omx, omy, omz, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race,
                          inv_dmax, law)
+            s = B_FILM + 3 * (a - a0)
+            arc_film(buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, law, bdiag[p0:p0 + nz_balls, s:s + 3],
+                     full)
 
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
         vxc, vyc, vzc, wc = y[c0 + 4], y[c0 + 5], y[c0 + 6], y[c0 + 7]
