@@ -111,6 +111,11 @@ def normal_force(delta, delta_rate, k, c_max, inv_dmax):
 #: λ = 0 [-], so the lubricated law gives its boundary friction there.
 NO_FILM = (1.0, 0.0, 0.0)
 
+#: The film constants (:func:`friction_film_constants`) of a contact without film: the
+#: lubricated law's boundary friction alone (:func:`rvcore.contact.traction_ehl.ehl_film_constants`);
+#: read by no other law.
+NO_FILM_CONSTANTS = (1.0, 0.0, 0.0)
+
 
 #: The kinds of law (their indices in :data:`rvcore.bearing.laws.FRICTION_LAWS`) the contact
 #: loops of :mod:`rvcore.dynamics.races` are copied for, the kind a constant in each copy
@@ -311,17 +316,41 @@ def friction_per_slip(s2, p, h, lam, law):
     dividing by a small slip (:func:`rvcore.contact.coulomb_step.per_slip`,
     :func:`rvcore.contact.traction_ehl.ehl_traction_per_slip`; film arguments as
     :func:`friction_coefficient`)."""
-    return friction_per_slip_of(friction_kind(law), s2, p, h, lam, law)
+    kind = friction_kind(law)
+    f0, f1, f2 = friction_film_constants_of(kind, p, h, lam, law)
+    return friction_per_slip_of(kind, s2, f0, f1, f2, law)
 
 
 @kernel(inline=True)
-def friction_per_slip_of(kind, s2, p, h, lam, law):
+def friction_film_constants(p, h, lam, law):
+    """What the record's law takes of a contact's film ``(p, h, λ)`` [Pa], [m], [-]
+    (:func:`contact_film`): three numbers, its **film constants**, computed once per film
+    (the dynamics hold them through a step's stages, :func:`rvcore.dynamics.races.arc_film`)
+    and read by the functions of this module that end in ``_of``, the contact loops' path.
+    ``ehl_bair_winer``: :func:`rvcore.contact.traction_ehl.ehl_film_constants`; a law that
+    needs no film returns its arguments (and reads nothing of them)."""
+    return friction_film_constants_of(friction_kind(law), p, h, lam, law)
+
+
+@kernel(inline=True)
+def friction_film_constants_of(kind, p, h, lam, law):
+    """:func:`friction_film_constants` of the law of kind ``kind`` (:func:`friction_kind`)."""
+    if kind == EHL_BAIR_WINER:
+        f0, f1, f2 = traction_ehl.ehl_film_constants(p, h, lam, _ehl(law))
+    else:
+        f0, f1, f2 = p, h, lam
+    return f0, f1, f2
+
+
+@kernel(inline=True)
+def friction_per_slip_of(kind, s2, f0, f1, f2, law):
     """:func:`friction_per_slip` of the law of kind ``kind`` (:func:`friction_kind`; a
-    constant of :data:`FRICTION_KINDS` in a loop copied for it) [s m^-1]."""
+    constant of :data:`FRICTION_KINDS` in a loop copied for it) [s m^-1], from the
+    contact's film constants ``f0, f1, f2`` (:func:`friction_film_constants`)."""
     if kind == COULOMB_STEP:
         g = coulomb_step.per_slip(s2, law)
     elif kind == EHL_BAIR_WINER:
-        g = traction_ehl.ehl_traction_per_slip(s2, p, h, lam, _ehl(law))
+        g = traction_ehl.ehl_per_slip_of(s2, f0, f1, f2, _ehl(law))
     else:
         g = math.nan
     return g
@@ -346,51 +375,61 @@ def friction_tangent_curvature(s2, p, h, lam, law):
 @kernel(inline=True)
 def friction_tangent_terms(s2, p, h, lam, law):
     """``(μ/s, (max(μ', 0) − μ/s)/s²)`` [s m^-1], [s^3 m^-3] at ``s2 = s²``:
-    :func:`friction_per_slip` and :func:`friction_tangent_curvature` together, the lubricated
-    law's sharing its film constants and exponentials
-    (:func:`rvcore.contact.traction_ehl.ehl_tangent_terms`)."""
+    :func:`friction_per_slip` and :func:`friction_tangent_curvature` together
+    (:func:`friction_tangent_terms_of` of the film's constants)."""
+    kind = friction_kind(law)
+    f0, f1, f2 = friction_film_constants_of(kind, p, h, lam, law)
+    return friction_tangent_terms_of(s2, f0, f1, f2, law)
+
+
+@kernel(inline=True)
+def friction_tangent_terms_of(s2, f0, f1, f2, law):
+    """:func:`friction_tangent_terms` from the contact's film constants
+    (:func:`friction_film_constants`), the lubricated law's sharing its exponential
+    (:func:`rvcore.contact.traction_ehl.ehl_tangent_terms_of`)."""
     kind = friction_kind(law)
     if kind == COULOMB_STEP:
         g, c = coulomb_step.per_slip(s2, law), coulomb_step.tangent_curvature(s2, law)
     elif kind == EHL_BAIR_WINER:
-        g, c = traction_ehl.ehl_tangent_terms(s2, p, h, lam, _ehl(law))
+        g, c = traction_ehl.ehl_tangent_terms_of(s2, f0, f1, f2, _ehl(law))
     else:
         g, c = math.nan, math.nan
     return g, c
 
 
 @kernel(inline=True)
-def friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law, kind):
+def friction_force(ux, uy, uz, nx, ny, nz, q, f0, f1, f2, law, kind):
     """Friction on the ball at a contact of unit normal ``n`` [N].
 
     ``u`` is the slip velocity of the ball's material point against the other body's
     [m s^-1]; its tangential part ``v_t = u − (u·n)·n`` gives ``−μ(|v_t|)·q·v_t/|v_t|``
-    (zero at zero slip). ``q`` is the normal load [N]; ``p``, ``h``, ``lam`` the film
-    (:func:`friction_coefficient`); ``kind`` the record's kind (:func:`friction_kind`, or
-    a constant of :data:`FRICTION_KINDS` in a loop copied for it).
+    (zero at zero slip). ``q`` is the normal load [N]; ``f0, f1, f2`` the contact's film
+    constants (:func:`friction_film_constants`; :data:`NO_FILM_CONSTANTS` without film);
+    ``kind`` the record's kind (:func:`friction_kind`, or a constant of
+    :data:`FRICTION_KINDS` in a loop copied for it).
     """
     un = ux * nx + uy * ny + uz * nz
     tx = ux - un * nx
     ty = uy - un * ny
     tz = uz - un * nz
-    g = -q * friction_per_slip_of(kind, tx * tx + ty * ty + tz * tz, p, h, lam, law)
+    g = -q * friction_per_slip_of(kind, tx * tx + ty * ty + tz * tz, f0, f1, f2, law)
     return g * tx, g * ty, g * tz
 
 
 @kernel(inline=True)
-def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, p, h, lam, law, kind):
+def ball_contact_force(q, gx, gy, gz, ux, uy, uz, nx, ny, nz, ax, ay, az, f0, f1, f2, law, kind):
     """Force [N] and moment about the ball centre [N m] of one contact on a ball.
 
     Normal load ``q`` along ``−g`` (g: the penetration's gradient, unit), friction by
     ``law`` (when it is on) from the slip ``u`` [m s^-1] tangential to the surface normal
     ``n`` (unit), acting at the arm ``a`` from the ball centre [m], with the contact's film
-    ``p`` [Pa], ``h`` [m], ``lam`` [-] (:func:`friction_coefficient`), the law of kind
-    ``kind`` (:func:`friction_force`). Returns ``(fx, fy, fz, mx, my, mz)``.
+    constants ``f0, f1, f2`` (:func:`friction_film_constants`), the law of kind ``kind``
+    (:func:`friction_force`). Returns ``(fx, fy, fz, mx, my, mz)``.
     """
     # the friction computed either way and selected (unit_step, Notes): its loads of the law
     # inside a branch would keep LLVM from vectorising the loops of rvcore.dynamics.races
     on = law[LAW_ON] != 0.0
-    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, p, h, lam, law, kind)
+    ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, nz, q, f0, f1, f2, law, kind)
     fx, fy, fz = -q * gx, -q * gy, -q * gz
     return (fx + ftx if on else fx, fy + fty if on else fy, fz + ftz if on else fz,
             ay * ftz - az * fty if on else 0.0, az * ftx - ax * ftz if on else 0.0,

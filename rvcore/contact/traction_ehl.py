@@ -102,6 +102,7 @@ __all__ = [
     "pack_ehl_traction_law", "boundary_lambda", "boundary_weight", "film_shear_stress",
     "ehl_traction_coefficient", "ehl_traction_slope", "ehl_traction_per_slip",
     "ehl_tangent_curvature", "ehl_tangent_terms", "ehl_slope_at_zero_slip", "ehl_slope_bound",
+    "ehl_film_constants", "ehl_coefficient_of", "ehl_slope_of", "ehl_per_slip_of", "ehl_tangent_terms_of",
 ]
 
 # The record's columns and its packing live in rvcore.bearing.laws (the record is packed by
@@ -175,6 +176,65 @@ def _boundary_slope(s, law):
 
 
 @kernel(inline=True)
+def ehl_film_constants(p, h, lam, law):
+    """``(w_b, g, k)``: what the law takes of a contact's film, once per film (the dynamics
+    hold it through a step's stages, :func:`rvcore.dynamics.races.arc_film`).
+
+    Parameters
+    ----------
+    p : float
+        Mean Hertz pressure [Pa], > 0.
+    h : float
+        Central film thickness [m].
+    lam : float
+        Film parameter λ [-].
+    law : ndarray
+        :func:`pack_ehl_traction_law`.
+
+    Returns
+    -------
+    w_b : float
+        Weight of boundary friction [-] (:func:`boundary_weight`).
+    g : float
+        The film's slope at zero slip ``τ_L·k/p`` [s m⁻¹] (0 where ``w_b = 1``).
+    k : float
+        ``1/(τ_L·(h/η(p) + 1/(c·p)))`` [s m⁻¹] (module Notes; 0 where ``w_b = 1``).
+
+    Notes
+    -----
+    With these the film's part of the law is (module Notes)::
+
+        τ/p = g·(1 − e^(−k·s))/k,    d(τ/p)/ds = g·e^(−k·s)
+
+    Where λ ≤ λ_b (``w_b = 1`` exactly) the film's part is multiplied by 0 and not
+    evaluated: ``(1, 0, 0)``, also the constants of a contact without film
+    (:data:`rvcore.contact.laws.NO_FILM_CONSTANTS`).
+    """
+    w = boundary_weight(lam, law)
+    if w == 1.0:
+        return 1.0, 0.0, 0.0
+    tau_l, k = _film_constants(p, h, law)
+    return w, tau_l * k / p, k
+
+
+@kernel(inline=True)
+def ehl_coefficient_of(s, w, g, k, law):
+    """μ [-] at the sliding speed ``s`` ≥ 0 [m s⁻¹] from the film's constants
+    (:func:`ehl_film_constants`)."""
+    if w == 1.0:
+        return _boundary(s, law)
+    return w * _boundary(s, law) - (1.0 - w) * g * math.expm1(-k * s) / k
+
+
+@kernel(inline=True)
+def ehl_slope_of(s, w, g, k, law):
+    """dμ/ds [s m⁻¹] at ``s`` ≥ 0 [m s⁻¹] from the film's constants (:func:`ehl_film_constants`)."""
+    if w == 1.0:
+        return _boundary_slope(s, law)
+    return w * _boundary_slope(s, law) + (1.0 - w) * g * math.exp(-k * s)
+
+
+@kernel(inline=True)
 def ehl_traction_coefficient(s, p, h, lam, law):
     """Traction coefficient μ [-] at the sliding speed ``s`` ≥ 0 [m s⁻¹].
 
@@ -192,17 +252,15 @@ def ehl_traction_coefficient(s, p, h, lam, law):
     law : ndarray
         :func:`pack_ehl_traction_law`.
     """
-    w = boundary_weight(lam, law)
-    return w * _boundary(s, law) + (1.0 - w) * film_shear_stress(s, p, h, law) / p
+    w, g, k = ehl_film_constants(p, h, lam, law)
+    return ehl_coefficient_of(s, w, g, k, law)
 
 
 @kernel(inline=True)
 def ehl_traction_slope(s, p, h, lam, law):
     """dμ/ds of :func:`ehl_traction_coefficient` [s m⁻¹] (same parameters)."""
-    w = boundary_weight(lam, law)
-    tau_l, k = _film_constants(p, h, law)
-    film = tau_l * k * math.exp(-k * s) / p
-    return w * _boundary_slope(s, law) + (1.0 - w) * film
+    w, g, k = ehl_film_constants(p, h, lam, law)
+    return ehl_slope_of(s, w, g, k, law)
 
 
 @kernel(inline=True)
@@ -246,60 +304,73 @@ def _film_curvature(x, em1):
 
 
 @kernel(inline=True)
-def ehl_traction_per_slip(s2, p, h, lam, law):
-    """``μ(s)/s`` [s m⁻¹] from ``s2 = s²`` [m² s⁻²], with nothing divided by a small slip.
+def ehl_per_slip_of(s2, w, g, k, law):
+    """``μ(s)/s`` [s m⁻¹] from ``s2 = s²`` [m² s⁻²] and the film's constants
+    (:func:`ehl_film_constants`), with nothing divided by a small slip.
 
-    The film's part is ``(τ_L·k/p)·(1 − e^(−ks))/(ks)``; the boundary part below v_b is the
+    The film's part is ``g·(1 − e^(−ks))/(ks)``; the boundary part below v_b is the
     study law's cubic ``μ_b·(1.5 − 0.5·x²)/v_b``, ``x = s/v_b`` (docs/model.md §4).
     """
     s = math.sqrt(s2)
-    w = boundary_weight(lam, law)
     bnd = _boundary_per_slip(s, s2, law)
-    if w == 1.0:    # λ ≤ λ_b: the film's part, finite, is multiplied by 0 (its exp and expm1 skipped)
+    if w == 1.0:    # λ ≤ λ_b: the film's part is multiplied by 0 (its expm1 skipped)
         return bnd
-    tau_l, k = _film_constants(p, h, law)
     x = k * s
-    film = tau_l * k * _film_per_slip(x, math.expm1(-x)) / p
-    return w * bnd + (1.0 - w) * film
+    return w * bnd + (1.0 - w) * (g * _film_per_slip(x, math.expm1(-x)))
 
 
 @kernel(inline=True)
-def ehl_tangent_curvature(s2, p, h, lam, law):
-    """``(μ' − μ/s)/s²`` [s³ m⁻³] at ``s2 = s²``: the coefficient of ``v_t·v_tᵀ`` in the
-    friction force's tangent (as :func:`rvcore.contact.laws.friction_tangent_curvature`).
+def ehl_traction_per_slip(s2, p, h, lam, law):
+    """``μ(s)/s`` [s m⁻¹] from ``s2 = s²`` [m² s⁻²] (:func:`ehl_per_slip_of`; film
+    arguments as :func:`ehl_traction_coefficient`)."""
+    w, g, k = ehl_film_constants(p, h, lam, law)
+    return ehl_per_slip_of(s2, w, g, k, law)
 
-    The film's part is ``(τ_L·k³/p)·φ(x)/x²``, ``x = k·s``, ``φ = e^(−x) − (1 − e^(−x))/x``;
+
+@kernel(inline=True)
+def ehl_tangent_terms_of(s2, w, g, k, law):
+    """``(μ/s, (μ' − μ/s)/s²)`` [s m⁻¹], [s³ m⁻³] at ``s2 = s²`` from the film's constants
+    (:func:`ehl_film_constants`): what the IMEX tangent takes
+    (:func:`rvcore.dynamics.tangent.friction_tangent`), with one square root and one
+    ``expm1`` for both.
+
+    The film's curvature is ``g·k²·φ(x)/x²``, ``x = k·s``, ``φ = e^(−x) − (1 − e^(−x))/x``;
     it grows as ``−1/(2x)`` when s → 0, but the tangent's term ``coefficient·v_t·v_tᵀ``
-    vanishes there like ``s``: at s = 0 exactly the function returns the boundary part
-    alone (``−μ_b/v_b³``), the film's term being multiplied by ``v_t = 0``. Below
-    x = 1e-3 the series ``φ/x² = −1/(2x) + 1/3 − x/8 + x²/30`` is used, and x is held at
-    :data:`CURVATURE_X_FLOOR` at least, so the coefficient stays finite: the tangent's
-    term along v_t then errs by at most ``x_floor/2`` times the zero-slip slope.
+    vanishes there like ``s``: at s = 0 exactly the boundary part alone is returned
+    (``−μ_b/v_b³``), the film's term being multiplied by ``v_t = 0``. Below x = 1e-3 the
+    series ``φ/x² = −1/(2x) + 1/3 − x/8 + x²/30`` is used, and x is held at
+    :data:`CURVATURE_X_FLOOR` at least, so the coefficient stays finite: the tangent's term
+    along v_t then errs by at most ``x_floor/2`` times the zero-slip slope.
     """
-    return ehl_tangent_terms(s2, p, h, lam, law)[1]
-
-
-@kernel(inline=True)
-def ehl_tangent_terms(s2, p, h, lam, law):
-    """``(μ/s, (μ' − μ/s)/s²)`` [s m⁻¹], [s³ m⁻³] at ``s2 = s²``: :func:`ehl_traction_per_slip`
-    and :func:`ehl_tangent_curvature` together, what the IMEX tangent takes
-    (:func:`rvcore.dynamics.tangent.friction_tangent`), with one square root, one Barus
-    exponential and one ``expm1`` for both."""
     s = math.sqrt(s2)
-    w = boundary_weight(lam, law)
-    if w == 1.0:    # λ ≤ λ_b: the film's parts, finite, are multiplied by 0 (as ehl_traction_per_slip)
+    if w == 1.0:    # λ ≤ λ_b: the film's parts are multiplied by 0 (as ehl_per_slip_of)
         return _boundary_per_slip(s, s2, law), _boundary_curvature(s, s2, law)
-    tau_l, k = _film_constants(p, h, law)
     x = k * s
     xc = max(x, CURVATURE_X_FLOOR)
     # expm1 at the curvature's x serves both: where the per-slip part reads it (x ≥ 1e-5)
     # the floor (1e-20) does not act, so xc = x there
     em1 = math.expm1(-xc)
-    g = w * _boundary_per_slip(s, s2, law) + (1.0 - w) * (tau_l * k * _film_per_slip(x, em1) / p)
+    per_slip = w * _boundary_per_slip(s, s2, law) + (1.0 - w) * (g * _film_per_slip(x, em1))
     bnd = _boundary_curvature(s, s2, law)
     if s2 == 0.0:
-        return g, w * bnd
-    return g, w * bnd + (1.0 - w) * (tau_l * k * k * k * _film_curvature(xc, em1) / p)
+        return per_slip, w * bnd
+    return per_slip, w * bnd + (1.0 - w) * (g * k * k * _film_curvature(xc, em1))
+
+
+@kernel(inline=True)
+def ehl_tangent_terms(s2, p, h, lam, law):
+    """:func:`ehl_tangent_terms_of` from the film (film arguments as
+    :func:`ehl_traction_coefficient`)."""
+    w, g, k = ehl_film_constants(p, h, lam, law)
+    return ehl_tangent_terms_of(s2, w, g, k, law)
+
+
+@kernel(inline=True)
+def ehl_tangent_curvature(s2, p, h, lam, law):
+    """``(μ' − μ/s)/s²`` [s³ m⁻³] at ``s2 = s²``: the coefficient of ``v_t·v_tᵀ`` in the
+    friction force's tangent (as :func:`rvcore.contact.laws.friction_tangent_curvature`;
+    :func:`ehl_tangent_terms_of`)."""
+    return ehl_tangent_terms(s2, p, h, lam, law)[1]
 
 
 @kernel(inline=True)

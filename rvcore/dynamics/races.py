@@ -39,8 +39,8 @@ import math
 
 from .._numba import kernel
 
-from ..contact.laws import (FRICTION_KINDS, NO_FILM, ball_contact_force, boundary_film_exponent,
-                            cage_pocket_penetration, contact_film_or_boundary, film_coefficients, friction_kind,
+from ..contact.laws import (FRICTION_KINDS, NO_FILM, NO_FILM_CONSTANTS, ball_contact_force, boundary_film_exponent,
+                            cage_pocket_penetration, contact_film_or_boundary, film_coefficients, friction_film_constants_of, friction_kind,
                             friction_uses_film, hertz_load, normal_force, race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from .raceway import ball_offsets
@@ -261,6 +261,7 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
     k_hertz = arcs[a, A_K]
     uses_film = friction_uses_film(kind)
     p_none, h_none, lam_none = NO_FILM
+    f0, f1, f2 = NO_FILM_CONSTANTS
     vg = G_VG_I if inner else G_VG_O    # the groove's modal velocity (ring_surfaces)
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
@@ -301,7 +302,7 @@ def _arc_loop(buf, out, nz, arcs, a, h, xi, yi, zi, vxi, vyi, vzi, omx, omy, omz
             fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         else:
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, ux, uy, uz, nx, ny, nz_, ax, ay, az,
-                                                           p_f, h_f, lam_f, law, kind)
+                                                           f0, f1, f2, law, kind)
         out[C_DELTA * W + j] = delta
         out[C_NLX * W + j] = nlx
         out[C_NLY * W + j] = nly
@@ -355,39 +356,46 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
     nobody (:func:`rvcore.dynamics.rhs.rhs` skips q ≤ 0).
 
     The film is held through a step's stages (docs/model.md §4.1, "The film through a
-    step"): the step's first evaluation (``fresh``) computes each loaded contact's
-    ``(p, h_c, λ)`` and keeps it in ``held[j]`` (``p = 0``: none kept, the contact open
-    then); a stage takes the kept film, or computes its own where none was kept (a contact
-    that closed within the step)."""
+    step"): the step's first evaluation (``fresh``) computes each loaded contact's film
+    ``(p, h_c, λ)`` into ``C_P``, ``C_H``, ``C_LAM`` and the law's film constants from it
+    (:func:`rvcore.contact.laws.friction_film_constants`), which it keeps in ``held[j]``
+    (``held[j, 3]`` 1 where kept, 0 where the contact was open); a stage takes the kept
+    constants, or computes its own where none were kept (a contact that closed within the
+    step), and leaves ``C_P`` … ``C_LAM`` as they were (read by the tangents of a first
+    evaluation only)."""
     p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
     x_b = boundary_film_exponent(lam1, law)
     p_none, h_none, lam_none = NO_FILM
+    n0, n1, n2 = NO_FILM_CONSTANTS
     for j in range(nz):
         q = out[C_Q * W + j]
         p_f, h_f, lam_f = p_none, h_none, lam_none
+        f0, f1, f2 = n0, n1, n2
         fx, fy, fz, dmx, dmy, dmz = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         if q > 0.0:
             nx, ny, nz_ = out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j]
-            if fresh or held[j, 0] == 0.0:
+            if fresh or held[j, 3] == 0.0:
                 p_f, h_f, lam_f = contact_film_or_boundary(q, out[C_P * W + j], p1, hc1, lam1, x_b)
+                f0, f1, f2 = friction_film_constants_of(kind, p_f, h_f, lam_f, law)
             else:
-                p_f, h_f, lam_f = held[j, 0], held[j, 1], held[j, 2]
+                f0, f1, f2 = held[j, 0], held[j, 1], held[j, 2]
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],
                                                            out[C_UZ * W + j], nx, ny, nz_, h * nx, h * ny, h * nz_,
-                                                           p_f, h_f, lam_f, law, kind)
+                                                           f0, f1, f2, law, kind)
         if fresh:
-            held[j, 0] = p_f if q > 0.0 else 0.0
-            held[j, 1] = h_f
-            held[j, 2] = lam_f
+            held[j, 0] = f0
+            held[j, 1] = f1
+            held[j, 2] = f2
+            held[j, 3] = 1.0 if q > 0.0 else 0.0
+            out[C_P * W + j] = p_f
+            out[C_H * W + j] = h_f
+            out[C_LAM * W + j] = lam_f
         out[C_FX * W + j] = fx
         out[C_FY * W + j] = fy
         out[C_FZ * W + j] = fz
         out[C_MX * W + j] = dmx
         out[C_MY * W + j] = dmy
         out[C_MZ * W + j] = dmz
-        out[C_P * W + j] = p_f
-        out[C_H * W + j] = h_f
-        out[C_LAM * W + j] = lam_f
 
 
 @kernel
@@ -416,7 +424,7 @@ def _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_
                  xc, yc, zc, cphi, sphi, vxc, vyc, vzc, wc, zrow, law, kind):
     """:func:`pocket_contacts`' loop for the friction law of kind ``kind``."""
     inv_h = 1.0 / h
-    p_none, h_none, lam_none = NO_FILM     # no film at a pocket: the law's boundary friction
+    f_none = NO_FILM_CONSTANTS     # no film at a pocket: the law's boundary friction
     for j in range(nz):
         px, py, pz = buf[S_PX * W + j], buf[S_PY * W + j], buf[S_PZ * W + j]
         vx, vy, vz = buf[S_VX * W + j], buf[S_VY * W + j], buf[S_VZ * W + j]
@@ -436,7 +444,7 @@ def _pocket_loop(buf, out, nz, guide, pitch_r, pocket_r, h, cage_ri, cage_ro, k_
         qp = normal_force(delta, un, k_pocket, c_pocket, inv_dmax)
         # friction tangential to the ball's surface there, normal a/h
         fpx, fpy, fpz, mpx, mpy, mpz = ball_contact_force(qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h,
-                                                          az * inv_h, ax, ay, az, p_none, h_none, lam_none, law,
+                                                          az * inv_h, ax, ay, az, f_none[0], f_none[1], f_none[2], law,
                                                           kind)
         out[P_DELTA * W + j] = delta
         out[P_AX * W + j] = ax

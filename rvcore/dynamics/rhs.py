@@ -41,7 +41,7 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, friction_force, friction_kind, hertz_load,
+from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, NO_FILM_CONSTANTS, damping_coefficient, friction_force, friction_kind, hertz_load,
                             land_penetration, normal_force)
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
@@ -86,10 +86,10 @@ D_ROW0, D_ROW_STRIDE, D_COS_ALPHA = N_SIGNALS, N_ROW_SIGNALS, ROW_SLOT["cos_cont
 # outer race forces on the ball (outward positive), pocket load, and the pocket's elastic
 # energy and its rate (0.4·Q·δ, Q·δ̇ of the Hertz part: rvcore.integrate.imex's impact check)
 B_QI, B_QO, B_FIR, B_FOR, B_QP, B_PV, B_PP = 0, 1, 2, 3, 4, 5, 6
-# then the ball's film at each of its row's arcs, held through a step's stages: (p, h_c, λ)
-# of arc slot s at B_FILM + 3·s (rvcore.dynamics.races._film_pass)
-B_FILM = 7
-N_BDIAG = B_FILM + 3 * MAX_ROW_ARCS
+# then the ball's film constants at each of its row's arcs, held through a step's stages,
+# and whether they are kept: arc slot s's from B_FILM + FILM_HELD·s (rvcore.dynamics.races.arc_film)
+B_FILM, FILM_HELD = 7, 4
+N_BDIAG = B_FILM + FILM_HELD * MAX_ROW_ARCS
 #: What :func:`_rhs` computes besides dy/dt: the designer's diagnostics (MODE_FULL), only
 #: what the integrator needs (MODE_STAGE), or the diagnostics and the IMEX tangents
 #: (MODE_JAC). Floats, not booleans: numba compiles a function once per value of a
@@ -172,7 +172,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
     law = params[P_LAW:P_LAW + FRICTION_LAW_SIZE]     # the friction law (rvcore.bearing.laws)
     friction_on = law[LAW_ON] != 0.0
-    p_none, h_none, lam_none = NO_FILM    # pockets and lands have no film (rvcore.contact.laws)
+    # pockets and lands have no film (rvcore.contact.laws): the film, and the law's constants of it
+    p_none, h_none, lam_none = NO_FILM
+    f_none0, f_none1, f_none2 = NO_FILM_CONSTANTS
     damp_scale = params[P_DAMPING]
     c_race = params[P_DAMP_C] * damp_scale
     inv_dmax = 1.0 / params[P_DAMP_D]
@@ -235,8 +237,8 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             arc_contacts(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, xi, yi, zi,
                          vxi, vyi, vzi, omx, omy, omz, r00, r01, r02, r10, r11, r12, r20, r21, r22, zrow, c_race,
                          inv_dmax, law)
-            s = B_FILM + 3 * (a - a0)
-            arc_film(buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, law, bdiag[p0:p0 + nz_balls, s:s + 3],
+            s = B_FILM + FILM_HELD * (a - a0)
+            arc_film(buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h, law, bdiag[p0:p0 + nz_balls, s:s + FILM_HELD],
                      full)
 
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
@@ -475,7 +477,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if ql > land_q:
                         land_q = ql
                     if friction_on:
-                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, p_none, h_none, lam_none, law,
+                        ftx, fty, ftz = friction_force(ux, uy, uz, nx, ny, 0.0, ql, f_none0, f_none1, f_none2, law,
                                                         friction_kind(law))
                         fxc += ftx
                         fyc += fty

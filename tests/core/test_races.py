@@ -96,8 +96,8 @@ def test_the_arc_passes_hold_each_ball_s_race_contacts_bit_for_bit(running_four_
                 uz -= vzi + om[0] * qy - om[1] * qx
             un = ux * nx + uy * ny + uz * nz
             q = contact.normal_force(delta, un, model.arcs[a, A_K], p[P_DAMP_C] * p[P_DAMPING], 1.0 / p[P_DAMP_D])
-            force = contact.ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az, *contact.NO_FILM, law,
-                                               contact.friction_kind(law))
+            force = contact.ball_contact_force(q, nx, ny, nz, ux, uy, uz, nx, ny, nz, ax, ay, az,
+                                               *contact.NO_FILM_CONSTANTS, law, contact.friction_kind(law))
             expected = (nlx, nly, nlz, nx, ny, nz, ux, uy, uz, un, q) + tuple(force)
             fields = (races.C_NLX, races.C_NLY, races.C_NLZ, races.C_NX, races.C_NY, races.C_NZ, races.C_UX,
                       races.C_UY, races.C_UZ, races.C_UN, races.C_Q, races.C_FX, races.C_FY, races.C_FZ,
@@ -136,7 +136,7 @@ def test_the_pocket_pass_holds_each_ball_s_pocket_contact_bit_for_bit(running_fo
         qp = contact.normal_force(delta, un, row[R_POCKET_K], p[P_POCKET_C] * p[P_DAMPING], 1.0 / p[P_DAMP_D])
         inv_h = 1.0 / h
         force = contact.ball_contact_force(qp, dgx, dgy, dgz, ux, uy, uz, ax * inv_h, ay * inv_h, az * inv_h,
-                                           ax, ay, az, *contact.NO_FILM, law, contact.friction_kind(law))
+                                           ax, ay, az, *contact.NO_FILM_CONSTANTS, law, contact.friction_kind(law))
         q_hertz = contact.hertz_load(row[R_POCKET_K], delta)
         expected = (ax, ay, az, dgx, dgy, dgz, ux, uy, uz, un, qp, q_hertz) + tuple(force)
         fields = (races.P_AX, races.P_AY, races.P_AZ, races.P_DGX, races.P_DGY, races.P_DGZ, races.P_UX, races.P_UY,
