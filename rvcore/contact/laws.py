@@ -229,8 +229,13 @@ def contact_film_or_boundary(q, ue, p1, hc1, lam1, x_b):
 
     Parameters as :func:`contact_film`; ``x_b`` [-]. Returns ``(p, h_c, λ)`` [Pa], [m], [-].
     """
-    lw = math.log(max(q, 1e-6))
-    lu = math.log(max(ue, 1e-30))
+    return contact_film_of_logs(math.log(max(q, 1e-6)), math.log(max(ue, 1e-30)), p1, hc1, lam1, x_b)
+
+
+@kernel(inline=True)
+def contact_film_of_logs(lw, lu, p1, hc1, lam1, x_b):
+    """:func:`contact_film_or_boundary` from ``lw = ln max(Q, 1e-6 N)`` and
+    ``lu = ln max(u_e, 1e-30 m/s)`` (Q [N], u_e [m s⁻¹]), for a caller that has them."""
     x = film.HM_EXP_U * lu + film.HM_EXP_W * lw
     if x < x_b:
         return NO_FILM

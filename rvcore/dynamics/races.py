@@ -40,9 +40,10 @@ import math
 from .._numba import kernel
 
 from ..contact.laws import (FRICTION_KINDS, NO_FILM, NO_FILM_CONSTANTS, ball_contact_force, boundary_film_exponent,
-                            cage_pocket_penetration, contact_film_or_boundary, film_coefficients, friction_film_constants_of, friction_kind,
+                            cage_pocket_penetration, contact_film_of_logs, film_coefficients, friction_film_constants_of, friction_kind,
                             friction_uses_film, hertz_load, normal_force, race_arc_penetration)
-from ..bearing.layout import A_EEFF, A_ELL, A_K, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
+from ..bearing.layout import A_EEFF, A_ELL, A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
+from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from .raceway import ball_offsets
 from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove
 from ..contact.pose import ring_to_global, to_ring_frame
@@ -74,10 +75,11 @@ S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 G_VG_I, G_VG_O = BALL_STATES + 18, BALL_STATES + 21    # three values each
 N_BALL_FIELDS = BALL_STATES + 24
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
-# rvcore.contact.laws.contact_film, NO_FILM when the law needs none)
+# rvcore.contact.laws.contact_film, NO_FILM when the law needs none; and for a law that needs
+# it, the logarithms of h_c and λ that the film along the cycle takes, arc_film)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
- C_MZ, C_P, C_H, C_LAM, C_DD) = range(22)
-N_ARC_FIELDS = 22
+ C_MZ, C_P, C_H, C_LAM, C_DD, C_LOG_HC, C_LOG_LAM) = range(24)
+N_ARC_FIELDS = 24
 # the pocket contact: penetration, arm, gradient, slip, its normal rate, normal load, its
 # Hertz part, force and moment on the ball
 (P_DELTA, P_AX, P_AY, P_AZ, P_DGX, P_DGY, P_DGZ, P_UX, P_UY, P_UZ, P_UN, P_Q, P_QH, P_FX, P_FY, P_FZ, P_MX, P_MY,
@@ -362,7 +364,9 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
     (``held[j, 3]`` 1 where kept, 0 where the contact was open); a stage takes the kept
     constants, or computes its own where none were kept (a contact that closed within the
     step), and leaves ``C_P`` … ``C_LAM`` as they were (read by the tangents of a first
-    evaluation only)."""
+    evaluation only). A first evaluation also leaves the logarithms of the contact's h_c and
+    λ in ``C_LOG_HC`` and ``C_LOG_LAM``, as :func:`rvcore.dynamics.rhs.rhs` would compute
+    them for the film along the cycle (docs/model.md §15.2), from this pass's logarithms."""
     p1, hc1, lam1 = film_coefficients(arcs[a, A_PC3], arcs[a, A_RX], arcs[a, A_EEFF], arcs[a, A_ELL], law)
     x_b = boundary_film_exponent(lam1, law)
     p_none, h_none, lam_none = NO_FILM
@@ -375,8 +379,15 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
         if q > 0.0:
             nx, ny, nz_ = out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j]
             if fresh or held[j, 3] == 0.0:
-                p_f, h_f, lam_f = contact_film_or_boundary(q, out[C_P * W + j], p1, hc1, lam1, x_b)
+                ue = out[C_P * W + j]
+                lw, lu = math.log(max(q, 1e-6)), math.log(max(ue, 1e-30))
+                p_f, h_f, lam_f = contact_film_of_logs(lw, lu, p1, hc1, lam1, x_b)
                 f0, f1, f2 = friction_film_constants_of(kind, p_f, h_f, lam_f, law)
+                if fresh:    # the film along the cycle's logarithms, as rvcore.dynamics.rhs writes them
+                    lq = lw if q >= 1e-6 else math.log(q)
+                    lu = lu if ue >= 1e-30 else (math.log(ue) if ue > 0.0 else -math.inf)
+                    out[C_LOG_HC * W + j] = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
+                    out[C_LOG_LAM * W + j] = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
             else:
                 f0, f1, f2 = held[j, 0], held[j, 1], held[j, 2]
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],

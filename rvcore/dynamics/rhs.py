@@ -41,8 +41,8 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, NO_FILM_CONSTANTS, damping_coefficient, friction_force, friction_kind, hertz_load,
-                            land_penetration, normal_force)
+from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, NO_FILM_CONSTANTS, damping_coefficient, friction_force,
+                            friction_kind, friction_uses_film, hertz_load, land_penetration, normal_force)
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
@@ -55,7 +55,7 @@ from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, 
                     R_PITCH_R, R_POCKET0, R_POCKET_K, R_POCKET_PC, R_POCKET_R, R_Z, R_ZROW)
 from ..output_table import N_ROW_SIGNALS, N_SIGNALS, ROW_SLOT, SLOT, signal_count
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_rate, channel_value
-from .races import (C_DD, C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
+from .races import (C_DD, C_DELTA, C_H, C_LAM, C_LOG_HC, C_LOG_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
                     POCKET, SCRATCH_SIZE, W, arc, arc_contacts, arc_film, ball_geometry, entrainment_speed, gather_balls,
@@ -172,6 +172,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
     law = params[P_LAW:P_LAW + FRICTION_LAW_SIZE]     # the friction law (rvcore.bearing.laws)
     friction_on = law[LAW_ON] != 0.0
+    film_law = friction_uses_film(friction_kind(law))
     # pockets and lands have no film (rvcore.contact.laws): the film, and the law's constants of it
     p_none, h_none, lam_none = NO_FILM
     f_none0, f_none1, f_none2 = NO_FILM_CONSTANTS
@@ -354,13 +355,17 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if sin_a > sin_max:
                         sin_max = sin_a
                     # Hamrock–Dowson at this contact: log h = log h1 + e_u·log u_e + e_w·log Q
-                    # (rvcore.contact.film.with_film_columns); u_e = 0 gives no film
-                    ue = entrainment_speed(px, py, vx, vy, y[b + 6], y[b + 7], y[b + 8], ax, ay, az, inv_rho_b,
-                                           ux, uy, uz, un, nx, ny, nz)
-                    lu = math.log(ue) if ue > 0.0 else -math.inf
-                    lq = math.log(q)
-                    lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
-                    ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+                    # (rvcore.contact.film.with_film_columns); u_e = 0 gives no film. A law
+                    # that needs the film has them from its own pass (races.arc_film)
+                    if film_law:
+                        lh, ll = buf[o + C_LOG_HC * W], buf[o + C_LOG_LAM * W]
+                    else:
+                        ue = entrainment_speed(px, py, vx, vy, y[b + 6], y[b + 7], y[b + 8], ax, ay, az, inv_rho_b,
+                                               ux, uy, uz, un, nx, ny, nz)
+                        lu = math.log(ue) if ue > 0.0 else -math.inf
+                        lq = math.log(q)
+                        lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
+                        ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
                     if lh < log_hc_min:
                         log_hc_min = lh
                     if ll < log_lam_min:
