@@ -11,6 +11,8 @@ balance, not read from the code's output:
   central and minimum film (written out here, Hamrock & Dowson 1977) at the contact's
   entrainment speed, and that speed is the pure-rolling one (Harris) for a bearing in
   steady rolling;
+- a step's stages hold the film its first evaluation kept (the same dy/dt at that state,
+  another one at a state of other rolling speeds until a first evaluation there);
 - with the law on, the energy balance of docs/model.md §9.4, the centrifugal balance of
   §9.7 and the start-up's convergence (step_safety 0.8 against 0.4, within 2 %), on the
   12-ball section of the study bearing (tests/core/physics_cases.py); and, marked slow, the
@@ -225,6 +227,41 @@ def test_the_contacts_entrain_at_the_pure_rolling_speed_in_steady_rolling():
             assert buf[o + races.C_H * races.W] == pytest.approx(h_c, rel=0.03), (a, j)
             checked += 1
     assert checked >= 12
+
+
+def test_a_step_s_stages_hold_the_film_of_its_first_evaluation():
+    """docs/model.md §4.1, "The film through a step": the film constants each loaded contact
+    keeps at a step's first evaluation (``rhs``) are what the step's stages (``rhs_stage``) use.
+    At the first evaluation's own state a stage's dy/dt is that evaluation's, bit for bit (each
+    ball's and arc's constants read back from their own place); at a state whose balls spin
+    2 % faster (another entrainment speed, so another film: h ∝ u^0.67) a stage differs from a
+    first evaluation there, and equals it once a first evaluation there has kept its own."""
+    from rvcore.bearing.layout import BALL_STATES, R_BALL0
+    from rvcore.dynamics.rhs import rhs_stage
+
+    bearing = lubricated(section_bearing(12))
+    op = OperatingPoint(300.0, 0.0, 5e3)
+    profile = constant_profile(0.0, 0.02)
+    res = run_case(bearing, profile, op, SolverSettings(output_rate=1e3, gravity=False))
+    model = compile_bearing(bearing, gravity=False)
+    table, meta = profile.resolve(op).arrays()
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
+    args = (model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    t, y1 = float(res.time[-1]), res.final_state.copy()
+    y2 = y1.copy()
+    row = model.rows[0]
+    for j in range(int(row[R_Z])):
+        b = int(row[R_BALL0]) + BALL_STATES * j
+        y2[b + 6:b + 9] *= 1.02
+    first, stage = np.zeros_like(y1), np.zeros_like(y1)
+    rhs(t, y1, first, *args)
+    rhs_stage(t, y1, stage, *args)
+    assert np.array_equal(stage, first)
+    rhs_stage(t, y2, stage, *args)          # y1's film held
+    rhs(t, y2, first, *args)
+    assert not np.array_equal(stage, first)
+    rhs_stage(t, y2, stage, *args)          # y2's own
+    assert np.array_equal(stage, first)
 
 
 def assert_never_negative(power):
