@@ -191,12 +191,9 @@ def test_a_boundary_contact_skips_its_film_and_keeps_its_friction_bit_for_bit():
     assert skipped > 100 and kept > 100
 
 
-def test_the_contacts_entrain_at_the_pure_rolling_speed_in_steady_rolling():
-    """A section bearing under pure thrust, rolling at 300 rad/s for 20 ms: each loaded
-    contact's film is Hamrock–Dowson's at the pure-rolling entrainment speed
-    ``u = |ω_i − ω_o|·d_m·(1 − γ²)/4``, ``γ = D cos α/d_m`` (Harris & Kotzalas) within 3 %
-    (u within 5 %: the film goes as u^0.67; the balls spin and the contact angle is the
-    operating one, measured here)."""
+def _rolling_section():
+    """The 12-ball section lubricated, rolling at 300 rad/s under 5 kN axial for 20 ms
+    without gravity: ``(model, t, y, args)``, ``args`` the right-hand side's after ``dy``."""
     bearing = lubricated(section_bearing(12))
     op = OperatingPoint(300.0, 0.0, 5e3)
     profile = constant_profile(0.0, 0.02)
@@ -204,9 +201,19 @@ def test_the_contacts_entrain_at_the_pure_rolling_speed_in_steady_rolling():
     model = compile_bearing(bearing, gravity=False)
     table, meta = profile.resolve(op).arrays()
     diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
-    y = res.final_state
-    rhs(float(res.time[-1]), y, np.zeros_like(y), model.params, model.rows, model.arcs, model.pockets, table, meta,
-        diag, bdiag)
+    return (model, float(res.time[-1]), res.final_state.copy(),
+            (model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag))
+
+
+def test_the_contacts_entrain_at_the_pure_rolling_speed_in_steady_rolling():
+    """A section bearing under pure thrust, rolling at 300 rad/s for 20 ms: each loaded
+    contact's film is Hamrock–Dowson's at the pure-rolling entrainment speed
+    ``u = |ω_i − ω_o|·d_m·(1 − γ²)/4``, ``γ = D cos α/d_m`` (Harris & Kotzalas) within 3 %
+    (u within 5 %: the film goes as u^0.67; the balls spin and the contact angle is the
+    operating one, measured here)."""
+    model, t, y, args = _rolling_section()
+    diag = args[-2]
+    rhs(t, y, np.zeros_like(y), *args)
     buf = diag[diag.size - races.SCRATCH_SIZE:]
     sub = model.params[P_LAW + bl.LAW_EHL0:P_LAW + bl.FRICTION_LAW_SIZE]
     row = model.rows[0]
@@ -239,15 +246,7 @@ def test_a_step_s_stages_hold_the_film_of_its_first_evaluation():
     from rvcore.bearing.layout import BALL_STATES, R_BALL0
     from rvcore.dynamics.rhs import rhs_stage
 
-    bearing = lubricated(section_bearing(12))
-    op = OperatingPoint(300.0, 0.0, 5e3)
-    profile = constant_profile(0.0, 0.02)
-    res = run_case(bearing, profile, op, SolverSettings(output_rate=1e3, gravity=False))
-    model = compile_bearing(bearing, gravity=False)
-    table, meta = profile.resolve(op).arrays()
-    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
-    args = (model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
-    t, y1 = float(res.time[-1]), res.final_state.copy()
+    model, t, y1, args = _rolling_section()
     y2 = y1.copy()
     row = model.rows[0]
     for j in range(int(row[R_Z])):
