@@ -1,11 +1,12 @@
 """Every file the pipeline writes, written atomically; the one timestamp.
 
 The content goes to a temporary name in the target's own folder
-(``.<name>.<pid>.<random>.tmp``, so that the rename stays within one file system), is
-flushed and fsync'ed, and is then renamed onto the final name with ``os.replace``,
-which is atomic on POSIX and Windows: a killed process leaves the old file or the new
-one, never half a file. :func:`remove_stale_temporaries` clears what killed writers
-left behind.
+(``.<name>.@<host>.<pid>.<random>.tmp``, so that the rename stays within one file
+system), is flushed and fsync'ed, and is then renamed onto the final name with
+``os.replace``, which is atomic on POSIX and Windows: a killed process leaves the old
+file or the new one, never half a file. :func:`remove_stale_temporaries` clears what
+killed writers of this host left behind; the host in the name keeps it from judging a
+writer on another host of a shared file system by a process id of its own.
 """
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ import errno
 import hashlib
 import os
 import re
+import socket
 import tempfile
 import time
 from pathlib import Path
@@ -25,6 +27,17 @@ from ..errors import UserError
 from .netcdf import encoding_for
 
 TEMP_SUFFIX = ".tmp"
+
+#: A temporary file's name: the target's, the writer's host (``@`` and :func:`host_tag`)
+#: and process id, mkstemp's random part. The form without a host is that of files
+#: written before the host was named (judged as this host's).
+_TEMP_NAME = re.compile(r"^\..+?(?:\.@(?P<host>[A-Za-z0-9_-]+))?\.(?P<pid>\d+)\.[^.]+" + re.escape(TEMP_SUFFIX) + "$")
+
+
+def host_tag(name: str | None = None) -> str:
+    """This host's name (``socket.gethostname()``, or ``name``) as it goes into a temporary
+    file's name: letters, digits, ``_`` and ``-`` (anything else ``-``), at most 63."""
+    return re.sub(r"[^A-Za-z0-9_-]", "-", socket.gethostname() if name is None else name)[:63] or "-"
 
 #: Test hook: ``NAME:SECONDS`` makes :func:`write_atomic` of the file named NAME sleep for
 #: SECONDS once its temporary file holds the data (before the fsync and the rename), in
@@ -126,7 +139,7 @@ def _umask() -> int:
 
 
 def _temp_path(path: Path) -> Path:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.{os.getpid()}.",
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.@{host_tag()}.{os.getpid()}.",
                                suffix=TEMP_SUFFIX)
     try:
         # mkstemp creates 0600 whatever the umask; the final file should have the mode any
@@ -221,9 +234,11 @@ def write_text_atomic(path, text: str) -> Path:
 def remove_stale_temporaries(folder) -> list:
     """Delete temporary files left in ``folder`` by killed writers on this host.
 
-    A temporary file carries its writer's process id (see :func:`write_atomic`); it
-    is removed only when that process no longer exists, so a writer still at work
-    keeps its file.
+    A temporary file carries its writer's host and process id (see :func:`write_atomic`);
+    it is removed only when it is this host's and that process no longer exists, so a
+    writer still at work keeps its file. A file of another host (a worker of a cluster
+    whose hosts share the folder) is left alone, whatever its process id means here: a
+    run on that host clears it, or whoever removes the folder.
 
     Returns
     -------
@@ -234,11 +249,12 @@ def remove_stale_temporaries(folder) -> list:
     folder = Path(folder)
     if not folder.is_dir():
         return removed
+    here = host_tag()
     for tmp in folder.glob(f".*{TEMP_SUFFIX}"):
-        m = re.match(r"^\..+\.(\d+)\.[^.]+" + re.escape(TEMP_SUFFIX) + "$", tmp.name)
-        if not m:
+        m = _TEMP_NAME.match(tmp.name)
+        if not m or (m.group("host") is not None and m.group("host") != here):
             continue
-        pid = int(m.group(1))
+        pid = int(m.group("pid"))
         if pid != os.getpid() and process_alive(pid):
             continue
         try:

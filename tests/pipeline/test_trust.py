@@ -504,6 +504,32 @@ def test_a_stop_keeps_a_case_file_its_writer_finished_unrecorded_and_removes_dea
     assert {cid: _sha(out / "cases" / f"{cid}.nc") for cid in ids} == kept
 
 
+def test_a_temporary_file_of_another_host_is_left_alone(tmp_path):
+    """On a file system that several hosts share (a cluster's workers writing case files
+    into one folder), a process id means something only on its own host: a temporary file
+    that names another host is kept whatever its process id, while this host's file of a
+    process that no longer exists is removed, and so is one in the form without a host
+    (written before the host was named)."""
+    import subprocess
+    import sys
+
+    from pipeline.io.files import _temp_path, host_tag, remove_stale_temporaries
+
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()                                           # a process id that is gone here
+    here, other = host_tag(), host_tag() + "-other"
+    mine = tmp_path / f".a.nc.@{here}.{child.pid}.k3j.tmp"
+    theirs = tmp_path / f".b.nc.@{other}.{child.pid}.k3j.tmp"
+    legacy = tmp_path / f".c.nc.{child.pid}.k3j.tmp"
+    for f in (mine, theirs, legacy):
+        f.write_bytes(b"half")
+    assert sorted(remove_stale_temporaries(tmp_path)) == sorted([mine, legacy])
+    assert theirs.exists()
+    # and every writer names its host and process in its temporary file
+    tmp = _temp_path(tmp_path / "d.txt")
+    assert tmp.name.startswith(f".d.txt.@{here}.{os.getpid()}.") and tmp.name.endswith(".tmp")
+
+
 def test_a_writer_that_has_exited_but_is_not_yet_reaped_counts_as_gone(tmp_path):
     """A killed worker is a zombie until its parent joins it: it answers kill(pid, 0) but
     writes nothing more, so its temporary file is stale (Linux: its /proc state is Z)."""
