@@ -8,6 +8,8 @@ Layout of a sweep's folder (docs/outputs.md, "What a sweep writes")::
                                status.json was written whole (folded in at the end)
     <out>/sweep.nc             all cases on the grid (speed, radial_load, [extra axes],
                                elapsed_time | phase), with ``case_status``
+    <out>/sweep.nc.json        what sweep.nc was combined from: its SHA-256 and the key of
+                               the case records it holds (:func:`combined_is_current`)
 
 How a run goes
 --------------
@@ -36,11 +38,15 @@ How a run goes
    worker is retried (``allowed_failures`` times on a local cluster) and then recorded.
    Ctrl-C (or a kill) loses no finished case.
 6. The case files are combined into ``sweep.nc`` by the one combiner,
-   :func:`pipeline.io.combine.combine_cases`, on the sweep file's grid.
+   :func:`pipeline.io.combine.combine_cases`, on the sweep file's grid. A run that
+   computed nothing keeps a ``sweep.nc`` already combined from the same case records
+   (:func:`combined_is_current`): a resume of a finished sweep opens no case file.
 """
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import json
 import os
 import sys
 import time
@@ -55,7 +61,8 @@ from .. import __version__
 from ..errors import UserError
 from ..io.folders import sweep_lock, writable_folder
 from ..io.combine import CaseFileError, NeedsFullScan, first_file_scan, scan_case_files, write_streamed
-from ..io.files import netcdf_atomic
+from ..io.files import netcdf_atomic, write_text_atomic
+from ..io.statics import STATICS_FILE
 from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combine_cases,
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   StatusLog, write_atomic, write_status)
@@ -459,7 +466,11 @@ def _run_sweep(sweep, out, t_start, *, workers, scheduler, scheduler_file, seria
         f"{scheduler_text}, {wall:.1f} s"))
     write_status(out, states)
     combined = None
-    if combine_at_end:
+    if combine_at_end and not todo and not interrupted and combined_is_current(sweep, out, states):
+        combined = out / "sweep.nc"    # combined from these very case files: kept, none opened
+        if not (out / STATICS_FILE).is_file():
+            store_corner_statics_or_warn(sweep, out, states)
+    elif combine_at_end:
         combined = write_combined_sweep(sweep, out, states=states, history=history)
         store_corner_statics_or_warn(sweep, out, states)   # the report reads the load distribution there
     result = SweepResult(sweep=sweep, out_dir=out, combined=combined, states=states,
@@ -599,7 +610,38 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
     except CaseFileError as exc:
         raise UserError(f"{exc.path}: cannot be read ({exc.why}); move it away and run "
                         "the sweep again to compute that case again") from None
+    write_text_atomic(out / COMBINED_RECORD, json.dumps(
+        {"sha256": file_digest(target), "cases": _combine_key(sweep, states)}, indent=1) + "\n")
     return target
+
+
+#: Beside ``sweep.nc``: ``{"sha256": <sweep.nc's>, "cases": <_combine_key>}`` (docs/outputs.md).
+COMBINED_RECORD = "sweep.nc.json"
+
+
+def _combine_key(sweep: Sweep, states: dict) -> str:
+    """A key of what ``sweep.nc`` is combined from: this package's version, the sweep's
+    configuration hash, and every case's id, state and recorded SHA-256, in the sweep's
+    order (SHA-256, hex)."""
+    h = hashlib.sha256(f"{__version__} {sweep.configuration_hash}".encode())
+    for spec in sweep.cases:
+        st = states.get(spec.case_id)
+        h.update(f"\n{spec.case_id} {getattr(st, 'state', 'not_run')} {getattr(st, 'sha256', '')}".encode())
+    return h.hexdigest()
+
+
+def combined_is_current(sweep: Sweep, out, states: dict) -> bool:
+    """Whether ``<out>/sweep.nc`` is the one combined from the case records ``states``
+    (case id -> :class:`CaseState`): ``sweep.nc.json`` records its key
+    (:func:`_combine_key`) and the file's SHA-256, and the file still has it. A file
+    changed since, or combined from other files, is combined again."""
+    out = Path(out)
+    try:
+        record = json.loads((out / COMBINED_RECORD).read_text(encoding="utf-8"))
+        return (record.get("cases") == _combine_key(sweep, states)
+                and record.get("sha256") == file_digest(out / "sweep.nc"))
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def _write_combined(target, sweep, axes, entries, scan, output_rate, fixed, case_dims, previous, history):

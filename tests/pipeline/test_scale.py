@@ -239,6 +239,40 @@ def test_a_resume_opens_no_netcdf_file(tmp_path, monkeypatch):
     assert len(result.reused) == 6 and again.calls == [] and counter.opened == []
 
 
+def test_a_resume_of_a_finished_sweep_keeps_its_combined_file_and_opens_no_case(tmp_path):
+    """The combine included: a finished sweep run again keeps the ``sweep.nc`` combined from
+    these very case files (its key and SHA-256 in ``sweep.nc.json``) and opens no netCDF
+    file at all. A ``sweep.nc`` whose bytes changed since is combined again (to the same
+    content as the first), and so is one when a case was computed again."""
+    path = make_sweep(tmp_path, _grid(2, 3))
+    out = tmp_path / "s"
+    first = run_sweep(path, out, serial=True, case_fn=synthetic_case, progress=False)
+    combined = first.combined
+    original = combined.read_bytes()
+    with pytest.MonkeyPatch.context() as patch:
+        counter = OpenCounter(patch)
+        again = run_sweep(path, out, serial=True, case_fn=Counting(), progress=False)
+    assert len(again.reused) == 6 and counter.opened == []
+    assert again.combined == combined and combined.read_bytes() == original
+    # a flipped byte near the end of sweep.nc: combined again, to the first run's data
+    damaged = bytearray(original)
+    damaged[-100] ^= 0xFF
+    combined.write_bytes(bytes(damaged))
+    run_sweep(path, out, serial=True, case_fn=Counting(), progress=False)
+    (tmp_path / "first.nc").write_bytes(original)
+    with xr.open_dataset(combined) as ds, xr.open_dataset(tmp_path / "first.nc") as ref:
+        xr.testing.assert_identical(ds.drop_attrs(), ref.drop_attrs())
+    # a case computed again (its file removed): combined again (one more line of history)
+    def history():
+        with netCDF4.Dataset(combined) as nc:
+            return nc.history.splitlines()
+
+    before = history()
+    next(iter(sorted((combined.parent / "cases").glob("*.nc")))).unlink()
+    run_sweep(path, out, serial=True, case_fn=synthetic_case, progress=False)
+    assert len(history()) > len(before) and "1 to compute" in history()[len(before)]
+
+
 # --------------------------------------------------------------------------- who writes
 
 
