@@ -46,8 +46,8 @@ from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, damping_coefficient, fric
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
-from .tangent import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
-                       groove_blocks, stiffness_blocks)
+from .tangent import (FX_ANG, J_COUPLED, J_FX, J_KA, J_W, N_FX, N_JWORK, contact_blocks, friction_tangent,
+                       groove_blocks, modal_blocks, stiffness_blocks)
 from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_LUB_SIGMA, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
@@ -256,6 +256,11 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                 for i in range(J_KA, N_JWORK):
                     jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
+            if jac and flex:    # the modes' columns (rvcore.dynamics.tangent.modal_blocks)
+                for i in range(J_FX, J_FX + N_FX):
+                    jwork[p0 + j, i] = 0.0
+                jwork[p0 + j, J_FX + FX_ANG] = erx
+                jwork[p0 + j, J_FX + FX_ANG + 1] = ery
 
             # the ball centre in the inner ring's frame (Rᵀ·(p − r_i)), and ΔD/2 of an imperfect set
             plx, ply, inv_rho_l = buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_INV_RHO_L * W + j]
@@ -315,7 +320,16 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if inner:
                         tlx, tly, tlz = ring_to_global(tlx, tly, tlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
                     # |p − c| = δ + (f − ½)·D − d_half (an imperfect set's larger ball)
-                    groove_blocks(jwork, p0 + j, schur, inner, hg, hg * q / (delta + arcs[a, A_RMH] - d_half),
+                    hkg = hg * q / (delta + arcs[a, A_RMH] - d_half)
+                    if flex:
+                        # the same two terms on the ring's modes, read at the ball's azimuth
+                        # (cr, cz: −n·ê_r, −n·ẑ and −t·ê_r, −t·ẑ in the ring's frame)
+                        modal_blocks(jwork, p0 + j, inner, hg * (cd + hk), hk, nx, ny, nz,
+                                     -(nlx * mx + nly * my), -nlz, cx - xi, cy - yi, cz - zi, r00, r20)
+                        modal_blocks(jwork, p0 + j, inner, hg * hkg, hkg, tlx, tly, tlz,
+                                     -nlz * (mx * mx + my * my), nlx * mx + nly * my, px - xi, py - yi, pz - zi,
+                                     r00, r20)
+                    groove_blocks(jwork, p0 + j, schur, inner, hg, hkg,
                                   tlx, tly, tlz, px - xi, py - yi, pz - zi, r00, r20)
                 mbx += dmx
                 mby += dmy

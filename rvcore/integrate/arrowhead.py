@@ -14,7 +14,9 @@ import math
 
 from .._numba import kernel
 
-from ..dynamics.tangent import J_A, J_B, J_COUPLED, J_KA, J_KB, S_K
+from ..dynamics.tangent import (FX_AB, FX_ANG, FX_C, FX_CK, FX_H, FX_ON, FX_P, FX_PHI, FX_PK, FX_Q, FX_SCR, FX_V,
+                                FX_VK, J_A, J_B, J_COUPLED, J_FX, J_KA, J_KB, S_K)
+from ..dynamics.ring_modes import FX_ORDER, family_record, modal_offset
 from ..dynamics.races import W
 from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
@@ -283,3 +285,371 @@ def solve(v, schur, rows, mass, sf):
             b = b0 + BALL_STATES * j + 3
             for i in range(6):
                 v[b + i] = s[(F_V + i) * WS + j]
+
+
+# ---- a flexible ring's modes (rvcore.dynamics.ring_modes) beside the arrowhead system
+
+#: Rows of the modes' block ``fx`` after its ``nm × nm`` Schur complement (``nm`` the modal
+#: unknowns, :func:`rvcore.dynamics.ring_modes.modal_offset`): ``Z = U_r⁻ᵀ·Y`` (5 rows), the
+#: modes' right-hand side, then the harmonic sums (:func:`factor_modes`).
+FX_Y, FX_RM, FX_HARM = 0, 5, 6
+#: The family pairs ``(f, g)``, ``f ≤ g``, of the harmonic sums, in their order.
+N_PAIRS = 10
+
+
+def modal_block_rows(n_modes: int, max_orders: int, width: int) -> int:
+    """Rows of width ``width`` the modes' block ``fx`` takes (:data:`FX_HARM`): ``n_modes``
+    modal unknowns, ``max_orders`` orders in the largest family."""
+    harmonics = 2 * N_PAIRS * (2 * max_orders - 1)
+    return n_modes + FX_HARM + -(-harmonics // width)
+
+
+@kernel(inline=True)
+def _max_orders(params):
+    n = 0
+    for f in range(4):
+        n = max(n, family_record(params, f)[0])
+    return n
+
+
+@kernel(inline=True)
+def _core(jw, f, g):
+    """The ball's contacts' own block of families ``f ≤ g`` in the stage matrix (0 across rings)."""
+    if f // 2 != g // 2:
+        return 0.0
+    return jw[J_FX + FX_C + 3 * (f // 2) + (f % 2) + (g % 2)]
+
+
+@kernel(inline=True)
+def _core_k(jw, f, g):
+    """As :func:`_core`, in ``h·γ·K``."""
+    if f // 2 != g // 2:
+        return 0.0
+    return jw[J_FX + FX_CK + 3 * (f // 2) + (f % 2) + (g % 2)]
+
+
+@kernel
+def factor_modes(jwork, schur, rows, params, fx, hg):
+    """The Schur complement of the stage matrix on a flexible ring's modes, factored.
+
+    After :func:`factor` (which leaves each ball's ``U`` and ``X = U⁻ᵀ·B`` in ``jwork`` and the
+    ring's factor in ``schur``). The stage matrix ``[[A, C], [Cᵀ, D]]``: ``A`` the arrowhead
+    system (balls and pose), ``D`` the modes' ``M_k + h·γ·c_k + (h·γ)²·K_k`` plus the
+    contacts' own block on them, ``C`` the contacts' coupling of the modes with the balls and
+    the pose (:func:`rvcore.dynamics.tangent.modal_blocks`, rank one a term)::
+
+        S = D − Cᵀ·A⁻¹·C = D − Σ_b P_bᵀ·P_b − Yᵀ·S_r⁻¹·Y,   P_b = U_b⁻ᵀ·C_b,
+        Y = C_r − Σ_b X_bᵀ·P_b
+
+    ``S_r`` the ring's complement. Per ball every family's coupling is one 3-vector ``V_f``
+    times the shape ``φ(θ)``, so ``P_b = Σ_f (U⁻ᵀ·V_f)·φ_fᵀ`` and the balls' part is
+    ``Σ_b Σ_fg H_fg·φ_f·φ_gᵀ`` with ``H = core − (U⁻ᵀV_f)·(U⁻ᵀV_g)``: summed as the harmonics
+    ``Σ_b H·(cos mθ, sin mθ)``, m ≤ 2K, and expanded by the product formulas. Then
+    ``S = UᵀU`` in place in ``fx[:nm]`` (upper triangle, reciprocal diagonal, as :func:`factor`).
+    ``hg = h·γ`` [s].
+    """
+    nm = modal_offset(params, 4)
+    nh = 2 * _max_orders(params) - 1
+    hs = fx[nm + FX_HARM:].reshape(-1)
+    for i in range(2 * N_PAIRS * nh):
+        hs[i] = 0.0
+    for i in range(nm + FX_RM):      # S and Y
+        for c in range(nm):
+            fx[i, c] = 0.0
+    y0 = nm + FX_Y
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            if jw[J_FX + FX_ON] == 0.0:
+                continue
+            i0, u01, u02, u03, u04, u05 = jw[J_A], jw[J_A + 1], jw[J_A + 2], jw[J_A + 3], jw[J_A + 4], jw[J_A + 5]
+            i1, u12, u13, u14, u15 = jw[J_A + 7], jw[J_A + 8], jw[J_A + 9], jw[J_A + 10], jw[J_A + 11]
+            i2, u23, u24, u25 = jw[J_A + 14], jw[J_A + 15], jw[J_A + 16], jw[J_A + 17]
+            i3, u34, u35, i4, u45, i5 = jw[J_A + 21], jw[J_A + 22], jw[J_A + 23], jw[J_A + 28], jw[J_A + 29], jw[J_A + 35]
+            coupled = jw[J_COUPLED] != 0.0
+            for f in range(4):
+                v = J_FX + FX_V + 3 * f
+                x0 = jw[v] * i0
+                x1 = (jw[v + 1] - u01 * x0) * i1
+                x2 = (jw[v + 2] - u02 * x0 - u12 * x1) * i2
+                x3 = (-u03 * x0 - u13 * x1 - u23 * x2) * i3
+                x4 = (-u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
+                x5 = (-u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
+                o = J_FX + FX_SCR + 11 * f
+                jw[o], jw[o + 1], jw[o + 2], jw[o + 3], jw[o + 4], jw[o + 5] = x0, x1, x2, x3, x4, x5
+                for c in range(5):      # y_f = P_f − Xᵀ·(U⁻ᵀV_f)
+                    s = jw[J_FX + FX_P + 5 * f + c] if f < 2 else 0.0
+                    if coupled:
+                        s -= (jw[J_B + c] * x0 + jw[J_B + 5 + c] * x1 + jw[J_B + 10 + c] * x2
+                              + jw[J_B + 15 + c] * x3 + jw[J_B + 20 + c] * x4 + jw[J_B + 25 + c] * x5)
+                    jw[o + 6 + c] = s
+                # A_b⁻¹·V_f = U⁻¹·(U⁻ᵀ·V_f), for the solve's back substitution
+                q = J_FX + FX_Q + 6 * f
+                x5 = x5 * i5
+                x4 = (x4 - u45 * x5) * i4
+                x3 = (x3 - u34 * x4 - u35 * x5) * i3
+                x2 = (x2 - u23 * x3 - u24 * x4 - u25 * x5) * i2
+                x1 = (x1 - u12 * x2 - u13 * x3 - u14 * x4 - u15 * x5) * i1
+                x0 = (x0 - u01 * x1 - u02 * x2 - u03 * x3 - u04 * x4 - u05 * x5) * i0
+                jw[q], jw[q + 1], jw[q + 2], jw[q + 3], jw[q + 4], jw[q + 5] = x0, x1, x2, x3, x4, x5
+            for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
+                if coupled:
+                    x0, x1, x2 = jw[J_B + c], jw[J_B + 5 + c], jw[J_B + 10 + c]
+                    x3, x4, x5 = jw[J_B + 15 + c], jw[J_B + 20 + c], jw[J_B + 25 + c]
+                    x5 = x5 * i5
+                    x4 = (x4 - u45 * x5) * i4
+                    x3 = (x3 - u34 * x4 - u35 * x5) * i3
+                    x2 = (x2 - u23 * x3 - u24 * x4 - u25 * x5) * i2
+                    x1 = (x1 - u12 * x2 - u13 * x3 - u14 * x4 - u15 * x5) * i1
+                    x0 = (x0 - u01 * x1 - u02 * x2 - u03 * x3 - u04 * x4 - u05 * x5) * i0
+                else:
+                    x0, x1, x2, x3, x4, x5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+                q = J_FX + FX_AB + c
+                jw[q], jw[q + 5], jw[q + 10], jw[q + 15], jw[q + 20], jw[q + 25] = x0, x1, x2, x3, x4, x5
+            pair = 0
+            for f in range(4):
+                o = J_FX + FX_SCR + 11 * f
+                for g in range(f, 4):
+                    q = J_FX + FX_SCR + 11 * g
+                    jw[J_FX + FX_H + pair] = _core(jw, f, g) - (
+                        jw[o] * jw[q] + jw[o + 1] * jw[q + 1] + jw[o + 2] * jw[q + 2] + jw[o + 3] * jw[q + 3]
+                        + jw[o + 4] * jw[q + 4] + jw[o + 5] * jw[q + 5])
+                    pair += 1
+            c1, s1 = jw[J_FX + FX_ANG], jw[J_FX + FX_ANG + 1]
+            cm, sm = 1.0, 0.0
+            for m in range(nh):
+                if 2 * m < nh:
+                    jw[J_FX + FX_PHI + 2 * m], jw[J_FX + FX_PHI + 2 * m + 1] = cm, sm
+                for pair in range(N_PAIRS):
+                    h = jw[J_FX + FX_H + pair]
+                    hs[2 * pair * nh + m] += h * cm
+                    hs[(2 * pair + 1) * nh + m] += h * sm
+                cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
+            for f in range(4):
+                n = family_record(params, f)[0]
+                of = modal_offset(params, f)
+                o = J_FX + FX_SCR + 11 * f + 6
+                for c in range(5):
+                    _phi_add(jw, fx[y0 + c], of, n, jw[o + c])
+    # the balls' part from the harmonic sums (upper triangle), then the modes' own diagonal
+    pair = 0
+    for f in range(4):
+        nf, of = family_record(params, f)[0], modal_offset(params, f)
+        for g in range(f, 4):
+            ng, og = family_record(params, g)[0], modal_offset(params, g)
+            hc_at, hs_at = 2 * pair * nh, (2 * pair + 1) * nh
+            for i in range(nf):
+                for i2 in range(ng):
+                    d = abs(i - i2)
+                    cd, cs = hs[hc_at + d], hs[hc_at + i + i2]
+                    sd, ss = (hs[hs_at + d] if i >= i2 else -hs[hs_at + d]), hs[hs_at + i + i2]
+                    row, col = of + 2 * i, og + 2 * i2
+                    fx[row, col] += 0.5 * (cd + cs)           # cos·cos
+                    fx[row, col + 1] += 0.5 * (ss - sd)       # cos·sin
+                    fx[row + 1, col] += 0.5 * (ss + sd)       # sin·cos
+                    fx[row + 1, col + 1] += 0.5 * (cd - cs)   # sin·sin
+            pair += 1
+    for f in range(4):
+        n, s0, d0 = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(n):
+            m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
+            for s in range(2):
+                fx[of + 2 * i + s, of + 2 * i + s] += m + hg * c + hg * hg * k
+    # − Yᵀ·S_r⁻¹·Y = −ZᵀZ, Z = U_r⁻ᵀ·Y (in place of Y)
+    for col in range(nm):
+        for i in range(5):
+            s = fx[y0 + i, col]
+            for l in range(i):
+                s -= schur[l, i] * fx[y0 + l, col]
+            fx[y0 + i, col] = s * schur[i, i]
+    for row in range(nm):
+        for col in range(row, nm):
+            fx[row, col] -= (fx[y0, row] * fx[y0, col] + fx[y0 + 1, row] * fx[y0 + 1, col]
+                             + fx[y0 + 2, row] * fx[y0 + 2, col] + fx[y0 + 3, row] * fx[y0 + 3, col]
+                             + fx[y0 + 4, row] * fx[y0 + 4, col])
+    # Cholesky (upper triangle, reciprocal diagonal)
+    for i in range(nm):
+        s = fx[i, i]
+        for l in range(i):
+            s -= fx[l, i] ** 2
+        inv = 1.0 / math.sqrt(s)
+        fx[i, i] = inv
+        for c in range(i + 1, nm):
+            s = fx[i, c]
+            for l in range(i):
+                s -= fx[l, i] * fx[l, c]
+            fx[i, c] = s * inv
+
+
+@kernel(inline=True)
+def _phi_dot(jw, x, start, n):
+    """``Σ_k x[start + 2k]·cos kθ + x[start + 2k + 1]·sin kθ`` (k < n) with the ball's shape
+    ``φ`` stored by :func:`factor_modes`."""
+    out = 0.0
+    for i in range(2 * n):
+        out += x[start + i] * jw[J_FX + FX_PHI + i]
+    return out
+
+
+@kernel(inline=True)
+def _phi_add(jw, x, start, n, value):
+    """``x[start + i] += value·φ_i`` (i < 2n)."""
+    for i in range(2 * n):
+        x[start + i] += value * jw[J_FX + FX_PHI + i]
+
+
+@kernel
+def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
+    """:func:`solve` with a flexible ring's modes among the unknowns: the stage's velocity
+    increments of the balls, the ring and the modes from ``ê`` in ``v`` (the stage matrix
+    ``[[A, C], [Cᵀ, D]]`` of :func:`factor_modes`, its right-hand side ``M·ê_v − h·γ·K·ê_x``
+    with the contacts' stiffness on the modes in ``K``), by block elimination::
+
+        A·y = r_A,   S·e_m = r_m − Cᵀ·y,   e_A = y − A⁻¹·C·e_m
+
+    one solve of the arrowhead system (:func:`solve`), one of ``S``, and ``A⁻¹·C·e_m`` from
+    what :func:`factor_modes` left: the ring's part ``z = S_r⁻¹·Y·e_m``, each ball's
+    ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z`` (``σ_f = φ_f·e_m``). Then, for the modes (their
+    positions, as the stage does the balls'): ``e_x = ê_x + h·γ·e_v`` and ``g_x = e_v`` into
+    ``g``. ``hg = h·γ`` [s]; ``fx`` the modes' block."""
+    nm = modal_offset(params, 4)
+    rm = fx[nm + FX_RM]
+    n0, a0, _ = family_record(params, 0)
+    n1, a1, _ = family_record(params, 1)
+    n2, a2, _ = family_record(params, 2)
+    n3, a3, _ = family_record(params, 3)
+    o1, o2, o3 = 2 * n0, 2 * (n0 + n1), 2 * (n0 + n1 + n2)
+    # the modes' own M·ê_v − h·γ·K·ê_x
+    for f in range(4):
+        n, s0, d0 = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(n):
+            m, k = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2]
+            for s in range(2):
+                rm[of + 2 * i + s] = m * v[s0 + 2 * n + 2 * i + s] - hg * k * v[s0 + 2 * i + s]
+    # the contacts' h·γ·K between the modes and the balls, the pose and themselves
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            if jw[J_FX + FX_ON] == 0.0:
+                continue
+            b = b0 + BALL_STATES * j
+            sh = (_phi_dot(jw, v, a0, n0), _phi_dot(jw, v, a1, n1), _phi_dot(jw, v, a2, n2), _phi_dot(jw, v, a3, n3))
+            fbx, fby, fbz = 0.0, 0.0, 0.0
+            for f in range(4):
+                vk = J_FX + FX_VK + 3 * f
+                fbx += sh[f] * jw[vk]
+                fby += sh[f] * jw[vk + 1]
+                fbz += sh[f] * jw[vk + 2]
+                t = jw[vk] * v[b] + jw[vk + 1] * v[b + 1] + jw[vk + 2] * v[b + 2]
+                if f < 2:
+                    pk = J_FX + FX_PK + 5 * f
+                    e0 += sh[f] * jw[pk]
+                    e1 += sh[f] * jw[pk + 1]
+                    e2 += sh[f] * jw[pk + 2]
+                    e3 += sh[f] * jw[pk + 3]
+                    e4 += sh[f] * jw[pk + 4]
+                    t += jw[pk] * v[0] + jw[pk + 1] * v[1] + jw[pk + 2] * v[2] + jw[pk + 3] * v[3] + jw[pk + 4] * v[4]
+                for h in range(4):
+                    t += (_core_k(jw, f, h) if f <= h else _core_k(jw, h, f)) * sh[h]
+                if f == 0:
+                    _phi_add(jw, rm, 0, n0, -t)
+                elif f == 1:
+                    _phi_add(jw, rm, o1, n1, -t)
+                elif f == 2:
+                    _phi_add(jw, rm, o2, n2, -t)
+                else:
+                    _phi_add(jw, rm, o3, n3, -t)
+            v[b + 3] -= fbx / mass[b + 3]
+            v[b + 4] -= fby / mass[b + 4]
+            v[b + 5] -= fbz / mass[b + 5]
+    v[5] -= e0 / mass[5]
+    v[6] -= e1 / mass[6]
+    v[7] -= e2 / mass[7]
+    v[8] -= e3 / mass[8]
+    v[9] -= e4 / mass[9]
+    solve(v, schur, rows, mass, sf)
+    # r_m − Cᵀ·y
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            if jw[J_FX + FX_ON] == 0.0:
+                continue
+            b = b0 + BALL_STATES * j
+            for f in range(4):
+                vv = J_FX + FX_V + 3 * f
+                u = jw[vv] * v[b + 3] + jw[vv + 1] * v[b + 4] + jw[vv + 2] * v[b + 5]
+                if f < 2:
+                    p = J_FX + FX_P + 5 * f
+                    u += (jw[p] * v[5] + jw[p + 1] * v[6] + jw[p + 2] * v[7] + jw[p + 3] * v[8]
+                          + jw[p + 4] * v[9])
+                if f == 0:
+                    _phi_add(jw, rm, 0, n0, -u)
+                elif f == 1:
+                    _phi_add(jw, rm, o1, n1, -u)
+                elif f == 2:
+                    _phi_add(jw, rm, o2, n2, -u)
+                else:
+                    _phi_add(jw, rm, o3, n3, -u)
+    # S·e_m = r: Uᵀ then U
+    for i in range(nm):
+        s = rm[i]
+        for l in range(i):
+            s -= fx[l, i] * rm[l]
+        rm[i] = s * fx[i, i]
+    for i in range(nm - 1, -1, -1):
+        s = rm[i]
+        for l in range(i + 1, nm):
+            s -= fx[i, l] * rm[l]
+        rm[i] = s * fx[i, i]
+    # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
+    y0 = nm + FX_Y
+    t0 = t1 = t2 = t3 = t4 = 0.0
+    for m in range(nm):
+        e = rm[m]
+        t0 += fx[y0, m] * e
+        t1 += fx[y0 + 1, m] * e
+        t2 += fx[y0 + 2, m] * e
+        t3 += fx[y0 + 3, m] * e
+        t4 += fx[y0 + 4, m] * e
+    z4 = t4 * schur[4, 4]
+    z3 = (t3 - schur[3, 4] * z4) * schur[3, 3]
+    z2 = (t2 - schur[2, 3] * z3 - schur[2, 4] * z4) * schur[2, 2]
+    z1 = (t1 - schur[1, 2] * z2 - schur[1, 3] * z3 - schur[1, 4] * z4) * schur[1, 1]
+    z0 = (t0 - schur[0, 1] * z1 - schur[0, 2] * z2 - schur[0, 3] * z3 - schur[0, 4] * z4) * schur[0, 0]
+    v[5] -= z0
+    v[6] -= z1
+    v[7] -= z2
+    v[8] -= z3
+    v[9] -= z4
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            if jw[J_FX + FX_ON] == 0.0:
+                continue
+            b = b0 + BALL_STATES * j
+            s0_ = _phi_dot(jw, rm, 0, n0)
+            s1_ = _phi_dot(jw, rm, o1, n1)
+            s2_ = _phi_dot(jw, rm, o2, n2)
+            s3_ = _phi_dot(jw, rm, o3, n3)
+            q = J_FX + FX_Q
+            ab = J_FX + FX_AB
+            for i in range(6):
+                v[b + 3 + i] -= (s0_ * jw[q + i] + s1_ * jw[q + 6 + i] + s2_ * jw[q + 12 + i] + s3_ * jw[q + 18 + i]
+                                 - (jw[ab + 5 * i] * z0 + jw[ab + 5 * i + 1] * z1 + jw[ab + 5 * i + 2] * z2
+                                    + jw[ab + 5 * i + 3] * z3 + jw[ab + 5 * i + 4] * z4))
+    # the modes
+    for f in range(4):
+        n, s0, _ = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(2 * n):
+            ev = rm[of + i]
+            v[s0 + 2 * n + i] = ev
+            v[s0 + i] += hg * ev
+            g[s0 + i] = ev
