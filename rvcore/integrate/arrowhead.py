@@ -291,17 +291,32 @@ def solve(v, schur, rows, mass, sf):
 
 #: Rows of the modes' block ``fx`` after its ``nm × nm`` Schur complement (``nm`` the modal
 #: unknowns, :func:`rvcore.dynamics.ring_modes.modal_offset`): ``Z = U_r⁻ᵀ·Y`` (5 rows), the
-#: modes' right-hand side, then the harmonic sums (:func:`factor_modes`).
-FX_Y, FX_RM, FX_HARM = 0, 5, 6
+#: modes' right-hand side, then, flat, the harmonic sums (:func:`factor_modes`) and each
+#: row's packed modal factors (:data:`MP_V`…).
+FX_Y, FX_RM, FX_FLAT = 0, 5, 6
 #: The family pairs ``(f, g)``, ``f ≤ g``, of the harmonic sums, in their order.
 N_PAIRS = 10
+#: The packed modal factors of one row, a quantity ``q`` of the row's ball ``j`` at
+#: ``q·WS + j`` (as :func:`pack`'s, so that the solve's loops over the balls vectorise):
+#: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
+#: ``P_f`` and ``PK_f`` (5 each), ``h·γ·K``'s own blocks per ring (3 each), ``A_b⁻¹·V_f``
+#: (6 each), ``A_b⁻¹·B_b`` (6×5); the solve's own (the ball's ê_x or y, the families'
+#: shape values, their terms, the ball's force, σ_f, its correction); from ``MP_PHI`` the
+#: shape ``φ``.
+(MP_V, MP_VK, MP_P, MP_PK, MP_CK, MP_Q, MP_AB, MP_EX, MP_SH, MP_T, MP_FB, MP_SG, MP_CR,
+ MP_PHI) = 0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128
 
 
-def modal_block_rows(n_modes: int, max_orders: int, width: int) -> int:
-    """Rows of width ``width`` the modes' block ``fx`` takes (:data:`FX_HARM`): ``n_modes``
-    modal unknowns, ``max_orders`` orders in the largest family."""
-    harmonics = 2 * N_PAIRS * (2 * max_orders - 1)
-    return n_modes + FX_HARM + -(-harmonics // width)
+def _packed_size(max_orders: int) -> int:
+    """Quantities of a row's packed modal factors (:data:`MP_PHI` and the shape)."""
+    return MP_PHI + 2 * max_orders
+
+
+def modal_block_rows(n_modes: int, max_orders: int, width: int, n_rows: int) -> int:
+    """Rows of width ``width`` the modes' block ``fx`` takes: ``n_modes`` modal unknowns,
+    ``max_orders`` orders in the largest family, ``n_rows`` rows of balls."""
+    flat = 2 * N_PAIRS * (2 * max_orders - 1) + n_rows * _packed_size(max_orders) * WS
+    return n_modes + FX_FLAT + -(-flat // width)
 
 
 @kernel(inline=True)
@@ -350,7 +365,7 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
     """
     nm = modal_offset(params, 4)
     nh = 2 * _max_orders(params) - 1
-    hs = fx[nm + FX_HARM:].reshape(-1)
+    hs = fx[nm + FX_FLAT:].reshape(-1)
     for i in range(2 * N_PAIRS * nh):
         hs[i] = 0.0
     for i in range(nm + FX_RM):      # S and Y
@@ -469,28 +484,34 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
             fx[row, col] -= (fx[y0, row] * fx[y0, col] + fx[y0 + 1, row] * fx[y0 + 1, col]
                              + fx[y0 + 2, row] * fx[y0 + 2, col] + fx[y0 + 3, row] * fx[y0 + 3, col]
                              + fx[y0 + 4, row] * fx[y0 + 4, col])
-    # Cholesky (upper triangle, reciprocal diagonal)
+    # Cholesky (upper triangle, reciprocal diagonal; right-looking, so that the inner loops
+    # run along rows)
     for i in range(nm):
-        s = fx[i, i]
-        for l in range(i):
-            s -= fx[l, i] ** 2
-        inv = 1.0 / math.sqrt(s)
+        inv = 1.0 / math.sqrt(fx[i, i])
         fx[i, i] = inv
         for c in range(i + 1, nm):
-            s = fx[i, c]
-            for l in range(i):
-                s -= fx[l, i] * fx[l, c]
-            fx[i, c] = s * inv
-
-
-@kernel(inline=True)
-def _phi_dot(jw, x, start, n):
-    """``Σ_k x[start + 2k]·cos kθ + x[start + 2k + 1]·sin kθ`` (k < n) with the ball's shape
-    ``φ`` stored by :func:`factor_modes`."""
-    out = 0.0
-    for i in range(2 * n):
-        out += x[start + i] * jw[J_FX + FX_PHI + i]
-    return out
+            fx[i, c] *= inv
+        for k in range(i + 1, nm):
+            u = fx[i, k]
+            for c in range(k, nm):
+                fx[k, c] -= u * fx[i, c]
+    # the solve's packed factors, a row at a time (MP_*)
+    size = MP_PHI + 2 * _max_orders(params)
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            for i in range(24):
+                mp[(MP_V + i) * WS + j] = jw[J_FX + FX_V + i]      # V, VK
+            for i in range(20):
+                mp[(MP_P + i) * WS + j] = jw[J_FX + FX_P + i]      # P, PK
+            for i in range(6):
+                mp[(MP_CK + i) * WS + j] = jw[J_FX + FX_CK + i]
+            for i in range(54):
+                mp[(MP_Q + i) * WS + j] = jw[J_FX + FX_Q + i]      # A⁻¹V, A⁻¹B
+            for i in range(size - MP_PHI):
+                mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i] if jw[J_FX + FX_ON] != 0.0 else 0.0
 
 
 @kernel(inline=True)
@@ -498,6 +519,114 @@ def _phi_add(jw, x, start, n, value):
     """``x[start + i] += value·φ_i`` (i < 2n)."""
     for i in range(2 * n):
         x[start + i] += value * jw[J_FX + FX_PHI + i]
+
+
+@kernel(inline=True)
+def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
+    """Every ball of a row: ``s[(at + f)·WS + j] = φ(θ_j)·v[a_f : a_f + 2n_f]``, the four
+    families' displacement at the ball from their amplitudes (the shape ``φ`` in ``MP_PHI``)."""
+    for j in range(nz):
+        s[at * WS + j] = 0.0
+        s[(at + 1) * WS + j] = 0.0
+        s[(at + 2) * WS + j] = 0.0
+        s[(at + 3) * WS + j] = 0.0
+    for i in range(2 * nmax):
+        e0 = v[a0 + i] if i < 2 * n0 else 0.0
+        e1 = v[a1 + i] if i < 2 * n1 else 0.0
+        e2 = v[a2 + i] if i < 2 * n2 else 0.0
+        e3 = v[a3 + i] if i < 2 * n3 else 0.0
+        p = (MP_PHI + i) * WS
+        for j in range(nz):
+            ph = s[p + j]
+            s[at * WS + j] += ph * e0
+            s[(at + 1) * WS + j] += ph * e1
+            s[(at + 2) * WS + j] += ph * e2
+            s[(at + 3) * WS + j] += ph * e3
+
+
+@kernel(inline=True)
+def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
+    """``rm[o_f + i] −= Σ_j φ_i(θ_j)·s[(MP_T + f)·WS + j]``: the four families' terms at the
+    balls onto their modes (ball by ball, along the shape ``φ`` each ball keeps in ``jwork``)."""
+    for j in range(nz):
+        jw = jwork[p0 + j]
+        t0, t1 = s[MP_T * WS + j], s[(MP_T + 1) * WS + j]
+        t2, t3 = s[(MP_T + 2) * WS + j], s[(MP_T + 3) * WS + j]
+        for i in range(2 * n0):
+            rm[i] -= t0 * jw[J_FX + FX_PHI + i]
+        for i in range(2 * n1):
+            rm[o1 + i] -= t1 * jw[J_FX + FX_PHI + i]
+        for i in range(2 * n2):
+            rm[o2 + i] -= t2 * jw[J_FX + FX_PHI + i]
+        for i in range(2 * n3):
+            rm[o3 + i] -= t3 * jw[J_FX + FX_PHI + i]
+
+
+@kernel
+def _modal_terms(s, nz, x0, x1, x2, x3, x4):
+    """Every ball of a row: the modes' ``h·γ·K`` on the ball (``MP_FB``) and on the modes
+    (``MP_T``) from the shape values ``MP_SH`` and the ball's ê_x (``MP_EX``), the pose's
+    ê_x ``x``."""
+    for j in range(nz):
+        sh0, sh1 = s[MP_SH * WS + j], s[(MP_SH + 1) * WS + j]
+        sh2, sh3 = s[(MP_SH + 2) * WS + j], s[(MP_SH + 3) * WS + j]
+        ex, ey, ez = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
+        for c in range(3):
+            s[(MP_FB + c) * WS + j] = (sh0 * s[(MP_VK + c) * WS + j] + sh1 * s[(MP_VK + 3 + c) * WS + j]
+                                       + sh2 * s[(MP_VK + 6 + c) * WS + j] + sh3 * s[(MP_VK + 9 + c) * WS + j])
+        for f in range(4):
+            k = (MP_VK + 3 * f) * WS + j
+            t = s[k] * ex + s[k + WS] * ey + s[k + 2 * WS] * ez
+            if f < 2:
+                p = (MP_PK + 5 * f) * WS + j
+                t += (s[p] * x0 + s[p + WS] * x1 + s[p + 2 * WS] * x2 + s[p + 3 * WS] * x3
+                      + s[p + 4 * WS] * x4)
+            s[(MP_T + f) * WS + j] = t
+        ck = MP_CK * WS + j
+        s[MP_T * WS + j] += s[ck] * sh0 + s[ck + WS] * sh1
+        s[(MP_T + 1) * WS + j] += s[ck + WS] * sh0 + s[ck + 2 * WS] * sh1
+        s[(MP_T + 2) * WS + j] += s[ck + 3 * WS] * sh2 + s[ck + 4 * WS] * sh3
+        s[(MP_T + 3) * WS + j] += s[ck + 4 * WS] * sh2 + s[ck + 5 * WS] * sh3
+
+
+@kernel
+def _coupling_terms(s, nz, y0, y1, y2, y3, y4):
+    """Every ball of a row: add ``Cᵀ·y``'s factor per family, ``V_f·y_b + P_f·y_r``, to
+    ``MP_T`` (the ball's y in ``MP_EX``, the ring's ``y``)."""
+    for j in range(nz):
+        bx, by, bz = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
+        for f in range(4):
+            k = (MP_V + 3 * f) * WS + j
+            u = s[k] * bx + s[k + WS] * by + s[k + 2 * WS] * bz
+            if f < 2:
+                p = (MP_P + 5 * f) * WS + j
+                u += s[p] * y0 + s[p + WS] * y1 + s[p + 2 * WS] * y2 + s[p + 3 * WS] * y3 + s[p + 4 * WS] * y4
+            s[(MP_T + f) * WS + j] += u
+
+
+@kernel
+def _ring_share(s, nz, c):
+    """``Σ_j Σ_f MP_SH_f·PK_f[c]`` over a row's balls (the modes' ``h·γ·K`` on the pose)."""
+    acc = 0.0
+    for j in range(nz):
+        acc += (s[MP_SH * WS + j] * s[(MP_PK + c) * WS + j]
+                + s[(MP_SH + 1) * WS + j] * s[(MP_PK + 5 + c) * WS + j])
+    return acc
+
+
+@kernel
+def _ball_corrections(s, nz, z0, z1, z2, z3, z4):
+    """Every ball of a row: its part of ``A⁻¹·C·e_m``, ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z``, into
+    ``MP_CR`` (σ_f in ``MP_SG``, the ring's ``z``)."""
+    for j in range(nz):
+        g0, g1 = s[MP_SG * WS + j], s[(MP_SG + 1) * WS + j]
+        g2, g3 = s[(MP_SG + 2) * WS + j], s[(MP_SG + 3) * WS + j]
+        for i in range(6):
+            q = (MP_Q + i) * WS + j
+            ab = (MP_AB + 5 * i) * WS + j
+            s[(MP_CR + i) * WS + j] = (g0 * s[q] + g1 * s[q + 6 * WS] + g2 * s[q + 12 * WS] + g3 * s[q + 18 * WS]
+                                       - (s[ab] * z0 + s[ab + WS] * z1 + s[ab + 2 * WS] * z2 + s[ab + 3 * WS] * z3
+                                          + s[ab + 4 * WS] * z4))
 
 
 @kernel
@@ -513,9 +642,14 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     what :func:`factor_modes` left: the ring's part ``z = S_r⁻¹·Y·e_m``, each ball's
     ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z`` (``σ_f = φ_f·e_m``). Then, for the modes (their
     positions, as the stage does the balls'): ``e_x = ê_x + h·γ·e_v`` and ``g_x = e_v`` into
-    ``g``. ``hg = h·γ`` [s]; ``fx`` the modes' block."""
+    ``g``. ``hg = h·γ`` [s]; ``fx`` the modes' block (``jwork`` is not read: the packed
+    factors are in ``fx``)."""
     nm = modal_offset(params, 4)
     rm = fx[nm + FX_RM]
+    nmax = _max_orders(params)
+    size = MP_PHI + 2 * nmax
+    flat = fx[nm + FX_FLAT:].reshape(-1)
+    at = 2 * N_PAIRS * (2 * nmax - 1)
     n0, a0, _ = family_record(params, 0)
     n1, a1, _ = family_record(params, 1)
     n2, a2, _ = family_record(params, 2)
@@ -527,86 +661,55 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
         of = modal_offset(params, f)
         for i in range(n):
             m, k = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2]
-            for s in range(2):
-                rm[of + 2 * i + s] = m * v[s0 + 2 * n + 2 * i + s] - hg * k * v[s0 + 2 * i + s]
+            for q in range(2):
+                rm[of + 2 * i + q] = m * v[s0 + 2 * n + 2 * i + q] - hg * k * v[s0 + 2 * i + q]
     # the contacts' h·γ·K between the modes and the balls, the pose and themselves
     e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            if jw[J_FX + FX_ON] == 0.0:
-                continue
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        for j in range(nz):
             b = b0 + BALL_STATES * j
-            sh = (_phi_dot(jw, v, a0, n0), _phi_dot(jw, v, a1, n1), _phi_dot(jw, v, a2, n2), _phi_dot(jw, v, a3, n3))
-            fbx, fby, fbz = 0.0, 0.0, 0.0
-            for f in range(4):
-                vk = J_FX + FX_VK + 3 * f
-                fbx += sh[f] * jw[vk]
-                fby += sh[f] * jw[vk + 1]
-                fbz += sh[f] * jw[vk + 2]
-                t = jw[vk] * v[b] + jw[vk + 1] * v[b + 1] + jw[vk + 2] * v[b + 2]
-                if f < 2:
-                    pk = J_FX + FX_PK + 5 * f
-                    e0 += sh[f] * jw[pk]
-                    e1 += sh[f] * jw[pk + 1]
-                    e2 += sh[f] * jw[pk + 2]
-                    e3 += sh[f] * jw[pk + 3]
-                    e4 += sh[f] * jw[pk + 4]
-                    t += jw[pk] * v[0] + jw[pk + 1] * v[1] + jw[pk + 2] * v[2] + jw[pk + 3] * v[3] + jw[pk + 4] * v[4]
-                for h in range(4):
-                    t += (_core_k(jw, f, h) if f <= h else _core_k(jw, h, f)) * sh[h]
-                if f == 0:
-                    _phi_add(jw, rm, 0, n0, -t)
-                elif f == 1:
-                    _phi_add(jw, rm, o1, n1, -t)
-                elif f == 2:
-                    _phi_add(jw, rm, o2, n2, -t)
-                else:
-                    _phi_add(jw, rm, o3, n3, -t)
-            v[b + 3] -= fbx / mass[b + 3]
-            v[b + 4] -= fby / mass[b + 4]
-            v[b + 5] -= fbz / mass[b + 5]
+            s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b], v[b + 1], v[b + 2]
+        _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, MP_SH)
+        _modal_terms(s, nz, x0, x1, x2, x3, x4)
+        e0 += _ring_share(s, nz, 0)
+        e1 += _ring_share(s, nz, 1)
+        e2 += _ring_share(s, nz, 2)
+        e3 += _ring_share(s, nz, 3)
+        e4 += _ring_share(s, nz, 4)
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            v[b + 3] -= s[MP_FB * WS + j] / mass[b + 3]
+            v[b + 4] -= s[(MP_FB + 1) * WS + j] / mass[b + 4]
+            v[b + 5] -= s[(MP_FB + 2) * WS + j] / mass[b + 5]
     v[5] -= e0 / mass[5]
     v[6] -= e1 / mass[6]
     v[7] -= e2 / mass[7]
     v[8] -= e3 / mass[8]
     v[9] -= e4 / mass[9]
     solve(v, schur, rows, mass, sf)
-    # r_m − Cᵀ·y
+    # r_m − h·γ·K_m·ê_x − Cᵀ·y
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            if jw[J_FX + FX_ON] == 0.0:
-                continue
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        for j in range(nz):
             b = b0 + BALL_STATES * j
-            for f in range(4):
-                vv = J_FX + FX_V + 3 * f
-                u = jw[vv] * v[b + 3] + jw[vv + 1] * v[b + 4] + jw[vv + 2] * v[b + 5]
-                if f < 2:
-                    p = J_FX + FX_P + 5 * f
-                    u += (jw[p] * v[5] + jw[p + 1] * v[6] + jw[p + 2] * v[7] + jw[p + 3] * v[8]
-                          + jw[p + 4] * v[9])
-                if f == 0:
-                    _phi_add(jw, rm, 0, n0, -u)
-                elif f == 1:
-                    _phi_add(jw, rm, o1, n1, -u)
-                elif f == 2:
-                    _phi_add(jw, rm, o2, n2, -u)
-                else:
-                    _phi_add(jw, rm, o3, n3, -u)
-    # S·e_m = r: Uᵀ then U
+            s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b + 3], v[b + 4], v[b + 5]
+        _coupling_terms(s, nz, v[5], v[6], v[7], v[8], v[9])
+        _shape_forces(s, nz, jwork, int(rows[r, R_POCKET0]), rm, n0, o1, n1, o2, n2, o3, n3)
+    # S·e_m = r: Uᵀ (along U's rows) then U
     for i in range(nm):
-        s = rm[i]
-        for l in range(i):
-            s -= fx[l, i] * rm[l]
-        rm[i] = s * fx[i, i]
+        e = rm[i] * fx[i, i]
+        rm[i] = e
+        for c in range(i + 1, nm):
+            rm[c] -= fx[i, c] * e
     for i in range(nm - 1, -1, -1):
-        s = rm[i]
+        acc = rm[i]
         for l in range(i + 1, nm):
-            s -= fx[i, l] * rm[l]
-        rm[i] = s * fx[i, i]
+            acc -= fx[i, l] * rm[l]
+        rm[i] = acc * fx[i, i]
     # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
     y0 = nm + FX_Y
     t0 = t1 = t2 = t3 = t4 = 0.0
@@ -628,22 +731,14 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     v[8] -= z3
     v[9] -= z4
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            if jw[J_FX + FX_ON] == 0.0:
-                continue
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        _shape_values(s, nz, rm, 0, n0, o1, n1, o2, n2, o3, n3, nmax, MP_SG)
+        _ball_corrections(s, nz, z0, z1, z2, z3, z4)
+        for j in range(nz):
             b = b0 + BALL_STATES * j
-            s0_ = _phi_dot(jw, rm, 0, n0)
-            s1_ = _phi_dot(jw, rm, o1, n1)
-            s2_ = _phi_dot(jw, rm, o2, n2)
-            s3_ = _phi_dot(jw, rm, o3, n3)
-            q = J_FX + FX_Q
-            ab = J_FX + FX_AB
             for i in range(6):
-                v[b + 3 + i] -= (s0_ * jw[q + i] + s1_ * jw[q + 6 + i] + s2_ * jw[q + 12 + i] + s3_ * jw[q + 18 + i]
-                                 - (jw[ab + 5 * i] * z0 + jw[ab + 5 * i + 1] * z1 + jw[ab + 5 * i + 2] * z2
-                                    + jw[ab + 5 * i + 3] * z3 + jw[ab + 5 * i + 4] * z4))
+                v[b + 3 + i] -= s[(MP_CR + i) * WS + j]
     # the modes
     for f in range(4):
         n, s0, _ = family_record(params, f)

@@ -262,7 +262,7 @@ def new_work(model, pocket_tolerance, load_tolerance):
         return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
     orders = max(family_states(model, name)[0] for name in FAMILIES)
     work[W_SET, 2] = work.shape[0]
-    work = np.vstack([work, np.zeros((modal_block_rows(len(modal), orders, n), n))])
+    work = np.vstack([work, np.zeros((modal_block_rows(len(modal), orders, n, model.rows.shape[0]), n))])
     return work, np.zeros((model.n_balls + 1, N_JWORK + N_FX + 2 * orders)), np.zeros((N_SCHUR, 5))
 
 
