@@ -59,10 +59,9 @@ from .races import (C_DD, C_DELTA, C_H, C_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
                     POCKET, SCRATCH_SIZE, W, arc, arc_contacts, ball_geometry, entrainment_speed, gather_balls,
-                    pocket_contacts, raceway_offsets, ring_surfaces, scratch)
+                    pocket_contacts, raceway_offsets, ring_forces, ring_surfaces, scratch, G_FM)
 from .raceway import spin_of
-from .ring_modes import (F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, add_modal_force,
-                         clear_modal_forces, flexible, modal_rhs)
+from .ring_modes import clear_modal_forces, flexible, modal_rhs
 
 # The slots of the diagnostics vector this kernel writes, by the names of the output
 # table (rvcore.output_table.SIGNALS, where each is described with its units). rhs() writes
@@ -385,11 +384,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     qo_sum += q
                     fo_rad += fx * erx + fy * ery
 
-            if flex:    # the ball's normal forces drive the rings' modes, at its angle in each ring
-                add_modal_force(params, dy, F_INNER_RADIAL, plx * inv_rho_l, ply * inv_rho_l, f_ir)
-                add_modal_force(params, dy, F_INNER_AXIAL, plx * inv_rho_l, ply * inv_rho_l, f_iz)
-                add_modal_force(params, dy, F_OUTER_RADIAL, erx, ery, f_or)
-                add_modal_force(params, dy, F_OUTER_AXIAL, erx, ery, f_oz)
+            if flex:    # the ball's normal forces drive the rings' modes (ring_forces, below)
+                buf[G_FM * W + j], buf[(G_FM + 1) * W + j] = f_ir, f_iz
+                buf[(G_FM + 2) * W + j], buf[(G_FM + 3) * W + j] = f_or, f_oz
             if qi_sum > LOADED_BALL_LOAD and qo_sum > LOADED_BALL_LOAD:
                 loaded += 1.0
             if qi_sum > 0.0 or qo_sum > 0.0:
@@ -464,6 +461,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             dy[b + 6] = (mbx + mpx) * inv_ib
             dy[b + 7] = (mby + mpy) * inv_ib
             dy[b + 8] = (mbz + mpz) * inv_ib
+
+        if flex:    # at each ball's angle in each ring
+            ring_forces(buf, params, dy, nz_balls)
 
         # ---- cage–land contact (outer-ring land, fixed)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:

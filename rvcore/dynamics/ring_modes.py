@@ -67,7 +67,7 @@ from ..rings.flexible import FlexibleRings
 
 __all__ = ["DYNAMICS_MAX_ORDER", "FAMILIES", "truncated", "with_ring_modes", "family_states", "set_static_modes",
            "modal_rates",
-           "flexible", "surface", "groove", "add_modal_force", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_offset",
+           "flexible", "surface", "groove", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_offset",
            "order_amplitude"]
 
 #: The highest Fourier order the dynamics keep by default [-]: 0 (breathing, axial
@@ -302,22 +302,9 @@ def order_amplitude(params, y, f, k):
 
 
 @kernel(inline=True)
-def add_modal_force(params, dy, f, c1, s1, force):
-    """Add a force ``force`` [N] on family ``f``'s ring at the angle of cosine ``c1`` and
-    sine ``s1`` to its generalized forces, kept in ``dy``'s rate slots until
-    :func:`modal_rhs` turns them into accelerations."""
-    n = int(params[FX_HEAD + FX_STRIDE * f])
-    s0 = int(params[FX_HEAD + FX_STRIDE * f + 1]) + 2 * n
-    ck, sk = 1.0, 0.0
-    for i in range(n):
-        dy[s0 + 2 * i] += force * ck
-        dy[s0 + 2 * i + 1] += force * sk
-        ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
-
-
-@kernel(inline=True)
 def clear_modal_forces(params, dy):
-    """Zero every family's generalized forces in ``dy`` (before :func:`add_modal_force`)."""
+    """Zero every family's generalized forces in ``dy`` (before
+    :func:`rvcore.dynamics.races.ring_forces` adds the balls')."""
     for f in range(4):
         n = int(params[FX_HEAD + FX_STRIDE * f])
         s0 = int(params[FX_HEAD + FX_STRIDE * f + 1]) + 2 * n

@@ -360,7 +360,8 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
     times the shape ``φ(θ)``, so ``P_b = Σ_f (U⁻ᵀ·V_f)·φ_fᵀ`` and the balls' part is
     ``Σ_b Σ_fg H_fg·φ_f·φ_gᵀ`` with ``H = core − (U⁻ᵀV_f)·(U⁻ᵀV_g)``: summed as the harmonics
     ``Σ_b H·(cos mθ, sin mθ)``, m ≤ 2K, and expanded by the product formulas. Then
-    ``S = UᵀU`` in place in ``fx[:nm]`` (upper triangle, reciprocal diagonal, as :func:`factor`).
+    ``S = UᵀU`` in place in ``fx[:nm]`` (upper triangle, reciprocal diagonal, as :func:`factor`;
+    its transpose in the lower triangle, for the solve's back substitution along rows).
     ``hg = h·γ`` [s].
     """
     nm = modal_offset(params, 4)
@@ -495,6 +496,9 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
             u = fx[i, k]
             for c in range(k, nm):
                 fx[k, c] -= u * fx[i, c]
+    for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
+        for c in range(i + 1, nm):
+            fx[c, i] = fx[i, c]
     # the solve's packed factors, a row at a time (MP_*)
     size = MP_PHI + 2 * _max_orders(params)
     for r in range(rows.shape[0]):
@@ -706,10 +710,10 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
         for c in range(i + 1, nm):
             rm[c] -= fx[i, c] * e
     for i in range(nm - 1, -1, -1):
-        acc = rm[i]
-        for l in range(i + 1, nm):
-            acc -= fx[i, l] * rm[l]
-        rm[i] = acc * fx[i, i]
+        e = rm[i] * fx[i, i]
+        rm[i] = e
+        for l in range(i):
+            rm[l] -= fx[i, l] * e       # U[l, i], kept in the lower triangle
     # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
     y0 = nm + FX_Y
     t0 = t1 = t2 = t3 = t4 = 0.0
