@@ -487,15 +487,18 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
                              + fx[y0 + 4, row] * fx[y0 + 4, col])
     # Cholesky (upper triangle, reciprocal diagonal; right-looking, so that the inner loops
     # run along rows)
+    # with views from the loops' first index (an index LLVM knows to be ≥ 0 vectorises)
     for i in range(nm):
         inv = 1.0 / math.sqrt(fx[i, i])
         fx[i, i] = inv
-        for c in range(i + 1, nm):
-            fx[i, c] *= inv
+        row = fx[i, i + 1:nm]
+        for c in range(nm - i - 1):
+            row[c] *= inv
         for k in range(i + 1, nm):
             u = fx[i, k]
-            for c in range(k, nm):
-                fx[k, c] -= u * fx[i, c]
+            target, source = fx[k, k:nm], fx[i, k:nm]
+            for c in range(nm - k):
+                target[c] -= u * source[c]
     for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
         for c in range(i + 1, nm):
             fx[c, i] = fx[i, c]
@@ -521,31 +524,30 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
 @kernel(inline=True)
 def _phi_add(jw, x, start, n, value):
     """``x[start + i] += value·φ_i`` (i < 2n)."""
+    target, phi = x[start:start + 2 * n], jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * n]
     for i in range(2 * n):
-        x[start + i] += value * jw[J_FX + FX_PHI + i]
+        target[i] += value * phi[i]
 
 
 @kernel(inline=True)
 def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
     """Every ball of a row: ``s[(at + f)·WS + j] = φ(θ_j)·v[a_f : a_f + 2n_f]``, the four
     families' displacement at the ball from their amplitudes (the shape ``φ`` in ``MP_PHI``)."""
+    c0, c1 = s[at * WS:at * WS + nz], s[(at + 1) * WS:(at + 1) * WS + nz]
+    c2, c3 = s[(at + 2) * WS:(at + 2) * WS + nz], s[(at + 3) * WS:(at + 3) * WS + nz]
     for j in range(nz):
-        s[at * WS + j] = 0.0
-        s[(at + 1) * WS + j] = 0.0
-        s[(at + 2) * WS + j] = 0.0
-        s[(at + 3) * WS + j] = 0.0
+        c0[j], c1[j], c2[j], c3[j] = 0.0, 0.0, 0.0, 0.0
     for i in range(2 * nmax):
         e0 = v[a0 + i] if i < 2 * n0 else 0.0
         e1 = v[a1 + i] if i < 2 * n1 else 0.0
         e2 = v[a2 + i] if i < 2 * n2 else 0.0
         e3 = v[a3 + i] if i < 2 * n3 else 0.0
-        p = (MP_PHI + i) * WS
+        ph = s[(MP_PHI + i) * WS:(MP_PHI + i) * WS + nz]
         for j in range(nz):
-            ph = s[p + j]
-            s[at * WS + j] += ph * e0
-            s[(at + 1) * WS + j] += ph * e1
-            s[(at + 2) * WS + j] += ph * e2
-            s[(at + 3) * WS + j] += ph * e3
+            c0[j] += ph[j] * e0
+            c1[j] += ph[j] * e1
+            c2[j] += ph[j] * e2
+            c3[j] += ph[j] * e3
 
 
 @kernel(inline=True)
@@ -707,13 +709,15 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     for i in range(nm):
         e = rm[i] * fx[i, i]
         rm[i] = e
-        for c in range(i + 1, nm):
-            rm[c] -= fx[i, c] * e
+        target, source = rm[i + 1:nm], fx[i, i + 1:nm]
+        for c in range(nm - i - 1):
+            target[c] -= source[c] * e
     for i in range(nm - 1, -1, -1):
         e = rm[i] * fx[i, i]
         rm[i] = e
+        target, source = rm[:i], fx[i, :i]      # U[l, i], kept in the lower triangle
         for l in range(i):
-            rm[l] -= fx[i, l] * e       # U[l, i], kept in the lower triangle
+            target[l] -= source[l] * e
     # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
     y0 = nm + FX_Y
     t0 = t1 = t2 = t3 = t4 = 0.0
