@@ -553,19 +553,21 @@ def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
 @kernel(inline=True)
 def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
     """``rm[o_f + i] −= Σ_j φ_i(θ_j)·s[(MP_T + f)·WS + j]``: the four families' terms at the
-    balls onto their modes (ball by ball, along the shape ``φ`` each ball keeps in ``jwork``)."""
+    balls onto their modes (ball by ball, along the shape ``φ`` each ball keeps in ``jwork``;
+    views from index 0, which LLVM vectorises)."""
+    r0, r1, r2, r3 = rm[0:2 * n0], rm[o1:o1 + 2 * n1], rm[o2:o2 + 2 * n2], rm[o3:o3 + 2 * n3]
     for j in range(nz):
-        jw = jwork[p0 + j]
+        phi = jwork[p0 + j, J_FX + FX_PHI:]
         t0, t1 = s[MP_T * WS + j], s[(MP_T + 1) * WS + j]
         t2, t3 = s[(MP_T + 2) * WS + j], s[(MP_T + 3) * WS + j]
         for i in range(2 * n0):
-            rm[i] -= t0 * jw[J_FX + FX_PHI + i]
+            r0[i] -= t0 * phi[i]
         for i in range(2 * n1):
-            rm[o1 + i] -= t1 * jw[J_FX + FX_PHI + i]
+            r1[i] -= t1 * phi[i]
         for i in range(2 * n2):
-            rm[o2 + i] -= t2 * jw[J_FX + FX_PHI + i]
+            r2[i] -= t2 * phi[i]
         for i in range(2 * n3):
-            rm[o3 + i] -= t3 * jw[J_FX + FX_PHI + i]
+            r3[i] -= t3 * phi[i]
 
 
 @kernel
@@ -610,14 +612,19 @@ def _coupling_terms(s, nz, y0, y1, y2, y3, y4):
             s[(MP_T + f) * WS + j] += u
 
 
-@kernel
-def _ring_share(s, nz, c):
-    """``Σ_j Σ_f MP_SH_f·PK_f[c]`` over a row's balls (the modes' ``h·γ·K`` on the pose)."""
-    acc = 0.0
+@kernel(inline=True)
+def _ring_share(s, nz):
+    """``Σ_j Σ_f MP_SH_f·PK_f`` over a row's balls (the modes' ``h·γ·K`` on the pose's five
+    coordinates; five sums in one pass)."""
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0
     for j in range(nz):
-        acc += (s[MP_SH * WS + j] * s[(MP_PK + c) * WS + j]
-                + s[(MP_SH + 1) * WS + j] * s[(MP_PK + 5 + c) * WS + j])
-    return acc
+        sh0, sh1 = s[MP_SH * WS + j], s[(MP_SH + 1) * WS + j]
+        e0 += sh0 * s[MP_PK * WS + j] + sh1 * s[(MP_PK + 5) * WS + j]
+        e1 += sh0 * s[(MP_PK + 1) * WS + j] + sh1 * s[(MP_PK + 6) * WS + j]
+        e2 += sh0 * s[(MP_PK + 2) * WS + j] + sh1 * s[(MP_PK + 7) * WS + j]
+        e3 += sh0 * s[(MP_PK + 3) * WS + j] + sh1 * s[(MP_PK + 8) * WS + j]
+        e4 += sh0 * s[(MP_PK + 4) * WS + j] + sh1 * s[(MP_PK + 9) * WS + j]
+    return e0, e1, e2, e3, e4
 
 
 @kernel
@@ -680,11 +687,12 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
             s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b], v[b + 1], v[b + 2]
         _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, MP_SH)
         _modal_terms(s, nz, x0, x1, x2, x3, x4)
-        e0 += _ring_share(s, nz, 0)
-        e1 += _ring_share(s, nz, 1)
-        e2 += _ring_share(s, nz, 2)
-        e3 += _ring_share(s, nz, 3)
-        e4 += _ring_share(s, nz, 4)
+        d0, d1, d2, d3, d4 = _ring_share(s, nz)
+        e0 += d0
+        e1 += d1
+        e2 += d2
+        e3 += d3
+        e4 += d4
         for j in range(nz):
             b = b0 + BALL_STATES * j
             v[b + 3] -= s[MP_FB * WS + j] / mass[b + 3]
