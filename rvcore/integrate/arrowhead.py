@@ -530,6 +530,12 @@ def _phi_add(jw, x, start, n, value):
 
 
 @kernel(inline=True)
+def _field(s, q, nz):
+    """Quantity ``q`` of a row's balls in the packed factors, as a view from index 0."""
+    return s[q * WS:q * WS + nz]
+
+
+@kernel(inline=True)
 def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
     """Every ball of a row: ``s[(at + f)·WS + j] = φ(θ_j)·v[a_f : a_f + 2n_f]``, the four
     families' displacement at the ball from their amplitudes (the shape ``φ`` in ``MP_PHI``)."""
@@ -630,16 +636,17 @@ def _ring_share(s, nz):
 @kernel
 def _ball_corrections(s, nz, z0, z1, z2, z3, z4):
     """Every ball of a row: its part of ``A⁻¹·C·e_m``, ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z``, into
-    ``MP_CR`` (σ_f in ``MP_SG``, the ring's ``z``)."""
-    for j in range(nz):
-        g0, g1 = s[MP_SG * WS + j], s[(MP_SG + 1) * WS + j]
-        g2, g3 = s[(MP_SG + 2) * WS + j], s[(MP_SG + 3) * WS + j]
-        for i in range(6):
-            q = (MP_Q + i) * WS + j
-            ab = (MP_AB + 5 * i) * WS + j
-            s[(MP_CR + i) * WS + j] = (g0 * s[q] + g1 * s[q + 6 * WS] + g2 * s[q + 12 * WS] + g3 * s[q + 18 * WS]
-                                       - (s[ab] * z0 + s[ab + WS] * z1 + s[ab + 2 * WS] * z2 + s[ab + 3 * WS] * z3
-                                          + s[ab + 4 * WS] * z4))
+    ``MP_CR`` (σ_f in ``MP_SG``, the ring's ``z``); a component at a time, along views."""
+    g0, g1, g2, g3 = _field(s, MP_SG, nz), _field(s, MP_SG + 1, nz), _field(s, MP_SG + 2, nz), _field(s, MP_SG + 3, nz)
+    for i in range(6):
+        out = _field(s, MP_CR + i, nz)
+        q0, q1 = _field(s, MP_Q + i, nz), _field(s, MP_Q + 6 + i, nz)
+        q2, q3 = _field(s, MP_Q + 12 + i, nz), _field(s, MP_Q + 18 + i, nz)
+        b0, b1, b2 = _field(s, MP_AB + 5 * i, nz), _field(s, MP_AB + 5 * i + 1, nz), _field(s, MP_AB + 5 * i + 2, nz)
+        b3, b4 = _field(s, MP_AB + 5 * i + 3, nz), _field(s, MP_AB + 5 * i + 4, nz)
+        for j in range(nz):
+            out[j] = (g0[j] * q0[j] + g1[j] * q1[j] + g2[j] * q2[j] + g3[j] * q3[j]
+                      - (b0[j] * z0 + b1[j] * z1 + b2[j] * z2 + b3[j] * z3 + b4[j] * z4))
 
 
 @kernel
