@@ -43,6 +43,11 @@ the 0.47 kg cage give ≲ 3e4 1/s, c·h ≲ 0.6; but they act on a 0.05 kg ball 
 cage's velocity taken as given over the stage, a W-method approximation of the
 Jacobian). The cage–land contact (≲ 50 N on the cage) stays explicit.
 
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`) join ``K`` and ``D`` through the
+race contacts: the same normal and groove terms, each rank one along the penetration's
+gradient, which reaches the modes as the groove's displacement at the ball
+(:func:`modal_blocks`, into ``jwork``'s columns from :data:`J_FX`).
+
 Every function is a kernel (``rvcore._numba.kernel``) on scalars and preallocated arrays; none allocates.
 
 Notes

@@ -120,6 +120,16 @@ ring-down or an impact then refreshes them every step; a running bearing, whose 
 move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
 (docs/performance.md, "IMEX at MODEL_VERSION 11").
 
+Flexible rings
+--------------
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`) are implicit unknowns too,
+with their own stiffness and damping and the race contacts' Hertz stiffness, damper and
+groove stiffness on them (:func:`rvcore.dynamics.tangent.modal_blocks`): the stage matrix
+gains the modes' rows and columns, solved through their Schur complement beside the
+arrowhead system (:func:`rvcore.integrate.arrowhead.factor_modes` with the tangents,
+:func:`rvcore.integrate.arrowhead.solve_coupled` each stage). So the modes add no bound to
+the step; the friction does not drive them (docs/model.md §16.1).
+
 Pocket impacts
 --------------
 A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1), and a
