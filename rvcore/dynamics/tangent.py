@@ -363,6 +363,21 @@ def ring_gradient(vx, vy, vz, qx, qy, qz, e1x, e1z):
 
 
 @kernel(inline=True)
+def _ring_terms(jw, at_v, at_c, ar, az, vx, vy, vz, cr, cz):
+    """Add a term's radial and axial families' couplings with the ball (``ar·v``, ``az·v``,
+    from ``at_v``) and its ring's own block (``ar·cr``, ``ar·cz``, ``az·cz``, from ``at_c``)."""
+    jw[at_v] += ar * vx
+    jw[at_v + 1] += ar * vy
+    jw[at_v + 2] += ar * vz
+    jw[at_v + 3] += az * vx
+    jw[at_v + 4] += az * vy
+    jw[at_v + 5] += az * vz
+    jw[at_c] += ar * cr
+    jw[at_c + 1] += ar * cz
+    jw[at_c + 2] += az * cz
+
+
+@kernel(inline=True)
 def modal_blocks(jwork, k, inner, w, hk, vx, vy, vz, cr, cz, qx, qy, qz, e1x, e1z):
     """Add one rank-1 term of a race contact on a flexible ring, ``∇δ·∇δᵀ`` weighed by ``w``
     in the stage matrix (``h·γ·c + (h·γ)²·k``) and by ``hk`` in ``h·γ·K``, to the modes'
@@ -380,24 +395,8 @@ def modal_blocks(jwork, k, inner, w, hk, vx, vy, vz, cr, cz, qx, qy, qz, e1x, e1
     fr = 0 if inner else 2
     ring = 0 if inner else 1
     wr, wz, kr, kz = w * cr, w * cz, hk * cr, hk * cz
-    jw[base + FX_V + 3 * fr] += wr * vx
-    jw[base + FX_V + 3 * fr + 1] += wr * vy
-    jw[base + FX_V + 3 * fr + 2] += wr * vz
-    jw[base + FX_V + 3 * fr + 3] += wz * vx
-    jw[base + FX_V + 3 * fr + 4] += wz * vy
-    jw[base + FX_V + 3 * fr + 5] += wz * vz
-    jw[base + FX_VK + 3 * fr] += kr * vx
-    jw[base + FX_VK + 3 * fr + 1] += kr * vy
-    jw[base + FX_VK + 3 * fr + 2] += kr * vz
-    jw[base + FX_VK + 3 * fr + 3] += kz * vx
-    jw[base + FX_VK + 3 * fr + 4] += kz * vy
-    jw[base + FX_VK + 3 * fr + 5] += kz * vz
-    jw[base + FX_C + 3 * ring] += wr * cr
-    jw[base + FX_C + 3 * ring + 1] += wr * cz
-    jw[base + FX_C + 3 * ring + 2] += wz * cz
-    jw[base + FX_CK + 3 * ring] += kr * cr
-    jw[base + FX_CK + 3 * ring + 1] += kr * cz
-    jw[base + FX_CK + 3 * ring + 2] += kz * cz
+    _ring_terms(jw, base + FX_V + 3 * fr, base + FX_C + 3 * ring, wr, wz, vx, vy, vz, cr, cz)
+    _ring_terms(jw, base + FX_VK + 3 * fr, base + FX_CK + 3 * ring, kr, kz, vx, vy, vz, cr, cz)
     jw[base + FX_ON] = 1.0
     if not inner:
         return

@@ -343,6 +343,20 @@ def _core_k(jw, f, g):
     return jw[J_FX + FX_CK + 3 * (f // 2) + (f % 2) + (g % 2)]
 
 
+@kernel(inline=True)
+def _back_substitute(jw, x0, x1, x2, x3, x4, x5):
+    """``U⁻¹·x`` with the ball's factor ``U`` as :func:`factor` leaves it in ``jw`` (upper
+    triangle, reciprocal diagonal)."""
+    x5 = x5 * jw[J_A + 35]
+    x4 = (x4 - jw[J_A + 29] * x5) * jw[J_A + 28]
+    x3 = (x3 - jw[J_A + 22] * x4 - jw[J_A + 23] * x5) * jw[J_A + 21]
+    x2 = (x2 - jw[J_A + 15] * x3 - jw[J_A + 16] * x4 - jw[J_A + 17] * x5) * jw[J_A + 14]
+    x1 = (x1 - jw[J_A + 8] * x2 - jw[J_A + 9] * x3 - jw[J_A + 10] * x4 - jw[J_A + 11] * x5) * jw[J_A + 7]
+    x0 = (x0 - jw[J_A + 1] * x1 - jw[J_A + 2] * x2 - jw[J_A + 3] * x3 - jw[J_A + 4] * x4
+          - jw[J_A + 5] * x5) * jw[J_A]
+    return x0, x1, x2, x3, x4, x5
+
+
 @kernel
 def factor_modes(jwork, schur, rows, params, fx, hg):
     """The Schur complement of the stage matrix on a flexible ring's modes, factored.
@@ -402,23 +416,12 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
                     jw[o + 6 + c] = s
                 # A_b⁻¹·V_f = U⁻¹·(U⁻ᵀ·V_f), for the solve's back substitution
                 q = J_FX + FX_Q + 6 * f
-                x5 = x5 * i5
-                x4 = (x4 - u45 * x5) * i4
-                x3 = (x3 - u34 * x4 - u35 * x5) * i3
-                x2 = (x2 - u23 * x3 - u24 * x4 - u25 * x5) * i2
-                x1 = (x1 - u12 * x2 - u13 * x3 - u14 * x4 - u15 * x5) * i1
-                x0 = (x0 - u01 * x1 - u02 * x2 - u03 * x3 - u04 * x4 - u05 * x5) * i0
+                x0, x1, x2, x3, x4, x5 = _back_substitute(jw, x0, x1, x2, x3, x4, x5)
                 jw[q], jw[q + 1], jw[q + 2], jw[q + 3], jw[q + 4], jw[q + 5] = x0, x1, x2, x3, x4, x5
             for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
                 if coupled:
-                    x0, x1, x2 = jw[J_B + c], jw[J_B + 5 + c], jw[J_B + 10 + c]
-                    x3, x4, x5 = jw[J_B + 15 + c], jw[J_B + 20 + c], jw[J_B + 25 + c]
-                    x5 = x5 * i5
-                    x4 = (x4 - u45 * x5) * i4
-                    x3 = (x3 - u34 * x4 - u35 * x5) * i3
-                    x2 = (x2 - u23 * x3 - u24 * x4 - u25 * x5) * i2
-                    x1 = (x1 - u12 * x2 - u13 * x3 - u14 * x4 - u15 * x5) * i1
-                    x0 = (x0 - u01 * x1 - u02 * x2 - u03 * x3 - u04 * x4 - u05 * x5) * i0
+                    x0, x1, x2, x3, x4, x5 = _back_substitute(jw, jw[J_B + c], jw[J_B + 5 + c], jw[J_B + 10 + c],
+                                                              jw[J_B + 15 + c], jw[J_B + 20 + c], jw[J_B + 25 + c])
                 else:
                     x0, x1, x2, x3, x4, x5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
                 q = J_FX + FX_AB + c
