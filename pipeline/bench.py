@@ -34,6 +34,13 @@ asserts a time (these machines are noisy).
   whole cycle in alternating pairs at 120 and 660 °/s (:func:`lubricated_cost`), the
   median of the pairs' wall-time ratios at the speed where it is largest; issue 40's
   goal ≤ 1.3.
+- ``flexible_cost_ratio``: the flexible study bearing (``rv-main-flexible.toml``, both
+  rings' modes to order 6 as states, docs/model.md §16.1) against the same bearing with
+  rigid rings, the default method, 660 °/s, 30 kN + 10 kN, in alternating pairs; the
+  median of the pairs' ratios of the integration's wall time, over 0.1 s of steady running
+  from 1.5 s (:func:`flexible_cost`); ``flexible_cost_ratio_start`` the same over the
+  cycle's first 0.05 s (the load ramp, where the tangents are evaluated at most steps).
+  Issue 41's goal ≤ 1.5.
 """
 from __future__ import annotations
 
@@ -370,6 +377,53 @@ def lubricated_cost(pairs: int = 2, speeds=LUBRICATED_COST_SPEEDS) -> dict:
     return out
 
 
+#: The flexible study bearing (issue 41; docs/model.md §16.1).
+FLEXIBLE_BEARING = shipped_file("bearings/rv-main-flexible.toml")
+#: The windows :func:`flexible_cost` times [s]: (start, end) of steady running and of the
+#: load ramp at the cycle's start.
+FLEXIBLE_COST_WINDOWS = {"": (1.5, 1.6), "_start": (0.0, 0.05)}
+
+
+def flexible_cost(pairs: int = 3, windows=None) -> dict:
+    """The flexible study case's integration wall time over the rigid one's, in alternating
+    pairs over each of ``windows`` (module docstring; :data:`FLEXIBLE_COST_WINDOWS`).
+
+    Returns per window (its suffix) ``flexible_cost_ratio<suffix>`` (the median of the
+    pairs' ratios), ``flexible_wall_s<suffix>`` and ``flexible_rigid_wall_s<suffix>`` (the
+    medians), and both cases' ``time_step_s`` and ``us_per_step`` (median wall a step).
+    """
+    import dataclasses
+
+    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
+    from rvcore.rings.flexible import bearing_rings
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
+
+    from .schema import load_bearing
+
+    _, profile, op = _study()
+    bearing = load_bearing(FLEXIBLE_BEARING)
+    rings = bearing_rings(bearing, max_order=DYNAMICS_MAX_ORDER)
+    settings = SolverSettings()
+    run_case(bearing, profile, op, dataclasses.replace(settings, end_time=2e-4), rings=rings)   # load every kernel
+    out = {}
+    for suffix, (start, end) in (windows or FLEXIBLE_COST_WINDOWS).items():
+        window = dataclasses.replace(settings, start_time=start, end_time=end)
+        rigid, flexible = [], []
+        for _ in range(pairs):
+            rigid.append(run_case(bearing, profile, op, window).info)
+            flexible.append(run_case(bearing, profile, op, window, rings=rings).info)
+        ratios = [b["wall_time"] / a["wall_time"] for a, b in zip(rigid, flexible)]
+        out[f"flexible_cost_ratio{suffix}"] = statistics.median(ratios)
+        out[f"flexible_wall_s{suffix}"] = statistics.median(i["wall_time"] for i in flexible)
+        out[f"flexible_rigid_wall_s{suffix}"] = statistics.median(i["wall_time"] for i in rigid)
+        for name, infos in (("flexible", flexible), ("flexible_rigid", rigid)):
+            out[f"{name}_time_step_s{suffix}"] = float(infos[0]["time_step"])
+            out[f"{name}_us_per_step{suffix}"] = statistics.median(i["wall_time"] / i["steps"] for i in infos) * 1e6
+        out[f"flexible_window_s{suffix}"] = (start, end)
+    return out
+
+
 #: The balls of the study bearing [-] (``rows.balls.count`` of rv-main-study.toml).
 STUDY_BALLS = 51
 
@@ -473,6 +527,7 @@ def run_all(*, quick: bool = False, balls=None, tasks=None) -> dict:
     out.update({f"rk4_{k}": v for k, v in scipy_comparison("rk4").items()})
     out.update(imperfection_cost())
     out.update(lubricated_cost())
+    out.update(flexible_cost())
     if not quick:
         out.update(parallel_efficiency())
     return out

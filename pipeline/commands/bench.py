@@ -118,6 +118,17 @@ def run(args):
         print(f"Lubricated law (ehl_bair_winer) against the dry one (coulomb_step), the whole study case, "
               f"median of pairs: {at}; largest {f['lubricated_cost_ratio']:.3f}x ({f['lubricated_wall_s']:.2f} s vs "
               f"{f['lubricated_dry_wall_s']:.2f} s; issue 40's goal: at most 1.3x)")
+    if "flexible_cost_ratio" in f:
+        for suffix, what in (("", "steady running"), ("_start", "the load ramp")):
+            if f"flexible_cost_ratio{suffix}" not in f:
+                continue
+            start, end = f[f"flexible_window_s{suffix}"]
+            print(f"Flexible rings (rv-main-flexible, modes to order 6) against rigid ones, {what} "
+                  f"{start:g}-{end:g} s, median of pairs: {f[f'flexible_cost_ratio{suffix}']:.3f}x "
+                  f"({f[f'flexible_wall_s{suffix}']:.2f} s vs {f[f'flexible_rigid_wall_s{suffix}']:.2f} s; step "
+                  f"{f[f'flexible_time_step_s{suffix}'] * 1e6:.1f} vs {f[f'flexible_rigid_time_step_s{suffix}'] * 1e6:.1f} us, "
+                  f"{f[f'flexible_us_per_step{suffix}']:.0f} vs {f[f'flexible_rigid_us_per_step{suffix}']:.0f} us a step; "
+                  f"issue 41's goal: at most 1.5x)")
     if "parallel_efficiency" in f:
         print(f"Smoke sweep ({f['smoke_cases']} cases, median of {f['smoke_repeats']}), first case submitted to last finished: serial "
               f"{f['smoke_serial_wall_s']:.1f} s, {f['smoke_workers']} workers {f['smoke_parallel_wall_s']:.1f} s")

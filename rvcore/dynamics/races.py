@@ -45,7 +45,7 @@ from ..contact.laws import (FRICTION_KINDS, NO_FILM, NO_FILM_CONSTANTS, ball_con
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from .raceway import ball_offsets
-from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, flexible, groove
+from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, family_record, flexible
 from ..contact.pose import ring_to_global, to_ring_frame
 
 # The scratch: quantity ``f`` of the row's ball ``j`` (its index in the row, from 0) at
@@ -73,7 +73,11 @@ S_PX, S_PY, S_PZ, S_VX, S_VY, S_VZ, S_WX, S_WY, S_WZ = range(9)
 (G_RHO_B, G_INV_RHO_B, G_PLX, G_PLY, G_PLZ, G_RHO_L, G_INV_RHO_L, G_DR_I, G_DR_O, G_D_HALF, G_SL_I,
  G_SL_O, G_DZ_I, G_DZ_O, G_ZSL_I, G_ZSL_O, G_CS0, G_SN0) = range(BALL_STATES, BALL_STATES + 18)
 G_VG_I, G_VG_O = BALL_STATES + 18, BALL_STATES + 21    # three values each
-N_BALL_FIELDS = BALL_STATES + 24
+# a flexible ring's modal sums over the orders, ball by ball (ring_surfaces, ring_forces):
+# cos kθ and sin kθ, the largest |w| and |u| of the modes alone, and the ball's normal
+# forces on the four families (inner radial, inner axial, outer radial, outer axial)
+G_CK, G_SK, G_MW, G_MU, G_FM = BALL_STATES + 24, BALL_STATES + 25, BALL_STATES + 26, BALL_STATES + 27, BALL_STATES + 28
+N_BALL_FIELDS = BALL_STATES + 32
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
 # rvcore.contact.laws.contact_film, NO_FILM when the law needs none; and for a law that needs
 # it, the logarithms of h_c and λ that the film along the cycle takes, arc_film)
@@ -187,6 +191,53 @@ def raceway_offsets(buf, rows, r, pockets, cos_spin, sin_spin):
         buf[G_ZSL_O * W + j] = zs_o
 
 
+@kernel(inline=True)
+def _angle(buf, j, inner):
+    """The ball's direction ``(cos θ, sin θ)`` in the inner ring's frame or the fixed frame."""
+    if inner:
+        return buf[G_PLX * W + j] * buf[G_INV_RHO_L * W + j], buf[G_PLY * W + j] * buf[G_INV_RHO_L * W + j]
+    return buf[S_PX * W + j] * buf[G_INV_RHO_B * W + j], buf[S_PY * W + j] * buf[G_INV_RHO_B * W + j]
+
+
+@kernel(inline=True)
+def _ring_surface(buf, params, y, nz, inner, fr, dr, sl, dz, zsl, vg):
+    """One ring's modal sums at every ball of the row (:func:`ring_surfaces`): the orders
+    in the outer loop, the balls in the inner (vectorised), ``cos kθ``, ``sin kθ`` by the
+    rotation recurrence in ``G_CK``, ``G_SK``."""
+    nr, ar, _ = family_record(params, fr)
+    na, aa, _ = family_record(params, fr + 1)
+    for j in range(nz):
+        buf[G_CK * W + j], buf[G_SK * W + j] = 1.0, 0.0
+        buf[G_MW * W + j], buf[G_MU * W + j] = 0.0, 0.0
+        buf[vg * W + j], buf[(vg + 2) * W + j] = 0.0, 0.0
+    for k in range(max(nr, na)):
+        wc, ws = (y[ar + 2 * k], y[ar + 2 * k + 1]) if k < nr else (0.0, 0.0)
+        wdc, wds = (y[ar + 2 * nr + 2 * k], y[ar + 2 * nr + 2 * k + 1]) if k < nr else (0.0, 0.0)
+        uc, us = (y[aa + 2 * k], y[aa + 2 * k + 1]) if k < na else (0.0, 0.0)
+        udc, uds = (y[aa + 2 * na + 2 * k], y[aa + 2 * na + 2 * k + 1]) if k < na else (0.0, 0.0)
+        for j in range(nz):
+            ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
+            buf[G_MW * W + j] += wc * ck + ws * sk
+            buf[sl * W + j] += k * (ws * ck - wc * sk)
+            buf[vg * W + j] += wdc * ck + wds * sk
+            buf[G_MU * W + j] += uc * ck + us * sk
+            buf[zsl * W + j] += k * (us * ck - uc * sk)
+            buf[(vg + 2) * W + j] += udc * ck + uds * sk
+            c1, s1 = _angle(buf, j, inner)
+            buf[G_CK * W + j], buf[G_SK * W + j] = ck * c1 - sk * s1, sk * c1 + ck * s1
+    max_w, max_u = 0.0, 0.0
+    for j in range(nz):
+        w, u = buf[G_MW * W + j], buf[G_MU * W + j]
+        buf[dr * W + j] += w
+        buf[dz * W + j] += u
+        max_w = max(max_w, abs(w))
+        max_u = max(max_u, abs(u))
+        c1, s1 = _angle(buf, j, inner)
+        wd = buf[vg * W + j]
+        buf[vg * W + j], buf[(vg + 1) * W + j] = wd * c1, wd * s1
+    return max_w, max_u
+
+
 @kernel
 def ring_surfaces(buf, params, y, nz):
     """Every ball's raceway displacements and modal velocities of flexible rings
@@ -195,38 +246,59 @@ def ring_surfaces(buf, params, y, nz):
     the imperfections' ``G_DR_*`` and ``G_DZ_*``, their slopes ``∂w/∂θ``, ``∂u/∂θ`` to
     ``G_SL_*`` and ``G_ZSL_*`` (one raceway displacement, imperfections plus modes), and each
     groove's velocity ``ẇ·ê_r + u̇·ẑ`` in its ring's frame in ``G_VG_I``/``G_VG_O``; the
-    same shifts as the flexible statics' (:func:`rvcore.statics.equilibrium._ball_contacts`).
+    same shifts as the flexible statics' (:func:`rvcore.statics.equilibrium._ball_contacts`)
+    and as :func:`rvcore.dynamics.ring_modes.groove`'s.
     The angles: the ball's direction in the inner ring's frame and in the fixed frame.
     With rigid rings the velocities are set to 0 and nothing else is touched.
     Returns the largest ``|w|`` and ``|u|`` of either ring at the balls [m]."""
-    flex = flexible(params)
-    max_w, max_u = 0.0, 0.0
+    if not flexible(params):
+        for j in range(nz):
+            for c in range(3):
+                buf[(G_VG_I + c) * W + j] = 0.0
+                buf[(G_VG_O + c) * W + j] = 0.0
+        return 0.0, 0.0
+    wi, ui = _ring_surface(buf, params, y, nz, True, F_INNER_RADIAL, G_DR_I, G_SL_I, G_DZ_I, G_ZSL_I, G_VG_I)
+    wo, uo = _ring_surface(buf, params, y, nz, False, F_OUTER_RADIAL, G_DR_O, G_SL_O, G_DZ_O, G_ZSL_O, G_VG_O)
+    return max(wi, wo), max(ui, uo)
+
+
+@kernel(inline=True)
+def _ring_force(buf, params, dy, nz, inner, fr):
+    """One ring's generalized forces from the balls' normal forces on it in ``G_FM``
+    (:func:`ring_forces`): per order, ``Σ_j F_j·cos kθ_j`` and ``Σ_j F_j·sin kθ_j`` of its
+    radial and axial families (four sums over the balls an order)."""
+    nr, ar, _ = family_record(params, fr)
+    na, aa, _ = family_record(params, fr + 1)
+    f0 = G_FM if inner else G_FM + 2
     for j in range(nz):
-        vxi, vyi, vzi, vxo, vyo, vzo = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        if flex:
-            ci, si = buf[G_PLX * W + j] * buf[G_INV_RHO_L * W + j], buf[G_PLY * W + j] * buf[G_INV_RHO_L * W + j]
-            co, so = buf[S_PX * W + j] * buf[G_INV_RHO_B * W + j], buf[S_PY * W + j] * buf[G_INV_RHO_B * W + j]
-            w_i, wd_i, ws_i, u_i, ud_i, zs_i = groove(params, y, F_INNER_RADIAL, F_INNER_AXIAL, ci, si)
-            w_o, wd_o, ws_o, u_o, ud_o, zs_o = groove(params, y, F_OUTER_RADIAL, F_OUTER_AXIAL, co, so)
-            buf[G_DR_I * W + j] += w_i
-            buf[G_SL_I * W + j] += ws_i
-            buf[G_DZ_I * W + j] += u_i
-            buf[G_ZSL_I * W + j] += zs_i
-            buf[G_DR_O * W + j] += w_o
-            buf[G_SL_O * W + j] += ws_o
-            buf[G_DZ_O * W + j] += u_o
-            buf[G_ZSL_O * W + j] += zs_o
-            max_w = max(max_w, abs(w_i), abs(w_o))
-            max_u = max(max_u, abs(u_i), abs(u_o))
-            vxi, vyi, vzi = wd_i * ci, wd_i * si, ud_i
-            vxo, vyo, vzo = wd_o * co, wd_o * so, ud_o
-        buf[G_VG_I * W + j] = vxi
-        buf[(G_VG_I + 1) * W + j] = vyi
-        buf[(G_VG_I + 2) * W + j] = vzi
-        buf[G_VG_O * W + j] = vxo
-        buf[(G_VG_O + 1) * W + j] = vyo
-        buf[(G_VG_O + 2) * W + j] = vzo
-    return max_w, max_u
+        buf[G_CK * W + j], buf[G_SK * W + j] = 1.0, 0.0
+    for k in range(max(nr, na)):
+        rc, rs, ac, as_ = 0.0, 0.0, 0.0, 0.0
+        for j in range(nz):
+            ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
+            fw, fu = buf[f0 * W + j], buf[(f0 + 1) * W + j]
+            rc += fw * ck
+            rs += fw * sk
+            ac += fu * ck
+            as_ += fu * sk
+            c1, s1 = _angle(buf, j, inner)
+            buf[G_CK * W + j], buf[G_SK * W + j] = ck * c1 - sk * s1, sk * c1 + ck * s1
+        if k < nr:
+            dy[ar + 2 * nr + 2 * k] += rc
+            dy[ar + 2 * nr + 2 * k + 1] += rs
+        if k < na:
+            dy[aa + 2 * na + 2 * k] += ac
+            dy[aa + 2 * na + 2 * k + 1] += as_
+
+
+@kernel
+def ring_forces(buf, params, dy, nz):
+    """The row's balls' normal forces on flexible rings (``G_FM``: inner radial, inner
+    axial, outer radial, outer axial, at each ball's angle in its ring's frame, as
+    :func:`ring_surfaces` reads them) added to the modes' generalized forces in ``dy``'s
+    rate slots (:func:`rvcore.dynamics.ring_modes.modal_rhs` turns them into accelerations)."""
+    _ring_force(buf, params, dy, nz, True, F_INNER_RADIAL)
+    _ring_force(buf, params, dy, nz, False, F_OUTER_RADIAL)
 
 
 @kernel

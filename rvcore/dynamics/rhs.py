@@ -46,8 +46,8 @@ from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, NO_FILM_CONSTANTS, dampin
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
-from .tangent import (J_COUPLED, J_KA, J_W, N_JWORK, contact_blocks, friction_tangent,
-                       groove_blocks, stiffness_blocks)
+from .tangent import (FX_ANG, J_COUPLED, J_FX, J_KA, J_W, N_FX, N_JWORK, contact_blocks, friction_tangent,
+                       groove_blocks, modal_blocks, stiffness_blocks)
 from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, MAX_ROW_ARCS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_LUB_SIGMA, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
@@ -59,10 +59,9 @@ from .races import (C_DD, C_DELTA, C_H, C_LAM, C_LOG_HC, C_LOG_LAM, C_P, C_FX, C
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
                     POCKET, SCRATCH_SIZE, W, arc, arc_contacts, arc_film, ball_geometry, entrainment_speed, gather_balls,
-                    pocket_contacts, raceway_offsets, ring_surfaces, scratch)
+                    pocket_contacts, raceway_offsets, ring_forces, ring_surfaces, scratch, G_FM)
 from .raceway import spin_of
-from .ring_modes import (F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, add_modal_force,
-                         clear_modal_forces, flexible, modal_rhs)
+from .ring_modes import clear_modal_forces, flexible, modal_rhs
 
 # The slots of the diagnostics vector this kernel writes, by the names of the output
 # table (rvcore.output_table.SIGNALS, where each is described with its units). rhs() writes
@@ -265,6 +264,11 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                 for i in range(J_KA, N_JWORK):
                     jwork[p0 + j, i] = 0.0
             erx, ery = px * inv_rho_b, py * inv_rho_b
+            if jac and flex:    # the modes' columns (rvcore.dynamics.tangent.modal_blocks)
+                for i in range(J_FX, J_FX + N_FX):
+                    jwork[p0 + j, i] = 0.0
+                jwork[p0 + j, J_FX + FX_ANG] = erx
+                jwork[p0 + j, J_FX + FX_ANG + 1] = ery
 
             # the ball centre in the inner ring's frame (Rᵀ·(p − r_i)), and ΔD/2 of an imperfect set
             plx, ply, inv_rho_l = buf[G_PLX * W + j], buf[G_PLY * W + j], buf[G_INV_RHO_L * W + j]
@@ -324,7 +328,16 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     if inner:
                         tlx, tly, tlz = ring_to_global(tlx, tly, tlz, r00, r01, r02, r10, r11, r12, r20, r21, r22)
                     # |p − c| = δ + (f − ½)·D − d_half (an imperfect set's larger ball)
-                    groove_blocks(jwork, p0 + j, schur, inner, hg, hg * q / (delta + arcs[a, A_RMH] - d_half),
+                    hkg = hg * q / (delta + arcs[a, A_RMH] - d_half)
+                    if flex:
+                        # the same two terms on the ring's modes, read at the ball's azimuth
+                        # (cr, cz: −n·ê_r, −n·ẑ and −t·ê_r, −t·ẑ in the ring's frame)
+                        modal_blocks(jwork, p0 + j, inner, hg * (cd + hk), hk, nx, ny, nz,
+                                     -(nlx * mx + nly * my), -nlz, cx - xi, cy - yi, cz - zi, r00, r20)
+                        modal_blocks(jwork, p0 + j, inner, hg * hkg, hkg, tlx, tly, tlz,
+                                     -nlz * (mx * mx + my * my), nlx * mx + nly * my, px - xi, py - yi, pz - zi,
+                                     r00, r20)
+                    groove_blocks(jwork, p0 + j, schur, inner, hg, hkg,
                                   tlx, tly, tlz, px - xi, py - yi, pz - zi, r00, r20)
                 mbx += dmx
                 mby += dmy
@@ -384,11 +397,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                     qo_sum += q
                     fo_rad += fx * erx + fy * ery
 
-            if flex:    # the ball's normal forces drive the rings' modes, at its angle in each ring
-                add_modal_force(params, dy, F_INNER_RADIAL, plx * inv_rho_l, ply * inv_rho_l, f_ir)
-                add_modal_force(params, dy, F_INNER_AXIAL, plx * inv_rho_l, ply * inv_rho_l, f_iz)
-                add_modal_force(params, dy, F_OUTER_RADIAL, erx, ery, f_or)
-                add_modal_force(params, dy, F_OUTER_AXIAL, erx, ery, f_oz)
+            if flex:    # the ball's normal forces drive the rings' modes (ring_forces, below)
+                buf[G_FM * W + j], buf[(G_FM + 1) * W + j] = f_ir, f_iz
+                buf[(G_FM + 2) * W + j], buf[(G_FM + 3) * W + j] = f_or, f_oz
             if qi_sum > LOADED_BALL_LOAD and qo_sum > LOADED_BALL_LOAD:
                 loaded += 1.0
             if qi_sum > 0.0 or qo_sum > 0.0:
@@ -463,6 +474,9 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             dy[b + 6] = (mbx + mpx) * inv_ib
             dy[b + 7] = (mby + mpy) * inv_ib
             dy[b + 8] = (mbz + mpz) * inv_ib
+
+        if flex:    # at each ball's angle in each ring
+            ring_forces(buf, params, dy, nz_balls)
 
         # ---- cage–land contact (outer-ring land, fixed)
         if rows[r, R_GUIDE] == GUIDE_OUTER_LAND:

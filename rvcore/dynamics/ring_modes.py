@@ -41,10 +41,12 @@ So with friction and damping off the modes and the contacts conserve
 
 **Integration.** RK4 takes the modal states explicitly, its step bounded by their rates
 with the contacts' stiffness on them (:func:`modal_rates`, :mod:`rvcore.integrate.step_size`).
-The IMEX scheme takes each mode's own stiffness and damping (the support's included)
-implicitly, a diagonal solve per mode beside its arrowhead system (:func:`modal_solve`),
-and the contact forces on the modes explicitly: its step is bounded by the contacts'
-stiffness on the modes alone.
+The IMEX scheme takes the modes implicitly with everything stiff on them: their own
+stiffness and damping (the support's included) and each race contact's Hertz stiffness,
+groove stiffness and damper on them, coupled with the balls and the ring's pose
+(:func:`rvcore.dynamics.tangent.modal_blocks`; the Schur complement on the modes beside the
+arrowhead system, :func:`rvcore.integrate.arrowhead.factor_modes`): the modes add no bound
+to its step.
 
 **Packing** (the kernels take no objects): a record after the bearing's ``params``
 (:data:`FX_HEAD`): per family its number of orders (0: rigid), the index of its first
@@ -65,7 +67,7 @@ from ..rings.flexible import FlexibleRings
 
 __all__ = ["DYNAMICS_MAX_ORDER", "FAMILIES", "truncated", "with_ring_modes", "family_states", "set_static_modes",
            "modal_rates",
-           "flexible", "surface", "groove", "add_modal_force", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_solve",
+           "flexible", "surface", "groove", "modal_rhs", "modal_energy", "modal_implicit_masses", "modal_offset",
            "order_amplitude"]
 
 #: The highest Fourier order the dynamics keep by default [-]: 0 (breathing, axial
@@ -178,7 +180,8 @@ def family_states(model: CompiledBearing, name: str):
 
 def modal_implicit_masses(model: CompiledBearing):
     """``(amplitude state, rate state, M_k)`` of every mode (both of an order's), for the
-    IMEX scheme's implicit unknowns (:func:`modal_solve`); none for rigid rings."""
+    IMEX scheme's implicit unknowns (:func:`rvcore.integrate.arrowhead.solve_coupled`); none
+    for rigid rings."""
     p = model.params
     out = []
     if p.size <= N_PARAMS:
@@ -200,30 +203,17 @@ def family_record(params, f):
 
 
 @kernel(inline=True)
-def modal_solve(params, v, g, hg):
-    """The IMEX stage's solve (:mod:`rvcore.integrate.imex`) for the modes: their own
-    stiffness ``K_k`` and damping ``c_k`` are its implicit part (the contact forces on them
-    stay explicit), each mode a diagonal block of ``J = [[0, 1], [−K/M, −c/M]]``::
-
-        e_v = (M·ê_v − h·γ·K·ê_x) / (M + h·γ·c + (h·γ)²·K),   e_x = ê_x + h·γ·e_v,   g_x = e_v
-
-    ``v`` holds ``ê`` in and ``e`` out; ``g`` receives ``g_x`` (the rate's ``g_v`` the
-    stage computes from ``ê_v`` left in ``g``); ``hg = h·γ`` [s]. Nothing for rigid rings."""
-    if params.shape[0] <= N_PARAMS:
-        return
-    for f in range(4):
-        n, s0, d0 = family_record(params, f)
-        for i in range(n):
-            m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
-            for s in range(2):
-                a, r = s0 + 2 * i + s, s0 + 2 * n + 2 * i + s
-                ev = (m * v[r] - hg * k * v[a]) / (m + hg * c + hg * hg * k)
-                v[r] = ev
-                v[a] = v[a] + hg * ev
-                g[a] = ev
+def modal_offset(params, f):
+    """The index of family ``f``'s first mode among the IMEX scheme's modal unknowns (every
+    family's ``a_0^c, a_0^s, a_1^c, …`` in turn, :func:`rvcore.integrate.arrowhead.factor_modes`);
+    ``f = 4``: their number."""
+    o = 0
+    for g in range(f):
+        o += 2 * int(params[FX_HEAD + FX_STRIDE * g])
+    return o
 
 
-def modal_rates(model: CompiledBearing, q: float, *, implicit: bool = False):
+def modal_rates(model: CompiledBearing, q: float):
     """The rates of the modal states at the contact load ``q`` [N]: per family and order,
     ``(ω, λ)`` [rad s⁻¹, s⁻¹], the oscillation on the imaginary axis and the damping on the
     real one, for the explicit step (:mod:`rvcore.integrate.step_size`).
@@ -237,7 +227,7 @@ def modal_rates(model: CompiledBearing, q: float, *, implicit: bool = False):
         ω² = (K_k + Σ_rows Z·k_n) / M_k          λ = (c_k + Σ_rows Z·c_max) / M_k
 
     ``c_max`` the contact damper's full coefficient (``P_DAMP_C``, on when ``P_DAMPING``).
-    ``implicit`` (the IMEX scheme, :func:`modal_solve`) leaves ``K_k`` and ``c_k`` out.
+    RK4's (:func:`rvcore.integrate.rk4.rk4_time_step`); the IMEX scheme has them all implicit.
     """
     from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, R_ARC0, R_NARC
 
@@ -257,8 +247,6 @@ def modal_rates(model: CompiledBearing, q: float, *, implicit: bool = False):
         n, d0 = int(p[FX_HEAD + FX_STRIDE * f]), int(p[FX_HEAD + FX_STRIDE * f + 2])
         for i in range(n):
             _, m, k, c = p[d0 + FX_ORDER * i:d0 + FX_ORDER * (i + 1)]
-            if implicit:
-                k, c = 0.0, 0.0
             out.append((math.sqrt((k + k_contacts) / m), (c + c_contacts) / m))
     return out
 
@@ -314,22 +302,9 @@ def order_amplitude(params, y, f, k):
 
 
 @kernel(inline=True)
-def add_modal_force(params, dy, f, c1, s1, force):
-    """Add a force ``force`` [N] on family ``f``'s ring at the angle of cosine ``c1`` and
-    sine ``s1`` to its generalized forces, kept in ``dy``'s rate slots until
-    :func:`modal_rhs` turns them into accelerations."""
-    n = int(params[FX_HEAD + FX_STRIDE * f])
-    s0 = int(params[FX_HEAD + FX_STRIDE * f + 1]) + 2 * n
-    ck, sk = 1.0, 0.0
-    for i in range(n):
-        dy[s0 + 2 * i] += force * ck
-        dy[s0 + 2 * i + 1] += force * sk
-        ck, sk = ck * c1 - sk * s1, sk * c1 + ck * s1
-
-
-@kernel(inline=True)
 def clear_modal_forces(params, dy):
-    """Zero every family's generalized forces in ``dy`` (before :func:`add_modal_force`)."""
+    """Zero every family's generalized forces in ``dy`` (before
+    :func:`rvcore.dynamics.races.ring_forces` adds the balls')."""
     for f in range(4):
         n = int(params[FX_HEAD + FX_STRIDE * f])
         s0 = int(params[FX_HEAD + FX_STRIDE * f + 1]) + 2 * n

@@ -43,6 +43,11 @@ the 0.47 kg cage give ≲ 3e4 1/s, c·h ≲ 0.6; but they act on a 0.05 kg ball 
 cage's velocity taken as given over the stage, a W-method approximation of the
 Jacobian). The cage–land contact (≲ 50 N on the cage) stays explicit.
 
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`) join ``K`` and ``D`` through the
+race contacts: the same normal and groove terms, each rank one along the penetration's
+gradient, which reaches the modes as the groove's displacement at the ball
+(:func:`modal_blocks`, into ``jwork``'s columns from :data:`J_FX`).
+
 Every function is a kernel (``rvcore._numba.kernel``) on scalars and preallocated arrays; none allocates.
 
 Notes
@@ -75,6 +80,25 @@ from ..bearing.laws import LAW_ON
 #: (KA: the ball's 3×3 upper triangle xx, xy, xz, yy, yz, zz; KB: ball–ring 3×5 row-major).
 J_A, J_B, J_W, J_COUPLED, J_KA, J_KB = 0, 36, 66, 72, 73, 79
 N_JWORK = 94
+#: A flexible ring's columns of ``jwork``, after :data:`N_JWORK` (only where the bearing has
+#: one: :func:`modal_blocks`). Per ball, from ``J_FX``: per family ``f`` (inner radial,
+#: inner axial, outer radial, outer axial; :data:`rvcore.dynamics.ring_modes.FAMILIES`) the
+#: coupling of its modes' common shape ``φ(θ)`` with the ball's centre (``FX_V + 3f``, 3),
+#: and for the inner ring's families with the ring's pose (``FX_P + 5f``, 5); the
+#: families' own block per ring (``FX_C + 3ρ``: radial–radial, radial–axial, axial–axial;
+#: ρ = 0 inner, 1 outer); each in the stage matrix's weights (``h·γ·c + (h·γ)²·k``) and,
+#: at ``FX_VK``, ``FX_PK``, ``FX_CK``, in ``h·γ·K``'s; the ball's azimuth's cosine and sine
+#: (``FX_ANG``), a flag set where any term is written (``FX_ON``), and what the
+#: factorization leaves for the solves (:func:`rvcore.integrate.arrowhead.factor_modes`):
+#: per family ``U⁻ᵀ·V_f``, 6, and ``y_f``, 5 (``FX_SCR + 11f``), the 10 family pairs' ``H``
+#: (``FX_H``), per family ``A_b⁻¹·V_f`` (``FX_Q + 6f``), ``A_b⁻¹·B_b`` (``FX_AB``, 6×5
+#: row-major), and from ``FX_PHI`` the shape ``φ(θ) = (cos kθ, sin kθ)_k`` at the ball's
+#: azimuth, as many values as the largest family has modes (the columns' count is
+#: ``N_FX`` plus those).
+J_FX = N_JWORK
+FX_V, FX_VK, FX_P, FX_PK, FX_C, FX_CK, FX_ANG, FX_ON, FX_SCR, FX_H = 0, 12, 24, 34, 44, 50, 56, 58, 59, 103
+FX_Q, FX_AB, FX_PHI = 113, 137, 167
+N_FX = FX_PHI
 #: Rows of ``schur``: 0–4 the ring's block of ``M + h·γ·D + (h·γ)²·K`` (factored in
 #: place), 5 the solve's scratch, 6–10 the ring's block of ``h·γ·K`` (upper triangle).
 S_K = 6
@@ -247,9 +271,7 @@ def stiffness_blocks(jwork, k, schur, ring, hk, nx, ny, nz, qx, qy, qz, e1x, e1z
     if not ring:
         return
     # g = G_ringᵀ·n
-    g0, g1, g2 = -nx, -ny, -nz
-    g3 = -((-e1z * qy) * nx + (e1z * qx - e1x * qz) * ny + (e1x * qy) * nz)    # −(e1 × q)·n
-    g4 = -(qz * nx - qx * nz)                                                   # −(ŷ × q)·n
+    g0, g1, g2, g3, g4 = ring_gradient(nx, ny, nz, qx, qy, qz, e1x, e1z)
     jw[J_KB + 0] += hk * nx * g0
     jw[J_KB + 1] += hk * nx * g1
     jw[J_KB + 2] += hk * nx * g2
@@ -329,3 +351,59 @@ def groove_blocks(jwork, k, schur, ring, hg, hk, tx, ty, tz, bx, by, bz, e1x, e1
         for c in range(l + 1):
             schur[S_K + c, l] += hk * g[c] * gl
             schur[c, l] += w * g[c] * gl
+
+
+@kernel(inline=True)
+def ring_gradient(vx, vy, vz, qx, qy, qz, e1x, e1z):
+    """``G_ringᵀ·v = −(v, (e1 × q)·v, (ŷ × q)·v)``: a direction ``v`` on the ball mapped onto
+    the inner ring's ``(x, y, z, θx, θy)`` through the point ``q`` from its centre
+    (:func:`contact_blocks`' ``G_ring``) [-, -, -, m, m]."""
+    return (-vx, -vy, -vz, -((-e1z * qy) * vx + (e1z * qx - e1x * qz) * vy + (e1x * qy) * vz),
+            -(qz * vx - qx * vz))
+
+
+@kernel(inline=True)
+def _ring_terms(jw, at_v, at_c, ar, az, vx, vy, vz, cr, cz):
+    """Add a term's radial and axial families' couplings with the ball (``ar·v``, ``az·v``,
+    from ``at_v``) and its ring's own block (``ar·cr``, ``ar·cz``, ``az·cz``, from ``at_c``)."""
+    jw[at_v] += ar * vx
+    jw[at_v + 1] += ar * vy
+    jw[at_v + 2] += ar * vz
+    jw[at_v + 3] += az * vx
+    jw[at_v + 4] += az * vy
+    jw[at_v + 5] += az * vz
+    jw[at_c] += ar * cr
+    jw[at_c + 1] += ar * cz
+    jw[at_c + 2] += az * cz
+
+
+@kernel(inline=True)
+def modal_blocks(jwork, k, inner, w, hk, vx, vy, vz, cr, cz, qx, qy, qz, e1x, e1z):
+    """Add one rank-1 term of a race contact on a flexible ring, ``∇δ·∇δᵀ`` weighed by ``w``
+    in the stage matrix (``h·γ·c + (h·γ)²·k``) and by ``hk`` in ``h·γ·K``, to the modes'
+    columns of ``jwork[k]`` (:data:`J_FX`).
+
+    ``∇δ`` is ``v`` on the ball's centre, ``G_ringᵀ·v`` on the inner ring's pose
+    (:func:`ring_gradient`, through ``q`` from its centre; ``inner``) and on the ring's modes
+    ``cr·φ(θ)`` (radial family) and ``cz·φ(θ)`` (axial), ``φ = (cos kθ, sin kθ)_k``: the
+    groove displaced by ``w(θ)·ê_r + u(θ)·ẑ`` moves the contact as the ring would
+    (``cr = −v·ê_r``, ``cz = −v·ẑ`` in the ring's frame). The ball's and the pose's own
+    blocks are :func:`stiffness_blocks`' and :func:`groove_blocks`'.
+    """
+    jw = jwork[k]
+    base = J_FX
+    fr = 0 if inner else 2
+    ring = 0 if inner else 1
+    wr, wz, kr, kz = w * cr, w * cz, hk * cr, hk * cz
+    _ring_terms(jw, base + FX_V + 3 * fr, base + FX_C + 3 * ring, wr, wz, vx, vy, vz, cr, cz)
+    _ring_terms(jw, base + FX_VK + 3 * fr, base + FX_CK + 3 * ring, kr, kz, vx, vy, vz, cr, cz)
+    jw[base + FX_ON] = 1.0
+    if not inner:
+        return
+    g = ring_gradient(vx, vy, vz, qx, qy, qz, e1x, e1z)
+    for c in range(5):
+        jw[base + FX_P + c] += wr * g[c]
+        jw[base + FX_P + 5 + c] += wz * g[c]
+        jw[base + FX_PK + c] += kr * g[c]
+        jw[base + FX_PK + 5 + c] += kz * g[c]
+

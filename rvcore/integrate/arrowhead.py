@@ -14,7 +14,9 @@ import math
 
 from .._numba import kernel
 
-from ..dynamics.tangent import J_A, J_B, J_COUPLED, J_KA, J_KB, S_K
+from ..dynamics.tangent import (FX_AB, FX_ANG, FX_C, FX_CK, FX_H, FX_ON, FX_P, FX_PHI, FX_PK, FX_Q, FX_SCR, FX_V,
+                                FX_VK, J_A, J_B, J_COUPLED, J_FX, J_KA, J_KB, S_K)
+from ..dynamics.ring_modes import FX_ORDER, family_record, modal_offset
 from ..dynamics.races import W
 from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
@@ -283,3 +285,492 @@ def solve(v, schur, rows, mass, sf):
             b = b0 + BALL_STATES * j + 3
             for i in range(6):
                 v[b + i] = s[(F_V + i) * WS + j]
+
+
+# ---- a flexible ring's modes (rvcore.dynamics.ring_modes) beside the arrowhead system
+
+#: Rows of the modes' block ``fx`` after its ``nm × nm`` Schur complement (``nm`` the modal
+#: unknowns, :func:`rvcore.dynamics.ring_modes.modal_offset`): ``Z = U_r⁻ᵀ·Y`` (5 rows), the
+#: modes' right-hand side, then, flat, the harmonic sums (:func:`factor_modes`) and each
+#: row's packed modal factors (:data:`MP_V`…).
+FX_Y, FX_RM, FX_FLAT = 0, 5, 6
+#: The family pairs ``(f, g)``, ``f ≤ g``, of the harmonic sums, in their order.
+N_PAIRS = 10
+#: The packed modal factors of one row, a quantity ``q`` of the row's ball ``j`` at
+#: ``q·WS + j`` (as :func:`pack`'s, so that the solve's loops over the balls vectorise):
+#: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
+#: ``P_f`` and ``PK_f`` (5 each), ``h·γ·K``'s own blocks per ring (3 each), ``A_b⁻¹·V_f``
+#: (6 each), ``A_b⁻¹·B_b`` (6×5); the solve's own (the ball's ê_x or y, the families'
+#: shape values, their terms, the ball's force, σ_f, its correction); from ``MP_PHI`` the
+#: shape ``φ``.
+(MP_V, MP_VK, MP_P, MP_PK, MP_CK, MP_Q, MP_AB, MP_EX, MP_SH, MP_T, MP_FB, MP_SG, MP_CR,
+ MP_PHI) = 0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128
+
+
+def _packed_size(max_orders: int) -> int:
+    """Quantities of a row's packed modal factors (:data:`MP_PHI` and the shape)."""
+    return MP_PHI + 2 * max_orders
+
+
+def modal_block_rows(n_modes: int, max_orders: int, width: int, n_rows: int) -> int:
+    """Rows of width ``width`` the modes' block ``fx`` takes: ``n_modes`` modal unknowns,
+    ``max_orders`` orders in the largest family, ``n_rows`` rows of balls."""
+    flat = 2 * N_PAIRS * (2 * max_orders - 1) + n_rows * _packed_size(max_orders) * WS
+    return n_modes + FX_FLAT + -(-flat // width)
+
+
+@kernel(inline=True)
+def _max_orders(params):
+    n = 0
+    for f in range(4):
+        n = max(n, family_record(params, f)[0])
+    return n
+
+
+@kernel(inline=True)
+def _core(jw, f, g):
+    """The ball's contacts' own block of families ``f ≤ g`` in the stage matrix (0 across rings)."""
+    if f // 2 != g // 2:
+        return 0.0
+    return jw[J_FX + FX_C + 3 * (f // 2) + (f % 2) + (g % 2)]
+
+
+@kernel(inline=True)
+def _core_k(jw, f, g):
+    """As :func:`_core`, in ``h·γ·K``."""
+    if f // 2 != g // 2:
+        return 0.0
+    return jw[J_FX + FX_CK + 3 * (f // 2) + (f % 2) + (g % 2)]
+
+
+@kernel(inline=True)
+def _back_substitute(jw, x0, x1, x2, x3, x4, x5):
+    """``U⁻¹·x`` with the ball's factor ``U`` as :func:`factor` leaves it in ``jw`` (upper
+    triangle, reciprocal diagonal)."""
+    x5 = x5 * jw[J_A + 35]
+    x4 = (x4 - jw[J_A + 29] * x5) * jw[J_A + 28]
+    x3 = (x3 - jw[J_A + 22] * x4 - jw[J_A + 23] * x5) * jw[J_A + 21]
+    x2 = (x2 - jw[J_A + 15] * x3 - jw[J_A + 16] * x4 - jw[J_A + 17] * x5) * jw[J_A + 14]
+    x1 = (x1 - jw[J_A + 8] * x2 - jw[J_A + 9] * x3 - jw[J_A + 10] * x4 - jw[J_A + 11] * x5) * jw[J_A + 7]
+    x0 = (x0 - jw[J_A + 1] * x1 - jw[J_A + 2] * x2 - jw[J_A + 3] * x3 - jw[J_A + 4] * x4
+          - jw[J_A + 5] * x5) * jw[J_A]
+    return x0, x1, x2, x3, x4, x5
+
+
+@kernel
+def factor_modes(jwork, schur, rows, params, fx, hg):
+    """The Schur complement of the stage matrix on a flexible ring's modes, factored.
+
+    After :func:`factor` (which leaves each ball's ``U`` and ``X = U⁻ᵀ·B`` in ``jwork`` and the
+    ring's factor in ``schur``). The stage matrix ``[[A, C], [Cᵀ, D]]``: ``A`` the arrowhead
+    system (balls and pose), ``D`` the modes' ``M_k + h·γ·c_k + (h·γ)²·K_k`` plus the
+    contacts' own block on them, ``C`` the contacts' coupling of the modes with the balls and
+    the pose (:func:`rvcore.dynamics.tangent.modal_blocks`, rank one a term)::
+
+        S = D − Cᵀ·A⁻¹·C = D − Σ_b P_bᵀ·P_b − Yᵀ·S_r⁻¹·Y,   P_b = U_b⁻ᵀ·C_b,
+        Y = C_r − Σ_b X_bᵀ·P_b
+
+    ``S_r`` the ring's complement. Per ball every family's coupling is one 3-vector ``V_f``
+    times the shape ``φ(θ)``, so ``P_b = Σ_f (U⁻ᵀ·V_f)·φ_fᵀ`` and the balls' part is
+    ``Σ_b Σ_fg H_fg·φ_f·φ_gᵀ`` with ``H = core − (U⁻ᵀV_f)·(U⁻ᵀV_g)``: summed as the harmonics
+    ``Σ_b H·(cos mθ, sin mθ)``, m ≤ 2K, and expanded by the product formulas. Then
+    ``S = UᵀU`` in place in ``fx[:nm]`` (upper triangle, reciprocal diagonal, as :func:`factor`;
+    its transpose in the lower triangle, for the solve's back substitution along rows).
+    ``hg = h·γ`` [s].
+    """
+    nm = modal_offset(params, 4)
+    nh = 2 * _max_orders(params) - 1
+    hs = fx[nm + FX_FLAT:].reshape(-1)
+    for i in range(2 * N_PAIRS * nh):
+        hs[i] = 0.0
+    for i in range(nm + FX_RM):      # S and Y
+        for c in range(nm):
+            fx[i, c] = 0.0
+    y0 = nm + FX_Y
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            if jw[J_FX + FX_ON] == 0.0:
+                continue
+            i0, u01, u02, u03, u04, u05 = jw[J_A], jw[J_A + 1], jw[J_A + 2], jw[J_A + 3], jw[J_A + 4], jw[J_A + 5]
+            i1, u12, u13, u14, u15 = jw[J_A + 7], jw[J_A + 8], jw[J_A + 9], jw[J_A + 10], jw[J_A + 11]
+            i2, u23, u24, u25 = jw[J_A + 14], jw[J_A + 15], jw[J_A + 16], jw[J_A + 17]
+            i3, u34, u35, i4, u45, i5 = jw[J_A + 21], jw[J_A + 22], jw[J_A + 23], jw[J_A + 28], jw[J_A + 29], jw[J_A + 35]
+            coupled = jw[J_COUPLED] != 0.0
+            for f in range(4):
+                v = J_FX + FX_V + 3 * f
+                x0 = jw[v] * i0
+                x1 = (jw[v + 1] - u01 * x0) * i1
+                x2 = (jw[v + 2] - u02 * x0 - u12 * x1) * i2
+                x3 = (-u03 * x0 - u13 * x1 - u23 * x2) * i3
+                x4 = (-u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
+                x5 = (-u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
+                o = J_FX + FX_SCR + 11 * f
+                jw[o], jw[o + 1], jw[o + 2], jw[o + 3], jw[o + 4], jw[o + 5] = x0, x1, x2, x3, x4, x5
+                for c in range(5):      # y_f = P_f − Xᵀ·(U⁻ᵀV_f)
+                    s = jw[J_FX + FX_P + 5 * f + c] if f < 2 else 0.0
+                    if coupled:
+                        s -= (jw[J_B + c] * x0 + jw[J_B + 5 + c] * x1 + jw[J_B + 10 + c] * x2
+                              + jw[J_B + 15 + c] * x3 + jw[J_B + 20 + c] * x4 + jw[J_B + 25 + c] * x5)
+                    jw[o + 6 + c] = s
+                # A_b⁻¹·V_f = U⁻¹·(U⁻ᵀ·V_f), for the solve's back substitution
+                q = J_FX + FX_Q + 6 * f
+                x0, x1, x2, x3, x4, x5 = _back_substitute(jw, x0, x1, x2, x3, x4, x5)
+                jw[q], jw[q + 1], jw[q + 2], jw[q + 3], jw[q + 4], jw[q + 5] = x0, x1, x2, x3, x4, x5
+            for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
+                if coupled:
+                    x0, x1, x2, x3, x4, x5 = _back_substitute(jw, jw[J_B + c], jw[J_B + 5 + c], jw[J_B + 10 + c],
+                                                              jw[J_B + 15 + c], jw[J_B + 20 + c], jw[J_B + 25 + c])
+                else:
+                    x0, x1, x2, x3, x4, x5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+                q = J_FX + FX_AB + c
+                jw[q], jw[q + 5], jw[q + 10], jw[q + 15], jw[q + 20], jw[q + 25] = x0, x1, x2, x3, x4, x5
+            pair = 0
+            for f in range(4):
+                o = J_FX + FX_SCR + 11 * f
+                for g in range(f, 4):
+                    q = J_FX + FX_SCR + 11 * g
+                    jw[J_FX + FX_H + pair] = _core(jw, f, g) - (
+                        jw[o] * jw[q] + jw[o + 1] * jw[q + 1] + jw[o + 2] * jw[q + 2] + jw[o + 3] * jw[q + 3]
+                        + jw[o + 4] * jw[q + 4] + jw[o + 5] * jw[q + 5])
+                    pair += 1
+            c1, s1 = jw[J_FX + FX_ANG], jw[J_FX + FX_ANG + 1]
+            cm, sm = 1.0, 0.0
+            for m in range(nh):
+                if 2 * m < nh:
+                    jw[J_FX + FX_PHI + 2 * m], jw[J_FX + FX_PHI + 2 * m + 1] = cm, sm
+                for pair in range(N_PAIRS):
+                    h = jw[J_FX + FX_H + pair]
+                    hs[2 * pair * nh + m] += h * cm
+                    hs[(2 * pair + 1) * nh + m] += h * sm
+                cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
+            for f in range(4):
+                n = family_record(params, f)[0]
+                of = modal_offset(params, f)
+                o = J_FX + FX_SCR + 11 * f + 6
+                for c in range(5):
+                    _phi_add(jw, fx[y0 + c], of, n, jw[o + c])
+    # the balls' part from the harmonic sums (upper triangle), then the modes' own diagonal
+    pair = 0
+    for f in range(4):
+        nf, of = family_record(params, f)[0], modal_offset(params, f)
+        for g in range(f, 4):
+            ng, og = family_record(params, g)[0], modal_offset(params, g)
+            hc_at, hs_at = 2 * pair * nh, (2 * pair + 1) * nh
+            for i in range(nf):
+                for i2 in range(ng):
+                    d = abs(i - i2)
+                    cd, cs = hs[hc_at + d], hs[hc_at + i + i2]
+                    sd, ss = (hs[hs_at + d] if i >= i2 else -hs[hs_at + d]), hs[hs_at + i + i2]
+                    row, col = of + 2 * i, og + 2 * i2
+                    fx[row, col] += 0.5 * (cd + cs)           # cos·cos
+                    fx[row, col + 1] += 0.5 * (ss - sd)       # cos·sin
+                    fx[row + 1, col] += 0.5 * (ss + sd)       # sin·cos
+                    fx[row + 1, col + 1] += 0.5 * (cd - cs)   # sin·sin
+            pair += 1
+    for f in range(4):
+        n, s0, d0 = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(n):
+            m, k, c = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2], params[d0 + FX_ORDER * i + 3]
+            for s in range(2):
+                fx[of + 2 * i + s, of + 2 * i + s] += m + hg * c + hg * hg * k
+    # − Yᵀ·S_r⁻¹·Y = −ZᵀZ, Z = U_r⁻ᵀ·Y (in place of Y)
+    for col in range(nm):
+        for i in range(5):
+            s = fx[y0 + i, col]
+            for l in range(i):
+                s -= schur[l, i] * fx[y0 + l, col]
+            fx[y0 + i, col] = s * schur[i, i]
+    for row in range(nm):
+        for col in range(row, nm):
+            fx[row, col] -= (fx[y0, row] * fx[y0, col] + fx[y0 + 1, row] * fx[y0 + 1, col]
+                             + fx[y0 + 2, row] * fx[y0 + 2, col] + fx[y0 + 3, row] * fx[y0 + 3, col]
+                             + fx[y0 + 4, row] * fx[y0 + 4, col])
+    # Cholesky (upper triangle, reciprocal diagonal; right-looking, so that the inner loops
+    # run along rows)
+    # with views from the loops' first index (an index LLVM knows to be ≥ 0 vectorises)
+    for i in range(nm):
+        inv = 1.0 / math.sqrt(fx[i, i])
+        fx[i, i] = inv
+        row = fx[i, i + 1:nm]
+        for c in range(nm - i - 1):
+            row[c] *= inv
+        for k in range(i + 1, nm):
+            u = fx[i, k]
+            target, source = fx[k, k:nm], fx[i, k:nm]
+            for c in range(nm - k):
+                target[c] -= u * source[c]
+    for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
+        for c in range(i + 1, nm):
+            fx[c, i] = fx[i, c]
+    # the solve's packed factors, a row at a time (MP_*)
+    size = MP_PHI + 2 * _max_orders(params)
+    for r in range(rows.shape[0]):
+        p0 = int(rows[r, R_POCKET0])
+        mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
+        for j in range(int(rows[r, R_Z])):
+            jw = jwork[p0 + j]
+            for i in range(24):
+                mp[(MP_V + i) * WS + j] = jw[J_FX + FX_V + i]      # V, VK
+            for i in range(20):
+                mp[(MP_P + i) * WS + j] = jw[J_FX + FX_P + i]      # P, PK
+            for i in range(6):
+                mp[(MP_CK + i) * WS + j] = jw[J_FX + FX_CK + i]
+            for i in range(54):
+                mp[(MP_Q + i) * WS + j] = jw[J_FX + FX_Q + i]      # A⁻¹V, A⁻¹B
+            for i in range(size - MP_PHI):
+                mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i] if jw[J_FX + FX_ON] != 0.0 else 0.0
+
+
+@kernel(inline=True)
+def _phi_add(jw, x, start, n, value):
+    """``x[start + i] += value·φ_i`` (i < 2n)."""
+    target, phi = x[start:start + 2 * n], jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * n]
+    for i in range(2 * n):
+        target[i] += value * phi[i]
+
+
+@kernel(inline=True)
+def _field(s, q, nz):
+    """Quantity ``q`` of a row's balls in the packed factors, as a view from index 0."""
+    return s[q * WS:q * WS + nz]
+
+
+@kernel(inline=True)
+def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
+    """Every ball of a row: ``s[(at + f)·WS + j] = φ(θ_j)·v[a_f : a_f + 2n_f]``, the four
+    families' displacement at the ball from their amplitudes (the shape ``φ`` in ``MP_PHI``)."""
+    c0, c1 = s[at * WS:at * WS + nz], s[(at + 1) * WS:(at + 1) * WS + nz]
+    c2, c3 = s[(at + 2) * WS:(at + 2) * WS + nz], s[(at + 3) * WS:(at + 3) * WS + nz]
+    for j in range(nz):
+        c0[j], c1[j], c2[j], c3[j] = 0.0, 0.0, 0.0, 0.0
+    for i in range(2 * nmax):
+        e0 = v[a0 + i] if i < 2 * n0 else 0.0
+        e1 = v[a1 + i] if i < 2 * n1 else 0.0
+        e2 = v[a2 + i] if i < 2 * n2 else 0.0
+        e3 = v[a3 + i] if i < 2 * n3 else 0.0
+        ph = s[(MP_PHI + i) * WS:(MP_PHI + i) * WS + nz]
+        for j in range(nz):
+            c0[j] += ph[j] * e0
+            c1[j] += ph[j] * e1
+            c2[j] += ph[j] * e2
+            c3[j] += ph[j] * e3
+
+
+@kernel(inline=True)
+def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
+    """``rm[o_f + i] −= Σ_j φ_i(θ_j)·s[(MP_T + f)·WS + j]``: the four families' terms at the
+    balls onto their modes (ball by ball, along the shape ``φ`` each ball keeps in ``jwork``;
+    views from index 0, which LLVM vectorises)."""
+    r0, r1, r2, r3 = rm[0:2 * n0], rm[o1:o1 + 2 * n1], rm[o2:o2 + 2 * n2], rm[o3:o3 + 2 * n3]
+    for j in range(nz):
+        phi = jwork[p0 + j, J_FX + FX_PHI:]
+        t0, t1 = s[MP_T * WS + j], s[(MP_T + 1) * WS + j]
+        t2, t3 = s[(MP_T + 2) * WS + j], s[(MP_T + 3) * WS + j]
+        for i in range(2 * n0):
+            r0[i] -= t0 * phi[i]
+        for i in range(2 * n1):
+            r1[i] -= t1 * phi[i]
+        for i in range(2 * n2):
+            r2[i] -= t2 * phi[i]
+        for i in range(2 * n3):
+            r3[i] -= t3 * phi[i]
+
+
+@kernel
+def _modal_terms(s, nz, x0, x1, x2, x3, x4):
+    """Every ball of a row: the modes' ``h·γ·K`` on the ball (``MP_FB``) and on the modes
+    (``MP_T``) from the shape values ``MP_SH`` and the ball's ê_x (``MP_EX``), the pose's
+    ê_x ``x``."""
+    for j in range(nz):
+        sh0, sh1 = s[MP_SH * WS + j], s[(MP_SH + 1) * WS + j]
+        sh2, sh3 = s[(MP_SH + 2) * WS + j], s[(MP_SH + 3) * WS + j]
+        ex, ey, ez = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
+        for c in range(3):
+            s[(MP_FB + c) * WS + j] = (sh0 * s[(MP_VK + c) * WS + j] + sh1 * s[(MP_VK + 3 + c) * WS + j]
+                                       + sh2 * s[(MP_VK + 6 + c) * WS + j] + sh3 * s[(MP_VK + 9 + c) * WS + j])
+        for f in range(4):
+            k = (MP_VK + 3 * f) * WS + j
+            t = s[k] * ex + s[k + WS] * ey + s[k + 2 * WS] * ez
+            if f < 2:
+                p = (MP_PK + 5 * f) * WS + j
+                t += (s[p] * x0 + s[p + WS] * x1 + s[p + 2 * WS] * x2 + s[p + 3 * WS] * x3
+                      + s[p + 4 * WS] * x4)
+            s[(MP_T + f) * WS + j] = t
+        ck = MP_CK * WS + j
+        s[MP_T * WS + j] += s[ck] * sh0 + s[ck + WS] * sh1
+        s[(MP_T + 1) * WS + j] += s[ck + WS] * sh0 + s[ck + 2 * WS] * sh1
+        s[(MP_T + 2) * WS + j] += s[ck + 3 * WS] * sh2 + s[ck + 4 * WS] * sh3
+        s[(MP_T + 3) * WS + j] += s[ck + 4 * WS] * sh2 + s[ck + 5 * WS] * sh3
+
+
+@kernel
+def _coupling_terms(s, nz, y0, y1, y2, y3, y4):
+    """Every ball of a row: add ``Cᵀ·y``'s factor per family, ``V_f·y_b + P_f·y_r``, to
+    ``MP_T`` (the ball's y in ``MP_EX``, the ring's ``y``)."""
+    for j in range(nz):
+        bx, by, bz = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
+        for f in range(4):
+            k = (MP_V + 3 * f) * WS + j
+            u = s[k] * bx + s[k + WS] * by + s[k + 2 * WS] * bz
+            if f < 2:
+                p = (MP_P + 5 * f) * WS + j
+                u += s[p] * y0 + s[p + WS] * y1 + s[p + 2 * WS] * y2 + s[p + 3 * WS] * y3 + s[p + 4 * WS] * y4
+            s[(MP_T + f) * WS + j] += u
+
+
+@kernel(inline=True)
+def _ring_share(s, nz):
+    """``Σ_j Σ_f MP_SH_f·PK_f`` over a row's balls (the modes' ``h·γ·K`` on the pose's five
+    coordinates; five sums in one pass)."""
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    for j in range(nz):
+        sh0, sh1 = s[MP_SH * WS + j], s[(MP_SH + 1) * WS + j]
+        e0 += sh0 * s[MP_PK * WS + j] + sh1 * s[(MP_PK + 5) * WS + j]
+        e1 += sh0 * s[(MP_PK + 1) * WS + j] + sh1 * s[(MP_PK + 6) * WS + j]
+        e2 += sh0 * s[(MP_PK + 2) * WS + j] + sh1 * s[(MP_PK + 7) * WS + j]
+        e3 += sh0 * s[(MP_PK + 3) * WS + j] + sh1 * s[(MP_PK + 8) * WS + j]
+        e4 += sh0 * s[(MP_PK + 4) * WS + j] + sh1 * s[(MP_PK + 9) * WS + j]
+    return e0, e1, e2, e3, e4
+
+
+@kernel
+def _ball_corrections(s, nz, z0, z1, z2, z3, z4):
+    """Every ball of a row: its part of ``A⁻¹·C·e_m``, ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z``, into
+    ``MP_CR`` (σ_f in ``MP_SG``, the ring's ``z``); a component at a time, along views."""
+    g0, g1, g2, g3 = _field(s, MP_SG, nz), _field(s, MP_SG + 1, nz), _field(s, MP_SG + 2, nz), _field(s, MP_SG + 3, nz)
+    for i in range(6):
+        out = _field(s, MP_CR + i, nz)
+        q0, q1 = _field(s, MP_Q + i, nz), _field(s, MP_Q + 6 + i, nz)
+        q2, q3 = _field(s, MP_Q + 12 + i, nz), _field(s, MP_Q + 18 + i, nz)
+        b0, b1, b2 = _field(s, MP_AB + 5 * i, nz), _field(s, MP_AB + 5 * i + 1, nz), _field(s, MP_AB + 5 * i + 2, nz)
+        b3, b4 = _field(s, MP_AB + 5 * i + 3, nz), _field(s, MP_AB + 5 * i + 4, nz)
+        for j in range(nz):
+            out[j] = (g0[j] * q0[j] + g1[j] * q1[j] + g2[j] * q2[j] + g3[j] * q3[j]
+                      - (b0[j] * z0 + b1[j] * z1 + b2[j] * z2 + b3[j] * z3 + b4[j] * z4))
+
+
+@kernel
+def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
+    """:func:`solve` with a flexible ring's modes among the unknowns: the stage's velocity
+    increments of the balls, the ring and the modes from ``ê`` in ``v`` (the stage matrix
+    ``[[A, C], [Cᵀ, D]]`` of :func:`factor_modes`, its right-hand side ``M·ê_v − h·γ·K·ê_x``
+    with the contacts' stiffness on the modes in ``K``), by block elimination::
+
+        A·y = r_A,   S·e_m = r_m − Cᵀ·y,   e_A = y − A⁻¹·C·e_m
+
+    one solve of the arrowhead system (:func:`solve`), one of ``S``, and ``A⁻¹·C·e_m`` from
+    what :func:`factor_modes` left: the ring's part ``z = S_r⁻¹·Y·e_m``, each ball's
+    ``Σ_f σ_f·A_b⁻¹V_f − A_b⁻¹B_b·z`` (``σ_f = φ_f·e_m``). Then, for the modes (their
+    positions, as the stage does the balls'): ``e_x = ê_x + h·γ·e_v`` and ``g_x = e_v`` into
+    ``g``. ``hg = h·γ`` [s]; ``fx`` the modes' block (``jwork`` is not read: the packed
+    factors are in ``fx``)."""
+    nm = modal_offset(params, 4)
+    rm = fx[nm + FX_RM]
+    nmax = _max_orders(params)
+    size = MP_PHI + 2 * nmax
+    flat = fx[nm + FX_FLAT:].reshape(-1)
+    at = 2 * N_PAIRS * (2 * nmax - 1)
+    n0, a0, _ = family_record(params, 0)
+    n1, a1, _ = family_record(params, 1)
+    n2, a2, _ = family_record(params, 2)
+    n3, a3, _ = family_record(params, 3)
+    o1, o2, o3 = 2 * n0, 2 * (n0 + n1), 2 * (n0 + n1 + n2)
+    # the modes' own M·ê_v − h·γ·K·ê_x
+    for f in range(4):
+        n, s0, d0 = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(n):
+            m, k = params[d0 + FX_ORDER * i + 1], params[d0 + FX_ORDER * i + 2]
+            for q in range(2):
+                rm[of + 2 * i + q] = m * v[s0 + 2 * n + 2 * i + q] - hg * k * v[s0 + 2 * i + q]
+    # the contacts' h·γ·K between the modes and the balls, the pose and themselves
+    e0, e1, e2, e3, e4 = 0.0, 0.0, 0.0, 0.0, 0.0
+    x0, x1, x2, x3, x4 = v[0], v[1], v[2], v[3], v[4]
+    for r in range(rows.shape[0]):
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b], v[b + 1], v[b + 2]
+        _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, MP_SH)
+        _modal_terms(s, nz, x0, x1, x2, x3, x4)
+        d0, d1, d2, d3, d4 = _ring_share(s, nz)
+        e0 += d0
+        e1 += d1
+        e2 += d2
+        e3 += d3
+        e4 += d4
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            v[b + 3] -= s[MP_FB * WS + j] / mass[b + 3]
+            v[b + 4] -= s[(MP_FB + 1) * WS + j] / mass[b + 4]
+            v[b + 5] -= s[(MP_FB + 2) * WS + j] / mass[b + 5]
+    v[5] -= e0 / mass[5]
+    v[6] -= e1 / mass[6]
+    v[7] -= e2 / mass[7]
+    v[8] -= e3 / mass[8]
+    v[9] -= e4 / mass[9]
+    solve(v, schur, rows, mass, sf)
+    # r_m − h·γ·K_m·ê_x − Cᵀ·y
+    for r in range(rows.shape[0]):
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b + 3], v[b + 4], v[b + 5]
+        _coupling_terms(s, nz, v[5], v[6], v[7], v[8], v[9])
+        _shape_forces(s, nz, jwork, int(rows[r, R_POCKET0]), rm, n0, o1, n1, o2, n2, o3, n3)
+    # S·e_m = r: Uᵀ (along U's rows) then U
+    for i in range(nm):
+        e = rm[i] * fx[i, i]
+        rm[i] = e
+        target, source = rm[i + 1:nm], fx[i, i + 1:nm]
+        for c in range(nm - i - 1):
+            target[c] -= source[c] * e
+    for i in range(nm - 1, -1, -1):
+        e = rm[i] * fx[i, i]
+        rm[i] = e
+        target, source = rm[:i], fx[i, :i]      # U[l, i], kept in the lower triangle
+        for l in range(i):
+            target[l] -= source[l] * e
+    # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
+    y0 = nm + FX_Y
+    t0 = t1 = t2 = t3 = t4 = 0.0
+    for m in range(nm):
+        e = rm[m]
+        t0 += fx[y0, m] * e
+        t1 += fx[y0 + 1, m] * e
+        t2 += fx[y0 + 2, m] * e
+        t3 += fx[y0 + 3, m] * e
+        t4 += fx[y0 + 4, m] * e
+    z4 = t4 * schur[4, 4]
+    z3 = (t3 - schur[3, 4] * z4) * schur[3, 3]
+    z2 = (t2 - schur[2, 3] * z3 - schur[2, 4] * z4) * schur[2, 2]
+    z1 = (t1 - schur[1, 2] * z2 - schur[1, 3] * z3 - schur[1, 4] * z4) * schur[1, 1]
+    z0 = (t0 - schur[0, 1] * z1 - schur[0, 2] * z2 - schur[0, 3] * z3 - schur[0, 4] * z4) * schur[0, 0]
+    v[5] -= z0
+    v[6] -= z1
+    v[7] -= z2
+    v[8] -= z3
+    v[9] -= z4
+    for r in range(rows.shape[0]):
+        b0, nz = int(rows[r, R_BALL0]), int(rows[r, R_Z])
+        s = flat[at + r * size * WS:at + (r + 1) * size * WS]
+        _shape_values(s, nz, rm, 0, n0, o1, n1, o2, n2, o3, n3, nmax, MP_SG)
+        _ball_corrections(s, nz, z0, z1, z2, z3, z4)
+        for j in range(nz):
+            b = b0 + BALL_STATES * j
+            for i in range(6):
+                v[b + 3 + i] -= s[(MP_CR + i) * WS + j]
+    # the modes
+    for f in range(4):
+        n, s0, _ = family_record(params, f)
+        of = modal_offset(params, f)
+        for i in range(2 * n):
+            ev = rm[of + i]
+            v[s0 + 2 * n + i] = ev
+            v[s0 + i] += hg * ev
+            g[s0 + i] = ev

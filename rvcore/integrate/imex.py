@@ -120,6 +120,16 @@ ring-down or an impact then refreshes them every step; a running bearing, whose 
 move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
 (docs/performance.md, "IMEX at MODEL_VERSION 11").
 
+Flexible rings
+--------------
+A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`) are implicit unknowns too,
+with their own stiffness and damping and the race contacts' Hertz stiffness, damper and
+groove stiffness on them (:func:`rvcore.dynamics.tangent.modal_blocks`): the stage matrix
+gains the modes' rows and columns, solved through their Schur complement beside the
+arrowhead system (:func:`rvcore.integrate.arrowhead.factor_modes` with the tangents,
+:func:`rvcore.integrate.arrowhead.solve_coupled` each stage). So the modes add no bound to
+the step; the friction does not drive them (docs/model.md §16.1).
+
 Pocket impacts
 --------------
 A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1), and a
@@ -142,8 +152,8 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from .arrowhead import N_SOLVE_FIELDS, WS, factor, pack, solve
-from ..dynamics.tangent import N_JWORK, N_SCHUR
+from .arrowhead import N_SOLVE_FIELDS, WS, factor, factor_modes, modal_block_rows, pack, solve, solve_coupled
+from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from ..bearing.layout import (A_K, BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
                               R_ARC0, R_BALL0, R_IB, R_MB, R_NARC, R_POCKET0, R_Z)
@@ -151,10 +161,10 @@ from .pocket_check import pocket_energy_kept
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
-from .step_size import modal_steps, row_rates
+from .step_size import row_rates
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
-from ..dynamics.ring_modes import modal_implicit_masses, modal_solve
+from ..dynamics.ring_modes import FAMILIES, family_states, flexible, modal_implicit_masses
 from ..dynamics.rhs import rhs
 from ..recording.plan import add_substep_integrals, in_window
 
@@ -229,6 +239,7 @@ def new_work(model, pocket_tolerance, load_tolerance):
     ``pocket_tolerance`` [J] is the pocket check's and ``load_tolerance`` [N] the
     tangents' (:func:`imex_step`)."""
     n = model.n_states
+    modal = modal_implicit_masses(model)
     # from W_SF the block solve's packed factors, a row of the bearing in N_SOLVE_FIELDS·WS
     work = np.zeros((N_WORK + -(-model.rows.shape[0] * N_SOLVE_FIELDS * WS // n), n))
     inv_m = work[W_INVM]
@@ -247,16 +258,22 @@ def new_work(model, pocket_tolerance, load_tolerance):
             inv_m[b + 3:b + 6] = 1.0 / rows[r, R_MB]
             inv_m[b + 6:b + 9] = 1.0 / rows[r, R_IB]
             work[W_ISP, b:b + 3] = 1.0
-    # a flexible ring's modes (rvcore.dynamics.ring_modes): their own stiffness and damping
-    # implicit, a diagonal solve each (modal_solve)
-    for amplitude, rate, m in modal_implicit_masses(model):
+    # a flexible ring's modes (rvcore.dynamics.ring_modes): implicit with the contacts'
+    # stiffness and damping on them (arrowhead.factor_modes, solve_coupled), their block of
+    # rows after the packed factors, from work[W_SET, 2]
+    for amplitude, rate, m in modal:
         inv_m[rate] = 1.0 / m
         work[W_ISP, amplitude] = 1.0
     work[W_M] = np.where(inv_m > 0, 1.0 / np.where(inv_m > 0, inv_m, 1.0), 0.0)
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     work[W_SET, 0] = pocket_tolerance
     work[W_SET, 1] = load_tolerance
-    return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
+    if not modal:
+        return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
+    orders = max(family_states(model, name)[0] for name in FAMILIES)
+    work[W_SET, 2] = work.shape[0]
+    work = np.vstack([work, np.zeros((modal_block_rows(len(modal), orders, n, model.rows.shape[0]), n))])
+    return work, np.zeros((model.n_balls + 1, N_JWORK + N_FX + 2 * orders)), np.zeros((N_SCHUR, 5))
 
 
 @kernel(inline=True)
@@ -304,10 +321,13 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
                 tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
     for m in range(n):
         g[m] = tmp[m]          # ê, for g_i below
-    solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
     hg = dt * GAMMA
+    if flexible(params):       # the modes among the unknowns (their positions done there)
+        solve_coupled(tmp, g, schur, rows, mass, work[W_SF:].reshape(-1), jwork, params,
+                      work[int(work[W_SET, 2]):], hg)
+    else:
+        solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
     inv_hg = 1.0 / hg
-    modal_solve(params, tmp, g, hg)
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
     for m in range(5):
         g[m] = tmp[m + 5]
@@ -433,6 +453,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     n = y.size
     if refresh:
         factor(jwork, schur, rows, work[W_M])
+        if flexible(params):
+            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * GAMMA)
         pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
         for k in range(bdiag.shape[0]):
             work[W_QREF, k] = bdiag[k, B_QI]
@@ -458,6 +480,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
             inner[m] = -0.5 * (SUBSTEPS - 1) * diag[m] if s == 0 else inner[m] + diag[m]
         diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
         factor(jwork, schur, rows, work[W_M])
+        if flexible(params):
+            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA)
         pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
         later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork,
                                      schur)
@@ -472,16 +496,6 @@ STAGES = 4
 #: The method's own counters in ``state``: steps since the tangents were evaluated, whether
 #: they no longer fit the contacts' loads (1), and whether this step evaluates them (1).
 S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
-
-
-#: ``ω_c·h`` at most, ``ω_c`` the contacts' stiffness on a flexible ring's modes, which the
-#: IMEX scheme takes explicitly (:mod:`rvcore.dynamics.ring_modes`): an accuracy limit, not
-#: stability's (2√2). Measured on the 12-ball section, rings on a 1e10 N/m² seat, friction
-#: and damping off (tests/core/test_ring_dynamics.py): the energy drifted by 1.6e-3 of the
-#: oscillation at ω_c·h = 1.6 (the rigid step there), 9.6e-5 at 0.80, 2.1e-5 at 0.40; at
-#: this limit (0.64 at the default safety) it keeps docs/model.md §9.4's 1e-4.
-IMEX_MODAL_LIMIT = 0.8
-
 
 def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
     """IMEX's fixed step [s] (:func:`imex_time_step`)."""
@@ -501,9 +515,9 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
         dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
 
-    and a flexible ring's modes at ``ω_c·h ≤`` :data:`IMEX_MODAL_LIMIT`, ``ω_c`` the contacts'
-    stiffness on them (their own is implicit, :func:`rvcore.dynamics.ring_modes.modal_solve`;
-    :func:`rvcore.integrate.step_size.modal_steps`).
+    A flexible ring's modes add no bound: their own stiffness and damping and the contacts'
+    Hertz stiffness, groove stiffness and damper on them are implicit
+    (:func:`rvcore.integrate.arrowhead.factor_modes`), and the friction does not drive them.
     ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
     and ω_n the contact oscillation of :func:`rvcore.integrate.step_size.row_rates`, here only for a contact's first
     step (its oscillation is implicit from the next: the tableau keeps it undamped at any
@@ -522,7 +536,6 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
                        ONSET_LIMIT * math.sqrt(2.0) / omega))
-    dts.extend(modal_steps(model, q, IMEX_MODAL_LIMIT, RK4_REAL_LIMIT, implicit=True))
     return safety * min(dts)
 
 

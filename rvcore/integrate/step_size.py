@@ -56,12 +56,11 @@ def row_rates(model, q: float):
         yield math.sqrt(2.0 * 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0) / m), m, h * h / i_b
 
 
-def modal_steps(model, q: float, imag_limit: float, real_limit: float, *, implicit: bool = False):
+def modal_steps(model, q: float, imag_limit: float, real_limit: float):
     """The explicit limits [s] of a flexible ring's modal states at the contact load ``q`` [N]
     (:func:`rvcore.dynamics.ring_modes.modal_rates`): ``imag_limit/ω`` and ``real_limit/λ``
-    per mode [-]; ``implicit`` (IMEX) with the modes' own stiffness and damping implicit and
-    the contacts' on them explicit. Empty for rigid rings: the rates the steps of
-    :func:`rvcore.integrate.rk4.rk4_time_step` and :func:`rvcore.integrate.imex.imex_time_step`
-    take for the modes."""
+    per mode [-]. Empty for rigid rings: the rates the step of
+    :func:`rvcore.integrate.rk4.rk4_time_step` takes for the modes (the IMEX scheme's has
+    them implicit, :func:`rvcore.integrate.imex.imex_time_step`)."""
     return [min(imag_limit / omega if omega > 0 else np.inf, real_limit / lam if lam > 0 else np.inf)
-            for omega, lam in modal_rates(model, q, implicit=implicit)]
+            for omega, lam in modal_rates(model, q)]

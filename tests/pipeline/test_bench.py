@@ -59,6 +59,11 @@ def stand_ins(monkeypatch):
     monkeypatch.setattr(bench, "lubricated_cost", lambda: {
         "lubricated_dry_wall_s": 2.0, "lubricated_wall_s": 2.2, "lubricated_cost_ratio": 1.1,
         "lubricated_cost_ratio_120": 1.05, "lubricated_cost_ratio_660": 1.1, "lubricated_cost_speed": 660.0})
+    monkeypatch.setattr(bench, "flexible_cost", lambda: {
+        f"{name}{suffix}": value for suffix in ("", "_start") for name, value in (
+            ("flexible_cost_ratio", 1.4), ("flexible_wall_s", 1.4), ("flexible_rigid_wall_s", 1.0),
+            ("flexible_time_step_s", 2.9e-5), ("flexible_rigid_time_step_s", 2.9e-5),
+            ("flexible_us_per_step", 60.0), ("flexible_rigid_us_per_step", 43.0), ("flexible_window_s", (1.5, 1.6)))})
 
 
 def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
@@ -77,6 +82,7 @@ def test_full_cycle_times_every_method_and_reports_the_speedup(stand_ins):
     assert "parallel_efficiency" not in f   # --quick
     assert f["imperfection_cost_ratio"] == 1.05
     assert f["lubricated_cost_ratio"] == 1.1
+    assert f["flexible_cost_ratio"] == 1.4 and f["flexible_cost_ratio_start"] == 1.4
 
 
 def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys):
@@ -96,6 +102,8 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     lubricated = next(line for line in text.splitlines() if line.startswith("Lubricated law"))
     assert "1.100x" in lubricated and "2.20 s vs 2.00 s" in lubricated
     assert "120 deg/s 1.050x" in lubricated and "660 deg/s 1.100x" in lubricated
+    flexible = [line for line in text.splitlines() if line.startswith("Flexible rings")]
+    assert len(flexible) == 2 and all("1.400x" in line and "1.40 s vs 1.00 s" in line for line in flexible)
 
 
 # --------------------------------------------------------------------------- ball scaling
