@@ -138,7 +138,10 @@ def _umask() -> int:
     return mask
 
 
-def _temp_path(path: Path) -> Path:
+def temp_path(path: Path) -> Path:
+    """A new, empty temporary file beside ``path``, named for its writer
+    (``.<name>.@<host>.<pid>.<random>.tmp``, module docstring), with the mode a plain
+    file would get."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.@{host_tag()}.{os.getpid()}.",
                                suffix=TEMP_SUFFIX)
     try:
@@ -156,7 +159,7 @@ def _replacing(path: Path):
 
     On any error the temporary file is removed and ``path`` is untouched.
     """
-    tmp = _temp_path(path)
+    tmp = temp_path(path)
     try:
         yield tmp
         os.replace(tmp, path)

@@ -513,7 +513,7 @@ def test_a_temporary_file_of_another_host_is_left_alone(tmp_path):
     import subprocess
     import sys
 
-    from pipeline.io.files import _temp_path, host_tag, remove_stale_temporaries
+    from pipeline.io.files import temp_path, host_tag, remove_stale_temporaries
 
     child = subprocess.Popen([sys.executable, "-c", "pass"])
     child.wait()                                           # a process id that is gone here
@@ -526,7 +526,7 @@ def test_a_temporary_file_of_another_host_is_left_alone(tmp_path):
     assert sorted(remove_stale_temporaries(tmp_path)) == sorted([mine, legacy])
     assert theirs.exists()
     # and every writer names its host and process in its temporary file
-    tmp = _temp_path(tmp_path / "d.txt")
+    tmp = temp_path(tmp_path / "d.txt")
     assert tmp.name.startswith(f".d.txt.@{here}.{os.getpid()}.") and tmp.name.endswith(".tmp")
 
 
