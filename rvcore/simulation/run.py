@@ -157,7 +157,8 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         spectra["kinematic_frequency"] = kinematic
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy(),
-                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity),
+                      steady=steady_outputs(bearing, profile, op, gravity=settings.gravity,
+                                            rings=rings if flexing else None),
                       life_sums=life_sums, life=life, energy=energy, spectra=spectra)
 
 

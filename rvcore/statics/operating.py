@@ -54,12 +54,13 @@ def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True, rings=rings)
 
 
-def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True) -> dict:
+def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True, rings=None) -> dict:
     """The ``steady`` outputs of :mod:`rvcore.output_table` for one case, SI; NaN where the
-    statics find no equilibrium."""
+    statics find no equilibrium. ``rings``: the case's flexible rings (its dynamics' orders),
+    so that a flexible case's stiffness, lives and film are its rings' (None: rigid)."""
 
     try:
-        st = steady_statics(bearing, profile, op, gravity=gravity)
+        st = steady_statics(bearing, profile, op, gravity=gravity, rings=rings)
     except NoEquilibriumError:
         return {o.name: float("nan") for o in outputs_of(STEADY)}
     out = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), st.stiffness_scalars()))

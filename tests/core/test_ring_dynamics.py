@@ -359,6 +359,25 @@ def test_startup_ranges_converge_with_the_modes():
 
 # --------------------------------------------------------------------------- sensors and outputs
 
+def test_a_flexible_case_records_its_rings_statics_at_the_steady_point():
+    """A flexible case's steady outputs (stiffness, lives at the steady point) are those of
+    the statics on its own rings (the dynamics' orders), solved here with solve_statics;
+    each softer than the rigid rings' (a 1e10 N/m² seat under each ring)."""
+    from rvcore.statics.equilibrium import solve_statics
+
+    bearing = section_bearing(12)
+    rings = truncated(rings_of(bearing, SOFT_SEAT, damping_ratio=0.02))
+    profile, op = constant_profile(0.0, 0.0005), OperatingPoint(20.0, 3e3, 1e3)
+    settings = SolverSettings(output_rate=1e4, gravity=False)
+    res = run_case(bearing, profile, op, settings, rings=rings)
+    rigid = run_case(bearing, profile, op, settings)
+    flexible = solve_statics(bearing, 3e3, 1e3, gravity=False, stiffness=True, rings=rings)
+    expected = dict(zip(("radial_stiffness", "axial_stiffness", "tilting_stiffness"), flexible.stiffness_scalars()))
+    for name, value in expected.items():
+        assert res.steady[name] == pytest.approx(value, rel=1e-9), name
+        assert res.steady[name] < rigid.steady[name], name
+
+
 def test_sensors_read_the_rings_surface_and_the_outputs_its_deformation():
     """A flexible inner ring under a combined load: a radial sensor at the bore and an
     axial one at the face read the rigid-body displacement of the pose plus the surface's
