@@ -428,8 +428,11 @@ def test_a_signal_inside_a_case_write_ends_the_sweep_in_seconds(tmp_path, signam
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
     tmp = Path(told.read_text().strip())
-    assert tmp.parent == cases and tmp.name.startswith(f".{paused}.")
-    writer = int(tmp.name[len(paused) + 2:].split(".")[0])
+    from pipeline.io.files import host_tag
+
+    named = f".{paused}.@{host_tag()}."        # the writer's host, then its process id
+    assert tmp.parent == cases and tmp.name.startswith(named)
+    writer = int(tmp.name[len(named):].split(".")[0])
     assert writer != proc.pid          # a worker process was writing it, not the sweep's own
     assert took < 10.0, took
     assert proc.returncode == 128 + sig, (proc.returncode, stderr)
