@@ -200,21 +200,47 @@ def _angle(buf, j, inner):
 
 
 @kernel(inline=True)
+def _order_coefficients(y, ar, nr, aa, na, k):
+    """Order ``k``'s amplitudes and their rates of a ring's radial (``ar``, ``nr`` orders) and
+    axial (``aa``, ``na``) families in ``y`` (0 past a family's last order)."""
+    wc, ws = (y[ar + 2 * k], y[ar + 2 * k + 1]) if k < nr else (0.0, 0.0)
+    wdc, wds = (y[ar + 2 * nr + 2 * k], y[ar + 2 * nr + 2 * k + 1]) if k < nr else (0.0, 0.0)
+    uc, us = (y[aa + 2 * k], y[aa + 2 * k + 1]) if k < na else (0.0, 0.0)
+    udc, uds = (y[aa + 2 * na + 2 * k], y[aa + 2 * na + 2 * k + 1]) if k < na else (0.0, 0.0)
+    return wc, ws, wdc, wds, uc, us, udc, uds
+
+
+@kernel(inline=True)
 def _ring_surface(buf, params, y, nz, inner, fr, dr, sl, dz, zsl, vg):
     """One ring's modal sums at every ball of the row (:func:`ring_surfaces`): the orders
-    in the outer loop, the balls in the inner (vectorised), ``cos kθ``, ``sin kθ`` by the
-    rotation recurrence in ``G_CK``, ``G_SK``."""
+    in the outer loop, two at a time, the balls in the inner (vectorised), ``cos kθ``,
+    ``sin kθ`` by the rotation recurrence in ``G_CK``, ``G_SK``; each sum a ball's, over the
+    orders in turn."""
     nr, ar, _ = family_record(params, fr)
     na, aa, _ = family_record(params, fr + 1)
     for j in range(nz):
         buf[G_CK * W + j], buf[G_SK * W + j] = 1.0, 0.0
         buf[G_MW * W + j], buf[G_MU * W + j] = 0.0, 0.0
         buf[vg * W + j], buf[(vg + 2) * W + j] = 0.0, 0.0
-    for k in range(max(nr, na)):
-        wc, ws = (y[ar + 2 * k], y[ar + 2 * k + 1]) if k < nr else (0.0, 0.0)
-        wdc, wds = (y[ar + 2 * nr + 2 * k], y[ar + 2 * nr + 2 * k + 1]) if k < nr else (0.0, 0.0)
-        uc, us = (y[aa + 2 * k], y[aa + 2 * k + 1]) if k < na else (0.0, 0.0)
-        udc, uds = (y[aa + 2 * na + 2 * k], y[aa + 2 * na + 2 * k + 1]) if k < na else (0.0, 0.0)
+    nk = max(nr, na)
+    for k in range(0, nk - 1, 2):      # orders k and k + 1: the sums read and written once
+        wc, ws, wdc, wds, uc, us, udc, uds = _order_coefficients(y, ar, nr, aa, na, k)
+        wc2, ws2, wdc2, wds2, uc2, us2, udc2, uds2 = _order_coefficients(y, ar, nr, aa, na, k + 1)
+        k2 = k + 1
+        for j in range(nz):
+            ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
+            c1, s1 = _angle(buf, j, inner)
+            ck2, sk2 = ck * c1 - sk * s1, sk * c1 + ck * s1
+            buf[G_MW * W + j] = buf[G_MW * W + j] + (wc * ck + ws * sk) + (wc2 * ck2 + ws2 * sk2)
+            buf[sl * W + j] = buf[sl * W + j] + k * (ws * ck - wc * sk) + k2 * (ws2 * ck2 - wc2 * sk2)
+            buf[vg * W + j] = buf[vg * W + j] + (wdc * ck + wds * sk) + (wdc2 * ck2 + wds2 * sk2)
+            buf[G_MU * W + j] = buf[G_MU * W + j] + (uc * ck + us * sk) + (uc2 * ck2 + us2 * sk2)
+            buf[zsl * W + j] = buf[zsl * W + j] + k * (us * ck - uc * sk) + k2 * (us2 * ck2 - uc2 * sk2)
+            buf[(vg + 2) * W + j] = buf[(vg + 2) * W + j] + (udc * ck + uds * sk) + (udc2 * ck2 + uds2 * sk2)
+            buf[G_CK * W + j], buf[G_SK * W + j] = ck2 * c1 - sk2 * s1, sk2 * c1 + ck2 * s1
+    if nk % 2 == 1:     # the last order alone
+        k = nk - 1
+        wc, ws, wdc, wds, uc, us, udc, uds = _order_coefficients(y, ar, nr, aa, na, k)
         for j in range(nz):
             ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
             buf[G_MW * W + j] += wc * ck + ws * sk
@@ -223,8 +249,6 @@ def _ring_surface(buf, params, y, nz, inner, fr, dr, sl, dz, zsl, vg):
             buf[G_MU * W + j] += uc * ck + us * sk
             buf[zsl * W + j] += k * (us * ck - uc * sk)
             buf[(vg + 2) * W + j] += udc * ck + uds * sk
-            c1, s1 = _angle(buf, j, inner)
-            buf[G_CK * W + j], buf[G_SK * W + j] = ck * c1 - sk * s1, sk * c1 + ck * s1
     max_w, max_u = 0.0, 0.0
     for j in range(nz):
         w, u = buf[G_MW * W + j], buf[G_MU * W + j]
@@ -266,29 +290,49 @@ def ring_surfaces(buf, params, y, nz):
 def _ring_force(buf, params, dy, nz, inner, fr):
     """One ring's generalized forces from the balls' normal forces on it in ``G_FM``
     (:func:`ring_forces`): per order, ``Σ_j F_j·cos kθ_j`` and ``Σ_j F_j·sin kθ_j`` of its
-    radial and axial families (four sums over the balls an order)."""
+    radial and axial families (four sums over the balls an order; two orders a pass over
+    the balls, each sum over the balls in turn)."""
     nr, ar, _ = family_record(params, fr)
     na, aa, _ = family_record(params, fr + 1)
     f0 = G_FM if inner else G_FM + 2
     for j in range(nz):
         buf[G_CK * W + j], buf[G_SK * W + j] = 1.0, 0.0
-    for k in range(max(nr, na)):
+    nk = max(nr, na)
+    for k in range(0, nk, 2):
+        two = k + 1 < nk
         rc, rs, ac, as_ = 0.0, 0.0, 0.0, 0.0
-        for j in range(nz):
-            ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
-            fw, fu = buf[f0 * W + j], buf[(f0 + 1) * W + j]
-            rc += fw * ck
-            rs += fw * sk
-            ac += fu * ck
-            as_ += fu * sk
-            c1, s1 = _angle(buf, j, inner)
-            buf[G_CK * W + j], buf[G_SK * W + j] = ck * c1 - sk * s1, sk * c1 + ck * s1
-        if k < nr:
-            dy[ar + 2 * nr + 2 * k] += rc
-            dy[ar + 2 * nr + 2 * k + 1] += rs
-        if k < na:
-            dy[aa + 2 * na + 2 * k] += ac
-            dy[aa + 2 * na + 2 * k + 1] += as_
+        rc2, rs2, ac2, as2 = 0.0, 0.0, 0.0, 0.0
+        if two:
+            for j in range(nz):
+                ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
+                fw, fu = buf[f0 * W + j], buf[(f0 + 1) * W + j]
+                c1, s1 = _angle(buf, j, inner)
+                ck2, sk2 = ck * c1 - sk * s1, sk * c1 + ck * s1
+                rc += fw * ck
+                rs += fw * sk
+                ac += fu * ck
+                as_ += fu * sk
+                rc2 += fw * ck2
+                rs2 += fw * sk2
+                ac2 += fu * ck2
+                as2 += fu * sk2
+                buf[G_CK * W + j], buf[G_SK * W + j] = ck2 * c1 - sk2 * s1, sk2 * c1 + ck2 * s1
+        else:
+            for j in range(nz):
+                ck, sk = buf[G_CK * W + j], buf[G_SK * W + j]
+                fw, fu = buf[f0 * W + j], buf[(f0 + 1) * W + j]
+                rc += fw * ck
+                rs += fw * sk
+                ac += fu * ck
+                as_ += fu * sk
+        for o in range(2 if two else 1):
+            kk = k + o
+            if kk < nr:
+                dy[ar + 2 * nr + 2 * kk] += rc if o == 0 else rc2
+                dy[ar + 2 * nr + 2 * kk + 1] += rs if o == 0 else rs2
+            if kk < na:
+                dy[aa + 2 * na + 2 * kk] += ac if o == 0 else ac2
+                dy[aa + 2 * na + 2 * kk + 1] += as_ if o == 0 else as2
 
 
 @kernel

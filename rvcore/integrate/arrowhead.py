@@ -583,27 +583,34 @@ def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
 def _modal_terms(s, nz, x0, x1, x2, x3, x4):
     """Every ball of a row: the modes' ``h·γ·K`` on the ball (``MP_FB``) and on the modes
     (``MP_T``) from the shape values ``MP_SH`` and the ball's ê_x (``MP_EX``), the pose's
-    ê_x ``x``."""
-    for j in range(nz):
-        sh0, sh1 = s[MP_SH * WS + j], s[(MP_SH + 1) * WS + j]
-        sh2, sh3 = s[(MP_SH + 2) * WS + j], s[(MP_SH + 3) * WS + j]
-        ex, ey, ez = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
-        for c in range(3):
-            s[(MP_FB + c) * WS + j] = (sh0 * s[(MP_VK + c) * WS + j] + sh1 * s[(MP_VK + 3 + c) * WS + j]
-                                       + sh2 * s[(MP_VK + 6 + c) * WS + j] + sh3 * s[(MP_VK + 9 + c) * WS + j])
-        for f in range(4):
-            k = (MP_VK + 3 * f) * WS + j
-            t = s[k] * ex + s[k + WS] * ey + s[k + 2 * WS] * ez
-            if f < 2:
-                p = (MP_PK + 5 * f) * WS + j
-                t += (s[p] * x0 + s[p + WS] * x1 + s[p + 2 * WS] * x2 + s[p + 3 * WS] * x3
-                      + s[p + 4 * WS] * x4)
-            s[(MP_T + f) * WS + j] = t
-        ck = MP_CK * WS + j
-        s[MP_T * WS + j] += s[ck] * sh0 + s[ck + WS] * sh1
-        s[(MP_T + 1) * WS + j] += s[ck + WS] * sh0 + s[ck + 2 * WS] * sh1
-        s[(MP_T + 2) * WS + j] += s[ck + 3 * WS] * sh2 + s[ck + 4 * WS] * sh3
-        s[(MP_T + 3) * WS + j] += s[ck + 4 * WS] * sh2 + s[ck + 5 * WS] * sh3
+    ê_x ``x``; a quantity at a time, along views (vectorised)."""
+    sh0, sh1, sh2, sh3 = _field(s, MP_SH, nz), _field(s, MP_SH + 1, nz), _field(s, MP_SH + 2, nz), _field(s, MP_SH + 3, nz)
+    ex, ey, ez = _field(s, MP_EX, nz), _field(s, MP_EX + 1, nz), _field(s, MP_EX + 2, nz)
+    for c in range(3):
+        out = _field(s, MP_FB + c, nz)
+        k0, k1 = _field(s, MP_VK + c, nz), _field(s, MP_VK + 3 + c, nz)
+        k2, k3 = _field(s, MP_VK + 6 + c, nz), _field(s, MP_VK + 9 + c, nz)
+        for j in range(nz):
+            out[j] = sh0[j] * k0[j] + sh1[j] * k1[j] + sh2[j] * k2[j] + sh3[j] * k3[j]
+    c0, c1, c2 = _field(s, MP_CK, nz), _field(s, MP_CK + 1, nz), _field(s, MP_CK + 2, nz)
+    c3, c4, c5 = _field(s, MP_CK + 3, nz), _field(s, MP_CK + 4, nz), _field(s, MP_CK + 5, nz)
+    for f in range(2):      # the inner ring's families: the pose's part too
+        out = _field(s, MP_T + f, nz)
+        kx, ky, kz = _field(s, MP_VK + 3 * f, nz), _field(s, MP_VK + 3 * f + 1, nz), _field(s, MP_VK + 3 * f + 2, nz)
+        p0, p1, p2 = _field(s, MP_PK + 5 * f, nz), _field(s, MP_PK + 5 * f + 1, nz), _field(s, MP_PK + 5 * f + 2, nz)
+        p3, p4 = _field(s, MP_PK + 5 * f + 3, nz), _field(s, MP_PK + 5 * f + 4, nz)
+        ca, cb = (c0, c1) if f == 0 else (c1, c2)
+        for j in range(nz):
+            t = kx[j] * ex[j] + ky[j] * ey[j] + kz[j] * ez[j]
+            t += p0[j] * x0 + p1[j] * x1 + p2[j] * x2 + p3[j] * x3 + p4[j] * x4
+            out[j] = t + (ca[j] * sh0[j] + cb[j] * sh1[j])
+    for f in range(2, 4):
+        out = _field(s, MP_T + f, nz)
+        kx, ky, kz = _field(s, MP_VK + 3 * f, nz), _field(s, MP_VK + 3 * f + 1, nz), _field(s, MP_VK + 3 * f + 2, nz)
+        ca, cb = (c3, c4) if f == 2 else (c4, c5)
+        for j in range(nz):
+            t = kx[j] * ex[j] + ky[j] * ey[j] + kz[j] * ez[j]
+            out[j] = t + (ca[j] * sh2[j] + cb[j] * sh3[j])
 
 
 @kernel
