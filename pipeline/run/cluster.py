@@ -2,7 +2,8 @@
 
 The numba kernels are compiled in this process before any worker starts
 (:func:`warm_up`); workers then only load the cache. On a cluster the cases are
-submitted longest first (:func:`estimated_cost`) and yielded as they finish.
+submitted longest first (:func:`estimated_cost`), a bounded window of them at a time
+(:func:`in_flight_window`), and yielded as they finish.
 """
 from __future__ import annotations
 
@@ -227,24 +228,61 @@ def _kill_workers(cluster) -> None:
         time.sleep(0.01)
 
 
-def on_cluster(client, todo, case_fn, allowed_failures, **write):
-    """Submit every case; yield (spec, outcome) as they finish, in completion order.
+#: The fewest cases a sweep keeps submitted to the scheduler at a time; with more worker
+#: threads, :data:`IN_FLIGHT_PER_THREAD` a thread. What the parent and the scheduler hold
+#: for the cases grows with this window, not with the sweep: about 0.03 MB a submitted case
+#: (measured on the 10,000-case sweep, docs/performance.md, "Sweeps at scale").
+IN_FLIGHT_MIN = 64
+#: Cases submitted a worker thread: one running, the rest queued so no thread waits for
+#: the parent between cases.
+IN_FLIGHT_PER_THREAD = 4
 
-    ``write`` (``cases_dir``, ``source``, ``sweep_name``) goes to
-    :func:`pipeline.run.cases.compute_and_write`: a worker that sees ``cases_dir`` writes
-    its case's file itself."""
+
+def in_flight_window(client) -> int:
+    """How many cases to keep submitted: ``max(IN_FLIGHT_MIN, IN_FLIGHT_PER_THREAD × threads)``,
+    the threads of the workers the scheduler knows now (a cluster that grows is read again
+    as the cases finish, :func:`on_cluster`)."""
+    try:
+        threads = sum(client.nthreads().values())
+    except Exception:  # a scheduler that does not answer here answers as_completed's wait
+        threads = 0
+    return max(IN_FLIGHT_MIN, IN_FLIGHT_PER_THREAD * int(threads))
+
+
+def on_cluster(client, todo, case_fn, allowed_failures, *, window=None, **write):
+    """Submit the cases, longest first, at most a window of them at a time; yield (spec,
+    outcome) as they finish, in completion order.
+
+    ``window`` is the most cases submitted and not yet yielded (default
+    :func:`in_flight_window`, read again every window's worth of finished cases): a new
+    case is submitted as one finishes, so the parent's and the scheduler's memory for the
+    cases is bounded by the window, whatever the sweep's size. ``write`` (``cases_dir``,
+    ``source``, ``sweep_name``) goes to :func:`pipeline.run.cases.compute_and_write`: a
+    worker that sees ``cases_dir`` writes its case's file itself."""
     from distributed import as_completed
     from distributed.scheduler import KilledWorker
 
     token = uuid.uuid4().hex[:8]
     futures = {}
     # longest cases first: with one case per worker at a time, this balances the load
-    for spec in sorted(todo, key=estimated_cost, reverse=True):
+    queue = iter(sorted(todo, key=estimated_cost, reverse=True))
+    fixed = window is not None
+    size = int(window) if fixed else in_flight_window(client)
+
+    def submit_next():
+        spec = next(queue, None)
+        if spec is None:
+            return None
         fut = client.submit(compute_and_write, spec, case_fn, key=f"rvsweep-{spec.case_id}-{token}",
                             pure=False, **write)
         futures[fut] = spec
+        return fut
+
+    first = [f for f in (submit_next() for _ in range(max(1, size))) if f is not None]
+    pending = as_completed(first)
+    done = 0
     try:
-        for fut in as_completed(list(futures)):
+        for fut in pending:
             spec = futures.pop(fut)
             try:
                 outcome = fut.result()
@@ -256,6 +294,15 @@ def on_cluster(client, todo, case_fn, allowed_failures, **write):
                 outcome = CaseOutcome(spec.case_id, False, None, failure_reason(exc),
                                       "".join(traceback.format_exception(exc)))
             fut.release()
+            done += 1
+            if not fixed and done % size == 0:
+                size = in_flight_window(client)
+            # keep the window full: one in for the one out (more if the cluster grew)
+            while len(futures) < size:
+                nxt = submit_next()
+                if nxt is None:
+                    break
+                pending.add(nxt)
             yield spec, outcome
     finally:
         if futures:

@@ -1,8 +1,8 @@
 """The pipeline at scale (issue 42), guarded at small size without timings: the combine's
 memory does not grow with the cases, status is appended per case and written whole a
 fixed number of times, a resume opens no netCDF file, the streamed ``sweep.nc`` is the
-in-memory combiner's, workers write their own case files and the report opens
-``sweep.nc`` lazily.
+in-memory combiner's, workers write their own case files, a cluster sweep keeps a bounded
+window of cases submitted and the report opens ``sweep.nc`` lazily.
 
 Synthetic case functions stand in for the dynamics (as in test_sweep.py). Each fact is
 checked against an independent path (the in-memory combiner, file counts made here),
@@ -330,3 +330,38 @@ def test_the_report_opens_sweep_nc_lazily(tmp_path):
             assert np.array_equal(one, ds["radial_displacement"].values[0, 0])
     finally:
         ctx.sweep.close()
+
+
+# --------------------------------------------------------------------------- the parent's window
+
+
+def test_a_cluster_sweep_keeps_at_most_its_window_of_cases_submitted():
+    """The parent submits a new case as one finishes, never more than ``window`` submitted
+    and not yet collected (what it holds for the cases is bounded by the window, not the
+    sweep's size); every case is collected once, and they are submitted longest first."""
+    import dataclasses
+
+    window = 2
+    from pipeline.bench import SMOKE_SWEEP, no_case
+    from pipeline.run.cluster import client, estimated_cost, on_cluster
+
+    base = read_sweep_file(SMOKE_SWEEP).cases
+    specs = [dataclasses.replace(base[i % len(base)], case_id=f"{i:016x}") for i in range(10)]
+    submitted, outstanding = [], []
+    with client(workers=1, scheduler=None, scheduler_file=None, n_cases=len(specs), allowed_failures=0) as (c, _):
+        real_submit = c.submit
+
+        def counting_submit(fn, spec, *args, **kwargs):
+            submitted.append(spec.case_id)
+            return real_submit(fn, spec, *args, **kwargs)
+
+        c.submit = counting_submit
+        collected = []
+        for spec, outcome in on_cluster(c, specs, no_case, 0, window=window):
+            collected.append(spec.case_id)
+            outstanding.append(len(submitted) - len(collected))
+            assert outcome.ok, outcome
+    assert sorted(collected) == sorted(s.case_id for s in specs) == sorted(submitted)
+    assert max(outstanding) <= window
+    costs = {s.case_id: estimated_cost(s) for s in specs}
+    assert [costs[i] for i in submitted] == sorted(costs.values(), reverse=True)
