@@ -15,7 +15,10 @@ What must hold, each expectation computed here:
   1e-4 of the oscillation's energy at the default step);
 - the modal states start at the flexible statics' equilibrium;
 - the start-up ranges converge with the step (0.8 against 0.4, 2 %); with the number of
-  modes (6 against 10, 2 %) they do not yet (a strict xfail, slow, its reason measured);
+  modes (6 against 10, 2 %) on the study's flexible bearing (rv-main-flexible.toml, slow),
+  and not on a soft Winkler seat under 12 balls, outside the kept orders' range of
+  validity (a strict xfail, slow, its reason measured; the case's ``ring_mode_truncation``
+  flags it);
 - rigid rings leave a case bit for bit unchanged (a rigid FlexibleRings is the default).
 
 The bearing is the 12-ball section (tests/core/physics_cases.py), its rings on a seat.
@@ -23,6 +26,7 @@ The bearing is the 12-ball section (tests/core/physics_cases.py), its rings on a
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -326,6 +330,11 @@ def startup_ranges(safety=0.8, max_order=DYNAMICS_MAX_ORDER):
     op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
     res = run_case(bearing, prof, op, SolverSettings(output_rate=1e4, step_safety=safety, end_time=prof.phases[1][1]),
                    rings=rings, ring_max_order=max_order)
+    return startup_of(res)
+
+
+def startup_of(res):
+    """The start-up phase's δ_r and δ_a ranges [m] and peak contact pressure [Pa] of a case."""
     return {name: float(np.asarray(res.phase_metrics[name])[0])
             for name in ("radial_displacement_range", "axial_displacement_range", "peak_contact_pressure")}
 
@@ -353,6 +362,32 @@ def test_startup_ranges_converge_with_the_modes():
     crossover and the multiples of Z. A static correction for the orders left out (the
     mode-acceleration method) is what would fix it at a few modes."""
     few, more = startup_ranges(max_order=DYNAMICS_MAX_ORDER), startup_ranges(max_order=10)
+    for name in few:
+        assert few[name] == pytest.approx(more[name], rel=0.02), (name, few[name], more[name])
+
+
+@pytest.mark.slow
+def test_startup_ranges_converge_with_the_modes_on_the_study_bearing():
+    """The study's flexible bearing (sweeps/bearings/rv-main-flexible.toml, both rings bonded
+    in their carrier and housing): orders 0–6 (the dynamics' default) against 0–10, the
+    study cycle's load ramp and start-up at 660 °/s, 30 kN + 10 kN, in gravity: the start-up
+    ranges and peak pressure within 2 % (measured 0.2 %, docs/validation.md). Its seats
+    are stiff against the contacts under a ball, so the low orders carry the deformation
+    (docs/model.md §16.1, the range of validity); the 12-ball section's soft Winkler seat
+    above is outside it. About 6 s."""
+    from pipeline.schema.bearingfile import bearing_from_dict
+    from pipeline.schema.tomlfile import read_toml
+    from rvcore.profile import study_profile
+    from rvcore.rings.flexible import bearing_rings
+
+    path = Path(__file__).resolve().parents[2] / "sweeps" / "bearings" / "rv-main-flexible.toml"
+    bearing = bearing_from_dict(read_toml(path), path)
+    rings, profile = bearing_rings(bearing), study_profile()
+    op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
+    settings = SolverSettings(output_rate=1e4, end_time=profile.phases[0][2], gravity=True)
+    few, more = (startup_of(run_case(bearing, profile, op, settings, rings=rings, ring_max_order=order))
+                 for order in (DYNAMICS_MAX_ORDER, 10))
+    assert rings.inner_radial.orders.max() > 10 and DYNAMICS_MAX_ORDER < 10
     for name in few:
         assert few[name] == pytest.approx(more[name], rel=0.02), (name, few[name], more[name])
 
