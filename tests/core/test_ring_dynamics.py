@@ -413,6 +413,40 @@ def test_a_flexible_case_records_its_rings_statics_at_the_steady_point():
         assert res.steady[name] < rigid.steady[name], name
 
 
+@pytest.mark.parametrize("k_seat", [SOFT_SEAT, 1e15])
+def test_a_flexible_case_records_its_modes_truncation(k_seat):
+    """``ring_mode_truncation``: the case runs on its rings' first 7 orders (the dynamics'),
+    and its steady outputs say how far the statics on them are from the statics on all 61
+    orders it was given. Computed here from two solve_statics calls: the largest relative
+    change of δ_r, δ_a and Q_max (a displacement's relative to at least a tenth of
+    |(δ_r, δ_a)|). On the soft 1e10 N/m² seat it is above the 2 % the report warns at
+    (the seat's give under each ball needs the orders the dynamics leave out; the strict
+    xfail above); on a 1e15 N/m² seat below 1e-3. Rigid rings: NaN."""
+    from rvcore.statics.equilibrium import solve_statics
+    from rvcore.statics.flexible import MODE_TRUNCATION_LIMIT
+
+    bearing = section_bearing(12)
+    rings = rings_of(bearing, k_seat, damping_ratio=0.02, max_order=60)
+    profile, op = constant_profile(0.0, 0.0005), OperatingPoint(20.0, 3e3, 1e3)
+    settings = SolverSettings(output_rate=1e4, gravity=False)
+    res = run_case(bearing, profile, op, settings, rings=rings)
+    kept, every = (solve_statics(bearing, 3e3, 1e3, gravity=False, stiffness=False, rings=r)
+                   for r in (truncated(rings), rings))
+    floor = 0.1 * math.hypot(every.radial_displacement, every.axial_displacement)
+    expected = max(abs(kept.radial_displacement / every.radial_displacement - 1.0),
+                   abs(kept.axial_displacement - every.axial_displacement) / max(abs(every.axial_displacement), floor),
+                   abs(kept.max_contact_load / every.max_contact_load - 1.0))
+    assert abs(every.radial_displacement) > floor     # δ_r is its own scale
+    assert res.steady["ring_mode_truncation"] == pytest.approx(expected, rel=1e-9)
+    if k_seat == SOFT_SEAT:
+        assert expected > MODE_TRUNCATION_LIMIT == 0.02
+    else:
+        assert expected < 1e-3
+    rigid = run_case(bearing, profile, op, settings)
+    assert math.isnan(rigid.steady["ring_mode_truncation"])
+    assert run_case(bearing, profile, op, settings, rings=truncated(rings)).steady["ring_mode_truncation"] == 0.0
+
+
 def test_sensors_read_the_rings_surface_and_the_outputs_its_deformation():
     """A flexible inner ring under a combined load: a radial sensor at the bore and an
     axial one at the face read the rigid-body displacement of the pose plus the surface's

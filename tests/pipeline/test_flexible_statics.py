@@ -98,7 +98,8 @@ def short_window(tmp_path) -> Path:
 def test_simulate_runs_a_flexible_bearing_with_its_rings_modes(tmp_path, capsys):
     """`rvsweep simulate` of a flexible bearing runs the dynamics with its rings' modes: the
     inner ring's raceway deforms (the outputs of its deformation are positive and finite)
-    and the rigid outer ring's stays round (its ovalisation exactly 0)."""
+    and the rigid outer ring's stays round (its ovalisation exactly 0); the case file carries
+    the modes' truncation figure (the file's orders against the dynamics')."""
     out = tmp_path / "case.nc"
     code = main(["simulate", "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--profile",
                  str(short_window(tmp_path)), "--speed", "120deg/s", "--radial-load", "30kN",
@@ -107,17 +108,20 @@ def test_simulate_runs_a_flexible_bearing_with_its_rings_modes(tmp_path, capsys)
     with xr.open_dataset(out) as ds:
         deformation = ds["max_ring_radial_deformation"].values
         oval_i, oval_o = ds["inner_ring_ovalisation"].values, ds["outer_ring_ovalisation"].values
+        truncation = float(ds["ring_mode_truncation"])
+        assert ds["ring_mode_truncation"].attrs["units"] == "1"
+    assert truncation > 0.0      # the file's 30 orders against the dynamics' 0-6, on a soft seat
     assert np.all(np.isfinite(deformation)) and deformation.max() > 0.0
     assert np.all(np.isfinite(oval_i)) and oval_i.max() > 0.0
     assert np.all(oval_o == 0.0)
 
 
-def test_compute_case_gives_run_case_the_rings_up_to_the_dynamics_order(tmp_path):
-    """A flexible bearing's case gets its rings (the bearing file's, cut at the dynamics'
-    DYNAMICS_MAX_ORDER: the file asks for 30 orders); a rigid bearing's call is unchanged."""
+def test_compute_case_gives_run_case_the_files_rings(tmp_path):
+    """A flexible bearing's case gets its rings with the bearing file's 30 orders (run_case
+    keeps the dynamics' DYNAMICS_MAX_ORDER of them as states, the rest serve the steady
+    statics' truncation figure); a rigid bearing's call is unchanged."""
     from pipeline.run.cases import compute_case
     from pipeline.schema import sweep_from_dict
-    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
 
     def case(bearing):
         return sweep_from_dict({"name": "s", "bearing": str(bearing), "profile": "profiles/short.toml",
@@ -127,8 +131,8 @@ def test_compute_case_gives_run_case_the_rings_up_to_the_dynamics_order(tmp_path
     called = []
     assert compute_case(case(flexible_bearing(tmp_path, 2e9)), case_fn=lambda *a, **k: called.append(k)).ok
     rings = called[-1]["rings"]
-    assert rings.inner_radial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
-    assert rings.inner_axial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
+    assert rings.inner_radial.orders.tolist() == list(range(31))
+    assert rings.inner_axial.orders.tolist() == list(range(31))
     assert rings.outer_radial is None and rings.outer_axial is None
     assert compute_case(case(REDUCED), case_fn=lambda *a, **k: called.append(k)).ok
     assert "rings" not in called[-1]
