@@ -182,3 +182,36 @@ def test_check_says_which_rings_are_flexible(tmp_path, capsys):
     assert "rings: inner foundation, outer rigid" in capsys.readouterr().out
     assert main(["check", "--json", str(REDUCED)]) == 0
     assert json.loads(capsys.readouterr().out)["ring_supports"] == {"inner": "rigid", "outer": "rigid"}
+
+
+@pytest.mark.parametrize("worst", [math.nan, 0.004, 0.031])
+def test_the_report_states_the_orders_and_warns_where_the_modes_are_not_converged(tmp_path, worst):
+    """The report's flexible section says that statics.nc keeps the file's orders and the
+    cases 0-6, gives the largest truncation figure over the sweep and where, and warns when
+    any case's exceeds 2 %; rigid rings (every figure NaN): nothing."""
+    import types
+
+    from pipeline.report.loads import mode_truncation_blocks
+    from pipeline.report.render import Para, Warning_
+    from pipeline.schema import load_bearing
+
+    speeds, loads = [120.0, 660.0], [20e3, 40e3]
+    v = np.full((2, 2), math.nan if math.isnan(worst) else 0.001)
+    v[1, 0] = worst
+    metrics = xr.Dataset({"ring_mode_truncation": (("speed", "radial_load"), v)},
+                         coords={"speed": speeds, "radial_load": loads})
+    bearing = load_bearing(flexible_bearing(tmp_path, 2e9))
+    ctx = types.SimpleNamespace(metrics=metrics, configuration=types.SimpleNamespace(bearing=bearing))
+    blocks = mode_truncation_blocks(ctx)
+    if math.isnan(worst):
+        assert blocks == []
+        return
+    text = " ".join(b.text for b in blocks if isinstance(b, Para))
+    assert "inner ring 0–30" in text and "orders 0–6" in text
+    assert f"{worst * 100:.3g} % at 660 °/s, 20 kN" in text
+    warnings = [b.text for b in blocks if isinstance(b, Warning_)]
+    if worst > 0.02:
+        assert len(warnings) == 1 and "not converged for this seat" in warnings[0]
+        assert "1 of 4 cases" in warnings[0]
+    else:
+        assert not warnings and "below the 2 %" in text
