@@ -380,7 +380,7 @@ def test_startup_ranges_converge_with_the_modes_on_the_study_bearing():
     ranges and peak pressure within 2 % (measured 0.2 %, docs/validation.md). Its seats
     are stiff against the contacts under a ball, so the low orders carry the deformation
     (docs/model.md §16.1, the range of validity); the 12-ball section's soft Winkler seat
-    above is outside it. About 6 s."""
+    above is outside it. About 10 s."""
     from pipeline.schema.bearingfile import bearing_from_dict
     from pipeline.schema.tomlfile import read_toml
     from rvcore.profile import study_profile
