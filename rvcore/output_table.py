@@ -426,6 +426,12 @@ OUTPUTS = (
     Output("operating_clearance", STEADY, "m", "radial internal clearance of rows[0] at the rings' operating "
            "temperatures (thermal expansion from the file's clearance at its reference temperature); the "
            "statics and the dynamics use it", group="rating"),
+    Output("ring_mode_truncation", STEADY, "1", "flexible rings' truncation figure: the largest relative change "
+           "of the radial and axial displacement and of the largest ball load Q_max of the flexible-ring statics at "
+           "the steady operating point when the rings keep the dynamics' Fourier orders (0 to 6) instead of every "
+           "order of the bearing file's max_order (each relative to its value with every order, a displacement's "
+           "to at least a tenth of the ring's whole displacement; above 0.02 the orders the dynamics keep are not "
+           "converged for the rings' seats; NaN for rigid rings)"),
 
     # ---- the duty cycle's life, from the integrator's life sums (rvcore.standards.iso16281)
     Output("rating_life_L10r", DUTY_CYCLE, "1", "ISO/TS 16281 reference rating life L10r of the duty cycle, in "

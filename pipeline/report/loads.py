@@ -17,10 +17,13 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
+from rvcore.statics.flexible import MODE_TRUNCATION_LIMIT
+
 from ..io.statics import FLEXIBLE_VARIABLES, STATICS_FILE
 from .context import Context
 from .figures import new_figure, save_figure
-from .render import Heading, Image, Para, Table, fmt_kn, fmt_number, fmt_speed
+from .render import Heading, Image, Para, Table, Warning_, fmt_kn, fmt_number, fmt_speed
 from .select import finished_points
 
 
@@ -221,7 +224,7 @@ def section_load_distribution(ctx: Context) -> list:
     corners = stored.corners
     if not corners:
         blocks.append(Para(missing_statics_text(ctx, stored)))
-        return blocks
+        return blocks + mode_truncation_blocks(ctx)
     p = ctx.figure_path("load_distribution.png")
     figure_load_distribution(corners, p)
     several_rows = any(c.solved and c.row_axial_position.size > 1 for c in corners)
@@ -239,6 +242,7 @@ def section_load_distribution(ctx: Context) -> list:
     blocks.append(Table(["case (steady loads)", "row", "radial load [kN]", "axial load [kN]",
                          "largest inner contact load [kN]", "loaded balls"], _row_shares(corners)))
     blocks += flexible_blocks(corners)
+    blocks += mode_truncation_blocks(ctx)
     return blocks
 
 
@@ -287,3 +291,68 @@ def flexible_blocks(corners: list) -> list:
                  "amplitude of the radial order k = 2 (the diameter changes by twice it):"),
             Table(["case (steady loads)", "ring", "ovalisation [µm]", "largest radial [µm]", "largest axial [µm]"],
                   deformation)]
+
+
+#: The cases' truncation figure (rvcore.statics.flexible.mode_truncation), one a case.
+TRUNCATION = "ring_mode_truncation"
+
+
+def _file_orders(ctx: Context) -> str:
+    """'inner ring 0–60, outer ring 0–60' from the stored bearing's ring supports ('' unknown)."""
+    conf = getattr(ctx, "configuration", None)
+    bearing = None if conf is None else conf.bearing
+    if bearing is None:
+        return ""
+    parts = [f"{name} ring 0–{spec.max_order}" for name, spec in (("inner", bearing.inner_ring_support),
+                                                                   ("outer", bearing.outer_ring_support))
+             if spec is not None]
+    return ", ".join(parts)
+
+
+def _where(da, index: int) -> str:
+    """' at 660 °/s, 30 kN' for the flat ``index`` of ``da`` (the sweep coordinates it has)."""
+    at = dict(zip(da.dims, np.unravel_index(index, da.shape)))
+    parts = []
+    if "speed" in at:
+        parts.append(fmt_speed(float(da["speed"].values[at["speed"]])))
+    if "radial_load" in at:
+        parts.append(fmt_kn(float(da["radial_load"].values[at["radial_load"]])))
+    return " at " + ", ".join(parts) if parts else ""
+
+
+def mode_truncation_blocks(ctx: Context) -> list:
+    """The flexible rings' Fourier orders: ``statics.nc``'s corners keep the bearing file's,
+    the cases' dynamics 0–6; each case's truncation figure (``ring_mode_truncation``), its
+    largest over the sweep, and a warning where a case's exceeds
+    :data:`rvcore.statics.flexible.MODE_TRUNCATION_LIMIT`. Nothing for rigid rings (no
+    finite figure)."""
+    if TRUNCATION not in ctx.metrics:
+        return []
+    da = ctx.metrics[TRUNCATION]
+    v = np.asarray(da.values, dtype=np.float64)
+    finite = np.isfinite(v)
+    if not finite.any():
+        return []
+    k = int(np.nanargmax(np.where(finite, v, -np.inf)))
+    largest, where = float(v.flat[k]), _where(da, k)
+    above = int(np.count_nonzero(v[finite] > MODE_TRUNCATION_LIMIT))
+    orders = _file_orders(ctx)
+    limit = fmt_number(MODE_TRUNCATION_LIMIT * 100.0, 3)
+    blocks = [Heading(3, "The flexible rings' Fourier orders"),
+              Para(f"The corners' statics above (`{STATICS_FILE}`) keep every order the bearing file gives"
+                   + (f" ({orders})" if orders else "") + f"; the cases' dynamics keep orders 0–{DYNAMICS_MAX_ORDER} "
+                   "as states, and their steady outputs (stiffness, lives, film) are the statics on those "
+                   "(docs/model.md §16.1). Each case records the difference at its steady operating point, "
+                   f"`{TRUNCATION}`: the largest relative change of δ_r, δ_a and Q_max between the statics on "
+                   f"orders 0–{DYNAMICS_MAX_ORDER} and on every order. Largest over the sweep: "
+                   f"{fmt_number(largest * 100.0, 3)} %{where}"
+                   + ("." if above else f", below the {limit} % to which the orders kept are held converged."))]
+    if above:
+        blocks.append(Warning_(
+            f"**The ring modes kept are not converged for this seat:** `{TRUNCATION}` exceeds {limit} % at "
+            f"{above} of {int(finite.sum())} cases (largest {fmt_number(largest * 100.0, 3)} %{where}). The seat's "
+            "give under each ball needs orders the dynamics leave out, so the cases' ring deformation, transient "
+            f"ranges and steady outputs miss it; the corners' statics above keep the file's orders (docs/model.md "
+            "§16.1: the orders kept converge when the seat's local compliance under a ball is small against the "
+            "contact's)."))
+    return blocks

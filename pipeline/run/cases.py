@@ -33,16 +33,16 @@ def flexible(bearing) -> bool:
 
 def case_keywords(spec: CaseSpec) -> dict:
     """The keywords of ``run_case`` for ``spec`` besides its four arguments: its sensors,
-    and a flexible bearing's rings (:func:`rvcore.rings.flexible.bearing_rings`) with their
-    Fourier orders up to the dynamics' :data:`rvcore.dynamics.ring_modes.DYNAMICS_MAX_ORDER`
-    (the statics keep the bearing file's ``max_order``; docs/model.md §16.1). A rigid
-    bearing's call is as before (no ``rings``)."""
+    and a flexible bearing's rings (:func:`rvcore.rings.flexible.bearing_rings`) with the
+    bearing file's ``max_order``: the dynamics keep their orders up to
+    :data:`rvcore.dynamics.ring_modes.DYNAMICS_MAX_ORDER` (``run_case`` truncates them), and
+    the steady statics on every order give the case's ``ring_mode_truncation``
+    (docs/model.md §16.1). A rigid bearing's call is as before (no ``rings``)."""
     keywords = {"sensors": spec.sensors}
     if flexible(spec.bearing):
-        from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
         from rvcore.rings.flexible import bearing_rings
 
-        keywords["rings"] = bearing_rings(spec.bearing, max_order=DYNAMICS_MAX_ORDER)
+        keywords["rings"] = bearing_rings(spec.bearing)
     return keywords
 
 

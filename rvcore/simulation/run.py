@@ -54,7 +54,9 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         Virtual displacement sensors; each adds a reading over time and its phase metrics.
     rings : rvcore.rings.flexible.FlexibleRings
         Each ring rigid (the default) or flexible in its support: its modes of orders
-        ``0 … ring_max_order`` are then states (:mod:`rvcore.dynamics.ring_modes`).
+        ``0 … ring_max_order`` are then states (:mod:`rvcore.dynamics.ring_modes`); the
+        orders beyond, where ``rings`` has them (the bearing file's ``max_order``), serve only
+        the steady outputs' truncation figure, ``ring_mode_truncation``.
     ring_max_order : int
         Highest Fourier order of a flexible ring the dynamics keep [-].
 
@@ -73,6 +75,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     model = with_film_columns(compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
                                               gravity=settings.gravity), bearing)
     flexing = rings is not None and not rings.rigid
+    all_rings = rings
     if flexing:
         rings = truncated(rings, ring_max_order)
         model = with_ring_modes(model, rings, ring_max_order)
@@ -158,7 +161,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     return CaseResult(time=time, series=series, phase_metrics=metrics, final_state=y.copy(), info=info,
                       ball_diag=bdiag.copy(),
                       steady=steady_outputs(bearing, profile, op, gravity=settings.gravity,
-                                            rings=rings if flexing else None),
+                                            rings=rings if flexing else None, all_rings=all_rings if flexing else None),
                       life_sums=life_sums, life=life, energy=energy, spectra=spectra)
 
 

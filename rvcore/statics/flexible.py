@@ -12,7 +12,9 @@ depends on the applied loads only and so does not change, while ISO/TS 16281's `
 follows the load distribution. :func:`ring_deformation` gives each flexible ring's
 ovalisation (its radial order ``k = 2`` amplitude) and its largest radial and axial
 displacement relative to its support
-(:meth:`rvcore.rings.flexible.FlexibleRings.deformation`).
+(:meth:`rvcore.rings.flexible.FlexibleRings.deformation`). :func:`mode_truncation` compares
+the statics on a ring's kept orders (the dynamics': orders 0–6) with the statics on every
+order the bearing file gives: the truncation's error at that point (docs/model.md §16.1).
 """
 from __future__ import annotations
 
@@ -26,7 +28,8 @@ from ..standards.iso16281 import LifeError, static_life
 from ..standards.iso76 import static_safety_factor_from_pressure
 from .equilibrium import StaticResult
 
-__all__ = ["HEADLINE", "DEFORMATION", "headline", "ring_deformation"]
+__all__ = ["HEADLINE", "DEFORMATION", "MODE_TRUNCATION_LIMIT", "headline", "ring_deformation",
+           "mode_truncation"]
 
 #: The numbers :func:`headline` gives: name -> (unit, what it is).
 HEADLINE = {
@@ -50,6 +53,15 @@ DEFORMATION = {
     "max_radial_deformation": ("m", "largest radial displacement of the ring's raceway relative to its support"),
     "max_axial_deformation": ("m", "largest axial displacement of the ring's raceway relative to its support"),
 }
+
+#: The truncation figure (:func:`mode_truncation`) above which the kept orders are not
+#: converged for the rings' seats [-]: the 2 % to which the start-up ranges are held
+#: converged with the modes (tests/core/test_ring_dynamics.py; docs/model.md §16.1).
+MODE_TRUNCATION_LIMIT = 0.02
+
+#: A displacement's change is relative to at least this fraction of the ring's whole
+#: displacement ``|(δ_r, δ_a)|`` [-] (:func:`mode_truncation`, Notes).
+_DISPLACEMENT_FLOOR = 0.1
 
 
 def headline(bearing, st: StaticResult) -> dict:
@@ -107,3 +119,39 @@ def ring_deformation(rings: FlexibleRings, st: StaticResult) -> dict:
         out[f"{name}_ring_max_radial_deformation"] = d["max_radial"]
         out[f"{name}_ring_max_axial_deformation"] = d["max_axial"]
     return out
+
+
+def mode_truncation(kept: StaticResult, every: StaticResult) -> float:
+    """The largest relative change of δ_r, δ_a and Q_max when the flexible rings keep fewer
+    Fourier orders [-].
+
+    Parameters
+    ----------
+    kept : rvcore.statics.equilibrium.StaticResult
+        The statics on the rings' kept orders (the dynamics', ``0 … 6``).
+    every : rvcore.statics.equilibrium.StaticResult
+        The statics at the same loads on every order (the bearing file's ``max_order``).
+
+    Returns
+    -------
+    float
+        ``max(|Δδ_r|/d_r, |Δδ_a|/d_a, |ΔQ_max|/Q_max)``, NaN where ``every`` carries no load.
+
+    Notes
+    -----
+    Each change is relative to the value with every order; a displacement's denominator is
+    ``d = max(|δ|, 0.1·|(δ_r, δ_a)|)``, so that a component under a tenth of the ring's
+    displacement (δ_a under a nearly radial load; 0 under a pure radial load on a
+    symmetric row) is measured against the ring's displacement, where its relative change
+    stops saying anything about it. The kept orders converge when the seat's local compliance under a ball
+    is small against the contact's (docs/model.md §16.1): the figure says whether that holds
+    at this point, above :data:`MODE_TRUNCATION_LIMIT` not.
+    """
+    floor = _DISPLACEMENT_FLOOR * math.hypot(every.radial_displacement, every.axial_displacement)
+    q = float(every.max_contact_load)
+    if not (q > 0.0 and floor > 0.0):
+        return math.nan
+    changes = [abs(kept.radial_displacement - every.radial_displacement) / max(abs(every.radial_displacement), floor),
+               abs(kept.axial_displacement - every.axial_displacement) / max(abs(every.axial_displacement), floor),
+               abs(float(kept.max_contact_load) - q) / q]
+    return float(max(changes))

@@ -7,6 +7,7 @@ per row, the tangent stiffness and the rating lives there (:mod:`rvcore.standard
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -47,17 +48,20 @@ def steady_loads(profile: Profile, op: OperatingPoint):
 
 
 def steady_statics(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True,
-                   rings=None) -> StaticResult:
-    """Quasi-static equilibrium, ball loads and stiffness at the steady operating point;
-    ``rings`` (:class:`rvcore.rings.flexible.FlexibleRings`) as :func:`solve_statics` takes them."""
+                   rings=None, stiffness: bool = True) -> StaticResult:
+    """Quasi-static equilibrium, ball loads and (``stiffness``) stiffness at the steady operating
+    point; ``rings`` (:class:`rvcore.rings.flexible.FlexibleRings`) as :func:`solve_statics` takes them."""
     fr, fa, m, psi = steady_loads(profile, op)
-    return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=True, rings=rings)
+    return solve_statics(bearing, fr, fa, m, psi, gravity=gravity, stiffness=stiffness, rings=rings)
 
 
-def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True, rings=None) -> dict:
+def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bool = True, rings=None,
+                   all_rings=None) -> dict:
     """The ``steady`` outputs of :mod:`rvcore.output_table` for one case, SI; NaN where the
     statics find no equilibrium. ``rings``: the case's flexible rings (its dynamics' orders),
-    so that a flexible case's stiffness, lives and film are its rings' (None: rigid)."""
+    so that a flexible case's stiffness, lives and film are its rings' (None: rigid);
+    ``all_rings``: the same rings with every order the statics keep (the bearing file's),
+    against which ``ring_mode_truncation`` measures ``rings``' (:func:`steady_mode_truncation`)."""
 
     try:
         st = steady_statics(bearing, profile, op, gravity=gravity, rings=rings)
@@ -70,7 +74,36 @@ def steady_outputs(bearing, profile: Profile, op: OperatingPoint, *, gravity: bo
     out.update(_steady_lives(bearing, st))
     out.update(_steady_ratings(bearing, st, abs(op.speed)))
     out.update(steady_lubrication(bearing, st, abs(op.speed)))
+    out["ring_mode_truncation"] = steady_mode_truncation(bearing, profile, op, st, gravity=gravity, rings=rings,
+                                                         all_rings=all_rings)
     return out
+
+
+def steady_mode_truncation(bearing, profile: Profile, op: OperatingPoint, st: StaticResult, *,
+                           gravity: bool = True, rings=None, all_rings=None) -> float:
+    """The flexible rings' truncation figure at the steady operating point [-]
+    (:func:`rvcore.statics.flexible.mode_truncation`): the statics ``st`` on ``rings``' kept
+    orders against the statics on ``all_rings``' every order. 0 where ``all_rings`` keeps no
+    order more; NaN for rigid rings, without ``all_rings``, or where the statics on every
+    order find no equilibrium."""
+    from .flexible import mode_truncation
+
+    if rings is None or rings.rigid or all_rings is None:
+        return float("nan")
+    if all(_same_orders(getattr(rings, f.name), getattr(all_rings, f.name)) for f in dataclasses.fields(rings)):
+        return 0.0
+    try:
+        every = steady_statics(bearing, profile, op, gravity=gravity, rings=all_rings, stiffness=False)
+    except NoEquilibriumError:
+        return float("nan")
+    return mode_truncation(st, every)
+
+
+def _same_orders(kept, every) -> bool:
+    """Whether two families of modes keep the same orders (both rigid: None)."""
+    if kept is None or every is None:
+        return kept is every
+    return np.array_equal(kept.orders, every.orders)
 
 
 def steady_lubrication(bearing, st: StaticResult, speed: float) -> dict:

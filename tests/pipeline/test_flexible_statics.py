@@ -98,7 +98,8 @@ def short_window(tmp_path) -> Path:
 def test_simulate_runs_a_flexible_bearing_with_its_rings_modes(tmp_path, capsys):
     """`rvsweep simulate` of a flexible bearing runs the dynamics with its rings' modes: the
     inner ring's raceway deforms (the outputs of its deformation are positive and finite)
-    and the rigid outer ring's stays round (its ovalisation exactly 0)."""
+    and the rigid outer ring's stays round (its ovalisation exactly 0); the case file carries
+    the modes' truncation figure (the file's orders against the dynamics')."""
     out = tmp_path / "case.nc"
     code = main(["simulate", "--bearing", str(flexible_bearing(tmp_path, 2e9)), "--profile",
                  str(short_window(tmp_path)), "--speed", "120deg/s", "--radial-load", "30kN",
@@ -107,17 +108,20 @@ def test_simulate_runs_a_flexible_bearing_with_its_rings_modes(tmp_path, capsys)
     with xr.open_dataset(out) as ds:
         deformation = ds["max_ring_radial_deformation"].values
         oval_i, oval_o = ds["inner_ring_ovalisation"].values, ds["outer_ring_ovalisation"].values
+        truncation = float(ds["ring_mode_truncation"])
+        assert ds["ring_mode_truncation"].attrs["units"] == "1"
+    assert truncation > 0.0      # the file's 30 orders against the dynamics' 0-6, on a soft seat
     assert np.all(np.isfinite(deformation)) and deformation.max() > 0.0
     assert np.all(np.isfinite(oval_i)) and oval_i.max() > 0.0
     assert np.all(oval_o == 0.0)
 
 
-def test_compute_case_gives_run_case_the_rings_up_to_the_dynamics_order(tmp_path):
-    """A flexible bearing's case gets its rings (the bearing file's, cut at the dynamics'
-    DYNAMICS_MAX_ORDER: the file asks for 30 orders); a rigid bearing's call is unchanged."""
+def test_compute_case_gives_run_case_the_files_rings(tmp_path):
+    """A flexible bearing's case gets its rings with the bearing file's 30 orders (run_case
+    keeps the dynamics' DYNAMICS_MAX_ORDER of them as states, the rest serve the steady
+    statics' truncation figure); a rigid bearing's call is unchanged."""
     from pipeline.run.cases import compute_case
     from pipeline.schema import sweep_from_dict
-    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
 
     def case(bearing):
         return sweep_from_dict({"name": "s", "bearing": str(bearing), "profile": "profiles/short.toml",
@@ -127,8 +131,8 @@ def test_compute_case_gives_run_case_the_rings_up_to_the_dynamics_order(tmp_path
     called = []
     assert compute_case(case(flexible_bearing(tmp_path, 2e9)), case_fn=lambda *a, **k: called.append(k)).ok
     rings = called[-1]["rings"]
-    assert rings.inner_radial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
-    assert rings.inner_axial.orders.tolist() == list(range(DYNAMICS_MAX_ORDER + 1))
+    assert rings.inner_radial.orders.tolist() == list(range(31))
+    assert rings.inner_axial.orders.tolist() == list(range(31))
     assert rings.outer_radial is None and rings.outer_axial is None
     assert compute_case(case(REDUCED), case_fn=lambda *a, **k: called.append(k)).ok
     assert "rings" not in called[-1]
@@ -178,3 +182,36 @@ def test_check_says_which_rings_are_flexible(tmp_path, capsys):
     assert "rings: inner foundation, outer rigid" in capsys.readouterr().out
     assert main(["check", "--json", str(REDUCED)]) == 0
     assert json.loads(capsys.readouterr().out)["ring_supports"] == {"inner": "rigid", "outer": "rigid"}
+
+
+@pytest.mark.parametrize("worst", [math.nan, 0.004, 0.031])
+def test_the_report_states_the_orders_and_warns_where_the_modes_are_not_converged(tmp_path, worst):
+    """The report's flexible section says that statics.nc keeps the file's orders and the
+    cases 0-6, gives the largest truncation figure over the sweep and where, and warns when
+    any case's exceeds 2 %; rigid rings (every figure NaN): nothing."""
+    import types
+
+    from pipeline.report.loads import mode_truncation_blocks
+    from pipeline.report.render import Para, Warning_
+    from pipeline.schema import load_bearing
+
+    speeds, loads = [120.0, 660.0], [20e3, 40e3]
+    v = np.full((2, 2), math.nan if math.isnan(worst) else 0.001)
+    v[1, 0] = worst
+    metrics = xr.Dataset({"ring_mode_truncation": (("speed", "radial_load"), v)},
+                         coords={"speed": speeds, "radial_load": loads})
+    bearing = load_bearing(flexible_bearing(tmp_path, 2e9))
+    ctx = types.SimpleNamespace(metrics=metrics, configuration=types.SimpleNamespace(bearing=bearing))
+    blocks = mode_truncation_blocks(ctx)
+    if math.isnan(worst):
+        assert blocks == []
+        return
+    text = " ".join(b.text for b in blocks if isinstance(b, Para))
+    assert "inner ring 0–30" in text and "orders 0–6" in text
+    assert f"{worst * 100:.3g} % at 660 °/s, 20 kN" in text
+    warnings = [b.text for b in blocks if isinstance(b, Warning_)]
+    if worst > 0.02:
+        assert len(warnings) == 1 and "not converged for this seat" in warnings[0]
+        assert "1 of 4 cases" in warnings[0]
+    else:
+        assert not warnings and "below the 2 %" in text
