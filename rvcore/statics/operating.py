@@ -17,6 +17,7 @@ from ..standards.iso16281 import LifeError, static_life
 from ..output_table import STEADY, outputs_of
 from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, PHASES, OperatingPoint, Profile
 from .equilibrium import NoEquilibriumError, StaticResult, solve_statics
+from .flexible import mode_truncation
 from ..standards.iso76 import StaticRatingError, static_safety_factor, static_safety_factor_from_pressure
 
 
