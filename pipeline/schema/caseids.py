@@ -29,11 +29,42 @@ def plain(obj):
     return obj
 
 
+class IdentityMemo:
+    """Values computed once per object within one expansion of a sweep (a bearing's plain
+    form, its load capacity), keyed by the object's identity and what is computed.
+
+    Each entry holds a reference to its object, so that no id is reused by another object
+    while the memo lives; objects are never compared by value (two draws of a statistics
+    sweep are different objects with their own entries).
+    """
+
+    def __init__(self):
+        self._values = {}
+
+    def get(self, obj, what, compute):
+        """``compute(obj)``, computed on the first call for this object and ``what``."""
+        key = (id(obj), what)
+        hit = self._values.get(key)
+        if hit is None:
+            hit = self._values[key] = (obj, compute(obj))
+        return hit[1]
+
+
 def canonical_json(obj) -> str:
     """Sorted keys, no whitespace, shortest round-trip floats: the hashed form."""
-    return json.dumps(plain(obj), sort_keys=True, separators=(",", ":"), ensure_ascii=False)
+    return plain_json(plain(obj))
+
+
+def plain_json(data) -> str:
+    """:func:`canonical_json` of data already in :func:`plain` form (``plain`` is idempotent)."""
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=False)
 
 
 def hash_id(obj) -> str:
     """First 16 hex digits of the SHA-256 of :func:`canonical_json`."""
-    return hashlib.sha256(canonical_json(obj).encode("utf-8")).hexdigest()[:16]
+    return hash_plain(plain(obj))
+
+
+def hash_plain(data) -> str:
+    """:func:`hash_id` of data already in :func:`plain` form."""
+    return hashlib.sha256(plain_json(data).encode("utf-8")).hexdigest()[:16]

@@ -28,7 +28,7 @@ from rvcore.bearing import geometry as geo
 from rvcore.hertz import effective_modulus, race_contact
 from rvcore.standards.iso76 import ISO76_BALL_PRESSURE
 
-__all__ = ["static_limit", "physical_problems", "load_problems", "record_problems", "refuse_beyond_bounds", "MAX_RECORD_BYTES",
+__all__ = ["static_limit", "physical_problems", "load_capacity", "load_problems", "record_problems", "refuse_beyond_bounds", "MAX_RECORD_BYTES",
            "MAX_RUNOUT_POINTS"]
 
 #: Largest record one case may store [bytes]: samples × signals × 8 bytes. The study's
@@ -202,21 +202,31 @@ def _row_problems(bearing, i, row):
     return out
 
 
-def load_problems(bearing: geo.Bearing, op) -> list:
-    """Loads no set of balls can carry, as ``(key, value [SI], reason)``.
+def load_capacity(bearing: geo.Bearing) -> tuple:
+    """The most force [N] and moment [N m] any set of the bearing's balls carries, and the
+    number of balls.
 
     Every ball's load is at most ``Q₀`` (:func:`static_limit`) before it is dented, and
     each ball's share of a force is at most its load (``Q cos α cos ψ``, ``Q sin α``), so
     the bearing carries at most ``Σ_rows Z·Q₀`` of radial or axial force, and at most
     ``Σ_rows Z·Q₀·((d_m + D_w)/2 + |z_row|)`` of moment (no contact lies farther from the
-    centre). A larger load dents a ball at rest whatever its distribution.
+    centre).
     """
     force, moment = 0.0, 0.0
     for row in bearing.rows:
         q0, _ = static_limit(bearing, row)
         force += row.ball_count * q0
         moment += row.ball_count * q0 * ((row.pitch_diameter + row.ball_diameter) / 2.0 + abs(row.axial_position))
-    balls = sum(r.ball_count for r in bearing.rows)
+    return force, moment, sum(r.ball_count for r in bearing.rows)
+
+
+def load_problems(bearing: geo.Bearing, op, capacity: tuple | None = None) -> list:
+    """Loads no set of balls can carry, as ``(key, value [SI], reason)``.
+
+    A load beyond :func:`load_capacity` (given as ``capacity`` when already computed for
+    this bearing) dents a ball at rest whatever its distribution.
+    """
+    force, moment, balls = capacity if capacity is not None else load_capacity(bearing)
     out = []
     for key, value, cap, unit in (("radial_load", op.radial_load, force, "N"), ("axial_load", op.axial_load, force, "N"),
                                   ("moment", op.moment, moment, "N m")):
@@ -259,13 +269,15 @@ def record_problems(settings, profile, bearing, sensors=()) -> list:
     return out
 
 
-def refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw) -> None:
+def refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw, memo=None) -> None:
     """A load no set of balls carries, or an output rate the step cannot feed or the memory
     cannot hold (:mod:`pipeline.schema.physical`), said about the key that set it, before
     any case runs (:func:`load_problems`, :func:`record_problems`).
 
     ``settings_of`` are the case's :class:`pipeline.schema.sweepaxes.Setting` values (where
-    each was written); ``raw`` the sweep file's TOML, to show the value as typed.
+    each was written); ``raw`` the sweep file's TOML, to show the value as typed; ``memo``
+    (a :class:`pipeline.schema.caseids.IdentityMemo`) computes each bearing's
+    :func:`load_capacity` once.
 
     Raises
     ------
@@ -275,7 +287,8 @@ def refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings
     from ..errors import ConfigError
     from .tomlfile import lookup
 
-    problems = [("operating_point", *p) for p in load_problems(bearing, op)]
+    capacity = memo.get(bearing, "load_capacity", load_capacity) if memo is not None else None
+    problems = [("operating_point", *p) for p in load_problems(bearing, op, capacity)]
     problems += [("solver", *p) for p in record_problems(settings, profile, bearing, sensors)]
     for target, key, value, reason in problems[:1]:
         where = next((s.where for s in settings_of if s.target == target and s.inner == key),

@@ -80,9 +80,10 @@ older ids: a configuration of another model version is refused anyway).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import tomli_w
@@ -95,7 +96,7 @@ from rvcore import MODEL_VERSION
 
 from ..errors import ConfigError
 from . import fields
-from .caseids import canonical_json, hash_id, plain
+from .caseids import IdentityMemo, canonical_json, hash_id, hash_plain, plain
 from .reader import short
 from .physical import refuse_beyond_bounds
 from .resolver import Resolver, read_named_file
@@ -136,10 +137,17 @@ class CaseSpec:
     operating_point : rvcore.profile.OperatingPoint
         [rad s^-1, N, N, N m, rad]
     settings : rvcore.simulation.run.SolverSettings
-    configuration : str
-        The resolved case as TOML (SI), stored in the case file.
+    resolved : dict
+        The resolved case as plain SI data (:func:`case_configuration`), the hashed form.
+        Cases of one sweep share its bearing and profile parts: never modified.
     sensors : tuple of rvcore.simulation.settings.Sensor
         The sweep's virtual sensors.
+
+    Attributes
+    ----------
+    configuration : str
+        ``resolved`` as TOML, stored in the case file; written on first use (by the
+        worker that runs the case), not when the sweep is expanded.
     """
 
     case_id: str
@@ -148,8 +156,12 @@ class CaseSpec:
     profile: Profile
     operating_point: OperatingPoint
     settings: SolverSettings
-    configuration: str
+    resolved: dict = field(repr=False)
     sensors: tuple = ()
+
+    @functools.cached_property
+    def configuration(self) -> str:
+        return tomli_w.dumps(self.resolved)
 
 
 @dataclass(frozen=True)
@@ -187,15 +199,19 @@ class Sweep:
 
 
 def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
-                       settings: SolverSettings, sensors=()) -> dict:
+                       settings: SolverSettings, sensors=(), memo: IdentityMemo | None = None) -> dict:
     """Everything that determines a case's result, as plain SI data (hashed for the id).
 
     The solver settings carry the seed of the random start, so each realization of an
-    ensemble has its own id, and the integrator.
+    ensemble has its own id, and the integrator. With ``memo``, the bearing's and the
+    profile's plain forms are computed once per object and shared by the cases that
+    hold the same object.
     """
     # free text that changes no result is left out (the field table's ``hashed``)
-    b = _plain_without(bearing, fields.unhashed("bearing"))
-    p = _plain_without(profile, fields.unhashed("profile"))
+    if memo is None:
+        memo = IdentityMemo()
+    b = memo.get(bearing, "hashed", lambda o: _plain_without(o, fields.unhashed("bearing")))
+    p = memo.get(profile, "hashed", lambda o: _plain_without(o, fields.unhashed("profile")))
     conf = {"model_version": MODEL_VERSION, "operating_point": plain(op),
             "solver": plain(settings), "bearing": b, "profile": p}
     if sensors:
@@ -273,9 +289,9 @@ def sweep_from_dict(raw: dict, file) -> Sweep:
     base_bearing = resolver.bearing(_overrides(fixed.values(), "bearing"))
     base_profile = resolver.profile(_overrides(fixed.values(), "profile"))
 
-    cases, ids = [], {}
+    cases, ids, memo = [], {}, IdentityMemo()
     for n, point in enumerate(points):
-        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw, draws)
+        case = _resolve_case(point, fixed, explicit, base_settings, resolver, sensors, file, raw, draws, memo)
         if case.case_id in ids:
             raise ConfigError(file, "cases" if explicit else "axes", None,
                               f"case {n} is the same as case {ids[case.case_id]} (same resolved values)")
@@ -467,8 +483,9 @@ def _overrides(settings, target: str) -> tuple:
 
 def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: SolverSettings,
                   resolver: Resolver, sensors: tuple, file: Path, raw: dict | None = None,
-                  draws=None) -> CaseSpec:
-    """One case: ``[fixed]`` with the point's settings over it, resolved and hashed."""
+                  draws=None, memo: IdentityMemo | None = None) -> CaseSpec:
+    """One case: ``[fixed]`` with the point's settings over it, resolved and hashed
+    (``memo``: the sweep's, see :func:`case_configuration`)."""
     merged = {**fixed, **point}
     settings_of = list(merged.values())
     op_values = {s.inner: s.value for s in settings_of if s.target == "operating_point"}
@@ -487,10 +504,9 @@ def _resolve_case(point: dict, fixed: dict, explicit: bool, base_settings: Solve
         sample = stats[SAMPLE].value if SAMPLE in stats else "A"
         bearing = apply_draw(bearing, draws, int(stats[DRAW].value), sample, file, stats[DRAW].where)
     profile = resolver.profile(_overrides(settings_of, "profile"))
-    refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw)
-    conf = case_configuration(bearing, profile, op, settings, sensors)
+    refuse_beyond_bounds(bearing, profile, op, settings, sensors, file, settings_of, raw, memo)
+    conf = case_configuration(bearing, profile, op, settings, sensors, memo)
     coords = {k: merged[k].coord for k in REQUIRED_OPERATING_POINT}
     coords.update({k: s.coord for k, s in point.items()})
-    return CaseSpec(case_id=hash_id(conf), point=coords, bearing=bearing, profile=profile,
-                    operating_point=op, settings=settings, configuration=tomli_w.dumps(conf),
-                    sensors=sensors)
+    return CaseSpec(case_id=hash_plain(conf), point=coords, bearing=bearing, profile=profile,
+                    operating_point=op, settings=settings, resolved=conf, sensors=sensors)
