@@ -13,11 +13,31 @@ import json
 import numpy as np
 
 
+#: Types :func:`plain` returns as they are (exact types: a numpy scalar is converted).
+_LEAVES = frozenset({float, int, str, bool, type(None)})
+#: Dataclass -> its fields' names (:func:`dataclasses.fields`), looked up once per class.
+_FIELD_NAMES = {}
+
+
+def _field_names(cls) -> tuple:
+    names = _FIELD_NAMES.get(cls)
+    if names is None:
+        names = _FIELD_NAMES[cls] = tuple(f.name for f in dataclasses.fields(cls))
+    return names
+
+
 def plain(obj):
     """Dataclasses, tuples and numpy scalars as plain dicts, lists, floats (None dropped)."""
-    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: plain(getattr(obj, f.name)) for f in dataclasses.fields(obj)
-                if getattr(obj, f.name) is not None}
+    cls = type(obj)
+    if cls in _LEAVES:
+        return obj
+    if hasattr(cls, "__dataclass_fields__"):   # an instance (a class's type is no dataclass)
+        out = {}
+        for name in _field_names(cls):
+            value = getattr(obj, name)
+            if value is not None:
+                out[name] = plain(value)
+        return out
     if isinstance(obj, dict):
         return {str(k): plain(v) for k, v in obj.items() if v is not None}
     if isinstance(obj, (list, tuple)):
