@@ -75,14 +75,15 @@ def _per_case_values(da: xr.DataArray) -> bool:
     return "speed" in da.dims and not any(d in da.dims for d in _SERIES_DIMS)
 
 
-def read_slabs(shape, limit: int = SLAB_ELEMENTS):
+def read_slabs(shape, limit: int | None = None):
     """The index tuples (of slices) that cover an array of ``shape`` in C order, each
     covering at most ``limit`` elements (at least one element of the last dimension).
 
     The split dimension is the first ``k`` with ``prod(shape[k+1:]) <= limit``; the
     dimensions before it are taken one index at a time, ``k`` in steps of
-    ``max(1, limit // prod(shape[k+1:]))``.
+    ``max(1, limit // prod(shape[k+1:]))``. ``limit``: default :data:`SLAB_ELEMENTS`.
     """
+    limit = SLAB_ELEMENTS if limit is None else int(limit)
     shape = tuple(int(n) for n in shape)
     if not shape or math.prod(shape) <= limit:
         return [tuple(slice(0, n) for n in shape)]
@@ -93,7 +94,7 @@ def read_slabs(shape, limit: int = SLAB_ELEMENTS):
             for lead in np.ndindex(*shape[:k]) for j in range(0, shape[k], step)]
 
 
-def read_in_slabs(var: xr.Variable, limit: int = SLAB_ELEMENTS) -> np.ndarray:
+def read_in_slabs(var: xr.Variable, limit: int | None = None) -> np.ndarray:
     """The values of a lazily opened variable, read a slab of at most ``limit`` elements
     at a time (:func:`read_slabs`) into one array of its dtype: the same values as
     ``var.values``, with the NetCDF library's memory for one read bounded by ``limit``
