@@ -50,6 +50,7 @@ import json
 import os
 import sys
 import time
+import tomllib
 import traceback
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -67,6 +68,7 @@ from ..io import (REFERENCES, CaseEntry, CaseState, GridAxis, WriteError, combin
                   combined_encoding, file_digest, git_commit, history_line, read_status, remove_stale_temporaries, status_counts,
                   StatusLog, write_atomic, write_status)
 from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, read_sweep_file, si_udunits
+from ..schema.caseids import hash_id
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
                     source_name)
@@ -619,11 +621,18 @@ def write_combined_sweep(sweep: Sweep, out_dir, *, states: dict | None = None, h
 COMBINED_RECORD = "sweep.nc.json"
 
 
+#: The entries of a sweep's configuration that say where its files sit, not what they hold
+#: (the case ids hash what the bearing and profile files hold): left out of the combine's key.
+_FILE_PLACES = ("sweep_file", "bearing_file", "profile_file")
+
+
 def _combine_key(sweep: Sweep, states: dict) -> str:
     """A key of what ``sweep.nc`` is combined from: this package's version, the sweep's
-    configuration hash, and every case's id, state and recorded SHA-256, in the sweep's
-    order (SHA-256, hex)."""
-    h = hashlib.sha256(f"{__version__} {sweep.configuration_hash}".encode())
+    configuration less where its files sit (:data:`_FILE_PLACES`: the same sweep run from
+    another install or folder, a cluster host's, keeps its ``sweep.nc``), and every case's
+    id, state and recorded SHA-256, in the sweep's order (SHA-256, hex)."""
+    conf = {k: v for k, v in tomllib.loads(sweep.configuration).items() if k not in _FILE_PLACES}
+    h = hashlib.sha256(f"{__version__} {hash_id(conf)}".encode())
     for spec in sweep.cases:
         st = states.get(spec.case_id)
         h.update(f"\n{spec.case_id} {getattr(st, 'state', 'not_run')} {getattr(st, 'sha256', '')}".encode())

@@ -273,6 +273,31 @@ def test_a_resume_of_a_finished_sweep_keeps_its_combined_file_and_opens_no_case(
     assert len(history()) > len(before) and "1 to compute" in history()[len(before)]
 
 
+
+def test_a_finished_sweep_run_from_another_folder_keeps_its_combined_file(tmp_path):
+    """The same sweep whose files sit elsewhere (another install's, a cluster host's clone)
+    run again into the same folder: its cases are the same (their ids hash what the files
+    hold, not where they sit), so ``sweep.nc`` is kept and no netCDF file is opened; a
+    sweep that differs in more than where its files sit (its description) is combined
+    again."""
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    here, there = make_sweep(tmp_path / "a", _grid(2, 2)), make_sweep(tmp_path / "b", _grid(2, 2))
+    out = tmp_path / "s"
+    combined = run_sweep(here, out, serial=True, case_fn=synthetic_case, progress=False).combined
+    original = combined.read_bytes()
+    with pytest.MonkeyPatch.context() as patch:
+        counter = OpenCounter(patch)
+        again = run_sweep(there, out, serial=True, case_fn=Counting(), progress=False)
+    assert len(again.reused) == 4 and counter.opened == []
+    assert combined.read_bytes() == original
+    there.write_text('description = "the same cases, described"\n' + there.read_text())
+    with pytest.MonkeyPatch.context() as patch:
+        counter = OpenCounter(patch)
+        run_sweep(there, out, serial=True, case_fn=Counting(), progress=False)
+    assert counter.opened != []
+
+
 # --------------------------------------------------------------------------- who writes
 
 
