@@ -18,6 +18,15 @@ import pytest
 REPO = Path(__file__).resolve().parents[1]
 
 
+def pytest_configure(config):
+    """A netCDF file that a test or the code leaves open is an error (pyproject.toml's
+    ``filterwarnings``): xarray warns when the garbage collector closes it, and HDF5 can
+    crash closing a file inside a collection (the suite's worker crashes of 2026-11-28)."""
+    import xarray as xr
+
+    xr.set_options(warn_for_unclosed_files=True)
+
+
 @dataclass
 class SmokeRun:
     out: Path            # results/smoke/ of the run

@@ -181,38 +181,38 @@ def load_context(directory: Path, reference=None, targets=None, dry=None) -> Con
     if dry is not None:
         dry_metrics, dry_configuration = load_dry(directory, Path(dry))
     sweep = open_results(directory, lazy=True)
-    metrics = phase_metrics(sweep)
-    if dry_metrics is not None:
-        try:
+    try:   # closed here on an error, not by the garbage collector (HDF5 can crash closing a file there)
+        metrics = phase_metrics(sweep)
+        if dry_metrics is not None:
             check_same_grid(metrics, dry_metrics, directory, Path(dry))
-        except Exception:
-            sweep.close()
-            raise
-    fits = fit_metrics(metrics)
-    measured = read_measured(directory)
-    measured_metrics = measured_group(measured) if measured else xr.Dataset()
-    measured_fit = measured_fits(measured_metrics) if measured else xr.Dataset()
-    write_metrics(xr.merge([metrics, measured_metrics], combine_attrs="override") if measured else metrics,
-                  directory / "metrics.nc")
-    write_fits(xr.merge([fits, fits_file_form(measured_fit)], combine_attrs="override")
-               if measured_fit.data_vars else fits, directory / "fits.nc")
-    configuration, err = read_configuration(sweep)
-    ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
-                  status=read_status(directory), references=load_reference_fits(reference),
-                  reference_path=Path(reference) if reference else default_reference_path(),
-                  configuration=configuration, config_error=err, targets=dict(targets or {}),
-                  measured=measured, measured_metrics=measured_metrics, measured_fits=measured_fit,
-                  dry_directory=Path(dry) if dry is not None else None, dry_metrics=dry_metrics,
-                  dry_configuration=dry_configuration)
-    if sensors(metrics):
-        ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
-    if DRAW in metrics.dims:
-        ctx.statistics = statistics_dataset(metrics)
-        write_metrics(ctx.statistics, directory / STATISTICS_FILE)
-    ctx.windows, ctx.windows_source = phase_windows(ctx)
-    ctx.comparison = study_comparison(ctx)
-    ctx.summary = summary_values(ctx)
-    stored_statics(ctx)
+        fits = fit_metrics(metrics)
+        measured = read_measured(directory)
+        measured_metrics = measured_group(measured) if measured else xr.Dataset()
+        measured_fit = measured_fits(measured_metrics) if measured else xr.Dataset()
+        write_metrics(xr.merge([metrics, measured_metrics], combine_attrs="override") if measured else metrics,
+                      directory / "metrics.nc")
+        write_fits(xr.merge([fits, fits_file_form(measured_fit)], combine_attrs="override")
+                   if measured_fit.data_vars else fits, directory / "fits.nc")
+        configuration, err = read_configuration(sweep)
+        ctx = Context(directory=directory, sweep=sweep, metrics=metrics, fits=fits,
+                      status=read_status(directory), references=load_reference_fits(reference),
+                      reference_path=Path(reference) if reference else default_reference_path(),
+                      configuration=configuration, config_error=err, targets=dict(targets or {}),
+                      measured=measured, measured_metrics=measured_metrics, measured_fits=measured_fit,
+                      dry_directory=Path(dry) if dry is not None else None, dry_metrics=dry_metrics,
+                      dry_configuration=dry_configuration)
+        if sensors(metrics):
+            ctx.sensor_fits = fit_metrics(metrics, names=[n for n in _SENSOR_FITTED if n in metrics])
+        if DRAW in metrics.dims:
+            ctx.statistics = statistics_dataset(metrics)
+            write_metrics(ctx.statistics, directory / STATISTICS_FILE)
+        ctx.windows, ctx.windows_source = phase_windows(ctx)
+        ctx.comparison = study_comparison(ctx)
+        ctx.summary = summary_values(ctx)
+        stored_statics(ctx)
+    except BaseException:
+        sweep.close()
+        raise
     return ctx
 
 

@@ -393,7 +393,8 @@ def test_ensemble_sensor_table_and_figures(ensemble):
     assert len(headings) == 9 and sum(h.endswith(", at the ring centre") for h in headings) == 6
     # phase windows from phase_start/phase_end, not from the configuration's (short) profile
     assert "Phase windows from the sweep's `phase_start`/`phase_end`: start-up 0.3–0.8 s, steady 0.8–3.8 s" in md
-    assert [s_.name for s_ in sensors(xr.open_dataset(files.metrics))] == ["radial_bore", "axial_face"]
+    with xr.open_dataset(files.metrics) as m:
+        assert [s_.name for s_ in sensors(m)] == ["radial_bore", "axial_face"]
 
 
 def test_ensemble_captions_give_n_and_error_bars(ensemble):

@@ -218,13 +218,31 @@ def test_range_bands_are_never_negative():
             assert ys.min() < 0.0
 
 
-def test_time_history_ylimits_leave_out_the_settling(tmp_path, monkeypatch):
+@pytest.fixture
+def report_context():
+    """``load_context`` whose sweep file and figures are closed after the test: a netCDF file
+    left to the garbage collector is closed inside a collection, where HDF5 can crash."""
+    import matplotlib.pyplot as plt
+
+    opened = []
+
+    def load(directory):
+        opened.append(load_context(directory))
+        return opened[-1]
+
+    yield load
+    for ctx in opened:
+        ctx.sweep.close()
+    plt.close("all")
+
+
+def test_time_history_ylimits_leave_out_the_settling(tmp_path, monkeypatch, report_context):
     """A 1 mm spike at t = 0 (the ring settling onto its balls) no longer sets the y-axis: the
     limits hold every sample inside the phase windows and end well short of the spike."""
     import pipeline.report.figures as figures
 
     d = synthetic_sweep(tmp_path / "th")
-    ctx = load_context(d)
+    ctx = report_context(d)
     t = ctx.sweep["elapsed_time"].values
     first = min(a for a, _ in ctx.windows.values())
     v = ctx.sweep["radial_displacement"].values.copy()
@@ -246,14 +264,14 @@ def test_time_history_ylimits_leave_out_the_settling(tmp_path, monkeypatch):
     assert any("-1e+03" in n or "-1000" in n for n in notes), notes
 
 
-def test_lines_identical_at_every_speed_are_drawn_as_one(tmp_path, monkeypatch):
+def test_lines_identical_at_every_speed_are_drawn_as_one(tmp_path, monkeypatch, report_context):
     """The stiffness does not depend on the speed: against the load, one line per speed would lie
     on top of each other; it is one line, labelled as every speed's."""
     import pipeline.report.stiffness as stiffness
 
     d = synthetic_sweep(tmp_path / "st")
     add_stiffness(d)
-    ctx = load_context(d)
+    ctx = report_context(d)
     captured = {}
     monkeypatch.setattr(stiffness, "save_figure", lambda fig, path: captured.setdefault("fig", fig))
     notes = stiffness.figure_stiffness(ctx, ["speed", "radial_load"], tmp_path / "k.png")

@@ -91,10 +91,10 @@ def test_the_streamed_sweep_nc_is_the_in_memory_combiners(tmp_path, case_fn):
     path = make_sweep(tmp_path, GRID)
     result = run_sweep(path, tmp_path / "s", serial=True, case_fn=case_fn, progress=False)
     assert len(result.failed) == 1
-    streamed = xr.open_dataset(result.combined).load()
+    streamed = xr.load_dataset(result.combined)
 
     files = sorted((result.out_dir / "cases").glob("*.nc"))
-    cases = [xr.open_dataset(f).load() for f in files]
+    cases = [xr.load_dataset(f) for f in files]
     asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
     axes, entries, fixed = grid_from_cases(cases, asked)
     memory, resampled = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate,
