@@ -58,6 +58,53 @@ DESIGNER_SCALARS = {k: v[1:] for k, v in VARIABLES.items()
 SCALARS = {**STIFFNESS, **COMPLIANT_STIFFNESS, **DESIGNER_SCALARS}
 
 
+#: The most elements one read of :func:`read_in_slabs` asks the NetCDF library for. HDF5
+#: builds a map of every chunk a read touches (about 6 kB each, kept in its free lists
+#: after the read): ``sweep.nc`` has one chunk per case, so one read of a whole variable
+#: of 10,000 cases took about 60 MB of resident memory, and 100,000 cases would take ten
+#: times that.
+SLAB_ELEMENTS = 4096
+
+#: Dimensions of ``sweep.nc`` that make a variable a series per case (read lazily).
+_SERIES_DIMS = ("elapsed_time", "frequency", "kinematic")
+
+
+def _per_case_values(da: xr.DataArray) -> bool:
+    """Whether ``da`` holds a few numbers per case (the phase metrics, the case status,
+    the per-case scalars): over the grid axes, with no time, frequency or kinematic axis."""
+    return "speed" in da.dims and not any(d in da.dims for d in _SERIES_DIMS)
+
+
+def read_slabs(shape, limit: int | None = None):
+    """The index tuples (of slices) that cover an array of ``shape`` in C order, each
+    covering at most ``limit`` elements (at least one element of the last dimension).
+
+    The split dimension is the first ``k`` with ``prod(shape[k+1:]) <= limit``; the
+    dimensions before it are taken one index at a time, ``k`` in steps of
+    ``max(1, limit // prod(shape[k+1:]))``. ``limit``: default :data:`SLAB_ELEMENTS`.
+    """
+    limit = SLAB_ELEMENTS if limit is None else int(limit)
+    shape = tuple(int(n) for n in shape)
+    if not shape or math.prod(shape) <= limit:
+        return [tuple(slice(0, n) for n in shape)]
+    k = next((i for i in range(len(shape)) if math.prod(shape[i + 1:]) <= limit), len(shape) - 1)
+    step = max(1, limit // math.prod(shape[k + 1:]))
+    rest = tuple(slice(0, n) for n in shape[k + 1:])
+    return [tuple(slice(i, i + 1) for i in lead) + (slice(j, min(j + step, shape[k])),) + rest
+            for lead in np.ndindex(*shape[:k]) for j in range(0, shape[k], step)]
+
+
+def read_in_slabs(var: xr.Variable, limit: int | None = None) -> np.ndarray:
+    """The values of a lazily opened variable, read a slab of at most ``limit`` elements
+    at a time (:func:`read_slabs`) into one array of its dtype: the same values as
+    ``var.values``, with the NetCDF library's memory for one read bounded by ``limit``
+    instead of growing with the cases (:data:`SLAB_ELEMENTS`)."""
+    out = np.empty(var.shape, dtype=var.dtype)
+    for key in read_slabs(var.shape, limit):
+        out[key] = var[key].values
+    return out
+
+
 def open_results(directory, *, lazy: bool = False) -> xr.Dataset:
     """The combined sweep of a results folder, loaded into memory (or opened lazily).
 
@@ -72,8 +119,11 @@ def open_results(directory, *, lazy: bool = False) -> xr.Dataset:
     lazy : bool
         Open ``sweep.nc`` without reading its variables: each is read when used, and a
         selection reads only its slab (one case's time series is one chunk), so that what
-        the report holds does not grow with the time series of every case. The caller
-        closes the dataset. (Without ``sweep.nc`` the case files are read in full.)
+        the report holds does not grow with the time series of every case. The few
+        numbers of each case (phase metrics, case status, per-case scalars: no time,
+        frequency or kinematic axis) are read at once, a slab at a time
+        (:func:`read_in_slabs`), and held in memory. The caller closes the dataset.
+        (Without ``sweep.nc`` the case files are read in full.)
 
     Raises
     ------
@@ -89,6 +139,8 @@ def open_results(directory, *, lazy: bool = False) -> xr.Dataset:
             if lazy:
                 ds = xr.open_dataset(path, engine="netcdf4")
                 lazy_ds = strip_encoding(ds)
+                for name in [n for n, v in lazy_ds.data_vars.items() if _per_case_values(v)]:
+                    lazy_ds[name] = lazy_ds[name].copy(data=read_in_slabs(lazy_ds[name].variable))
                 lazy_ds.set_close(ds.close)
                 return lazy_ds
             with xr.open_dataset(path, engine="netcdf4") as ds:
