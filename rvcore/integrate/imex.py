@@ -136,11 +136,22 @@ A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1)
 step that cuts through the impact makes or loses a few per cent of its energy, implicit
 or not (:mod:`rvcore.integrate.pocket_check`). So each step checks every pocket it touched: where
 the pocket's elastic energy and the work the step gave its Hertz force disagree by more
-than a tolerance, the step is taken again from its start as :data:`SUBSTEPS` substeps,
-each with its own tangents. The tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a
-race contact's elastic energy at the case's peak contact load (the load the step is sized
-on), scaled as the step's cube so that it puts no floor under the drift's convergence
-(:func:`rvcore.integrate.imex.pocket_energy_tolerance`): what matters is the energy the bearing gains or loses, and a tolerance relative to
+than a tolerance, the step is taken again from its start in substeps, each with its own
+tangents. The first try takes the fewest substeps (at least :data:`FIRST_SUBSTEPS`,
+doubling) that would bring the step's error ε to the tolerance if it fell as the
+square of the substeps' share of the step, the scheme's order (n substeps of h/n, each
+erring as (h/n)³): n² ≥ |ε|/tol. Then twice as many, until the substeps together keep
+every pocket's energy over the step to the same tolerance, or :data:`SUBSTEPS` were
+taken (kept then unchecked, as every retake was until MODEL_VERSION 18). So a retake
+passes the check the step itself failed with as few substeps as it can: a bearing whose
+balls strike their pockets often (256 balls at 660 °/s retake one step in six) paid 8
+substeps of the whole bearing for each, where 2 mostly keep the energy
+(docs/performance.md, "The shared kernel cache and the cost per ball-step"). The
+tolerance is an energy, :data:`POCKET_ENERGY_TOL` of a race contact's elastic energy at
+the case's peak contact load (the load the step is sized on), scaled as the step's cube
+so that it puts no floor under the drift's convergence
+(:func:`rvcore.integrate.imex.pocket_energy_tolerance`): what matters is the energy the
+bearing gains or loses, and a tolerance relative to
 each pocket's own energy would take the steady pocket contacts of a running bearing,
 whose errors are tiny in joules, in substeps too (4 % of the study cycle's steps at 1e-3 of
 their energy, against 0.4 % here: docs/performance.md).
@@ -157,8 +168,8 @@ from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from ..bearing.layout import (A_K, BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
                               R_ARC0, R_BALL0, R_IB, R_MB, R_NARC, R_POCKET0, R_Z)
-from .pocket_check import pocket_energy_kept
-from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED
+from .pocket_check import pocket_energy_error
+from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
 from .step_size import row_rates
@@ -209,16 +220,22 @@ TANGENT_MAX_STEPS = 8
 #: Read at each call of :func:`rvcore.integrate.imex.tangent_load_tolerance`, so that a test can
 #: set it.
 TANGENT_LOAD_TOL = 0.001
-#: A step is taken again as :data:`SUBSTEPS` substeps where some pocket's energy error
+#: A step is taken again in substeps where some pocket's energy error
 #: (:mod:`rvcore.integrate.pocket_check`) passes this fraction of the elastic energy of a race
 #: contact at the case's peak contact load, at the step of the onset limit and scaled as
 #: the step's cube (:func:`rvcore.integrate.imex.pocket_energy_tolerance`; module docstring,
 #: "Pocket impacts"): 1.0e-7 at the default step (0.8 of the onset limit's). Read at
 #: each call of that function, so that a test can set it.
 POCKET_ENERGY_TOL = 2e-7
-#: Substeps of a step taken again: an eighth of the step keeps a Hertz impact's energy
-#: to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own tangents.
+#: The most substeps of a step taken again: an eighth of the step keeps a Hertz impact's
+#: energy to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own
+#: tangents.
 SUBSTEPS = 8
+#: The fewest substeps of a step's first retake; their number doubles until the step's
+#: pockets keep their energy, to :data:`SUBSTEPS` (module docstring, "Pocket impacts"). Read at each
+#: call of :func:`new_work`, so that a test can set it (:data:`SUBSTEPS`: every retake in
+#: eighths, as until MODEL_VERSION 18).
+FIRST_SUBSTEPS = 2
 
 #: Rows of ``work``: F_1..F_4, the stage state, g_1..g_4, 1/mass, mass (both 0 off the
 #: implicit velocities), 1 at the implicit velocities and 1 at the implicit positions (the
@@ -226,12 +243,14 @@ SUBSTEPS = 8
 #: branches), the balls' reference offset ỹ − y_n, the step's start y_n, and per ball
 #: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
 #: and whether any stage touched the pocket; per ball the inner- and outer-race loads the
-#: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J] and
-#: ``work[W_SET, 1]`` the tangents' load tolerance [N]; per ball the reference's rotations
-#: (:func:`_orbit_rotations`).
+#: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J],
+#: ``work[W_SET, 1]`` the tangents' load tolerance [N] and ``work[W_SET, 3]`` the first
+#: retake's substeps (:data:`FIRST_SUBSTEPS`); per ball the reference's rotations
+#: (:func:`_orbit_rotations`), and the pockets' ``Σ b_i·P_i`` over a retake's substeps,
+#: each substep's weighed by its share of the step.
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_SF = 14, 15, 16, 17, 18, 19, 21, 22
-N_WORK = 22      # and the rows of the packed factors from W_SF (new_work)
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_SF = 14, 15, 16, 17, 18, 19, 21, 22, 23
+N_WORK = 23      # and the rows of the packed factors from W_SF (new_work)
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -268,6 +287,10 @@ def new_work(model, pocket_tolerance, load_tolerance):
     work[W_ISV] = np.where(inv_m > 0, 1.0, 0.0)
     work[W_SET, 0] = pocket_tolerance
     work[W_SET, 1] = load_tolerance
+    if not (FIRST_SUBSTEPS >= 1 and SUBSTEPS % FIRST_SUBSTEPS == 0
+            and (SUBSTEPS // FIRST_SUBSTEPS) & (SUBSTEPS // FIRST_SUBSTEPS - 1) == 0):
+        raise ValueError(f"FIRST_SUBSTEPS = {FIRST_SUBSTEPS}: SUBSTEPS ({SUBSTEPS}) over it must be a power of two")
+    work[W_SET, 3] = FIRST_SUBSTEPS
     if not modal:
         return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
     orders = max(family_states(model, name)[0] for name in FAMILIES)
@@ -431,20 +454,28 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     :func:`rvcore.dynamics.rhs.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
     when ``refresh`` (then factored here), or as factored at an earlier step. Where a
     pocket the step touched did not keep its energy (:func:`rvcore.integrate.pocket_check.pocket_energy_kept`), the
-    step is taken again from ``y`` as :data:`SUBSTEPS` substeps, each with the tangents
-    of its own start; ``inner`` then receives the diagnostics at the substeps' starts as
-    :func:`rvcore.recording.plan.add_substep_integrals` takes them.
+    step is taken again from ``y`` in substeps, each with the tangents of its own start:
+    first the fewest, from ``work[W_SET, 3]`` (:data:`FIRST_SUBSTEPS`) doubling, whose
+    square reaches the step's error over the tolerance, then twice as many until every
+    pocket the substeps touched kept its energy over the whole step to the same tolerance,
+    or :data:`SUBSTEPS` were taken; ``inner`` then receives the diagnostics at the last
+    retake's substep starts as :func:`rvcore.recording.plan.add_substep_integrals` takes
+    them.
 
     Returns
     -------
     torque : float
         The step's drive torque less the first stage's ``b_1·T(y)``, which the caller
-        has [N m]: ``Σ_{i≥2} b_i·T(Y_i)``, or over substeps their mean less ``b_1·T(y)``.
+        has [N m]: ``Σ_{i≥2} b_i·T(Y_i)``, or over the kept substeps their mean less
+        ``b_1·T(y)``.
     power : float
         The same of the drive's power ``T·ω`` [W].
-    substepped : bool
-        Whether the step was taken again: the tangents left in ``jwork`` are then the last
-        substep's, and the next step must evaluate its own.
+    substeps : int
+        The substeps of the retake kept, 0 if the step was not taken again: the tangents
+        left in ``jwork`` are then the last substep's, and the next step must evaluate
+        its own.
+    computed : int
+        The substeps the retake computed, the tries that did not keep included.
     stale : bool
         Whether the race contacts' loads at the step's last stage have moved from those
         the tangents were taken at by more than the load tolerance (module docstring,
@@ -467,27 +498,51 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         work[W_PACC, k] = B1 * bdiag[k, B_PP]
         work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
     torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
-    if pocket_energy_kept(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH], work[W_SET, 0]):
-        return torque, power, False, _tangents_stale(work, bdiag)
-    for m in range(n):
-        y[m] = work[W_Y0, m]
-    h = dt / SUBSTEPS
-    total, total_power = 0.0, 0.0
-    for s in range(SUBSTEPS):
-        ts = t + s * h
-        rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * GAMMA, jwork, schur)
-        for m in range(inner.size):
-            inner[m] = -0.5 * (SUBSTEPS - 1) * diag[m] if s == 0 else inner[m] + diag[m]
-        diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
-        factor(jwork, schur, rows, work[W_M])
-        if flexible(params):
-            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA)
-        pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
-        later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork,
-                                     schur)
-        total += B1 * diag_torque + later
-        total_power += B1 * diag_power + later_power
-    return total / SUBSTEPS - first, total_power / SUBSTEPS - first_power, True, True
+    error = pocket_energy_error(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH])
+    if error <= work[W_SET, 0]:
+        return torque, power, 0, 0, _tangents_stale(work, bdiag)
+    # the first retake: the fewest substeps (from work[W_SET, 3]) whose error, falling as the
+    # square of their share of the step (the scheme's order: n substeps of h/n, each erring
+    # as (h/n)³), would meet the tolerance; at most SUBSTEPS
+    ratio = error / work[W_SET, 0]
+    n_sub = int(work[W_SET, 3])
+    while n_sub < SUBSTEPS and n_sub * n_sub < ratio:
+        n_sub *= 2
+    first_try = n_sub
+    while True:
+        for m in range(n):
+            y[m] = work[W_Y0, m]
+        for k in range(bdiag.shape[0]):
+            work[W_PSUM, k] = 0.0
+            work[W_TOUCH, k] = 1.0 if work[W_PV0, k] > 0.0 else 0.0
+        h = dt / n_sub
+        total, total_power = 0.0, 0.0
+        for s in range(n_sub):
+            ts = t + s * h
+            rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * GAMMA, jwork,
+                    schur)
+            for m in range(inner.size):
+                inner[m] = -0.5 * (n_sub - 1) * diag[m] if s == 0 else inner[m] + diag[m]
+            diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
+            factor(jwork, schur, rows, work[W_M])
+            if flexible(params):
+                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA)
+            pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
+            for k in range(bdiag.shape[0]):
+                work[W_PACC, k] = B1 * bdiag[k, B_PP]
+                if bdiag[k, B_PV] > 0.0:
+                    work[W_TOUCH, k] = 1.0
+            later, later_power = _stages(ts, y, h, params, rows, arcs, pockets, table, meta, diag, bdiag, work,
+                                         jwork, schur)
+            for k in range(bdiag.shape[0]):
+                work[W_PSUM, k] += work[W_PACC, k] / n_sub
+            total += B1 * diag_torque + later
+            total_power += B1 * diag_power + later_power
+        if n_sub == SUBSTEPS or (pocket_energy_error(y, dt, rows, pockets, work[W_PV0], work[W_PSUM], work[W_TOUCH])
+                                 <= work[W_SET, 0]):
+            # computed: first_try + 2·first_try + … + n_sub
+            return total / n_sub - first, total_power / n_sub - first_power, n_sub, 2 * n_sub - first_try, True
+        n_sub *= 2
 
 
 # ---- the method's protocol (rvcore.integrate.protocol)
@@ -585,10 +640,10 @@ def new_state():
     return state
 
 
-def rhs_evaluations(n_steps: int, substepped: int) -> int:
+def rhs_evaluations(n_steps: int, substeps: int) -> int:
     """Right-hand sides of a run: four a step and the last step's end, and four a
-    substep of each step taken again."""
-    return STAGES * n_steps + 1 + STAGES * SUBSTEPS * substepped
+    substep computed in the steps taken again."""
+    return STAGES * n_steps + 1 + STAGES * substeps
 
 
 @kernel(inline=True)
@@ -615,22 +670,23 @@ def step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, 
     """One step (:func:`imex_step`) after :func:`evaluate`; a step taken again adds its
     substeps' integrals to the accumulator lines whose window holds ``t``
     (:func:`rvcore.recording.plan.add_substep_integrals`). Returns as
-    :func:`rvcore.integrate.rk4.step`, the end weight's divisor :data:`SUBSTEPS` after a
-    step taken again."""
+    :func:`rvcore.integrate.rk4.step`, the end weight's divisor the kept substeps' number
+    after a step taken again."""
     torque = B1 * diag[D_DRIVE_TORQUE]
     power = B1 * diag[D_DRIVE_POWER]
-    later, later_power, again, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
+    later, later_power, again, computed, stale = imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag,
                                                  bdiag, work, jwork, schur, state[S_REFRESH] != 0, inner)
     torque += later
     power += later_power
     state[S_STALE] = 1 if stale else 0
     state[S_SINCE] += 1
     divisor = 1.0
-    if again:
+    if again > 0:
         state[S_SUBSTEPPED] += 1
-        divisor = float(SUBSTEPS)
+        state[S_SUBSTEPS] += computed
+        divisor = float(again)
         n_ph = phases.shape[0]
         for k in range(n_ph + 1):
             if in_window(phases, k, n_ph, t):
-                add_substep_integrals(acc[k], reductions, inner, dt / SUBSTEPS)
+                add_substep_integrals(acc[k], reductions, inner, dt / again)
     return torque, power, stage_weighted_inertia(t, dt, params, table, meta), divisor

@@ -22,7 +22,7 @@ from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
 from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_state_signals,
                               in_window, reduce_step, write_series)
 from .methods import NAMES, evaluate, method, step
-from .protocol import S_REFRESHES, S_SUBSTEPPED
+from .protocol import S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
 
@@ -151,13 +151,15 @@ def advance(method_name: str, y, t_start, dt, n_steps, out_every, model, table, 
     ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
     tangents' (:func:`rvcore.integrate.imex.pocket_energy_tolerance`,
     :func:`rvcore.integrate.imex.tangent_load_tolerance`). Returns ``(status, t_fail, where,
-    n_out, substepped, refreshes)`` as :func:`integrate`.
+    n_out, substepped, refreshes)`` as :func:`integrate`, and ``substeps_taken``, the substeps
+    computed in the steps taken again (``state[S_SUBSTEPS]``).
     """
     m = method(method_name)
     work, jwork, schur = m.new_work(model, pocket_tolerance, load_tolerance)
+    state = m.new_state()
     status, t_fail, where, n_out, substepped, refreshes = integrate(
         y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
         table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
         pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), jwork, schur,
-        np.zeros(diag.size - SCRATCH_SIZE), m.new_state())
-    return status, t_fail, where, n_out, int(substepped), int(refreshes)
+        np.zeros(diag.size - SCRATCH_SIZE), state)
+    return status, t_fail, where, n_out, int(substepped), int(refreshes), int(state[S_SUBSTEPS])

@@ -7,8 +7,8 @@ one entry of :data:`rvcore.integrate.methods.METHODS`. The module supplies:
   ``(work, jwork, schur)``; ``work[0]`` receives the right-hand side at each step's start;
 - ``time_step(model, peak_contact_load, *, safety)``: its fixed step [s];
 - ``new_state()``: its counters for one run (:func:`new_state`, its own slots set);
-- ``rhs_evaluations(n_steps, substepped)``: how many right-hand sides a run of ``n_steps``
-  evaluated, ``substepped`` of them taken again;
+- ``rhs_evaluations(n_steps, substeps)``: how many right-hand sides a run of ``n_steps``
+  evaluated, with ``substeps`` substeps computed in the steps it took again;
 - the kernels ``evaluate(...)`` (the right-hand side at the step's start, with whatever
   else the method takes from it) and ``step(...)`` (one step), which
   :mod:`rvcore.integrate.methods` dispatches to.
@@ -21,10 +21,12 @@ from __future__ import annotations
 import numpy as np
 
 #: ``state[S_SUBSTEPPED]``: steps the method took again in substeps; ``state[S_REFRESHES]``:
-#: steps at which it evaluated and factored its tangents (0 for a method without).
-S_SUBSTEPPED, S_REFRESHES = 0, 1
+#: steps at which it evaluated and factored its tangents (0 for a method without);
+#: ``state[S_SUBSTEPS]``: the substeps it computed in the steps it took again, tries that
+#: did not keep included.
+S_SUBSTEPPED, S_REFRESHES, S_SUBSTEPS = 0, 1, 2
 #: From this slot on, the method's own counters.
-S_OWN = 2
+S_OWN = 3
 N_STATE = 8
 
 

@@ -124,7 +124,7 @@ def new_state():
     return new_counters()
 
 
-def rhs_evaluations(n_steps: int, substepped: int) -> int:
+def rhs_evaluations(n_steps: int, substeps: int) -> int:
     """Right-hand sides of a run: four a step and the last step's end."""
     return STAGES * n_steps + 1
 

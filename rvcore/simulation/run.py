@@ -114,7 +114,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     ke_limit = kinetic_energy_limit(model, resolved, bearing.outer_diameter)
 
     t0 = time_module.perf_counter()
-    status, t_fail, where, n_out, substepped, refreshes = advance(
+    status, t_fail, where, n_out, substepped, refreshes, substeps_taken = advance(
         settings.method, y, t_start, dt, n_steps, out_every, model, table, meta, resolved.phases, sensor_rows,
         out, acc, plan, diag, bdiag, pen_limit, ke_limit,
         np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]),
@@ -146,8 +146,9 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if "fatigue_damage" in life:
         metrics["fatigue_damage"] = life.pop("fatigue_damage")
     energy = read_energies(acc, plan)
-    info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": method.rhs_evaluations(n_steps, substepped),
-            "substepped_steps": substepped, "tangent_refreshes": refreshes, "method": settings.method,
+    info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": method.rhs_evaluations(n_steps, substeps_taken),
+            "substepped_steps": substepped, "substeps_taken": substeps_taken, "tangent_refreshes": refreshes,
+            "method": settings.method,
             "wall_time": wall, "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,
             "ball_mass": float(model.rows[0, R_MB]), "pitch_diameter": 2.0 * float(model.rows[0, R_PITCH_R]),
             "epicyclic_cage_ratio": epicyclic_cage_ratio(bearing.rows[0]),

@@ -168,13 +168,14 @@ def cage_state(model, y):
     return y[c0:c0 + CAGE_STATES]
 
 
-def run_in_chunks(method, model, y, resolved, dt, per, chunks):
+def run_in_chunks(method, model, y, resolved, dt, per, chunks, retakes=None):
     """Advance ``y`` in place by ``chunks`` × ``per`` steps of ``dt`` [s] with
     :func:`rvcore.integrate.loop.advance` (no sensors, no output kept), yielding the time [s]
     and the per-ball diagnostics after each chunk. A status other than OK raises. The IMEX
     pocket check and tangents have the case's own tolerances
     (:func:`rvcore.integrate.imex.pocket_energy_tolerance` at the loads' peak contact load and
-    the step, :func:`rvcore.integrate.imex.tangent_load_tolerance`)."""
+    the step, :func:`rvcore.integrate.imex.tangent_load_tolerance`). ``retakes``, a list,
+    receives each chunk's (steps taken again, substeps they computed)."""
 
     from rvcore.integrate import loop as ig
     from rvcore.recording.plan import build_plan, new_accumulators
@@ -191,9 +192,11 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks):
     pocket_tolerance = pocket_energy_tolerance(model, q_peak, dt)
     t = 0.0
     for _ in range(chunks):
-        status, *_ = ig.advance(method, y, t, dt, per, per, model, table, meta, resolved.phases,
-                                np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9,
-                                np.ones(model.rows.shape[0]), pocket_tolerance, tangent_load_tolerance(q_peak))
+        status, _, _, _, again, _, computed = ig.advance(
+            method, y, t, dt, per, per, model, table, meta, resolved.phases, np.zeros((0, 6)), out, acc, plan, diag,
+            bdiag, 1e-3, 1e9, np.ones(model.rows.shape[0]), pocket_tolerance, tangent_load_tolerance(q_peak))
+        if retakes is not None:
+            retakes.append((again, computed))
         if status != ig.OK:
             raise RuntimeError(f"{method} stopped with status {status} at t = {t} s")
         t += per * dt

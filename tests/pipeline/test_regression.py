@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 12, IMEX the default): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 18, IMEX the default): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -48,7 +48,11 @@ within a bin; ISO 76's f0 reduced and ISO 281's C_r refused for groove radii abo
 0.52/0.53 D_w, which the smoke bearing's 0.52/0.53 do not reach) moved no pinned metric:
 only the case ids, re-pinned; in the same version the hashed configuration holds every
 setting, defaults included (the solver's method, the lubricant, a perfect row's
-imperfections), and the ids were pinned again.
+imperfections), and the ids were pinned again. MODEL_VERSION 18 (issue 42: IMEX retakes a
+step whose pockets did not keep their energy in the fewest substeps, 2, 4 or 8, that keep
+it, instead of always 8) moved the weightless steady ranges and torque peak by up to 0.5 %
+(the reduced bearing's steady pocket-impact chain), the other weightless pins by at most
+1.9e-5 and the pins in gravity by at most 2.4e-8: every pin taken again from its run.
 """
 from __future__ import annotations
 
@@ -62,7 +66,7 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 17
+PINNED_MODEL_VERSION = 18
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
@@ -75,34 +79,35 @@ PINNED_MODEL_VERSION = 17
 #: MODEL_VERSION 16 (issue 40: the lubricated law's film held through a step); the dry bearing's
 #: results did not move (PINNED_METRICS unchanged). Re-pinned at MODEL_VERSION 17 (issue 41: the
 #: case files' new ``ring_mode_truncation``); no result moved (PINNED_METRICS unchanged).
+#: Re-pinned at MODEL_VERSION 18 with the metrics (module docstring).
 PINNED_CASE_IDS = {
-    (120, 20): "7049d02024adbad8",
-    (120, 30): "bea4a70d42986f79",
-    (120, 40): "c79dd3eb278ad9bd",
-    (390, 20): "e0161c3e7c7c1309",
-    (390, 30): "331f375085a55524",
-    (390, 40): "057a409d0b4e1b42",
-    (660, 20): "17d7421a18ce5802",
-    (660, 30): "ac36d37996274635",
-    (660, 40): "bf7f9511482ca897",
+    (120, 20): "cb0addb9b06b6aa0",
+    (120, 30): "3438f53ea42c4c00",
+    (120, 40): "1017c4c30e380bb5",
+    (390, 20): "f17eb74a10305ce0",
+    (390, 30): "73af74ffb47c6238",
+    (390, 40): "d422e192a05ce729",
+    (660, 20): "98b4b2c79f29a60c",
+    (660, 30): "f5a411d7b9aac96b",
+    (660, 40): "912493dca6fa26ca",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
 #: m, 1; N/m, N/m, N m/rad; N m, 1, J, 1; revolutions.
 PINNED_METRICS = {
-    "radial_displacement_range": [2.551207767864785e-06, 6.771946187108299e-07, 2.8807769459891796e-07],
-    "radial_displacement_mean": [0.0001476574423316281, 0.0001473753503933307, 0.00014723947650110834],
-    "axial_displacement_range": [6.860994096201473e-06, 9.61018718608755e-07, 2.6177506516980326e-07],
-    "axial_displacement_mean": [7.29533872129631e-05, 7.308287989419322e-05, 7.30463134462886e-05],
-    "cage_slip": [0.011464991976097294, 0.0012365697010086052, 0.002987071093198179],
+    "radial_displacement_range": [2.5512015374096143e-06, 6.78503305483007e-07, 2.880773810601722e-07],
+    "radial_displacement_mean": [0.00014765744228429384, 0.00014737535020809632, 0.00014723947690871601],
+    "axial_displacement_range": [6.860994096201473e-06, 9.601909537929298e-07, 2.6177518872006183e-07],
+    "axial_displacement_mean": [7.295338706060788e-05, 7.308288110940895e-05, 7.304631352453323e-05],
+    "cage_slip": [0.011465006421152557, 0.0012365778423130136, 0.002987072561885018],
     "radial_stiffness": 862619633.1248139,
     "axial_stiffness": 226974930.92885756,
     "tilting_stiffness": 4335229.58086289,
-    "inner_ring_drive_torque_peak": [46.05966768570837, 3.4442135657612627, 18.337634562792218],
-    "static_safety_factor_min": [2.434532333621556, 2.46277712693344, 2.5521425151737853],
-    "friction_energy": [0.047260779781202196, 3.6180842652158525, 0.7131571378370283],
-    "fatigue_damage": [5.012996245052197e-09, 5.968045239599632e-08, 4.950715405233432e-09],
-    "rating_life_L10r": 9213502.315006195,
+    "inner_ring_drive_torque_peak": [46.05969030364011, 3.4269784980923057, 18.337633067808014],
+    "static_safety_factor_min": [2.434532333621556, 2.462822612350039, 2.552142479898729],
+    "friction_energy": [0.04726074553181677, 3.6180970173765, 0.7131566099892315],
+    "fatigue_damage": [5.01299621927117e-09, 5.968045275419852e-08, 4.950715534543211e-09],
+    "rating_life_L10r": 9213502.253921919,
     "reference_rating_life_L10r": 9129374.665455198,
     "basic_rating_life_L10": 12760404.244598672,
     "radial_stiffness_compliant": 585154743.6417171,
@@ -113,12 +118,12 @@ PINNED_METRICS = {
 
 #: The run in gravity: what its transients do not set (module docstring).
 PINNED_GRAVITY_METRICS = {
-    "radial_displacement_mean": [0.00014765486713720342, 0.0001473610674383461, 0.00014722960961792813],
-    "axial_displacement_mean": [7.294796295173784e-05, 7.308430694877704e-05, 7.304965333531782e-05],
+    "radial_displacement_mean": [0.00014765486856490234, 0.0001473610692377889, 0.00014722960912992954],
+    "axial_displacement_mean": [7.294796464506107e-05, 7.308430741102516e-05, 7.304965341840735e-05],
     "radial_stiffness": 862619756.337396,
     "axial_stiffness": 226974514.8623921,
     "tilting_stiffness": 4335219.537622654,
-    "rating_life_L10r": 9216793.09781916,
+    "rating_life_L10r": 9216793.061232446,
     "reference_rating_life_L10r": 9129370.875033876,
     "basic_rating_life_L10": 12760397.473857554,
     "radial_stiffness_compliant": 585155084.6687288,
