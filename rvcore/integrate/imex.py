@@ -453,7 +453,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     diagnostics, and ``jwork`` and ``schur`` the blocks that
     :func:`rvcore.dynamics.rhs.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
     when ``refresh`` (then factored here), or as factored at an earlier step. Where a
-    pocket the step touched did not keep its energy (:func:`rvcore.integrate.pocket_check.pocket_energy_kept`), the
+    pocket the step touched did not keep its energy to the tolerance ``work[W_SET, 0]``
+    (:func:`rvcore.integrate.pocket_check.pocket_energy_error`), the
     step is taken again from ``y`` in substeps, each with the tangents of its own start:
     first the fewest, from ``work[W_SET, 3]`` (:data:`FIRST_SUBSTEPS`) doubling, whose
     square reaches the step's error over the tolerance, then twice as many until every
