@@ -87,29 +87,43 @@ What bounds it (:func:`rvcore.integrate.imex.imex_time_step`):
   ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
 - the friction law's falling slope between v_s and v_d, explicit (at most
   ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
-- a race contact that closes within a step: its stiffness is not in the step's
-  tangents, so for that step it is explicit, on the explicit tableau's imaginary-axis
-  limit, ``ω_c·h ≤`` :data:`ONSET_LIMIT` = 2√2 with ``ω_c = ω_n/√2`` (one contact: a
-  rattling ball's other side is open) at the peak contact load. A case with no load and
-  no speed (the ring's weight alone, balls rattling) blows up just past it.
+- the race contacts' oscillation, implicit and undamped: an accuracy bound,
+  ``ω_n·h ≤`` :data:`CONTACT_LIMIT` = 5 at the peak contact load. The tableau turns its
+  phase per step by ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of about
+  (ω_n·h)²/108: 12 % at ω_n·h = 4, 0.8 of the limit. Unlike RK4's, the scheme does not
+  damp high-frequency motion. On the study bearing (660 °/s, 10 kN axial) the phase
+  metrics move against a tenth of the step by at most 0.27 % at 30 kN (ω_n·h = 3.6, the
+  friction's bound; docs/model.md §9.6: 1 %) and 1.3 % at 20 kN (ω_n·h = 4, this bound);
+  0.48 % and 1.9 % with the onset bound of MODEL_VERSION 18 (docs/performance.md, "The
+  step at MODEL_VERSION 19").
 
-Once a contact is in the tangents its oscillation does not bound the step: the tableau
-is A-stable and keeps it undamped; its phase per step is ``6·atan(ω_n·h/6)`` against
-ω_n·h, a frequency error of about (ω_n·h)²/108: 8 % at ω_n·h = 3.2, the onset bound's.
-Unlike RK4's, the scheme does not damp high-frequency motion. The pair is of order 2, and
-so is its trajectory: on the 12-ball section that error, about 1e-4 of the ring's travel
-at the default step, shifts the pocket impacts of the steady phase, which is why IMEX
-misses docs/model.md §9.6 there and meets it on the study bearing (docs/performance.md,
-"§9.6 on the study bearing"). The pockets' stiffness and the cage–land contact stay explicit
-(``rvcore.dynamics.tangent``): their rates are far below the race contacts' (a ball on a 100 N
-pocket contact: 4e4 rad/s against ω_n 1.1e5), within the explicit stages' limits at
-these steps.
+Until MODEL_VERSION 19
+a race contact that closes within a step bounded it too: its stiffness is not in the
+step's tangents, so for that step it is explicit, on the explicit tableau's
+imaginary-axis limit. Now such a step is taken again in substeps ("Pocket impacts",
+below): at each stage every ball's race loads are compared with the limit
+``(Q₀^⅓ + c_on/h²)³`` set when the tangents were taken at the load ``Q₀``
+(:func:`onset_constant`: the stiffness the tangents miss, ``1.5·K^(2/3)·(Q^⅓ − Q₀^⅓)``,
+within :data:`ONSET_LIMIT` = 2√2 on ``√(Δk/m_b)·h`` at 0.8 of it). A contact that passes
+it has the step taken again in ``n`` substeps with ``n² ≥ h²·Q^⅓/c_on``, each with its own
+tangents. On the study cycle the steps taken again, for a contact's onset or a pocket
+impact, are 0.5 % of the steps (701 of 138,000 at 30 kN).
+
+The pair is of order 2, and so is its trajectory: on the 12-ball section its error,
+about 1e-4 of the ring's travel at the default step, shifts the pocket impacts of the
+steady phase, which is why IMEX misses docs/model.md §9.6 there and meets it on the
+study bearing (docs/performance.md, "§9.6 on the study bearing"). The pockets' stiffness
+and the cage–land contact stay explicit (``rvcore.dynamics.tangent``): their rates are
+far below the race contacts' (a ball on a 100 N pocket contact: 4e4 rad/s against ω_n
+1.1e5), within the explicit stages' limits at these steps; where a pocket impact is not
+resolved, the pocket check takes the step again.
 
 The tangents and the factorization are evaluated again when the contacts they were
 taken at have moved, and at least every :data:`TANGENT_MAX_STEPS` steps; between, a step
 costs four right-hand sides and three solves. The splitting stays exact with a frozen
 ``J``: what a stale tangent leaves out (``J_true − J``) is integrated by the explicit
-tableau, so it must stay within that tableau's limits, and the energy a large oscillation
+tableau, so it must stay within that tableau's limits (for a closing contact, the onset
+check above), and the energy a large oscillation
 keeps depends on it (tests/core/test_imex_conservation.py). Both follow the race contacts'
 loads: ``D`` of a contact in micro-slip is proportional to its load, and ``K`` to its
 cube root. So at each step's end (the last stage, at t + h) every ball's inner- and
@@ -200,11 +214,23 @@ IB1, IB2, IB3, IB4 = B1, B2, B3, B4
 #: ``x = 6·(1 + ρ^⅓)/(1 − ρ^⅓)``.
 FRICTION_DAMPING = 0.2
 FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION_DAMPING ** (1.0 / 3.0))
-#: Limit on ``ω_c·h`` for a race contact that closes within a step: its stiffness is not
-#: in the tangents of the step's start, so for that step it is explicit, on the explicit
-#: tableau's imaginary-axis limit 2√2. ``ω_c = ω_n/√2``, one contact on the ball (the
-#: other side open, as for a ball that rattles) at the peak contact load.
+#: Limit on ``ω_n·h``, the race contacts' oscillation at the peak contact load
+#: (:func:`rvcore.integrate.step_size.row_rates`), implicit and undamped: an accuracy bound.
+#: The tableau turns its phase per step by ``6·atan(ω_n·h/6)``, a frequency error of 12 %
+#: at 0.8 of the limit (ω_n·h = 4). There the study bearing's phase metrics at 30 kN
+#: (its friction bound lifted, in a probe) move by at most 0.44 % against a tenth of the
+#: step, and by 1.2 % at ω_n·h = 4.9 (docs/model.md §9.6: 1 %; docs/performance.md, "The
+#: step at MODEL_VERSION 19").
+CONTACT_LIMIT = 5.0
+#: Limit on ``ω_c·h`` for a race contact's stiffness that the tangents do not hold, such
+#: as a contact that closes within a step: for that step it is explicit, on the explicit
+#: tableau's imaginary-axis limit 2√2; ``ω_c = √(Δk/m_b)``, one contact on the ball (the
+#: other side open, as for a ball that rattles). A step where a contact passes it is taken
+#: again in substeps (:func:`onset_constant`, :func:`imex_step`).
 ONSET_LIMIT = 2.0 * math.sqrt(2.0)
+#: The share of :data:`ONSET_LIMIT` the onset check keeps (:func:`onset_constant`): the
+#: default step safety's.
+ONSET_SAFETY = 0.8
 #: Most steps one evaluation of the tangents and one factorization serve (module
 #: docstring, "Step"), whatever the loads.
 TANGENT_MAX_STEPS = 8
@@ -222,9 +248,9 @@ TANGENT_MAX_STEPS = 8
 TANGENT_LOAD_TOL = 0.001
 #: A step is taken again in substeps where some pocket's energy error
 #: (:mod:`rvcore.integrate.pocket_check`) passes this fraction of the elastic energy of a race
-#: contact at the case's peak contact load, at the step of the onset limit and scaled as
+#: contact at the case's peak contact load, at the step ``h₀ = 4/ω_n`` and scaled as
 #: the step's cube (:func:`rvcore.integrate.imex.pocket_energy_tolerance`; module docstring,
-#: "Pocket impacts"): 1.0e-7 at the default step (0.8 of the onset limit's). Read at
+#: "Pocket impacts"): 2e-7 at the default step (ω_n·h = 4 since MODEL_VERSION 19). Read at
 #: each call of that function, so that a test can set it.
 POCKET_ENERGY_TOL = 2e-7
 #: The most substeps of a step taken again: an eighth of the step keeps a Hertz impact's
@@ -249,8 +275,12 @@ FIRST_SUBSTEPS = 2
 #: (:func:`_orbit_rotations`), and the pockets' ``Σ b_i·P_i`` over a retake's substeps,
 #: each substep's weighed by its share of the step.
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_SF = 14, 15, 16, 17, 18, 19, 21, 22, 23
-N_WORK = 23      # and the rows of the packed factors from W_SF (new_work)
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_SF = 14, 15, 16, 17, 18, 19, 21, 22, 23, 25
+N_WORK = 25
+#: ``work[W_SET, k]``: the pocket tolerance, the load tolerance, the modes' block, the first
+#: retake's substeps, the onset constant c_on [N^(1/3) s^2] (:func:`onset_constant`), the
+#: largest load [N] a stage gave a contact beyond its onset limit this step (0: none).
+SET_ONSET, SET_ONSET_LOAD = 4, 5      # and the rows of the packed factors from W_SF (new_work)
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -291,6 +321,7 @@ def new_work(model, pocket_tolerance, load_tolerance):
             and (SUBSTEPS // FIRST_SUBSTEPS) & (SUBSTEPS // FIRST_SUBSTEPS - 1) == 0):
         raise ValueError(f"FIRST_SUBSTEPS = {FIRST_SUBSTEPS}: SUBSTEPS ({SUBSTEPS}) over it must be a power of two")
     work[W_SET, 3] = FIRST_SUBSTEPS
+    work[W_SET, SET_ONSET] = onset_constant(model)
     if not modal:
         return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
     orders = max(family_states(model, name)[0] for name in FAMILIES)
@@ -399,11 +430,19 @@ def _orbit_rotations(y, dt, rows, rot):
 @kernel(inline=True)
 def _pocket_power(work, bdiag, weight):
     """Add ``weight·P`` of the stage just evaluated to each ball's Σ b_i·P_i, and mark
-    the balls whose pocket it touched."""
+    the balls whose pocket it touched; keep in ``work[W_SET, SET_ONSET_LOAD]`` the largest
+    race load of the stage beyond its contact's onset limit (``work[W_QLIM]``)."""
+    worst = work[W_SET, SET_ONSET_LOAD]
     for k in range(bdiag.shape[0]):
         work[W_PACC, k] += weight * bdiag[k, B_PP]
         if bdiag[k, B_PV] > 0.0:
             work[W_TOUCH, k] = 1.0
+        qi, qo = bdiag[k, B_QI], bdiag[k, B_QO]
+        if qi > work[W_QLIM, k]:
+            worst = max(worst, qi)
+        if qo > work[W_QLIM + 1, k]:
+            worst = max(worst, qo)
+    work[W_SET, SET_ONSET_LOAD] = worst
 
 
 # compiled once, not inlined: imex_step calls it for the step and for each substep
@@ -488,9 +527,13 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         if flexible(params):
             factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * GAMMA)
         pack(jwork, rows, work[W_M], work[W_SF:].reshape(-1))
+        grow = work[W_SET, SET_ONSET] / (dt * dt)
         for k in range(bdiag.shape[0]):
             work[W_QREF, k] = bdiag[k, B_QI]
             work[W_QREF + 1, k] = bdiag[k, B_QO]
+            work[W_QLIM, k] = (np.cbrt(max(bdiag[k, B_QI], 0.0)) + grow) ** 3
+            work[W_QLIM + 1, k] = (np.cbrt(max(bdiag[k, B_QO], 0.0)) + grow) ** 3
+    work[W_SET, SET_ONSET_LOAD] = 0.0
     first, first_power = B1 * diag[D_DRIVE_TORQUE], B1 * diag[D_DRIVE_POWER]
     for m in range(n):
         work[W_Y0, m] = y[m]
@@ -500,15 +543,22 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
     torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
     error = pocket_energy_error(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH])
-    if error <= work[W_SET, 0]:
+    onset = work[W_SET, SET_ONSET_LOAD]
+    if error <= work[W_SET, 0] and onset == 0.0:
         return torque, power, 0, 0, _tangents_stale(work, bdiag)
     # the first retake: the fewest substeps (from work[W_SET, 3]) whose error, falling as the
     # square of their share of the step (the scheme's order: n substeps of h/n, each erring
-    # as (h/n)³), would meet the tolerance; at most SUBSTEPS
+    # as (h/n)³), would meet the tolerance; and, where a race contact closed beyond its
+    # onset limit, enough that the contact at the largest load it reached is within that
+    # limit at the substeps' step (n² ≥ h²·Q^⅓/c_on); at most SUBSTEPS
     ratio = error / work[W_SET, 0]
     n_sub = int(work[W_SET, 3])
     while n_sub < SUBSTEPS and n_sub * n_sub < ratio:
         n_sub *= 2
+    if onset > 0.0:
+        need = dt * dt * np.cbrt(onset) / work[W_SET, SET_ONSET]
+        while n_sub < SUBSTEPS and n_sub * n_sub < need:
+            n_sub *= 2
     first_try = n_sub
     while True:
         for m in range(n):
@@ -564,21 +614,22 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
 
     Notes
     -----
-    Per row, with ``Q = dynamic_margin·peak_contact_load``, ``c_f = Q·dμ/ds`` at zero
-    slip and the two race contacts of a ball (the rates of :func:`rvcore.integrate.rk4.rk4_time_step`)::
+    Per row, with ``Q = dynamic_margin·peak_contact_load`` and the two race contacts of a
+    ball (the rates of :func:`rvcore.integrate.rk4.rk4_time_step`)::
 
         λ_f = 2·(c_f·max(1/m_b, r²/I_b) + c_max/m_b)      (friction and damping, implicit)
         λ_− = 2·Q·|min μ'|·max(1/m_b, r²/I_b)             (the law's falling slope, explicit)
-        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, ONSET_LIMIT·√2/ω_n)
+        dt  = safety · min(FRICTION_LIMIT/λ_f, 2.785/λ_−, CONTACT_LIMIT/ω_n)
 
-    A flexible ring's modes add no bound: their own stiffness and damping and the contacts'
-    Hertz stiffness, groove stiffness and damper on them are implicit
+    with ``c_f = Q·dμ/ds`` at zero slip, ``|min μ'|`` the law's steepest fall
+    (:func:`rvcore.contact.laws.friction_falling_slope`), and ω_n the contact oscillation of
+    :func:`rvcore.integrate.step_size.row_rates`. A contact that closes within a step adds
+    no bound (the step is taken again in substeps, :func:`onset_constant`), nor does a
+    flexible ring's modes: their own stiffness and damping and the contacts' Hertz
+    stiffness, groove stiffness and damper on them are implicit
     (:func:`rvcore.integrate.arrowhead.factor_modes`), and the friction does not drive them.
-    ``|min μ'|`` the law's steepest fall (:func:`rvcore.contact.laws.friction_falling_slope`),
-    and ω_n the contact oscillation of :func:`rvcore.integrate.step_size.row_rates`, here only for a contact's first
-    step (its oscillation is implicit from the next: the tableau keeps it undamped at any
-    ω_n·h). :data:`rvcore.integrate.imex.FRICTION_LIMIT` and :data:`rvcore.integrate.imex.ONSET_LIMIT`, and
-    why: :mod:`rvcore.integrate.imex`.
+    :data:`rvcore.integrate.imex.FRICTION_LIMIT` and :data:`rvcore.integrate.imex.CONTACT_LIMIT`,
+    and why: :mod:`rvcore.integrate.imex`.
     """
     q = max(dynamic_margin * peak_contact_load, 1.0)
     p = model.params
@@ -591,8 +642,27 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
         lam = 2.0 * q * falling * max(1.0 / m, rot)
         dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                        RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
-                       ONSET_LIMIT * math.sqrt(2.0) / omega))
+                       CONTACT_LIMIT / omega))
     return safety * min(dts)
+
+
+def onset_constant(model) -> float:
+    """The onset constant ``c_on`` [N^(1/3) s^2] of the IMEX step's onset check
+    (:func:`imex_step`): a race contact whose load grows within a step of ``h`` from the
+    load ``Q₀`` its tangent was taken at to a load beyond ``(Q₀^⅓ + c_on/h²)³`` carries
+    a stiffness the tangent does not hold, ``Δk = 1.5·K^(2/3)·(Q^⅓ − Q₀^⅓)``, beyond the
+    explicit tableau's limit ``√(Δk/m_b)·h ≤ ONSET_SAFETY·ONSET_LIMIT``::
+
+        c_on = m_b·(ONSET_SAFETY·ONSET_LIMIT)² / (1.5·K^(2/3))
+
+    the smallest over the rows (K of the row's stiffest arc)."""
+    out = np.inf
+    for r in range(model.rows.shape[0]):
+        row = model.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        out = min(out, row[R_MB] * (ONSET_SAFETY * ONSET_LIMIT) ** 2 / (1.5 * k_hertz ** (2.0 / 3.0)))
+    return float(out)
 
 
 def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:
@@ -603,8 +673,8 @@ def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -
     -----
     :data:`rvcore.integrate.imex.POCKET_ENERGY_TOL` of ``⅖·Q·δ``, the elastic energy of a race
     contact at ``Q = peak_contact_load`` [N] (``δ = (Q/K)^(2/3)``, K of the row's stiffest
-    arc; the smallest over the rows), at the step of the onset limit
-    ``h₀ = ONSET_LIMIT·√2/ω_n`` (:func:`imex_time_step`), and scaled as ``(h/h₀)³``::
+    arc; the smallest over the rows), at the step ``h₀ = ONSET_LIMIT·√2/ω_n = 4/ω_n`` (the
+    default step's ω_n·h, 0.8·CONTACT_LIMIT, :func:`imex_time_step`), and scaled as ``(h/h₀)³``::
 
         tol = POCKET_ENERGY_TOL · ⅖·Q·δ · (h/h₀)³
 
@@ -612,7 +682,7 @@ def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -
     each of its steps, ``τ/h`` of them (τ the impact's duration); ``(h/h₀)³`` makes that
     fall as h², the scheme's order, so that the check puts no floor under the drift's
     convergence when the step is halved (docs/model.md §9.4(a)). At the study case's
-    default step, 1.0e-7 of 26 mJ: 2.6e-9 J.
+    default step, 2e-7 of 26 mJ: 5.2e-9 J.
     """
     q = max(peak_contact_load, 1.0)
     energies, onset = [], []

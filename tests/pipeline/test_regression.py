@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 18, IMEX the default): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 19, IMEX the default): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -53,6 +53,10 @@ step whose pockets did not keep their energy in the fewest substeps, 2, 4 or 8, 
 it, instead of always 8) moved the weightless steady ranges and torque peak by up to 0.5 %
 (the reduced bearing's steady pocket-impact chain), the other weightless pins by at most
 1.9e-5 and the pins in gravity by at most 2.4e-8: every pin taken again from its run.
+MODEL_VERSION 19 (issue 42: a race contact that closes within an IMEX step takes the step
+again in substeps instead of bounding every step; the contact oscillation's accuracy bound
+ω_n·h ≤ 5) moved none of these pins, bit for bit: the reduced bearing's step at 40 kN is
+the friction's; only the case ids, re-pinned.
 """
 from __future__ import annotations
 
@@ -66,7 +70,7 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 18
+PINNED_MODEL_VERSION = 19
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
@@ -79,17 +83,17 @@ PINNED_MODEL_VERSION = 18
 #: MODEL_VERSION 16 (issue 40: the lubricated law's film held through a step); the dry bearing's
 #: results did not move (PINNED_METRICS unchanged). Re-pinned at MODEL_VERSION 17 (issue 41: the
 #: case files' new ``ring_mode_truncation``); no result moved (PINNED_METRICS unchanged).
-#: Re-pinned at MODEL_VERSION 18 with the metrics (module docstring).
+#: Re-pinned at MODEL_VERSION 18 with the metrics, and at 19 (module docstring).
 PINNED_CASE_IDS = {
-    (120, 20): "cb0addb9b06b6aa0",
-    (120, 30): "3438f53ea42c4c00",
-    (120, 40): "1017c4c30e380bb5",
-    (390, 20): "f17eb74a10305ce0",
-    (390, 30): "73af74ffb47c6238",
-    (390, 40): "d422e192a05ce729",
-    (660, 20): "98b4b2c79f29a60c",
-    (660, 30): "f5a411d7b9aac96b",
-    (660, 40): "912493dca6fa26ca",
+    (120, 20): "390135c7087d1947",
+    (120, 30): "37c63fad4a1aa00c",
+    (120, 40): "e6d508492c4aa2ec",
+    (390, 20): "369beed826fe8c52",
+    (390, 30): "303a6e4aa101aecf",
+    (390, 40): "39f1ccb729680486",
+    (660, 20): "ad0b7c4fb6863244",
+    (660, 30): "2ad963d1f2a1371f",
+    (660, 40): "a210885be98734b0",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
