@@ -92,15 +92,14 @@ What bounds it (:func:`rvcore.integrate.imex.imex_time_step`):
   phase per step by ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of about
   (ω_n·h)²/108: 12 % at ω_n·h = 4, 0.8 of the limit. Unlike RK4's, the scheme does not
   damp high-frequency motion. On the study bearing (660 °/s, 10 kN axial) the phase
-  metrics move against a tenth of the step by at most 0.27 % at 30 kN (ω_n·h = 3.6, the
-  friction's bound; docs/model.md §9.6: 1 %) and 1.3 % at 20 kN (ω_n·h = 4, this bound);
-  0.48 % and 1.9 % with the onset bound of MODEL_VERSION 18 (docs/performance.md, "The
-  step at MODEL_VERSION 19").
+  metrics move by at most 0.44 % at 30 kN against a tenth of the step (ω_n·h = 3.6, the
+  friction's bound; docs/model.md §9.6: 1 %); against a tenth of the MODEL_VERSION 18
+  step, by 0.27 % at 30 kN and 1.3 % at 20 kN (ω_n·h = 4, this bound), where that step
+  gave 0.48 % and 1.9 % (docs/performance.md, "The step at MODEL_VERSION 19").
 
-Until MODEL_VERSION 19
-a race contact that closes within a step bounded it too: its stiffness is not in the
-step's tangents, so for that step it is explicit, on the explicit tableau's
-imaginary-axis limit. Now such a step is taken again in substeps ("Pocket impacts",
+Until MODEL_VERSION 19 a race contact that closes within a step bounded it too: its
+stiffness is not in the step's tangents, so for that step it is explicit, on the explicit
+tableau's imaginary-axis limit. Now such a step is taken again in substeps ("Pocket impacts",
 below): at each stage every ball's race loads are compared with the limit
 ``(Q₀^⅓ + c_on/h²)³`` set when the tangents were taken at the load ``Q₀``
 (:func:`onset_constant`: the stiffness the tangents miss, ``1.5·K^(2/3)·(Q^⅓ − Q₀^⅓)``,
@@ -270,17 +269,19 @@ FIRST_SUBSTEPS = 2
 #: (indexed as the pockets) the pocket's elastic energy at y_n, the stages' Σ b_i·P_i,
 #: and whether any stage touched the pocket; per ball the inner- and outer-race loads the
 #: tangents were taken at; ``work[W_SET, 0]`` is the pocket check's tolerance [J],
-#: ``work[W_SET, 1]`` the tangents' load tolerance [N] and ``work[W_SET, 3]`` the first
-#: retake's substeps (:data:`FIRST_SUBSTEPS`); per ball the reference's rotations
-#: (:func:`_orbit_rotations`), and the pockets' ``Σ b_i·P_i`` over a retake's substeps,
-#: each substep's weighed by its share of the step.
+#: ``work[W_SET, 1]`` the tangents' load tolerance [N], ``work[W_SET, 2]`` the modes'
+#: block's first row, ``work[W_SET, 3]`` the first retake's substeps
+#: (:data:`FIRST_SUBSTEPS`), ``work[W_SET, SET_ONSET]`` the onset constant c_on
+#: [N^(1/3) s^2] (:func:`onset_constant`) and ``work[W_SET, SET_ONSET_LOAD]`` the largest
+#: race load [N] a stage of the step gave a contact beyond its onset limit (0: none); per
+#: ball the reference's rotations (:func:`_orbit_rotations`), and the pockets'
+#: ``Σ b_i·P_i`` over a retake's substeps, each substep's weighed by its share of the
+#: step; per ball the inner- and outer-race onset limits [N] (``W_QLIM``, two rows: the
+#: loads beyond which the tangents miss too much stiffness, module docstring, "Step").
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
 W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_SF = 14, 15, 16, 17, 18, 19, 21, 22, 23, 25
-N_WORK = 25
-#: ``work[W_SET, k]``: the pocket tolerance, the load tolerance, the modes' block, the first
-#: retake's substeps, the onset constant c_on [N^(1/3) s^2] (:func:`onset_constant`), the
-#: largest load [N] a stage gave a contact beyond its onset limit this step (0: none).
-SET_ONSET, SET_ONSET_LOAD = 4, 5      # and the rows of the packed factors from W_SF (new_work)
+N_WORK = 25      # and the rows of the packed factors from W_SF (new_work)
+SET_ONSET, SET_ONSET_LOAD = 4, 5
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -493,10 +494,12 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     :func:`rvcore.dynamics.rhs.rhs_jac` accumulated with ``h·γ = dt·GAMMA``: at ``(t, y)``
     when ``refresh`` (then factored here), or as factored at an earlier step. Where a
     pocket the step touched did not keep its energy to the tolerance ``work[W_SET, 0]``
-    (:func:`rvcore.integrate.pocket_check.pocket_energy_error`), the
+    (:func:`rvcore.integrate.pocket_check.pocket_energy_error`), or a race contact's load
+    at a stage passed its onset limit (``W_QLIM``, :func:`onset_constant`), the
     step is taken again from ``y`` in substeps, each with the tangents of its own start:
     first the fewest, from ``work[W_SET, 3]`` (:data:`FIRST_SUBSTEPS`) doubling, whose
-    square reaches the step's error over the tolerance, then twice as many until every
+    square reaches the step's error over the tolerance and the onset's ``h²·Q^⅓/c_on``
+    (Q the largest such load), then twice as many until every
     pocket the substeps touched kept its energy over the whole step to the same tolerance,
     or :data:`SUBSTEPS` were taken; ``inner`` then receives the diagnostics at the last
     retake's substep starts as :func:`rvcore.recording.plan.add_substep_integrals` takes
