@@ -656,16 +656,11 @@ def onset_constant(model) -> float:
     a stiffness the tangent does not hold, ``Δk = 1.5·K^(2/3)·(Q^⅓ − Q₀^⅓)``, beyond the
     explicit tableau's limit ``√(Δk/m_b)·h ≤ ONSET_SAFETY·ONSET_LIMIT``::
 
-        c_on = m_b·(ONSET_SAFETY·ONSET_LIMIT)² / (1.5·K^(2/3))
+        c_on = m_b·(ONSET_SAFETY·ONSET_LIMIT)² / (1.5·K^(2/3)) = 2·(ONSET_SAFETY·ONSET_LIMIT)² / ω_n(1 N)²
 
-    the smallest over the rows (K of the row's stiffest arc)."""
-    out = np.inf
-    for r in range(model.rows.shape[0]):
-        row = model.rows[r]
-        a0, na = int(row[R_ARC0]), int(row[R_NARC])
-        k_hertz = model.arcs[a0:a0 + na, A_K].max()
-        out = min(out, row[R_MB] * (ONSET_SAFETY * ONSET_LIMIT) ** 2 / (1.5 * k_hertz ** (2.0 / 3.0)))
-    return float(out)
+    with ω_n(1 N) the contact oscillation at 1 N (:func:`rvcore.integrate.step_size.row_rates`,
+    K of the row's stiffest arc); the smallest over the rows."""
+    return float(min(2.0 * (ONSET_SAFETY * ONSET_LIMIT) ** 2 / omega ** 2 for omega, _, _ in row_rates(model, 1.0)))
 
 
 def pocket_energy_tolerance(model, peak_contact_load: float, time_step: float) -> float:
