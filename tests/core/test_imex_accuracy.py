@@ -66,6 +66,7 @@ is the step-error run itself.)
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import time
@@ -206,20 +207,26 @@ def test_imex_matches_rk4_on_the_study_cycle():
 
 
 @pytest.mark.slow
-def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing():
+@pytest.mark.parametrize("radial_load", [20e3, 30e3, 40e3], ids=["20kN", "30kN", "40kN"])
+def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load):
     """docs/model.md §9.6 in its unreduced form for IMEX: the study bearing (51 balls), the
-    study cycle to the end of its last phase, in gravity; the default step (29.4 µs) against
-    a tenth of it. Every phase metric moves by less than 1 % (the cage slips by less than
-    0.001 absolute), the rules of tests/core/physics_cases.py::phase_metric_changes.
+    study cycle to the end of its last phase, in gravity, at 660 °/s and 10 kN axial, at
+    the study grid's smallest, middle and largest radial load; the default step against a
+    tenth of it. Every phase metric moves by less than 1 % (the cage slips by less than
+    0.001 absolute), the rules of tests/core/physics_cases.py::phase_metric_changes. The
+    step differs along the load axis, and so does what bounds it
+    (docs/performance.md, "The study sweep in five minutes"): 38.5 µs at 20 kN, 33.3 µs at
+    30 kN (the friction), 26.3 µs at 40 kN.
 
     The reduced 12-ball section of test_dynamics.py is where IMEX fails the same check: its
     steady phase is a chain of pocket impacts that RK4 itself does not converge on once
-    gravity is on (docs/performance.md, "§9.6 on the study bearing"). Measured here at
-    MODEL_VERSION 18: the worst change 0.48 % (the start-up pocket-force peak), every steady
-    metric ≤ 0.10 % (0.22 % and 0.032 % at 17, whose retakes always took 8 substeps).
-    About 70 s on two cores (the fine run is 1.56 million steps).
+    gravity is on (docs/performance.md, "§9.6 on the study bearing"). Measured at
+    MODEL_VERSION 19: the worst change 0.69 % at 20 kN, 0.44 % at 30 kN and 0.67 % at 40 kN
+    (each the start-up pocket-force peak); every steady metric ≤ 0.29 %, 0.073 % and 0.18 %. About 70 s a load on two
+    cores (the fine run is 1.2–1.75 million steps).
     """
     bearing, profile, op = study_case()
+    op = dataclasses.replace(op, radial_load=radial_load)
     end = max(p[2] for p in profile.phases)
     jobs = [SolverSettings(method="imex", end_time=end),
             SolverSettings(method="imex", step_safety=0.08, end_time=end)]
