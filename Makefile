@@ -1,9 +1,7 @@
-# rv-bearing-sweep: `make sweep` and `make test` build .venv on first use, with every module
-# compiled to bytecode once (pip's default, and compileall for this package's own sources):
-# where PYTHONDONTWRITEBYTECODE is set (this machine, many containers) Python never caches
-# what it compiles, and every process compiled its 1,400 imported modules again (3.4 s each:
-# `rvsweep --help` 5 s against 2 s, `make smoke` 32 s against 20 s, `make test` 3 min 21 s
-# against 3 min 3 s).
+# rv-bearing-sweep: `make sweep` and `make test` build .venv on first use. pip --no-compile,
+# then tools/compile_bytecode.py compiles only what the commands and tests import: where
+# PYTHONDONTWRITEBYTECODE is set (this machine, many containers) Python never caches what it
+# compiles, so without it every process compiled its 1,400 modules again (3.4 s each).
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
@@ -24,8 +22,8 @@ help:  ## list the targets
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
-	$(BIN)/python -m compileall -q -j 0 pipeline rvcore
+	$(BIN)/python -m pip install --quiet --no-compile -e '.[test]'
+	$(BIN)/python tools/compile_bytecode.py
 	touch $(STAMP)
 
 venv: $(STAMP)  ## create .venv and install the package with its test extras
