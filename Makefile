@@ -1,7 +1,11 @@
-# rv-bearing-sweep: `make sweep` and `make test` build .venv on first use. pip --no-compile,
-# then tools/compile_bytecode.py compiles only what the commands and tests import: where
-# PYTHONDONTWRITEBYTECODE is set (this machine, many containers) Python never caches what it
-# compiles, so without it every process compiled its 1,400 modules again (3.4 s each).
+# rv-bearing-sweep: `make sweep` and `make test` build .venv on first use.
+# Bytecode: where PYTHONDONTWRITEBYTECODE is set (this machine, many containers) Python never
+# caches what it compiles, and every process (each of a sweep's workers, each test process)
+# compiled its 1,400 imported modules again, 3.4 s each. So make's commands write the caches
+# (into .venv/ and the tree's git-ignored __pycache__/), and `make venv` writes those of what
+# the commands import (tools/compile_bytecode.py: pip's own compile of every installed file
+# took about 20 s more) for running rvsweep outside make.
+unexport PYTHONDONTWRITEBYTECODE
 PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
