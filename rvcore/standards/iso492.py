@@ -19,10 +19,10 @@ Sources, value by value (the standards' own texts were not at hand):
 - ``K_ia``, classes 6, 5, 4 up to d = 50 mm: the Chinese bearing maker YCTOO's
   reproduction of ISO 492 ("Tolerance of inner ring (ISO)"); above, the same makers'
   catalogue tables as remembered, class 6 at 315–400 mm (30 µm) as the issue read it.
-  Class 5 is tabulated here to d = 400 mm only: the 17 and 20 µm once carried for
-  400–630 mm had no source (the public reproductions stop class 5 at 400 mm; issue 39),
-  so a class-5 bearing of a larger bore is refused, naming the class and the bore.
-  Class 4 is tabulated here to d = 250 mm only.
+  Class 5 at 400–630 mm: the bearing dealer NodesHK's reproduction of ISO 492:2014's
+  class 5 table (below, the axial runouts' source), column tKia: 17 and 19 µm (20 µm
+  had once been carried for 500–630 mm without a source, issue 39); its rows up to
+  400 mm agree with the values above. Class 4 is tabulated here to d = 250 mm only.
 - ``K_ea``, Normal: SRS's table (D 18–400 mm) and, converted from inches, Consolidated
   Bearings' ISO/ABMA table (D 6–630 mm; 0.0028 in = 71 µm at 315–400 mm).
 - ``K_ea``, class 6: Consolidated Bearings' table, every row (in inches, converted).
@@ -64,7 +64,7 @@ BORE_LIMITS = np.array([10, 18, 30, 50, 80, 120, 180, 250, 315, 400, 500, 630]) 
 K_IA = {
     "normal": np.array([10, 10, 13, 15, 20, 25, 30, 40, 50, 60, 65, 70]) * 1e-6,
     "6": np.array([6, 7, 8, 10, 10, 13, 18, 20, 25, 30, 35, 40]) * 1e-6,
-    "5": np.array([4, 4, 4, 5, 5, 6, 8, 10, 13, 15, np.nan, np.nan]) * 1e-6,   # no source above 400 mm
+    "5": np.array([4, 4, 4, 5, 5, 6, 8, 10, 13, 15, 17, 19]) * 1e-6,
     "4": np.array([2.5, 2.5, 3, 4, 4, 5, 6, 8, np.nan, np.nan, np.nan, np.nan]) * 1e-6,
 }
 
@@ -120,8 +120,7 @@ DEFAULT_BALL_GRADE = {"normal": "G20", "6": "G16", "5": "G10", "4": "G5"}
 BALL_GRADE_MAX_DIAMETER = {"G3": 12.7e-3, "G5": 12.7e-3, "G10": 25.4e-3, "G16": 25.4e-3, "G20": 38.1e-3}
 
 #: Why a class has no K_ia beyond its last row, for the refusal's line.
-_K_IA_END = {"5": "the public reproductions of ISO 492 stop class 5's K_ia at a bore of 400 mm",
-             "4": "class 4's K_ia is carried here to a bore of 250 mm"}
+_K_IA_END = {"4": "class 4's K_ia is carried here to a bore of 250 mm"}
 
 
 class ToleranceError(ValueError):

@@ -261,20 +261,26 @@ def test_every_default_ball_grade_is_made_in_the_study_balls_size():
 
 
 def test_unsourced_iso492_rows_are_refused_naming_class_and_bore():
-    """ISO 492 class 5 K_ia above a 400 mm bore has no public source: refused in one line
-    naming the class and the bore; at 315-400 mm class 5 still reads 15 um (K_ia/2 a
-    7.5 um eccentricity)."""
+    """A size the tables carry no sourced row for is refused in one line naming the class
+    and the size: class 4's K_ia above a 250 mm bore, any class's above 630 mm. Class 5's
+    K_ia at 400–630 mm reads NodesHK's reproduction of ISO 492:2014's class 5 table
+    (column tKia: 17 µm over 400–500 mm, 19 µm over 500–630 mm), and 15 µm at 315–400 mm
+    (K_ia/2 a 7.5 µm eccentricity)."""
     from rvcore.standards.iso492 import ToleranceError, inner_runout, tolerance_problems
 
-    with pytest.raises(ToleranceError) as err:
-        inner_runout(450e-3, "5")
-    text = str(err.value)
-    assert "\n" not in text and "class 5" in text and "450 mm" in text and "400 mm" in text
     assert inner_runout(380e-3, "5") == pytest.approx(15e-6)
-    problems = tolerance_problems("5", 450e-3, 560e-3, 30e-3)
+    assert inner_runout(450e-3, "5") == pytest.approx(17e-6)
+    assert inner_runout(560e-3, "5") == pytest.approx(19e-6)
+    for bore, cls, edge in ((700e-3, "5", "700 mm"), (320e-3, "4", "250 mm")):
+        with pytest.raises(ToleranceError) as err:
+            inner_runout(bore, cls)
+        text = str(err.value)
+        assert "\n" not in text and f"class {cls}" in text and f"{bore * 1e3:.4g} mm" in text and edge in text
+    assert not tolerance_problems("5", 450e-3, 560e-3, 30e-3)
+    problems = tolerance_problems("4", 320e-3, 383e-3, 30e-3)
     assert problems and problems[0][0] == "imperfections.tolerance_class"
     # an eccentricity given outright needs no K_ia
-    assert not [p for p in tolerance_problems("5", 450e-3, 560e-3, 30e-3, inner_given=True) if "K_ia" in p[2]]
+    assert not [p for p in tolerance_problems("4", 320e-3, 383e-3, 30e-3, inner_given=True) if "K_ia" in p[2]]
 
 
 def test_a_tolerance_class_without_a_sourced_value_is_refused_before_any_work(tmp_path):
