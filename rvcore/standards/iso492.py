@@ -15,7 +15,9 @@ Sources, value by value (the standards' own texts were not at hand):
 - ``K_ia``, Normal: the bearing maker SRS's reproduction of ISO 492 ("Dimensional and
   running accuracy of deep groove ball bearings, normal tolerance class") for d up to
   250 mm; 250–630 mm from the ISO 492 table as bearing makers' catalogues (NSK, NTN)
-  reproduce it, 60 µm at 315–400 mm as the project's issue read it there.
+  reproduce it, 60 µm at 315–400 mm as the project's issue read it there; every row to
+  630 mm as the bearing maker GBB reproduces ISO 492's Normal class for its self-aligning
+  (radial) bearings (gbbco.cn, "Tolerances", Table 1, column Kia).
 - ``K_ia``, classes 6, 5, 4 up to d = 50 mm: the Chinese bearing maker YCTOO's
   reproduction of ISO 492 ("Tolerance of inner ring (ISO)"); above, the same makers'
   catalogue tables as remembered, class 6 at 315–400 mm (30 µm) as the issue read it.
