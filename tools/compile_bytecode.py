@@ -7,9 +7,9 @@ so every process compiled its 1,400 imported modules again: 3.4 s a process (``r
 bytecode for every installed file instead (scipy's and the others' tests too) and adds about
 20 s to the install; this imports what the commands import with the bytecode cache on, so
 that each of those modules is compiled once and written. A module imported later than these
-is compiled in memory as before. Python reads bytecode
-whatever PYTHONDONTWRITEBYTECODE says, and compiles a source again in memory when it is
-newer than its bytecode, so an edited file is never read stale.
+is compiled in memory as before. Python reads bytecode whatever PYTHONDONTWRITEBYTECODE
+says, and compiles a source again in memory when it is newer than its bytecode, so an edited
+file is never read stale.
 
 Usage: ``python tools/compile_bytecode.py``.
 """
