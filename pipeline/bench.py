@@ -14,6 +14,11 @@ asserts a time (these machines are noisy).
   a fine reference is no larger than ours, timed (median of repeats) against our IMEX
   integrator over that window (``rk4_scipy_ratio``: the same against our RK4). All start
   from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
+- ``phase_cost``: where the full cycle's integration time goes (:func:`phase_cost`): runs
+  of the same case from t = 0 to the end of each stretch of the profile (before the first
+  phase, each phase, after the last), differenced: ``phase_wall_s_<k>``, ``phase_steps_<k>``,
+  ``phase_us_per_step_<k>``, ``phase_refreshes_per_step_<k>`` and
+  ``phase_substepped_per_step_<k>`` for stretch k of ``phase_names``/``phase_windows_s``.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
   serial wall / (workers x parallel wall).
 - ``scheduler_cost`` (``rvsweep bench --tasks 1000,10000``): the parent's CPU per case of
@@ -125,6 +130,57 @@ def full_cycle(methods=None) -> dict:
         out.update({f"{m}_{k}": v for k, v in figures.items()})
     if "rk4" in per and "imex" in per:
         out["speedup_vs_rk4"] = per["rk4"]["full_cycle_wall_s"] / per["imex"]["full_cycle_wall_s"]
+    return out
+
+
+def stretches(profile) -> list:
+    """The profile's cycle cut at every phase's start and end: ``[(name, start, end), ...]``
+    [s], a phase under its own name, what lies before the first phase, between two and
+    after the last as ``"before <phase>"``/``"after <phase>"`` (the study's load ramp and
+    unload)."""
+    phases = sorted(profile.phases, key=lambda p: p[1])
+    out, t = [], 0.0
+    for name, start, end in phases:
+        if start > t + 1e-12:
+            out.append((f"before {name}", t, start))
+        out.append((name, start, end))
+        t = end
+    if profile.duration > t + 1e-12:
+        out.append((f"after {phases[-1][0]}", t, profile.duration))
+    return out
+
+
+def phase_cost(bearing=None, profile=None, op=None) -> dict:
+    """The integration's cost stretch by stretch of the cycle (:func:`stretches`): one run
+    of the case from t = 0 to each stretch's end with the default settings, each figure the
+    difference of two consecutive runs (so each stretch starts from the dynamics' own state,
+    not a quasi-static one). Default: the study case of :func:`full_cycle_of`.
+
+    Returns ``phase_names``, ``phase_windows_s`` and per stretch k ``phase_wall_s_<k>``
+    (the integrator's wall time) [s], ``phase_steps_<k>``, ``phase_us_per_step_<k>`` [µs],
+    ``phase_refreshes_per_step_<k>`` and ``phase_substepped_per_step_<k>`` [-] (IMEX's
+    tangent refreshes and steps taken again in substeps), and ``phase_total_wall_s``.
+    """
+    from rvcore.simulation.run import run_case
+    from rvcore.simulation.settings import SolverSettings
+
+    if bearing is None:
+        bearing, profile, op = _study()
+    run_case(bearing, profile, op, SolverSettings(end_time=2e-4))      # load every kernel
+    parts = stretches(profile)
+    out = {"phase_names": [p[0] for p in parts], "phase_windows_s": [(p[1], p[2]) for p in parts]}
+    before = {"wall_time": 0.0, "steps": 0, "tangent_refreshes": 0, "substepped_steps": 0}
+    for k, (_, _, end) in enumerate(parts):
+        info = run_case(bearing, profile, op, SolverSettings(end_time=end)).info
+        d = {key: info[key] - before[key] for key in before}
+        steps = max(int(d["steps"]), 1)
+        out[f"phase_wall_s_{k}"] = float(d["wall_time"])
+        out[f"phase_steps_{k}"] = int(d["steps"])
+        out[f"phase_us_per_step_{k}"] = float(d["wall_time"]) / steps * 1e6
+        out[f"phase_refreshes_per_step_{k}"] = int(d["tangent_refreshes"]) / steps
+        out[f"phase_substepped_per_step_{k}"] = int(d["substepped_steps"]) / steps
+        before = {key: info[key] for key in before}
+    out["phase_total_wall_s"] = float(before["wall_time"])
     return out
 
 
@@ -522,6 +578,7 @@ def run_all(*, quick: bool = False, balls=None, tasks=None) -> dict:
         return scheduler_cost(tuple(tasks))
     out = {}
     out.update(full_cycle())
+    out.update(phase_cost())
     out.update(scipy_comparison("imex"))
     out.update({f"rk4_{k}": v for k, v in scipy_comparison("rk4").items()})
     out.update(imperfection_cost())

@@ -97,6 +97,17 @@ def run(args):
     if "rk4" in methods:
         print(f"  {'speedup vs rk4':24s}" + "".join(
             f"{f['rk4_full_cycle_wall_s'] / f[f'{m}_full_cycle_wall_s']:12.2f}" for m in methods))
+    if "phase_names" in f:
+        print(f"  where the {f['method']} integration's {f['phase_total_wall_s']:.2f} s go, stretch by stretch "
+              "(runs from 0 s to each stretch's end, differenced)")
+        print(f"    {'stretch':24s} {'window [s]':>12s} {'wall [s]':>9s} {'share':>6s} {'steps':>7s} {'us/step':>8s} "
+              f"{'refreshes/step':>15s} {'substepped/step':>16s}")
+        for k, name in enumerate(f["phase_names"]):
+            a, b = f["phase_windows_s"][k]
+            wall = f[f"phase_wall_s_{k}"]
+            print(f"    {name:24s} {f'{a:g}-{b:g}':>12s} {wall:9.2f} {wall / f['phase_total_wall_s']:6.1%} "
+                  f"{f[f'phase_steps_{k}']:7d} {f[f'phase_us_per_step_{k}']:8.1f} "
+                  f"{f[f'phase_refreshes_per_step_{k}']:15.3f} {f[f'phase_substepped_per_step_{k}']:16.4f}")
     print(f"scipy solve_ivp(DOP853) on the same RHS, {f.get('scipy_window_s', float('nan')) * 1e3:.0f} ms window, "
           "matched accuracy (reference: rk4 at 1/8 of its step)")
     for prefix in ("rk4_", ""):

@@ -59,6 +59,12 @@ def stand_ins(monkeypatch):
     monkeypatch.setattr(bench, "lubricated_cost", lambda: {
         "lubricated_dry_wall_s": 2.0, "lubricated_wall_s": 2.2, "lubricated_cost_ratio": 1.1,
         "lubricated_cost_ratio_120": 1.05, "lubricated_cost_ratio_660": 1.1, "lubricated_cost_speed": 660.0})
+    monkeypatch.setattr(bench, "phase_cost", lambda: {
+        "phase_names": ["before startup", "startup"], "phase_windows_s": [(0.0, 0.3), (0.3, 0.8)],
+        "phase_wall_s_0": 1.0, "phase_steps_0": 100, "phase_us_per_step_0": 10000.0,
+        "phase_refreshes_per_step_0": 0.25, "phase_substepped_per_step_0": 0.01,
+        "phase_wall_s_1": 3.0, "phase_steps_1": 200, "phase_us_per_step_1": 15000.0,
+        "phase_refreshes_per_step_1": 0.125, "phase_substepped_per_step_1": 0.0, "phase_total_wall_s": 4.0})
     monkeypatch.setattr(bench, "flexible_cost", lambda: {
         f"{name}{suffix}": value for suffix in ("", "_start") for name, value in (
             ("flexible_cost_ratio", 1.4), ("flexible_wall_s", 1.4), ("flexible_rigid_wall_s", 1.0),
@@ -102,8 +108,36 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     lubricated = next(line for line in text.splitlines() if line.startswith("Lubricated law"))
     assert "1.100x" in lubricated and "2.20 s vs 2.00 s" in lubricated
     assert "120 deg/s 1.050x" in lubricated and "660 deg/s 1.100x" in lubricated
+    stretch = next(line for line in text.splitlines() if line.strip().startswith("startup"))
+    assert stretch.split()[1:5] == ["0.3-0.8", "3.00", "75.0%", "200"]
     flexible = [line for line in text.splitlines() if line.startswith("Flexible rings")]
     assert len(flexible) == 2 and all("1.400x" in line and "1.40 s vs 1.00 s" in line for line in flexible)
+
+
+def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
+    """The reduced bearing on the short cycle: the stretches are the profile's phases with
+    what lies before and after them, end to end from 0 to the cycle's duration; each
+    stretch's steps are its length over the case's step (the phases' edges are whole
+    output intervals, which the step divides), and together they are the whole cycle's."""
+    from pipeline.schema import load_bearing, load_profile
+    from pipeline.schema.shipped import shipped_file
+    from rvcore.profile import OperatingPoint
+    from rvcore.simulation.run import run_case
+
+    bearing = load_bearing(shipped_file("bearings/reduced-test.toml"))
+    profile = load_profile(shipped_file("profiles/short.toml"))
+    op = OperatingPoint(math.radians(660.0), 30e3, 10e3)
+    f = bench.phase_cost(bearing, profile, op)
+    names = [p[0] for p in sorted(profile.phases, key=lambda p: p[1])]
+    assert f["phase_names"] == [f"before {names[0]}", *names, f"after {names[-1]}"]
+    windows = f["phase_windows_s"]
+    assert windows[0][0] == 0.0 and windows[-1][1] == pytest.approx(profile.duration)
+    assert all(a[1] == b[0] for a, b in zip(windows, windows[1:]))
+    whole = run_case(bearing, profile, op, SolverSettings()).info
+    steps = [f[f"phase_steps_{k}"] for k in range(len(windows))]
+    assert steps == [round((b - a) / whole["time_step"]) for a, b in windows]
+    assert sum(steps) == whole["steps"]
+    assert all(f[f"phase_wall_s_{k}"] > 0 for k in range(len(windows)))
 
 
 # --------------------------------------------------------------------------- ball scaling
