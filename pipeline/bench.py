@@ -45,7 +45,9 @@ asserts a time (these machines are noisy).
   median of the pairs' ratios of the integration's wall time, over 0.1 s of steady running
   from 1.5 s (:func:`flexible_cost`); ``flexible_cost_ratio_start`` the same over the
   cycle's first 0.05 s (the load ramp, where the tangents are evaluated at most steps).
-  Issue 41's goal ≤ 1.5.
+  Issue 41's goal ≤ 1.5. ``coupling_*`` (:func:`modal_coupling`): why the balls and the
+  modes share one implicit solve, the contacts' cross terms between them alone oscillating
+  at ``coupling_cross_omega_h`` at the step, past the explicit tableau's 2√2.
 """
 from __future__ import annotations
 
@@ -479,6 +481,91 @@ def flexible_cost(pairs: int = 3, windows=None) -> dict:
     return out
 
 
+def modal_coupling(bearing=None, profile=None, op=None, time: float = 1.5, eps: float = 1e-10) -> dict:
+    """How stiff the contacts' coupling between the balls and a flexible ring's modes is, as
+    oscillation rates at the step (docs/performance.md, "Flexible rings in the dynamics").
+
+    At the state :func:`rvcore.simulation.initial_state.initial_state` gives at ``time`` [s]
+    (friction and damping off, gravity on), the right-hand side's Jacobian by central
+    differences of ``eps`` [m] (of the balls' centres and the modes' amplitudes; the first
+    row's balls): ``A_bb`` (balls' accelerations on balls' centres), ``A_mm`` (modes on
+    modes) and the cross blocks ``A_bm``, ``A_mb``. Default: the flexible study bearing
+    (:data:`FLEXIBLE_BEARING`) at 660 °/s, 30 kN + 10 kN.
+
+    Returns ``coupling_time_step_s`` (the default method's step, fitted to the output
+    interval as :func:`rvcore.simulation.run.run_case` fits it [s]) and ``ω·h`` [-] of:
+    ``coupling_balls_omega_h`` and ``coupling_modes_omega_h`` (the largest ``√|λ|`` of
+    ``A_bb``, ``A_mm``), ``coupling_cross_omega_h`` (the cross terms alone: ``ω⁴`` the
+    largest ``|λ|`` of ``A_bm·A_mb``) and ``coupling_cross_omega_h_<family>`` within each
+    family of modes.
+    """
+    from rvcore.bearing.imperfections import realize
+    from rvcore.bearing.layout import BALL_STATES, R_BALL0, R_Z
+    from rvcore.contact.film import with_film_columns
+    from rvcore.dynamics.rhs import new_diagnostics, rhs
+    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER, FAMILIES, family_states, truncated, with_ring_modes
+    from rvcore.integrate.methods import METHODS
+    from rvcore.rings.flexible import bearing_rings
+    from rvcore.simulation.initial_state import initial_state, peak_contact_load
+    from rvcore.simulation.run import compile_bearing
+    from rvcore.simulation.settings import SolverSettings
+
+    from .schema import load_bearing
+
+    if bearing is None:
+        _, profile, op = _study()
+        bearing = load_bearing(FLEXIBLE_BEARING)
+    bearing = realize(bearing, 0)
+    rings = truncated(bearing_rings(bearing, max_order=DYNAMICS_MAX_ORDER), DYNAMICS_MAX_ORDER)
+    model = with_film_columns(compile_bearing(bearing, friction=False, damping=False, gravity=True), bearing)
+    model = with_ring_modes(model, rings, DYNAMICS_MAX_ORDER)
+    resolved = profile.resolve(op)
+    table, meta = resolved.arrays()
+    y = initial_state(model, resolved, time, seed=0, rings=rings)
+    settings = SolverSettings()
+    case = with_ring_modes(with_film_columns(compile_bearing(      # the case's own model sets its step
+        bearing, friction=settings.friction, damping=settings.damping, gravity=settings.gravity), bearing),
+        rings, DYNAMICS_MAX_ORDER)
+    h_max = METHODS[settings.method].time_step(case, peak_contact_load(case, resolved), safety=settings.step_safety)
+    h = 1.0 / (settings.output_rate * math.ceil(1.0 / (settings.output_rate * h_max) - 1e-9))   # as run_case fits it
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
+    args = (model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    row = model.rows[0]
+    b0, z = int(row[R_BALL0]), int(row[R_Z])
+    ball_x = [b0 + BALL_STATES * j + c for j in range(z) for c in range(3)]
+    ball_a = [i + 3 for i in ball_x]
+    mode_x, mode_a, family = [], [], []
+    for name in FAMILIES:
+        n, s0 = family_states(model, name)
+        mode_x += range(s0, s0 + 2 * n)
+        mode_a += range(s0 + 2 * n, s0 + 4 * n)
+        family += [name] * (2 * n)
+
+    def jacobian(columns, rows):
+        out = np.zeros((len(rows), len(columns)))
+        for i, c in enumerate(columns):
+            up, down = y.copy(), y.copy()
+            up[c] += eps
+            down[c] -= eps
+            fu, fd = np.zeros_like(y), np.zeros_like(y)
+            rhs(time, up, fu, *args)
+            rhs(time, down, fd, *args)
+            out[:, i] = (fu[rows] - fd[rows]) / (2.0 * eps)
+        return out
+
+    def rate(matrix, power):
+        return float(np.abs(np.linalg.eigvals(matrix)).max()) ** (1.0 / power) * h
+
+    a_bb, a_mm = jacobian(ball_x, ball_a), jacobian(mode_x, mode_a)
+    a_bm, a_mb = jacobian(mode_x, ball_a), jacobian(ball_x, mode_a)
+    out = {"coupling_time_step_s": h, "coupling_balls_omega_h": rate(a_bb, 2),
+           "coupling_modes_omega_h": rate(a_mm, 2), "coupling_cross_omega_h": rate(a_bm @ a_mb, 4)}
+    for name in dict.fromkeys(family):
+        k = [i for i, f in enumerate(family) if f == name]
+        out[f"coupling_cross_omega_h_{name}"] = rate(a_bm[:, k] @ a_mb[k, :], 4)
+    return out
+
+
 #: The balls of the study bearing [-] (``rows.balls.count`` of rv-main-study.toml).
 STUDY_BALLS = 51
 
@@ -584,6 +671,7 @@ def run_all(*, quick: bool = False, balls=None, tasks=None) -> dict:
     out.update(imperfection_cost())
     out.update(lubricated_cost())
     out.update(flexible_cost())
+    out.update(modal_coupling())
     if not quick:
         out.update(parallel_efficiency())
     return out

@@ -13,6 +13,7 @@ import importlib.util
 import json
 import math
 
+import numpy as np
 import pytest
 
 import pipeline.bench as bench
@@ -65,6 +66,9 @@ def stand_ins(monkeypatch):
         "phase_refreshes_per_step_0": 0.25, "phase_substepped_per_step_0": 0.01,
         "phase_wall_s_1": 3.0, "phase_steps_1": 200, "phase_us_per_step_1": 15000.0,
         "phase_refreshes_per_step_1": 0.125, "phase_substepped_per_step_1": 0.0, "phase_total_wall_s": 4.0})
+    monkeypatch.setattr(bench, "modal_coupling", lambda: {
+        "coupling_time_step_s": 3.0e-5, "coupling_balls_omega_h": 3.4, "coupling_modes_omega_h": 5.8,
+        "coupling_cross_omega_h": 3.0})
     monkeypatch.setattr(bench, "flexible_cost", lambda: {
         f"{name}{suffix}": value for suffix in ("", "_start") for name, value in (
             ("flexible_cost_ratio", 1.4), ("flexible_wall_s", 1.4), ("flexible_rigid_wall_s", 1.0),
@@ -112,6 +116,54 @@ def test_bench_command_prints_json_and_a_table_of_both_methods(stand_ins, capsys
     assert stretch.split()[1:5] == ["0.3-0.8", "3.00", "75.0%", "200"]
     flexible = [line for line in text.splitlines() if line.startswith("Flexible rings")]
     assert len(flexible) == 2 and all("1.400x" in line and "1.40 s vs 1.00 s" in line for line in flexible)
+    assert "oscillate at omega*h 3.00 at the 30.0 us step" in text
+
+
+def test_modal_coupling_rates_follow_hertz_at_the_case_s_own_step():
+    """The flexible study bearing at 1.5 s: the step is the flexible case's own; the balls'
+    block's fastest rate is a ball between its two race contacts, ``ω² = (k_i + k_o)/m_b``
+    with ``k = 1.5·K^(2/3)·Q^(1/3)`` (Hertz) at the most loaded ball, which lies between the
+    rates of the row's softest and stiffest arc taken twice (computed here from the arcs and
+    the ball loads of a right-hand side at the same state); the cross terms are a finite,
+    positive rate."""
+    import dataclasses
+
+    from pipeline.schema import load_bearing
+    from rvcore.bearing.layout import A_K, R_ARC0, R_MB, R_NARC
+    from rvcore.dynamics.ring_modes import DYNAMICS_MAX_ORDER
+    from rvcore.rings.flexible import bearing_rings
+    from rvcore.simulation.run import run_case
+
+    f = bench.modal_coupling()
+    _, profile, op = bench._study()
+    flexible = load_bearing(bench.FLEXIBLE_BEARING)
+    rings = bearing_rings(flexible, max_order=DYNAMICS_MAX_ORDER)
+    info = run_case(flexible, profile, op, dataclasses.replace(SolverSettings(), end_time=2e-4), rings=rings).info
+    h = f["coupling_time_step_s"]
+    assert h == pytest.approx(info["time_step"], rel=1e-12)
+    # the bracket, from the state's ball loads (a flexible case's initial state at 1.5 s)
+    from rvcore.bearing.imperfections import realize
+    from rvcore.contact.film import with_film_columns
+    from rvcore.dynamics.rhs import B_QI, B_QO, new_diagnostics, rhs
+    from rvcore.dynamics.ring_modes import truncated, with_ring_modes
+    from rvcore.simulation.initial_state import initial_state
+    from rvcore.simulation.run import compile_bearing
+
+    b = realize(flexible, 0)
+    rings = truncated(bearing_rings(b, max_order=DYNAMICS_MAX_ORDER), DYNAMICS_MAX_ORDER)
+    model = with_ring_modes(with_film_columns(compile_bearing(b, friction=False, damping=False, gravity=True), b),
+                            rings, DYNAMICS_MAX_ORDER)
+    resolved = profile.resolve(op)
+    table, meta = resolved.arrays()
+    y = initial_state(model, resolved, 1.5, seed=0, rings=rings)
+    diag, bdiag = new_diagnostics(model.rows.shape[0], model.n_balls)
+    rhs(1.5, y, np.zeros_like(y), model.params, model.rows, model.arcs, model.pockets, table, meta, diag, bdiag)
+    row = model.rows[0]
+    k_arc = model.arcs[int(row[R_ARC0]):int(row[R_ARC0]) + int(row[R_NARC]), A_K]
+    q = max(bdiag[:, B_QI].max(), bdiag[:, B_QO].max())
+    lo, hi = (math.sqrt(2 * 1.5 * k ** (2 / 3) * q ** (1 / 3) / row[R_MB]) * h for k in (k_arc.min(), k_arc.max()))
+    assert 0.97 * lo <= f["coupling_balls_omega_h"] <= 1.03 * hi, (lo, f["coupling_balls_omega_h"], hi)
+    assert 0 < f["coupling_cross_omega_h"] < math.inf
 
 
 def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
