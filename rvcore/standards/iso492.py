@@ -19,17 +19,21 @@ Sources, value by value (the standards' own texts were not at hand):
   630 mm as the bearing maker GBB reproduces ISO 492's Normal class for its self-aligning
   (radial) bearings (gbbco.cn, "Tolerances", Table 1, column Kia).
 - ``K_ia``, classes 6, 5, 4 up to d = 50 mm: the Chinese bearing maker YCTOO's
-  reproduction of ISO 492 ("Tolerance of inner ring (ISO)"); above, the same makers'
-  catalogue tables as remembered, class 6 at 315–400 mm (30 µm) as the issue read it.
-  Class 5 at 400–630 mm: the bearing dealer NodesHK's reproduction of ISO 492:2014's
+  reproduction of ISO 492 ("Tolerance of inner ring (ISO)"). Classes 6 and 5 above
+  50 mm: NTN's catalogue *Ball and Roller Bearings* ("Bearing Tolerances", tolerance of
+  radial bearings, inner rings, column Kia; read in its yumpu.com reproduction), which
+  splits 120–180 mm at 150 mm with the same value on both sides: class 6 every row to
+  630 mm (10, 13, 18, 20, 25, 30, 35, 40 µm from 50 mm on; 30 µm at 315–400 mm, as the
+  issue read it), class 5 to 315 mm. Class 4 above 50 mm: catalogue tables as
+  remembered. Class 5 at 400–630 mm: the bearing dealer NodesHK's reproduction of ISO 492:2014's
   class 5 table (below, the axial runouts' source), column tKia: 17 and 19 µm (20 µm
   had once been carried for 500–630 mm without a source, issue 39); its rows up to
   400 mm agree with the values above. Class 4 is tabulated here to d = 250 mm only.
 - ``K_ea``, Normal: SRS's table (D 18–400 mm) and, converted from inches, Consolidated
   Bearings' ISO/ABMA table (D 6–630 mm; 0.0028 in = 71 µm at 315–400 mm).
 - ``K_ea``, class 6: Consolidated Bearings' table, every row (in inches, converted).
-- ``K_ea``, classes 5 and 4: catalogue tables as remembered; 20 and 13 µm at
-  315–400 mm as the issue read them.
+- ``K_ea``, class 5: NodesHK's class 5 table (below), column tKea, every row; class 4:
+  catalogue tables as remembered. 20 and 13 µm at 315–400 mm as the issue read them.
 - the axial runouts ``S_d`` (the inner ring's reference face with its bore), ``S_ia``
   and ``S_ea`` (the assembled bearing's inner and outer ring faces against their
   raceways), class 5, every row: the bearing dealer NodesHK's reproduction of ISO
