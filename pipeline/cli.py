@@ -17,7 +17,11 @@ from .errors import UserError
 COMMANDS = ("check", "statics", "simulate", "sweep", "report", "compare", "bench")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The ``rvsweep`` parser. ``only``: the one subcommand whose arguments are added
+    (``""``: none, for ``rvsweep --help``; None: every one). A subcommand's arguments may
+    need the schema (``--method``'s choices) or the report (its targets), and with them
+    numba, pint and xarray: a command line adds only its own command's."""
     from . import __version__
 
     parser = argparse.ArgumentParser(
@@ -29,14 +33,23 @@ def build_parser() -> argparse.ArgumentParser:
     for name in COMMANDS:
         module = importlib.import_module(f"pipeline.commands.{name}")
         p = sub.add_parser(name, help=module.HELP, description=module.HELP)
-        module.add_arguments(p)
-        accept_negative_values(p)   # --axial-load -10kN
+        if only is None or only == name:
+            module.add_arguments(p)
+            accept_negative_values(p)   # --axial-load -10kN
         p.set_defaults(_run=module.run)
     return parser
 
 
+def _command(argv) -> str:
+    """The subcommand a command line names: its first word that is not an option
+    (``rvsweep`` itself takes only ``--help`` and ``--version``), or ``""``."""
+    return next((a for a in argv if not a.startswith("-")), "")
+
+
 def main(argv=None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = _command(argv)
+    parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
     try:
         return int(args._run(args) or 0)

@@ -8,10 +8,14 @@
 - :mod:`~pipeline.analysis.measured`: the measured cases of a sweep folder in its metrics and fits;
 - :mod:`~pipeline.analysis.statistics`: percentiles and Sobol' indices over ``[statistics]`` draws (``statistics.nc``).
 """
-from ..schema.reference import ReferenceFit, default_reference_path, load_reference_fits
-from .fits import DISPLACEMENT_COORD, fit_metrics, fit_statistic, write_fits
-from .metrics import (DESIGNER_METRICS, DESIGNER_SCALARS, REALIZATION, SCALARS, STIFFNESS, case_states,
-                      nearest, open_results, phase_metrics, write_metrics)
-from .statistics import STATISTICS_FILE, statistics_dataset
-from .regression import (LEVEL, LINE_STATS, PLANE_STATS, line_band, linear_fit, plane_fit,
-                         weighted_linear_fit)
+from ..exports import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    "..schema.reference": ("ReferenceFit", "default_reference_path", "load_reference_fits"),
+    ".fits": ("DISPLACEMENT_COORD", "fit_metrics", "fit_statistic", "write_fits"),
+    ".metrics": ("DESIGNER_METRICS", "DESIGNER_SCALARS", "REALIZATION", "SCALARS", "STIFFNESS", "case_states",
+                 "nearest", "open_results", "phase_metrics", "write_metrics"),
+    ".statistics": ("STATISTICS_FILE", "statistics_dataset"),
+    ".regression": ("LEVEL", "LINE_STATS", "PLANE_STATS", "line_band", "linear_fit", "plane_fit",
+                    "weighted_linear_fit"),
+})

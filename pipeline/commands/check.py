@@ -25,15 +25,15 @@ from __future__ import annotations
 import json
 import math
 import sys
-
-from rvcore.bearing import geometry as geo
-from rvcore.profile import PHASES
+from typing import TYPE_CHECKING
 
 from ..errors import ConfigError, UserError
-from ..schema import FIELDS, REQUIRED, bearing_from_dict, profile_from_dict, read_sweep_file, read_toml
-from ..schema.fields import field
-from ..schema.parameters import format_value
 from .common import SHIPPED_HELP, input_file
+
+# rvcore, the schema and what they import (numba, pint, scipy) are imported by the
+# functions that use them, so that `rvsweep --help` does not load them.
+if TYPE_CHECKING:
+    from rvcore.bearing import geometry as geo
 
 HELP = "validate bearing, profile and sweep files and print what they imply"
 
@@ -61,6 +61,7 @@ def add_arguments(parser):
 def _hertz(row: geo.Row, bearing: geo.Bearing):
     """Hertz K [N m^-1.5] of the first inner and outer arc at the row's nominal angle."""
     from rvcore.hertz import effective_modulus, race_contact
+    from rvcore.bearing import geometry as geo
 
     rm, bm = bearing.ring_material, bearing.ball_material
     if rm == bm:
@@ -89,6 +90,8 @@ def bearing_summary(bearing: geo.Bearing) -> dict:
     The top-level per-row keys (``pitch_diameter_m`` ...) are those of row 0; ``rows``
     lists every row.
     """
+    from rvcore.bearing import geometry as geo
+
     rows = []
     for row in bearing.rows:
         ki, ko, e_eff = _hertz(row, bearing)
@@ -167,6 +170,7 @@ def _axis_range(axis):
     """"first ... last" of a numeric axis in its schema field's display unit, the values
     of a categorical one (``solver.method``: "rk4, imex"), or None."""
     from ..schema.fields import check_set_key
+    from ..schema.parameters import format_value
 
     if axis.coords and all(isinstance(c, str) for c in axis.coords):
         return ", ".join(axis.coords)
@@ -208,6 +212,8 @@ def check_file(path) -> dict:
     ConfigError
         The file's first problem.
     """
+    from ..schema import bearing_from_dict, profile_from_dict, read_sweep_file, read_toml
+
     path = input_file(path)
     raw = read_toml(path)
     file = str(path)
@@ -230,6 +236,9 @@ def check_file(path) -> dict:
 
 def _show(file: str, key: str, value) -> str:
     """``value`` (SI) in the display unit the schema gives the field at ``key``."""
+    from ..schema.fields import field
+    from ..schema.parameters import format_value
+
     return format_value(field(file, key), value)
 
 
@@ -296,6 +305,8 @@ def _warning_count(s: dict) -> str:
 
 
 def _format_profile(s: dict) -> list:
+    from rvcore.profile import PHASES
+
     lines = [f"{s['file']}: profile '{s['name']}', duration {_show('profile', 'duration', s['duration_s'])}"]
     for name, ch in s["channels"].items():
         what = "fraction" if "fraction" in ch else "value"
@@ -337,6 +348,9 @@ def _json_default(x):
 
 def schema_rows() -> list:
     """The input schema as JSON-ready dicts: key, file, kind, unit, default, bounds, doc."""
+    from ..schema import FIELDS, REQUIRED
+    from ..schema.parameters import format_value
+
     rows = []
     for f in FIELDS:
         default = "required" if f.default is REQUIRED else f.default
@@ -364,6 +378,7 @@ def _print_fields(as_json: bool) -> None:
 def _default_files() -> list:
     """The shipped default sweep, then the bearing and profile files it names."""
     from ..schema.shipped import DEFAULT_SWEEP, shipped_file
+    from ..schema import read_toml
 
     sweep = shipped_file(DEFAULT_SWEEP)
     raw = read_toml(sweep)

@@ -12,7 +12,6 @@ from pathlib import Path
 
 from ..errors import UserError
 from ..io.folders import writable_folder
-from ..run.cluster import check_scheduler
 from ..run.estimate import (CONFIRM_CASES, CONFIRM_SECONDS, duration_text, local_workers,
                             sweep_seconds)
 from .common import SHIPPED_HELP, check_out_option, input_file
@@ -165,6 +164,7 @@ def _end_children() -> None:
 
 def run(args) -> int:
     from ..run import run_sweep, summary
+    from ..run.cluster import check_scheduler
     from ..schema import read_sweep_file
 
     if args.workers is not None:

@@ -10,8 +10,12 @@ from __future__ import annotations
 
 import re
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
+
+if TYPE_CHECKING:   # xarray is imported where it is used: `rvsweep check` reads cf_name only
+    import xarray as xr
 
 #: Flag values and meanings of the ``case_status`` variable of a combined sweep.
 CASE_STATUS = ("ok", "failed", "not_run")
@@ -70,6 +74,8 @@ def encoding_for(ds: xr.Dataset, *, complevel: int = 4) -> dict:
 
 def case_status_variable(codes: np.ndarray, dims) -> xr.DataArray:
     """The int8 ``case_status`` flag variable over the grid (0 ok, 1 failed, 2 not_run)."""
+    import xarray as xr
+
     return xr.DataArray(
         np.asarray(codes, dtype=np.int8), dims=tuple(dims),
         attrs={"long_name": "outcome of the case at this grid point",

@@ -5,5 +5,9 @@
 - :mod:`~pipeline.run.cluster`: where the cases run: serially, on a local or an existing dask cluster;
 - :mod:`~pipeline.run.estimate`: a sweep's cost said before it starts.
 """
-from .cases import run_one_case
-from .runner import run_sweep, summary
+from ..exports import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    ".cases": ("run_one_case",),
+    ".runner": ("run_sweep", "summary"),
+})

@@ -19,12 +19,16 @@ The schema of every input field is :data:`pipeline.schema.fields.FIELDS`.
 - :mod:`~pipeline.schema.reference`: reference fit files (``sweeps/reference/*.toml``);
 - :mod:`~pipeline.schema.shipped`: where the shipped sweeps, bearings and profiles live.
 """
-from .config import (apply_override, bearing_from_dict, load_bearing, load_profile, lookup,
-                     parse_set, parse_sets, parse_value, profile_from_dict, read_toml, resolve_path)
-from .fields import FIELDS, REQUIRED, Field, check_set_key
-from .parameters import ParameterRow, parameter_table
-from .sweepfile import (MODEL_VERSION, OPERATING_POINT, REALIZATION, CaseSpec, Sweep, read_sweep_file,
-                        sweep_from_dict)
-from .units import (SI_UNITS, compose_units, format_quantity, parse_quantity, registry, si_udunits,
-                    udunits)
-from .stored import StoredConfiguration, stored_configuration
+from ..exports import attach
+
+__getattr__, __dir__, __all__ = attach(__name__, {
+    ".config": ("apply_override", "bearing_from_dict", "load_bearing", "load_profile", "lookup", "parse_set",
+                "parse_sets", "parse_value", "profile_from_dict", "read_toml", "resolve_path"),
+    ".fields": ("FIELDS", "REQUIRED", "Field", "check_set_key"),
+    ".parameters": ("ParameterRow", "parameter_table"),
+    ".sweepfile": ("MODEL_VERSION", "OPERATING_POINT", "REALIZATION", "CaseSpec", "Sweep", "read_sweep_file",
+                   "sweep_from_dict"),
+    ".units": ("SI_UNITS", "compose_units", "format_quantity", "parse_quantity", "registry", "si_udunits",
+               "udunits"),
+    ".stored": ("StoredConfiguration", "stored_configuration"),
+})

@@ -261,3 +261,39 @@ def test_sweep_without_an_argument_loads_the_shipped_default():
 
     assert sweep_path(None) == shipped_file(DEFAULT_SWEEP)
     assert sweep_path("study.toml") == shipped_file(DEFAULT_SWEEP) or Path("study.toml").exists()
+
+
+HEAVY = ("numba", "xarray", "pint", "scipy", "dask", "distributed", "matplotlib", "netCDF4")
+
+
+def _modules_after(argv) -> set:
+    """The top-level packages a fresh interpreter has imported after ``main(argv)``."""
+    code = ("import sys, contextlib, io\n"
+            "from pipeline.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.suppress(SystemExit):\n"
+            f"    main({argv!r})\n"
+            "print(' '.join(sorted({m.split('.')[0] for m in sys.modules})))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=ROOT, env={**os.environ, "PYTHONPATH": str(ROOT)})
+    return set(out.stdout.split())
+
+
+def test_help_loads_no_numerical_package():
+    """`rvsweep --help` and a command's `--help` that needs no schema load none of numba,
+    xarray, pint, scipy, dask or matplotlib (the packages' names are imported on use,
+    pipeline.exports); a command line adds its own command's arguments only. `simulate
+    --help` shows --method's choices from the schema, so it loads rvcore and numba."""
+    for argv in (["--help"], ["--version"], ["sweep", "--help"], ["check", "--help"]):
+        assert not _modules_after(argv) & set(HEAVY), argv
+    assert "numba" in _modules_after(["simulate", "--help"])
+    with pytest.raises(SystemExit):   # each command's own arguments are still there
+        main(["simulate", "--help"])
+
+
+def test_check_loads_no_output_package():
+    """Validating the study sweep reads the schema (pint, rvcore's geometry and Hertz
+    constants: numba, scipy) but nothing of the output side (pint itself imports dask
+    where it is installed)."""
+    loaded = _modules_after(["check", str(ROOT / "sweeps" / "study.toml")])
+    assert {"pint", "numba"} <= loaded
+    assert not loaded & {"xarray", "distributed", "matplotlib", "netCDF4"}, loaded & set(HEAVY)
