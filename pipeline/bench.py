@@ -14,9 +14,9 @@ asserts a time (these machines are noisy).
   a fine reference is no larger than ours, timed (median of repeats) against our IMEX
   integrator over that window (``rk4_scipy_ratio``: the same against our RK4). All start
   from the same state; the reference is our RK4 at a step 8x smaller than RK4's own.
-- ``phase_cost``: where the full cycle's integration time goes (:func:`phase_cost`): runs
-  of the same case from t = 0 to the end of each stretch of the profile (before the first
-  phase, each phase, after the last), differenced: ``phase_wall_s_<k>``, ``phase_steps_<k>``,
+- ``phase_cost``: where the full cycle's integration time goes (:func:`phase_cost`): the
+  same case run one stretch of the profile at a time (before the first phase, each phase,
+  after the last), each from the state the last ended in: ``phase_wall_s_<k>``, ``phase_steps_<k>``,
   ``phase_us_per_step_<k>``, ``phase_refreshes_per_step_<k>`` and
   ``phase_substepped_per_step_<k>`` for stretch k of ``phase_names``/``phase_windows_s``.
 - ``parallel_efficiency``: the smoke sweep run serially and on a 2-process LocalCluster:
@@ -153,15 +153,23 @@ def stretches(profile) -> list:
 
 
 def phase_cost(bearing=None, profile=None, op=None) -> dict:
-    """The integration's cost stretch by stretch of the cycle (:func:`stretches`): one run
-    of the case from t = 0 to each stretch's end with the default settings, each figure the
-    difference of two consecutive runs (so each stretch starts from the dynamics' own state,
-    not a quasi-static one). Default: the study case of :func:`full_cycle_of`.
+    """The integration's cost stretch by stretch of the cycle (:func:`stretches`): the
+    case run with the default settings one stretch at a time, each from the state the
+    previous one ended in (so each stretch starts from the dynamics' own state, not a
+    quasi-static one), each stretch's integrator timed alone. Default: the study case of
+    :func:`full_cycle_of`.
 
     Returns ``phase_names``, ``phase_windows_s`` and per stretch k ``phase_wall_s_<k>``
     (the integrator's wall time) [s], ``phase_steps_<k>``, ``phase_us_per_step_<k>`` [µs],
     ``phase_refreshes_per_step_<k>`` and ``phase_substepped_per_step_<k>`` [-] (IMEX's
     tangent refreshes and steps taken again in substeps), and ``phase_total_wall_s``.
+
+    Notes
+    -----
+    A run that starts from a given state evaluates its tangents at its first step, one
+    refresh more a stretch than the whole cycle's run takes there. (Until 2026-11-29 each
+    figure was the difference of two runs from t = 0 to consecutive stretch ends: a short
+    stretch's wall time could come out negative on a busy machine.)
     """
     from rvcore.simulation.run import run_case
     from rvcore.simulation.settings import SolverSettings
@@ -171,18 +179,18 @@ def phase_cost(bearing=None, profile=None, op=None) -> dict:
     run_case(bearing, profile, op, SolverSettings(end_time=2e-4))      # load every kernel
     parts = stretches(profile)
     out = {"phase_names": [p[0] for p in parts], "phase_windows_s": [(p[1], p[2]) for p in parts]}
-    before = {"wall_time": 0.0, "steps": 0, "tangent_refreshes": 0, "substepped_steps": 0}
-    for k, (_, _, end) in enumerate(parts):
-        info = run_case(bearing, profile, op, SolverSettings(end_time=end)).info
-        d = {key: info[key] - before[key] for key in before}
-        steps = max(int(d["steps"]), 1)
-        out[f"phase_wall_s_{k}"] = float(d["wall_time"])
-        out[f"phase_steps_{k}"] = int(d["steps"])
-        out[f"phase_us_per_step_{k}"] = float(d["wall_time"]) / steps * 1e6
-        out[f"phase_refreshes_per_step_{k}"] = int(d["tangent_refreshes"]) / steps
-        out[f"phase_substepped_per_step_{k}"] = int(d["substepped_steps"]) / steps
-        before = {key: info[key] for key in before}
-    out["phase_total_wall_s"] = float(before["wall_time"])
+    y, total = None, 0.0
+    for k, (_, start, end) in enumerate(parts):
+        r = run_case(bearing, profile, op, SolverSettings(start_time=start, end_time=end), initial_state_vector=y)
+        info, y = r.info, r.final_state
+        steps = max(int(info["steps"]), 1)
+        out[f"phase_wall_s_{k}"] = float(info["wall_time"])
+        out[f"phase_steps_{k}"] = int(info["steps"])
+        out[f"phase_us_per_step_{k}"] = float(info["wall_time"]) / steps * 1e6
+        out[f"phase_refreshes_per_step_{k}"] = int(info["tangent_refreshes"]) / steps
+        out[f"phase_substepped_per_step_{k}"] = int(info["substepped_steps"]) / steps
+        total += float(info["wall_time"])
+    out["phase_total_wall_s"] = total
     return out
 
 

@@ -99,7 +99,7 @@ def run(args):
             f"{f['rk4_full_cycle_wall_s'] / f[f'{m}_full_cycle_wall_s']:12.2f}" for m in methods))
     if "phase_names" in f:
         print(f"  where the {f['method']} integration's {f['phase_total_wall_s']:.2f} s go, stretch by stretch "
-              "(runs from 0 s to each stretch's end, differenced)")
+              "(one run a stretch, each from the state the last ended in)")
         print(f"    {'stretch':24s} {'window [s]':>12s} {'wall [s]':>9s} {'share':>6s} {'steps':>7s} {'us/step':>8s} "
               f"{'refreshes/step':>15s} {'substepped/step':>16s}")
         for k, name in enumerate(f["phase_names"]):
