@@ -167,9 +167,9 @@ def phase_cost(bearing=None, profile=None, op=None) -> dict:
     Notes
     -----
     A run that starts from a given state evaluates its tangents at its first step, one
-    refresh more a stretch than the whole cycle's run takes there. (Until 2026-11-29 each
-    figure was the difference of two runs from t = 0 to consecutive stretch ends: a short
-    stretch's wall time could come out negative on a busy machine.)
+    refresh more a stretch than the whole cycle's run takes there. Each stretch is timed
+    alone, not as the difference of two runs from t = 0, whose noise is that of the longer
+    run.
     """
     from rvcore.simulation.run import run_case
     from rvcore.simulation.settings import SolverSettings
