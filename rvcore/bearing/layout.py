@@ -102,6 +102,13 @@ class CompiledBearing:
     n_balls: int
     hertz_contacts: tuple  # ((row, ring, arc index, HertzContact), ...)
 
+    def stiffest_arc(self, r: int):
+        """K [N m^-1.5] of row ``r``'s stiffest race arc: the contact the integrators' steps,
+        the IMEX tolerances and the modes' explicit rates are sized on."""
+        row = self.rows[r]
+        a0, na = int(row[R_ARC0]), int(row[R_NARC])
+        return self.arcs[a0:a0 + na, A_K].max()
+
 
 def compile_bearing(bearing: Bearing, *, friction: bool = True, damping: bool = True,
                     gravity: bool = True) -> CompiledBearing:

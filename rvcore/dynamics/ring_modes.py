@@ -229,7 +229,7 @@ def modal_rates(model: CompiledBearing, q: float):
     ``c_max`` the contact damper's full coefficient (``P_DAMP_C``, on when ``P_DAMPING``).
     RK4's (:func:`rvcore.integrate.rk4.rk4_time_step`); the IMEX scheme has them all implicit.
     """
-    from ..bearing.layout import A_K, P_DAMP_C, P_DAMPING, R_ARC0, R_NARC
+    from ..bearing.layout import P_DAMP_C, P_DAMPING
 
     p = model.params
     out = []
@@ -237,10 +237,8 @@ def modal_rates(model: CompiledBearing, q: float):
         return out
     k_contacts, c_contacts = 0.0, 0.0
     for r in range(model.rows.shape[0]):
-        row = model.rows[r]
-        a0, na = int(row[R_ARC0]), int(row[R_NARC])
-        k_hertz = model.arcs[a0:a0 + na, A_K].max()
-        z = row[R_Z]
+        k_hertz = model.stiffest_arc(r)
+        z = model.rows[r, R_Z]
         k_contacts += z * 1.5 * k_hertz ** (2.0 / 3.0) * max(q, 1.0) ** (1.0 / 3.0)
         c_contacts += z * p[P_DAMP_C] * p[P_DAMPING]
     for f in range(len(FAMILIES)):

@@ -39,7 +39,7 @@ import math
 
 import numpy as np
 
-from ..bearing.layout import A_K, R_ARC0, R_HALF_D, R_IB, R_MB, R_NARC
+from ..bearing.layout import R_HALF_D, R_IB, R_MB
 from ..dynamics.ring_modes import modal_rates
 
 
@@ -50,8 +50,7 @@ def row_rates(model, q: float):
     integrators' steps come from."""
     for r in range(model.rows.shape[0]):
         row = model.rows[r]
-        a0, na = int(row[R_ARC0]), int(row[R_NARC])
-        k_hertz = model.arcs[a0:a0 + na, A_K].max()
+        k_hertz = model.stiffest_arc(r)
         m, i_b, h = row[R_MB], row[R_IB], row[R_HALF_D]
         yield math.sqrt(2.0 * 1.5 * k_hertz ** (2.0 / 3.0) * q ** (1.0 / 3.0) / m), m, h * h / i_b
 
