@@ -10,9 +10,10 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import warnings
 
 from .commands.common import accept_negative_values
-from .errors import UserError
+from .errors import UnitlessNumberWarning, UserError
 
 COMMANDS = ("check", "statics", "simulate", "sweep", "report", "compare", "bench")
 
@@ -46,11 +47,33 @@ def _command(argv) -> str:
     return next((a for a in argv if not a.startswith("-")), "")
 
 
+def _warning_line(show):
+    """``warnings.showwarning`` that prints a :class:`~pipeline.errors.UnitlessNumberWarning`
+    as one ``warning:`` line (its text names the file or flag, the key and the value), and
+    any other warning as ``show`` does."""
+    said = set()
+
+    def showwarning(message, category, filename, lineno, file=None, line=None):
+        if not issubclass(category, UnitlessNumberWarning):
+            show(message, category, filename, lineno, file, line)
+        elif str(message) not in said:   # each text once
+            said.add(str(message))
+            print(f"warning: {message}", file=sys.stderr)
+    return showwarning
+
+
 def main(argv=None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     command = _command(argv)
     parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
+    with warnings.catch_warnings():
+        warnings.showwarning = _warning_line(warnings.showwarning)
+        warnings.simplefilter("always", UnitlessNumberWarning)
+        return _run(args)
+
+
+def _run(args) -> int:
     try:
         return int(args._run(args) or 0)
     except UserError as exc:

@@ -21,3 +21,22 @@ class ConfigError(UserError):
         where = self.file if not key else f"{self.file}: {key}"
         shown = "" if value is None else f" = {value!r}"
         super().__init__(f"{where}{shown}: {reason}")
+
+
+class UnitlessNumberWarning(UserWarning):
+    """A dimensional input written as a number without a unit, read in SI.
+
+    Like :class:`ConfigError`, the message names the file (or flag), the key, the value as
+    typed and the reason, e.g. ``sweep.toml: axes.radial_load[0] = 30: a number without a
+    unit, read in SI: 30 N``: a load meant in kN would otherwise run a thousand times too
+    small without a word. ``rvsweep`` prints it as one ``warning:`` line.
+    """
+
+    def __init__(self, file, key: str | None, value, reason: str):
+        self.file = str(file) if file is not None else "<input>"
+        self.key = key
+        self.value = value
+        self.reason = reason
+        where = self.file if not key else f"{self.file}: {key}"
+        shown = "" if value is None else f" = {value!r}"
+        super().__init__(f"{where}{shown}: {reason}")

@@ -119,10 +119,24 @@ def one_case_sweep(args, *, profile: str | None):
     raw = {"name": "cli", "bearing": str(input_file(args.bearing).resolve()),
            "profile": str(input_file(profile).resolve()) if profile else str(default_profile()),
            "solver": solver, "cases": [fixed]}
-    try:
-        return sweep_from_dict(raw, Path.cwd() / "command line")
-    except ConfigError as exc:
-        raise _as_typed(exc, args) from None
+    import warnings
+
+    from ..errors import UnitlessNumberWarning
+
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always", UnitlessNumberWarning)
+        try:
+            sweep = sweep_from_dict(raw, Path.cwd() / "command line")
+        except ConfigError as exc:
+            raise _as_typed(exc, args) from None
+    for w in said:   # told again as typed (--radial-load '30'), outside the recording
+        if issubclass(w.category, UnitlessNumberWarning):
+            where = _typed_where(w.message, args)
+            warnings.warn(UnitlessNumberWarning(where, None, None, w.message.reason) if where
+                          else w.message, stacklevel=2)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return sweep
 
 
 #: The one-case sweep's keys and the options that set them.
@@ -136,24 +150,34 @@ def _shown(text, most: int = 80):
     return text if len(text) <= most else f"{text[:most // 2]}...{text[-most // 4:]}"
 
 
-def _as_typed(exc, args):
-    """A schema error about the command line's one case, told as the user typed it: the
-    option and its text ("--radial-load '30 kg'"), not the sweep's internal key and SI value."""
-    from ..errors import UserError
-
+def _typed_where(exc, args):
+    """Where the command line's one case has the value that ``exc`` (a ConfigError or an
+    UnitlessNumberWarning) is about, as the user typed it: the option and its text
+    ("--radial-load '30 kg'"), not the sweep's internal key and SI value; None when the
+    value comes from a bearing or profile file (that file's own message says it) or from
+    nowhere the command line names."""
     key = exc.key or ""
     if exc.file != str(Path.cwd() / "command line"):
-        return exc   # about a bearing or profile file: that file's own message says it
+        return None
     if key.startswith("cases[0]."):
         key = key[len("cases[0]."):]
         if key in _FLAGS:
-            return UserError(f"{_FLAGS[key]} {_shown(getattr(args, key))!r}: {exc.reason}")
+            return f"{_FLAGS[key]} {_shown(getattr(args, key))!r}"
     if key in ("bearing", "profile") and getattr(args, key, None):
-        return UserError(f"--{key} {getattr(args, key)!r}: {exc.reason}")
+        return f"--{key} {getattr(args, key)!r}"
     typed = next((item for item in args.set if item.split("=", 1)[0].strip() == key), None)
     if typed is not None:
-        return UserError(f"--set {typed!r}: {exc.reason}")
-    return exc
+        return f"--set {typed!r}"
+    return None
+
+
+def _as_typed(exc, args):
+    """A schema error about the command line's one case, told as the user typed it
+    (:func:`_typed_where`)."""
+    from ..errors import UserError
+
+    where = _typed_where(exc, args)
+    return exc if where is None else UserError(f"{where}: {exc.reason}")
 
 
 def default_profile() -> Path:

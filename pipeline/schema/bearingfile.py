@@ -26,6 +26,7 @@ from .convert import from_fields
 from .reader import Table, short, top_table
 from .ringfile import check_ring_supports, ring_supports
 from .tomlfile import MISSING, lookup, parse_key_path, read_toml
+from .units import unit_warnings_on_success
 
 __all__ = ["bearing_from_dict", "load_bearing"]
 
@@ -337,6 +338,7 @@ def _gravity(top: Table) -> tuple:
     return MOUNTINGS[top.get("mounting")]
 
 
+@unit_warnings_on_success
 def bearing_from_dict(raw: dict, file="<input>") -> Bearing:
     """Validate a bearing file's contents and build the :class:`rvcore.bearing.geometry.Bearing`.
 

@@ -24,6 +24,7 @@ from . import fields as schema
 from .convert import from_fields
 from .reader import Table, short, top_table
 from .tomlfile import read_toml
+from .units import unit_warnings_on_success
 
 __all__ = ["profile_from_dict", "load_profile", "CHANNELS", "SET_ELSEWHERE"]
 
@@ -117,6 +118,7 @@ def _phases(profile: Profile, top: Table) -> Profile:
     return dataclasses.replace(profile, phases=tuple(phases))
 
 
+@unit_warnings_on_success
 def profile_from_dict(raw: dict, file="<input>") -> Profile:
     """Validate a profile file's contents and build the :class:`rvcore.profile.Profile`.
 

@@ -106,6 +106,7 @@ from .sweepaxes import (MAX_CASES, NAME, OPERATING_POINT, REALIZATION, REQUIRED_
                         sort_key, target_of)
 from .statistics import DRAW, SAMPLE, Draws, apply_draw, parse_statistics, sample_names
 from .tomlfile import read_toml
+from .units import unit_warnings_on_success
 
 __all__ = ["MODEL_VERSION", "OPERATING_POINT", "REQUIRED_OPERATING_POINT", "REALIZATION", "TOP_KEYS",
            "Axis", "CaseSpec", "Setting",
@@ -221,6 +222,7 @@ def case_configuration(bearing: Bearing, profile: Profile, op: OperatingPoint,
 # --------------------------------------------------------------------------- loading
 
 
+@unit_warnings_on_success
 def read_sweep_file(path) -> Sweep:
     """Read, validate and expand a sweep file.
 
@@ -262,6 +264,7 @@ def _refuse_other_kinds(raw: dict, file) -> None:
                               f"profile = \"profiles/study.toml\" and [axes] (see sweeps/smoke.toml)")
 
 
+@unit_warnings_on_success
 def sweep_from_dict(raw: dict, file) -> Sweep:
     """:func:`read_sweep_file` on already-read TOML (``file`` names it and anchors paths)."""
     file = Path(file)

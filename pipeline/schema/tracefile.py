@@ -50,7 +50,7 @@ from ..errors import ConfigError
 from .tomlfile import read_toml, resolve_path
 from .fields import field as schema_field
 from .reader import check_value
-from .units import SI_UNITS, parse_quantity, registry
+from .units import SI_UNITS, numbers_in_si, parse_quantity, registry
 
 #: Formats a trace's data file may have; MAT files of version 7.3 are HDF5 (read by h5py),
 #: earlier ones by scipy.io.loadmat.
@@ -234,7 +234,8 @@ def _duty_constant(v, name: str, kind: str, file, key: str) -> DutyConstant:
                                            f"unit, e.g. {example}")
     if not _NUMBER_FIRST.match(v):
         raise ConfigError(file, key, v, f"not a constant (a number and its unit, e.g. {example}); {channel}")
-    value = check_value(schema_field("operating_point", name), v, file, key)
+    with numbers_in_si():   # a constant without its unit is refused below, not read in SI
+        value = check_value(schema_field("operating_point", name), v, file, key)
     q = registry().Quantity(v.strip())
     if not hasattr(q, "units") or q.unitless:
         raise ConfigError(file, key, v, f"a constant takes its unit, e.g. {example}")

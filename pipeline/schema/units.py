@@ -9,14 +9,17 @@ metric's unit over the axis's).
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import functools
 import math
 import re
+import warnings
 
 import pint
 import pint.util
 
-from ..errors import ConfigError
+from ..errors import ConfigError, UnitlessNumberWarning
 
 #: The SI unit (pint spelling) each physical kind is converted to. The key is what callers
 #: ask for; the files write it as :func:`si_udunits` spells it.
@@ -62,6 +65,47 @@ def registry() -> pint.UnitRegistry:
     return ureg
 
 
+#: True while a plain number is read without a warning (:func:`numbers_in_si`).
+_NUMBERS_IN_SI = contextvars.ContextVar("numbers_in_si", default=False)
+
+
+@contextlib.contextmanager
+def numbers_in_si():
+    """Read plain numbers in SI without a :class:`~pipeline.errors.UnitlessNumberWarning`:
+    where the caller refuses them itself (a trace file's duty constant must carry its
+    unit) or reads numbers it wrote in SI."""
+    token = _NUMBERS_IN_SI.set(True)
+    try:
+        yield
+    finally:
+        _NUMBERS_IN_SI.reset(token)
+
+
+def unit_warnings_on_success(read):
+    """``read`` (a reader of a whole file or table) with its
+    :class:`~pipeline.errors.UnitlessNumberWarning` held back until it returns: a file that
+    is refused says its one error line, not warnings about values it then refused."""
+    @functools.wraps(read)
+    def reader(*args, **kwargs):
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always", UnitlessNumberWarning)
+            result = read(*args, **kwargs)
+        for w in said:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return result
+    return reader
+
+
+def _unitless(value, x: float, kind: str, file, key) -> float:
+    """``x``, the SI value of the plain number ``value``; warns where a unit was due
+    (a dimensional kind, a value other than 0, text the user wrote)."""
+    target = SI_UNITS[kind]
+    if x != 0.0 and target != "dimensionless" and not _NUMBERS_IN_SI.get():
+        warnings.warn(UnitlessNumberWarning(file, key, value, f"a number without a unit, read in SI: "
+                                                              f"{x:g} {target.replace('**', '^')}"), stacklevel=3)
+    return x
+
+
 def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> float:
     """Convert ``value`` to a float in the SI unit of ``kind``.
 
@@ -83,7 +127,7 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
     if isinstance(value, bool):
         raise ConfigError(file, key, value, f"expected a quantity in {target}, got a boolean")
     if isinstance(value, (int, float)):
-        return float(value)
+        return _unitless(value, float(value), kind, file, key)
     if kind == "temperature":
         return _temperature(value, file, key)
     if not isinstance(value, str):
@@ -110,10 +154,12 @@ def parse_quantity(value, kind: str, *, file=None, key: str | None = None) -> fl
         raise ConfigError(file, key, value, "not a finite number")
     try:
         if isinstance(q, (int, float)):
-            return float(q)
+            return _unitless(value, float(q), kind, file, key)
+        if kind == "angle" and q.units == ureg.dimensionless:   # "30": 30 rad, not 30 deg
+            return _unitless(value, float(q.magnitude), kind, file, key)
         if q.dimensionless and kind != "angle" and kind != "dimensionless":
             if q.units == ureg.dimensionless:
-                return float(q.magnitude)  # a bare number in a string: SI
+                return _unitless(value, float(q.magnitude), kind, file, key)  # a bare number in a string: SI
         return float(q.to(target).magnitude)
     except pint.DimensionalityError:
         raise ConfigError(file, key, value, f"wrong units: expected something convertible to {target}, got {q.units:~}") from None

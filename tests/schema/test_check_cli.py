@@ -297,3 +297,48 @@ def test_check_loads_no_output_package():
     loaded = _modules_after(["check", str(ROOT / "sweeps" / "study.toml")])
     assert {"pint", "numba"} <= loaded
     assert not loaded & {"xarray", "distributed", "matplotlib", "netCDF4"}, loaded & set(HEAVY)
+
+
+# --------------------------------------------------------------------------- numbers without units
+def _sweep_with(tmp_path, fixed: str) -> Path:
+    p = tmp_path / "bare.toml"
+    p.write_text(f'name = "bare"\nbearing = "{ROOT / "sweeps" / "bearings" / "reduced-test.toml"}"\n'
+                 f'profile = "{ROOT / "sweeps" / "profiles" / "short.toml"}"\n'
+                 '[axes]\nspeed = ["120 deg/s"]\n'
+                 f'[fixed]\n{fixed}\n[solver]\nstep_safety = 0.8\ntime_step = 0\n')
+    return p
+
+
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")   # main prints them
+def test_a_load_without_its_unit_is_read_in_si_and_said(capsys, tmp_path):
+    """`radial_load = 30` is 30 N (the documented reading of a plain number), a thousandth
+    of what an engineer who meant kN expects: the check passes and says so in one line that
+    names the file, the key, the value as typed and the SI value read. The dimensionless
+    step_safety and the zero time_step need no unit and get no warning."""
+    p = _sweep_with(tmp_path, 'radial_load = 30\naxial_load = "10 kN"')
+    assert main(["check", str(p)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    said = [line for line in err if "without a unit" in line]
+    assert said == [f"warning: {p}: fixed.radial_load = 30: a number without a unit, read in SI: 30 N"]
+
+
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")
+def test_a_flag_without_its_unit_is_said_as_typed(capsys):
+    """On the command line the warning names the option and its text, as an error would:
+    `--radial-load 30` is 30 N and `--load-angle 30` is 30 rad (1719°), not 30°."""
+    assert main(["statics", "--bearing", str(BUILDABLE), "--radial-load", "30", "--axial-load", "10 kN",
+                 "--load-angle", "30"]) == 0
+    err = capsys.readouterr().err
+    assert "warning: --radial-load '30': a number without a unit, read in SI: 30 N" in err
+    assert "warning: --load-angle '30': a number without a unit, read in SI: 30 rad" in err
+    assert "--axial-load" not in err
+
+
+def test_a_refused_value_without_its_unit_is_one_error_line(capsys, tmp_path):
+    """The warning waits for the file to be accepted: a plain number that is then refused
+    gives the error's one line only."""
+    p = _sweep_with(tmp_path, 'radial_load = 1e12\naxial_load = "10 kN"')
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "more than the bearing can carry" in err and "warning" not in err
+

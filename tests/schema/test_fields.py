@@ -152,6 +152,7 @@ def _with_bearing_field(raw, f):
     return raw, key
 
 
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")   # the samples are SI numbers
 @pytest.mark.parametrize("f", schema.fields_of("bearing"), ids=lambda f: f.path)
 def test_every_bearing_field_is_accepted_by_the_loader(f):
     base = read_toml(shipped_file(DEFAULT_BEARING))
@@ -164,6 +165,7 @@ def test_every_bearing_field_is_accepted_by_the_loader(f):
     bearing_from_dict(raw, "x.toml")
 
 
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")   # the samples are SI numbers
 @pytest.mark.parametrize("f", schema.fields_of("profile"), ids=lambda f: f.path)
 def test_every_profile_field_is_accepted_by_the_loader(f):
     raw = read_toml(shipped_file(DEFAULT_PROFILE))
@@ -180,6 +182,7 @@ def test_every_profile_field_is_accepted_by_the_loader(f):
     profile_from_dict(raw, "p.toml")
 
 
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")   # the samples are SI numbers
 def test_every_solver_field_is_accepted_in_a_sweep(tmp_path):
     solver = {f.path.split(".", 1)[1]: f.default for f in schema.fields_of("solver")}
     raw = {"bearing": str(shipped_file(DEFAULT_BEARING)), "profile": str(shipped_file(DEFAULT_PROFILE)),

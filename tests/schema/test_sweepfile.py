@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import pipeline.schema.sweepfile as sweepfile
-from pipeline.errors import ConfigError
+from pipeline.errors import ConfigError, UnitlessNumberWarning
 from pipeline.schema import read_sweep_file
 
 REPO = Path(__file__).resolve().parents[2]
@@ -103,6 +103,7 @@ axial_load = "10 kN"
     assert [c.point["radial_load"] for c in s.cases[:5]] == list(load.coords)
 
 
+@pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")   # speeds in rad/s
 def test_range_with_a_float_step_does_not_lose_its_last_value(tmp_path):
     # (1.3 - 1.0) / 0.1 is 2.9999999999999996 in binary floating point
     p = make_sweep(tmp_path, """
@@ -233,8 +234,9 @@ def test_case_id_is_a_sha256_prefix_of_the_canonical_configuration(tmp_path):
 
 def test_case_ids_ignore_how_values_are_written(tmp_path):
     a = read_sweep_file(make_sweep(tmp_path, GRID, "a.toml"))
-    b = read_sweep_file(make_sweep(tmp_path, GRID.replace('"20 kN"', '"20000 N"').replace('"40 kN"', "40000")
-                              .replace('"10 kN"', '"0.01 MN"'), "b.toml"))
+    with pytest.warns(UnitlessNumberWarning, match="read in SI: 40000 N"):    # the plain 40000
+        b = read_sweep_file(make_sweep(tmp_path, GRID.replace('"20 kN"', '"20000 N"').replace('"40 kN"', "40000")
+                                  .replace('"10 kN"', '"0.01 MN"'), "b.toml"))
     c = read_sweep_file(make_sweep(tmp_path, 'description = "other words"\n' + GRID, "c.toml"))
     assert [x.case_id for x in a.cases] == [x.case_id for x in b.cases] == [x.case_id for x in c.cases]
 
