@@ -100,7 +100,9 @@ def split_sets(items) -> tuple:
 
 def one_case_sweep(args, *, profile: str | None):
     """A one-case sweep built from the command line, validated like a sweep file."""
-    from ..errors import ConfigError
+    import warnings
+
+    from ..errors import ConfigError, UnitlessNumberWarning
     from ..schema import sweep_from_dict
 
     speed = getattr(args, "speed", None)
@@ -110,8 +112,6 @@ def one_case_sweep(args, *, profile: str | None):
     method = getattr(args, "method", None)
     if method is not None:
         if "method" in solver:
-            from ..errors import ConfigError
-
             raise ConfigError("--method", "solver.method", method,
                               f"given twice (also as --set solver.method={solver['method']})")
         solver["method"] = method
@@ -119,10 +119,6 @@ def one_case_sweep(args, *, profile: str | None):
     raw = {"name": "cli", "bearing": str(input_file(args.bearing).resolve()),
            "profile": str(input_file(profile).resolve()) if profile else str(default_profile()),
            "solver": solver, "cases": [fixed]}
-    import warnings
-
-    from ..errors import UnitlessNumberWarning
-
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always", UnitlessNumberWarning)
         try:
