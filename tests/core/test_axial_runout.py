@@ -101,18 +101,25 @@ def test_a_class_sets_half_iso492_s_ia_and_s_ea_and_normal_has_none():
     assert r5.inner_axial_angle != realize(bearing(tolerance_class="5"), seed=4).rows[0].imperfections.inner_axial_angle
 
 
-def test_class_4_axial_runout_is_refused_unless_given():
-    """ISO 492 tabulates class 4's S_ia and S_ea, but no source for them was at hand: a
-    class-4 bearing is refused in one line naming the class and the size, unless the
-    amplitudes are given."""
-    from rvcore.standards.iso492 import ToleranceError, tolerance_problems
+def test_class_4_axial_runout_is_iso492s_and_refused_above_its_table():
+    """ISO 492 class 4 as NSK's Table 8.2 (and NTN's Table 6.4) reproduces it: S_ia 4 µm and
+    S_d 4 µm at a bore of 30–50 mm, S_ea 5 µm at an outside diameter of 50–80 mm; S_ia 8 µm
+    at 180–250 mm, S_ea 13 µm at 315–400 mm; a = S/2. ISO 492 gives class 4 no S_ia above a
+    250 mm bore: the study's section (320 mm) is refused in one line naming the class, S_ia
+    and the table's end, unless the amplitudes are given."""
+    from rvcore.standards.iso492 import ToleranceError, axial_runout_limits, face_runout_with_bore, tolerance_problems
 
+    assert axial_runout_limits(0.050, 0.080, "4") == pytest.approx((2e-6, 2.5e-6))
+    assert face_runout_with_bore(0.050, "4") == pytest.approx(4e-6)
+    assert axial_runout_limits(0.200, 0.383, "4") == pytest.approx((4e-6, 6.5e-6))
     with pytest.raises(ToleranceError) as err:
         realize(bearing(tolerance_class="4", inner_eccentricity=1e-6, outer_eccentricity=1e-6), seed=1)
-    assert "\n" not in str(err.value) and "class 4" in str(err.value) and "S_ia" in str(err.value)
+    text = str(err.value)
+    assert "\n" not in text and "class 4" in text and "S_ia" in text and "250 mm" in text
     given = dict(inner_given=True, outer_given=True, grade_given=True)
-    assert [p for p in tolerance_problems("4", 0.05, 0.08, 0.008, **given) if "S_" in p[2]]
-    assert not tolerance_problems("4", 0.05, 0.08, 0.008, inner_axial_given=True, outer_axial_given=True, **given)
+    assert not tolerance_problems("4", 0.050, 0.080, 0.008, **given)
+    assert [p for p in tolerance_problems("4", 0.320, 0.383, 0.008, **given) if "S_ia" in p[2]]
+    assert not tolerance_problems("4", 0.320, 0.383, 0.008, inner_axial_given=True, outer_axial_given=True, **given)
 
 
 def test_free_ring_tilts_with_its_tilted_groove_and_its_centre_stays():
