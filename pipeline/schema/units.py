@@ -98,8 +98,13 @@ def unit_warnings_on_success(read):
 
 def _unitless(value, x: float, kind: str, file, key) -> float:
     """``x``, the SI value of the plain number ``value``; warns where a unit was due
-    (a dimensional kind, a value other than 0, text the user wrote)."""
+    (a dimensional kind, a value other than 0, text the user wrote). An angle other than 0
+    is refused: degrees and radians are both in use, and neither reading is safe
+    (``load_angle = 30`` read as 30 rad points the load at 279°)."""
     target = SI_UNITS[kind]
+    if x != 0.0 and kind == "angle" and not _NUMBERS_IN_SI.get():
+        raise ConfigError(file, key, value, "an angle needs its unit, e.g. '30 deg' or '0.5 rad' "
+                                            "(a plain number could be either)")
     if x != 0.0 and target != "dimensionless" and not _NUMBERS_IN_SI.get():
         warnings.warn(UnitlessNumberWarning(file, key, value, f"a number without a unit, read in SI: "
                                                               f"{x:g} {target.replace('**', '^')}"), stacklevel=3)

@@ -325,13 +325,27 @@ def test_a_load_without_its_unit_is_read_in_si_and_said(capsys, tmp_path):
 @pytest.mark.filterwarnings("ignore::pipeline.errors.UnitlessNumberWarning")
 def test_a_flag_without_its_unit_is_said_as_typed(capsys):
     """On the command line the warning names the option and its text, as an error would:
-    `--radial-load 30` is 30 N and `--load-angle 30` is 30 rad (1719°), not 30°."""
+    `--radial-load 30` is 30 N; a zero angle needs no unit."""
     assert main(["statics", "--bearing", str(BUILDABLE), "--radial-load", "30", "--axial-load", "10 kN",
-                 "--load-angle", "30"]) == 0
+                 "--load-angle", "0"]) == 0
     err = capsys.readouterr().err
     assert "warning: --radial-load '30': a number without a unit, read in SI: 30 N" in err
-    assert "warning: --load-angle '30': a number without a unit, read in SI: 30 rad" in err
-    assert "--axial-load" not in err
+    assert "--axial-load" not in err and "--load-angle" not in err
+
+
+def test_an_angle_without_its_unit_is_refused(capsys, tmp_path):
+    """`--load-angle 30` could mean 30° or 30 rad (1719°, the load at 279°): refused in one
+    line naming the option and its text, before any work; in a file, naming the file and
+    the key. With its unit it runs."""
+    assert main(["statics", "--bearing", str(BUILDABLE), "--radial-load", "30 kN", "--load-angle", "30"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--load-angle '30'" in err and "deg" in err and "rad" in err
+    p = _sweep_with(tmp_path, 'radial_load = "30 kN"\naxial_load = "10 kN"\nload_angle = 30')
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(p) in err and "load_angle" in err and "needs its unit" in err
+    p = _sweep_with(tmp_path, 'radial_load = "30 kN"\naxial_load = "10 kN"\nload_angle = "30 deg"')
+    assert main(["check", str(p)]) == 0
 
 
 def test_a_refused_value_without_its_unit_is_one_error_line(capsys, tmp_path):
