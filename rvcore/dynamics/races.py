@@ -80,7 +80,8 @@ G_CK, G_SK, G_MW, G_MU, G_FM = BALL_STATES + 24, BALL_STATES + 25, BALL_STATES +
 N_BALL_FIELDS = BALL_STATES + 32
 # (and the contact's film for the friction law: mean Hertz pressure, central film, λ;
 # rvcore.contact.laws.contact_film, NO_FILM when the law needs none; and for a law that needs
-# it, the logarithms of h_c and λ that the film along the cycle takes, arc_film)
+# it, the logarithms of h_c and λ that the film along the cycle takes, arc_film; for one that
+# does not, C_LOG_HC holds the entrainment speed smallest_film took)
 (C_DELTA, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_UX, C_UY, C_UZ, C_UN, C_Q, C_FX, C_FY, C_FZ, C_MX, C_MY,
  C_MZ, C_P, C_H, C_LAM, C_DD, C_LOG_HC, C_LOG_LAM) = range(24)
 N_ARC_FIELDS = 24
@@ -523,6 +524,71 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
         out[C_MX * W + j] = dmx
         out[C_MY * W + j] = dmy
         out[C_MZ * W + j] = dmz
+
+
+#: Where :func:`smallest_film` takes a contact's logarithms: where the lower bound of how far
+#: its ``log h_c`` (and its ``log λ``) lies above the largest-loaded contact's is at most
+#: this [-]. The logarithms themselves err by about 1e-14 (|log h_c| ≈ 16).
+FILM_MARGIN = 1e-9
+
+
+@kernel(inline=True)
+def smallest_film(buf, out, nz, arcs, a, h):
+    """The smallest ``log h_c`` and ``log λ`` [log m, -] over arc ``a``'s loaded contacts
+    (docs/model.md, "The film along the cycle"), for a friction law without a film of its
+    own (:func:`arc_film` leaves a film law's logarithms in ``C_LOG_HC``, ``C_LOG_LAM``);
+    ``(inf, inf)`` where none is loaded. After :func:`arc_contacts` and before the next row.
+
+    Notes
+    -----
+    Hamrock–Dowson at each contact, ``log h = log h1 + e_u·log u_e + e_w·log Q``
+    (:func:`rvcore.contact.film.with_film_columns`; ``u_e = 0``: no film, −inf), exactly as
+    each contact's own would be, but only where it can be the smallest: ``e_u > 0`` and
+    ``e_w < 0``, so with ``k`` the contact of the largest load ``Q*`` (entrainment speed
+    ``u*``) and ``ln x ≥ 1 − 1/x``::
+
+        log h_j − log h_k ≥ e_u·(1 − u*/u_j) − e_w·(1 − Q_j/Q*)
+
+    and where that bound passes :data:`FILM_MARGIN` for both films, contact j is not the
+    smallest and no logarithm is taken: two where there were two a contact (the study
+    bearing's loaded contacts share one entrainment speed to about 1e-3; the largest loads
+    set the film). The result is the same, bit for bit, as the minimum over every contact.
+    """
+    best_q, best_u = -1.0, 0.0
+    for j in range(nz):     # each loaded contact's u_e (C_LOG_HC: a dry law's slot is free)
+        delta, q = out[C_DELTA * W + j], out[C_Q * W + j]
+        if delta <= 0.0 or q <= 0.0 or q != q:     # a NaN load's film is NaN: no minimum
+            continue
+        ue = entrainment_speed(buf[S_PX * W + j], buf[S_PY * W + j], buf[S_VX * W + j], buf[S_VY * W + j],
+                               buf[S_WX * W + j], buf[S_WY * W + j], buf[S_WZ * W + j], h * out[C_NX * W + j],
+                               h * out[C_NY * W + j], h * out[C_NZ * W + j], buf[G_INV_RHO_B * W + j],
+                               out[C_UX * W + j], out[C_UY * W + j], out[C_UZ * W + j], out[C_UN * W + j],
+                               out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j])
+        if not ue > 0.0:
+            return -math.inf, -math.inf     # no film: log h = −inf whatever the load
+        out[C_LOG_HC * W + j] = ue
+        if q > best_q:
+            best_q, best_u = q, ue
+    log_hc, log_lam = math.inf, math.inf
+    if best_q < 0.0:
+        return log_hc, log_lam
+    for j in range(nz):
+        delta, q = out[C_DELTA * W + j], out[C_Q * W + j]
+        if delta <= 0.0 or q <= 0.0 or q != q:
+            continue
+        ue = out[C_LOG_HC * W + j]
+        gu, gq = 1.0 - best_u / ue, 1.0 - q / best_q
+        if HC_EXP_U * gu - HC_EXP_W * gq > FILM_MARGIN and HM_EXP_U * gu - HM_EXP_W * gq > FILM_MARGIN:
+            continue
+        lu = math.log(ue)
+        lq = math.log(q)
+        lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
+        ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+        if lh < log_hc:
+            log_hc = lh
+        if ll < log_lam:
+            log_lam = ll
+    return log_hc, log_lam
 
 
 @kernel

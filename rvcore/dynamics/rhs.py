@@ -43,12 +43,11 @@ from .._numba import kernel
 
 from ..contact.laws import (LOADED_BALL_LOAD, NO_FILM, NO_FILM_CONSTANTS, damping_coefficient, friction_force,
                             friction_kind, friction_uses_film, hertz_load, land_penetration, normal_force)
-from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
 from ..contact.pose import ring_angular_velocity, ring_rotation, ring_to_global
 from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
 from .tangent import (FX_ANG, J_COUPLED, J_FX, J_KA, J_W, N_FX, N_JWORK, contact_blocks, friction_tangent,
                        groove_blocks, modal_blocks, stiffness_blocks)
-from ..bearing.layout import (A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, MAX_ROW_ARCS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
+from ..bearing.layout import (A_K, A_PC3, A_RING, A_RMH, BALL_STATES, GUIDE_OUTER_LAND, MAX_ROW_ARCS, P_DAMP_C, P_DAMP_D, P_DAMPING, P_GX,
                     P_GY, P_GZ, P_LAND_C, P_LAW, P_LUB_SIGMA, P_POCKET_C, P_RING_IP, P_RING_IT, P_RING_M,
                     P_TILT_HELD, R_ARC0, R_BALL0, R_CAGE0, R_CAGE_I, R_CAGE_M, R_CAGE_RI,
                     R_CAGE_RO, R_GUIDE, R_HALF_D, R_IB, R_LAND_CLEAR, R_LAND_K, R_MB, R_NARC,
@@ -58,7 +57,7 @@ from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, ch
 from .races import (C_DD, C_DELTA, C_H, C_LAM, C_LOG_HC, C_LOG_LAM, C_P, C_FX, C_FY, C_FZ, C_MX, C_MY, C_MZ, C_NLX, C_NLY, C_NLZ, C_NX, C_NY, C_NZ, C_Q,
                     C_UN, C_UX, C_UY, C_UZ, G_D_HALF, G_INV_RHO_B, G_INV_RHO_L, G_PLX, G_PLY, P_AX, P_AY, P_AZ, P_DELTA,
                     P_DGX, P_DGY, P_DGZ, P_FX, P_FY, P_FZ, P_MX, P_MY, P_MZ, P_Q, P_QH, P_UN, P_UX, P_UY, P_UZ,
-                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, arc_film, ball_geometry, entrainment_speed, gather_balls,
+                    POCKET, SCRATCH_SIZE, W, arc, arc_contacts, arc_film, ball_geometry, gather_balls, smallest_film,
                     pocket_contacts, raceway_offsets, ring_forces, ring_surfaces, scratch, G_FM)
 from .raceway import spin_of
 from .ring_modes import clear_modal_forces, flexible, modal_rhs
@@ -367,22 +366,14 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                         sin_min = sin_a
                     if sin_a > sin_max:
                         sin_max = sin_a
-                    # Hamrock–Dowson at this contact: log h = log h1 + e_u·log u_e + e_w·log Q
-                    # (rvcore.contact.film.with_film_columns); u_e = 0 gives no film. A law
-                    # that needs the film has them from its own pass (races.arc_film)
+                    # Hamrock–Dowson at this contact, from a film law's own pass
+                    # (races.arc_film); without one, races.smallest_film after the row
                     if film_law:
                         lh, ll = buf[o + C_LOG_HC * W], buf[o + C_LOG_LAM * W]
-                    else:
-                        ue = entrainment_speed(px, py, vx, vy, y[b + 6], y[b + 7], y[b + 8], ax, ay, az, inv_rho_b,
-                                               ux, uy, uz, un, nx, ny, nz)
-                        lu = math.log(ue) if ue > 0.0 else -math.inf
-                        lq = math.log(q)
-                        lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
-                        ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
-                    if lh < log_hc_min:
-                        log_hc_min = lh
-                    if ll < log_lam_min:
-                        log_lam_min = ll
+                        if lh < log_hc_min:
+                            log_hc_min = lh
+                        if ll < log_lam_min:
+                            log_lam_min = ll
                 if inner:
                     # reaction on the ring, and its moment about the ring centre
                     fxi -= fx
@@ -474,6 +465,14 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             dy[b + 6] = (mbx + mpx) * inv_ib
             dy[b + 7] = (mby + mpy) * inv_ib
             dy[b + 8] = (mbz + mpz) * inv_ib
+
+        if full and not film_law:    # the smallest film over the row's loaded race contacts
+            for a in range(a0, a0 + na):
+                lh, ll = smallest_film(buf, buf[arc(a - a0):arc(a - a0 + 1)], nz_balls, arcs, a, h)
+                if lh < log_hc_min:
+                    log_hc_min = lh
+                if ll < log_lam_min:
+                    log_lam_min = ll
 
         if flex:    # at each ball's angle in each ring
             ring_forces(buf, params, dy, nz_balls)

@@ -15,10 +15,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numba import njit
 
-from rvcore.bearing.layout import compile_bearing
+from rvcore.bearing.layout import A_LOG_HC1, A_LOG_LAM1, compile_bearing
 from rvcore.bearing.lubricant import contact_lubricant, contamination_of, operating_viscosity
-from rvcore.contact.film import hamrock_dowson_contact
+from rvcore.contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W, hamrock_dowson_contact
+from rvcore.dynamics import races as R
 from rvcore.dynamics.rhs import new_diagnostics
 from rvcore.hertz import effective_modulus, race_contact
 from rvcore.output_table import SLOT
@@ -171,3 +175,68 @@ def test_one_level_cycle_is_a_iso_times_l10r():
     assert out["rating_life_L_nm"] == pytest.approx(a * l10r, rel=1e-12)
     assert out["a_iso_cycle"] == pytest.approx(a, rel=1e-12)
     assert out["kappa_below_scope_fraction"] == 0.0
+
+
+# --------------------------------------------------------------------------- the smallest film
+def _arc_scratch(ue, q, delta):
+    """A row's scratch (rvcore.dynamics.races) whose first arc has contacts of entrainment
+    speeds ``ue`` [m/s], loads ``q`` [N] and penetrations ``delta`` [m]: balls at rest on
+    the axis, normal x̂, slip −2·u_e along ŷ, so that the mean surface speed is u_e."""
+    buf = np.zeros(R.SCRATCH_SIZE)
+    out = buf[R.arc(0):R.arc(1)]
+    n = len(q)
+    buf[R.G_INV_RHO_B * R.W:R.G_INV_RHO_B * R.W + n] = 1.0
+    for field, values in ((R.C_NX, 1.0), (R.C_UY, -2.0 * np.asarray(ue)), (R.C_Q, q), (R.C_DELTA, delta)):
+        out[field * R.W:field * R.W + n] = values
+    return buf, out
+
+
+@njit
+def _every_contact(buf, out, nz, arcs, h):
+    """The film of every loaded contact of the scratch's first arc (``_arc_scratch``), its
+    minimum taken over all of them: (log h_c, log λ)."""
+    lh_min, ll_min = math.inf, math.inf
+    for j in range(nz):
+        delta, q = out[R.C_DELTA * R.W + j], out[R.C_Q * R.W + j]
+        if delta <= 0.0 or q <= 0.0:
+            continue
+        ue = R.entrainment_speed(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, h, 0.0, 0.0, 1.0, 0.0,
+                                 out[R.C_UY * R.W + j], 0.0, 0.0, 1.0, 0.0, 0.0)
+        lu = math.log(ue) if ue > 0.0 else -math.inf
+        lq = math.log(q)
+        lh = arcs[0, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
+        ll = arcs[0, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+        if lh < lh_min:
+            lh_min = lh
+        if ll < ll_min:
+            ll_min = ll
+    return lh_min, ll_min
+
+
+@njit
+def _pruned(buf, out, nz, arcs, h):
+    return R.smallest_film(buf, out, nz, arcs, 0, h)
+
+
+@settings(max_examples=150, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 51), u_spread=st.sampled_from([0.0, 1e-12, 1e-6, 1e-3, 0.3]),
+       q_spread=st.sampled_from([0.0, 1e-12, 1e-6, 1e-2, 0.9]), open_share=st.sampled_from([0.0, 0.3, 1.0]),
+       stopped=st.booleans())
+def test_the_smallest_film_is_the_minimum_over_every_loaded_contact_bit_for_bit(seed, n, u_spread, q_spread,
+                                                                                open_share, stopped):
+    """`races.smallest_film` takes the logarithms only of the contacts that can hold the
+    smallest film (module Notes there); its result must be, bit for bit, the minimum of
+    Hamrock–Dowson's log h_c and log λ over every loaded contact, computed here contact by
+    contact: near ties in speed and load, open contacts, a contact at rest (no film)."""
+    rng = np.random.default_rng(seed)
+    ue = 2.0 * (1.0 + u_spread * rng.uniform(-1.0, 1.0, n))
+    q = 3000.0 * (1.0 - q_spread * rng.uniform(0.0, 1.0, n))
+    delta = np.where(rng.uniform(size=n) < open_share, -1e-6, 1e-5)
+    if stopped:
+        ue[rng.integers(n)] = 0.0
+    buf, out = _arc_scratch(ue, q, delta)
+    arcs = np.zeros((1, 12))
+    arcs[0, A_LOG_HC1], arcs[0, A_LOG_LAM1] = -16.2, 2.3
+    got = _pruned(buf, out, n, arcs, 0.0115)
+    want = _every_contact(buf, out, n, arcs, 0.0115)
+    assert np.array([got]).tobytes() == np.array([want]).tobytes(), (got, want)
