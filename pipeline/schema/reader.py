@@ -67,6 +67,8 @@ def check_value(f: schema.Field, v, file, key, bounds=_SAME):
             raise ConfigError(file, key, short(v), "must be true or false")
         return v
     if f.kind in ("string", "choice"):
+        if f.choices and isinstance(v, int) and not isinstance(v, bool) and str(v) in f.choices:
+            return str(v)       # tolerance_class = 4: the class "4", typed without its quotes
         if f.choices and not isinstance(v, str):
             raise ConfigError(file, key, short(v), f"must be one of the strings {join(f.choices, quote=True)}")
         if not isinstance(v, str):

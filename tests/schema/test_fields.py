@@ -549,3 +549,19 @@ def test_every_attribute_is_read_by_the_field_table_or_set_elsewhere_once(file):
         if SET_ELSEWHERE[e].startswith(("derived", "not an input")):
             assert e not in sources, f"{e}: a key's source, and derived"
     assert sources <= paths, sources - paths
+
+
+def test_a_tolerance_class_typed_as_a_number_is_that_class():
+    """`tolerance_class = 5`, the class written without its quotes (a TOML integer, as
+    `--set imperfections.tolerance_class=5` gives it too), is the class "5"; a number that is
+    no class is refused in one line naming the classes."""
+    from pipeline.schema.tomlfile import read_toml
+
+    raw = read_toml(ROOT / "sweeps" / "bearings" / "reduced-test.toml")
+    raw["imperfections"] = {"tolerance_class": 5}
+    assert bearing_from_dict(copy.deepcopy(raw), file="b.toml").rows[0].imperfections.tolerance_class == "5"
+    raw["imperfections"] = {"tolerance_class": 3}
+    with pytest.raises(ConfigError) as err:
+        bearing_from_dict(raw, file="b.toml")
+    text = str(err.value)
+    assert "\n" not in text and "tolerance_class" in text and '"normal"' in text and '"4"' in text
