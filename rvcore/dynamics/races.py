@@ -532,7 +532,7 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
 FILM_MARGIN = 1e-9
 
 
-@kernel(inline=True)
+@kernel
 def smallest_film(buf, out, nz, arcs, a, h):
     """The smallest ``log h_c`` and ``log λ`` [log m, -] over arc ``a``'s loaded contacts
     (docs/model.md, "The film along the cycle"), for a friction law without a film of its
@@ -554,19 +554,20 @@ def smallest_film(buf, out, nz, arcs, a, h):
     bearing's loaded contacts share one entrainment speed to about 1e-3; the largest loads
     set the film). The result is the same, bit for bit, as the minimum over every contact.
     """
+    for j in range(nz):     # every contact's u_e, in a vector pass (C_LOG_HC: a dry law's slot is free)
+        out[C_LOG_HC * W + j] = entrainment_speed(
+            buf[S_PX * W + j], buf[S_PY * W + j], buf[S_VX * W + j], buf[S_VY * W + j], buf[S_WX * W + j],
+            buf[S_WY * W + j], buf[S_WZ * W + j], h * out[C_NX * W + j], h * out[C_NY * W + j],
+            h * out[C_NZ * W + j], buf[G_INV_RHO_B * W + j], out[C_UX * W + j], out[C_UY * W + j],
+            out[C_UZ * W + j], out[C_UN * W + j], out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j])
     best_q, best_u = -1.0, 0.0
-    for j in range(nz):     # each loaded contact's u_e (C_LOG_HC: a dry law's slot is free)
+    for j in range(nz):     # the most loaded contact
         delta, q = out[C_DELTA * W + j], out[C_Q * W + j]
         if delta <= 0.0 or q <= 0.0 or q != q:     # a NaN load's film is NaN: no minimum
             continue
-        ue = entrainment_speed(buf[S_PX * W + j], buf[S_PY * W + j], buf[S_VX * W + j], buf[S_VY * W + j],
-                               buf[S_WX * W + j], buf[S_WY * W + j], buf[S_WZ * W + j], h * out[C_NX * W + j],
-                               h * out[C_NY * W + j], h * out[C_NZ * W + j], buf[G_INV_RHO_B * W + j],
-                               out[C_UX * W + j], out[C_UY * W + j], out[C_UZ * W + j], out[C_UN * W + j],
-                               out[C_NX * W + j], out[C_NY * W + j], out[C_NZ * W + j])
+        ue = out[C_LOG_HC * W + j]
         if not ue > 0.0:
             return -math.inf, -math.inf     # no film: log h = −inf whatever the load
-        out[C_LOG_HC * W + j] = ue
         if q > best_q:
             best_q, best_u = q, ue
     log_hc, log_lam = math.inf, math.inf
