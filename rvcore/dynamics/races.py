@@ -553,6 +553,8 @@ def smallest_film(buf, out, nz, arcs, a, h):
     smallest and no logarithm is taken: two where there were two a contact (the study
     bearing's loaded contacts share one entrainment speed to about 1e-3; the largest loads
     set the film). The result is the same, bit for bit, as the minimum over every contact.
+    A kernel of its own, not inlined into :func:`rvcore.dynamics.rhs.rhs`: with the scratch
+    and the arc's part of it as two arrays, LLVM vectorises the entrainment speeds' pass.
     """
     for j in range(nz):     # every contact's u_e, in a vector pass (C_LOG_HC: a dry law's slot is free)
         out[C_LOG_HC * W + j] = entrainment_speed(
