@@ -136,20 +136,24 @@ DEFAULT_BALL_GRADE = {"normal": "G20", "6": "G16", "5": "G10", "4": "G5"}
 #: (module docstring): G3, G5 to 1/2 in, G10, G16 to 1 in, G20 to 1 1/2 in.
 BALL_GRADE_MAX_DIAMETER = {"G3": 12.7e-3, "G5": 12.7e-3, "G10": 25.4e-3, "G16": 25.4e-3, "G20": 38.1e-3}
 
-#: Why a class has no K_ia beyond its last row, for the refusal's line.
-_K_IA_END = {"4": "ISO 492 gives class 4's K_ia to a bore of 250 mm"}
-
 
 class ToleranceError(ValueError):
     """The tables carry no value for this class and size (said why)."""
 
 
-def _lookup(limits, values, size: float, what: str, tolerance_class: str, why: str = "") -> float:
+def _lookup(limits, values, size: float, what: str, tolerance_class: str) -> float:
+    """``values`` at ``size`` [m] over the ranges ending at ``limits``; refused beyond the
+    class's last value, saying where its table ends: a class whose values stop before the
+    ranges do (NaN after them) ends where ISO 492 gives it no more (class 4)."""
     k = int(np.searchsorted(limits, size - 1e-12))
     if k >= limits.size or not np.isfinite(values[k]):
+        given = np.flatnonzero(np.isfinite(values))
+        end = limits[given[-1]] * 1e3 if given.size else 0.0
+        dimension = "a bore" if limits is BORE_LIMITS else "an outside diameter"
+        why = (f"ISO 492 gives class {tolerance_class}'s {what} to {dimension} of {end:.0f} mm"
+               if given.size and given[-1] < limits.size - 1 else f"the tables here end at {end:.0f} mm")
         raise ToleranceError(f"ISO 492 {what} of class {tolerance_class} is not tabulated here for "
-                             f"{size * 1e3:.4g} mm" + (f" ({why})" if why else "")
-                             + "; give the eccentricity itself")
+                             f"{size * 1e3:.4g} mm ({why}); give the eccentricity itself")
     return float(values[k])
 
 
@@ -157,8 +161,7 @@ def inner_runout(bore: float, tolerance_class: str) -> float:
     """ISO 492 ``K_ia`` of an inner ring of bore ``bore`` [m] in ``tolerance_class`` [m]."""
     if tolerance_class not in K_IA:
         raise ToleranceError(f"tolerance class {tolerance_class!r} is not one of {', '.join(TOLERANCE_CLASSES)}")
-    return _lookup(BORE_LIMITS, K_IA[tolerance_class], bore, "K_ia", tolerance_class,
-                   _K_IA_END.get(tolerance_class, "") if bore > 250e-3 else "")
+    return _lookup(BORE_LIMITS, K_IA[tolerance_class], bore, "K_ia", tolerance_class)
 
 
 def outer_runout(outer_diameter: float, tolerance_class: str) -> float:
@@ -174,10 +177,8 @@ def _axial(table, limits, size: float, what: str, tolerance_class: str):
         raise ToleranceError(f"tolerance class {tolerance_class!r} is not one of {', '.join(TOLERANCE_CLASSES)}")
     if tolerance_class not in AXIAL_RUNOUT_CLASSES:
         return None
-    why = "" if tolerance_class == "5" else (f"ISO 492 gives class 4's {what} to "
-                                            f"{'a bore of 250 mm' if limits is BORE_LIMITS else 'an outside diameter of 400 mm'}")
     try:
-        return _lookup(limits, table[tolerance_class], size, what, tolerance_class, why)
+        return _lookup(limits, table[tolerance_class], size, what, tolerance_class)
     except ToleranceError as exc:
         raise ToleranceError(str(exc).replace("give the eccentricity itself",
                                               "give the raceway's axial amplitude itself")) from None
