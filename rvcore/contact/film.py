@@ -243,6 +243,18 @@ def entrainment_speed_pure_rolling(relative_speed, pitch_diameter, ball_diameter
     return abs(float(relative_speed)) * dm * (1.0 - gamma * gamma) / 4.0
 
 
+@kernel(inline=True)
+def log_films(log_hc1, log_lam1, lu, lq):
+    """``(log h_c, log λ)`` [log m, -] of a contact at ``lu = log u_e`` and ``lq = log Q``
+    from its arc's unit-film columns (:func:`with_film_columns`)::
+
+        log h_c = log h_c1 + 0.67·log u_e − 0.067·log Q
+        log λ   = log λ1  + 0.68·log u_e − 0.073·log Q
+
+    Hamrock–Dowson's central and minimum films as power laws of u and Q at one contact."""
+    return log_hc1 + HC_EXP_U * lu + HC_EXP_W * lq, log_lam1 + HM_EXP_U * lu + HM_EXP_W * lq
+
+
 def with_film_columns(model, bearing):
     """``model`` (:func:`rvcore.bearing.layout.compile_bearing`) with its arcs' unit-film
     columns filled: ``log h_c`` [log m] and ``log λ`` [-] of each arc's Hertz contact at 1 N

@@ -43,7 +43,7 @@ from ..contact.laws import (FRICTION_KINDS, NO_FILM, NO_FILM_CONSTANTS, ball_con
                             cage_pocket_penetration, contact_film_of_logs, film_coefficients, friction_film_constants_of, friction_kind,
                             friction_uses_film, hertz_load, normal_force, race_arc_penetration)
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
-from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W
+from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W, log_films
 from .raceway import ball_offsets
 from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, family_record, flexible
 from ..contact.pose import ring_to_global, to_ring_frame
@@ -503,8 +503,8 @@ def _film_pass(out, nz, arcs, a, h, law, kind, held, fresh):
                 if fresh:    # the film along the cycle's logarithms, as rvcore.dynamics.rhs writes them
                     lq = lw if q >= 1e-6 else math.log(q)
                     lu = lu if ue >= 1e-30 else (math.log(ue) if ue > 0.0 else -math.inf)
-                    out[C_LOG_HC * W + j] = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
-                    out[C_LOG_LAM * W + j] = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+                    out[C_LOG_HC * W + j], out[C_LOG_LAM * W + j] = log_films(arcs[a, A_LOG_HC1],
+                                                                             arcs[a, A_LOG_LAM1], lu, lq)
             else:
                 f0, f1, f2 = held[j, 0], held[j, 1], held[j, 2]
             fx, fy, fz, dmx, dmy, dmz = ball_contact_force(q, nx, ny, nz_, out[C_UX * W + j], out[C_UY * W + j],
@@ -585,8 +585,7 @@ def smallest_film(buf, out, nz, arcs, a, h):
             continue
         lu = math.log(ue)
         lq = math.log(q)
-        lh = arcs[a, A_LOG_HC1] + HC_EXP_U * lu + HC_EXP_W * lq
-        ll = arcs[a, A_LOG_LAM1] + HM_EXP_U * lu + HM_EXP_W * lq
+        lh, ll = log_films(arcs[a, A_LOG_HC1], arcs[a, A_LOG_LAM1], lu, lq)
         if lh < log_hc:
             log_hc = lh
         if ll < log_lam:
