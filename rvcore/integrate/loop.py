@@ -86,11 +86,13 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         # the outputs' signals at the step's state (the stages skip the costly ones), and
         # whatever else the method takes from that evaluation (IMEX: its tangents)
         evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state)
-        # blow-up checks on the state at t
-        total = 0.0
+        # blow-up checks on the state at t: x − x is 0 for a finite x, NaN otherwise (an
+        # or over the state, which vectorises where a sum in order would not)
+        bad = False
         for m in range(n):
-            total += y[m] + k1[m]
-        if not math.isfinite(total):
+            s = y[m] + k1[m]
+            bad |= (s - s) != 0.0
+        if bad:
             for m in range(n):
                 if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
                     return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]

@@ -42,7 +42,7 @@ from rvcore.recording.results import SimulationError
 from rvcore.simulation.settings import SolverSettings
 from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.energy import kinetic_energy, potential_energy
-from rvcore.bearing.layout import compile_bearing, nominal_state
+from rvcore.bearing.layout import BALL_STATES, R_BALL0, R_CAGE0, R_Z, compile_bearing, nominal_state
 from rvcore.profile import OperatingPoint, scaled_study_profile
 from rvcore.statics.equilibrium import solve_statics
 from tests.core.physics_cases import (STUDY_D, STUDY_DM, ball_states, cage_state, constant_profile,
@@ -506,6 +506,31 @@ def test_imex_takes_a_step_past_the_contacts_onset_limit_again_in_substeps():
                    SolverSettings(time_step=2e-4, gravity=False))
     assert out.info["substepped_steps"] > 0.5 * out.info["steps"], out.info
     assert np.isfinite(out.phase_metrics["radial_displacement_mean"]).all()
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_a_non_finite_state_value_stops_the_run_at_once(method, value):
+    """One non-finite value anywhere in the state stops the run at its first step, and
+    the message names the body that holds it: the loop's check (an or over the state)
+    must see every index, the first and the last included, and every kind of
+    non-finite value."""
+    bearing = section_bearing(12)
+    model = compile_bearing(bearing, gravity=False)
+    ball, row = 5, 0
+    b0 = int(model.rows[row, R_BALL0])
+    cases = {0: "inner ring", int(model.rows[row, R_CAGE0]) + 7: "cage of row 0",
+             b0 + BALL_STATES * ball + 4: f"ball {ball} of row {row}",
+             model.n_states - 1: f"ball {int(model.rows[row, R_Z]) - 1} of row {row}"}
+    for index, body in cases.items():
+        y0 = nominal_state(model)
+        y0[index] = value
+        with pytest.raises(SimulationError) as err:
+            run_case(bearing, constant_profile(0.005, 0.03, speed_ramp=0.01), OperatingPoint(10.0, 20e3, 8e3),
+                     SolverSettings(method=method, gravity=False, start_time=0.002), initial_state_vector=y0)
+        msg = str(err.value)
+        assert "a non-finite state value" in msg and f"in {body} " in msg, (index, msg)
+        assert re.search(r"t = 0\.002 s", msg), msg
 
 
 def test_blow_up_by_energy_names_a_body():
