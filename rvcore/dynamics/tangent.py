@@ -76,7 +76,7 @@ from ..bearing.laws import LAW_ON
 
 #: Columns of the per-ball Jacobian row ``jwork[k]``: the blocks of ``M + h·γ·D + (h·γ)²·K``
 #: (A, B), six columns no longer used (W: the solve packs its factors,
-#: :func:`rvcore.integrate.arrowhead.pack`), the coupling flag, and the blocks of ``h·γ·K`` alone
+#: :func:`rvcore.integrate.arrowhead.factor`), the coupling flag, and the blocks of ``h·γ·K`` alone
 #: (KA: the ball's 3×3 upper triangle xx, xy, xz, yy, yz, zz; KB: ball–ring 3×5 row-major).
 J_A, J_B, J_W, J_COUPLED, J_KA, J_KB = 0, 36, 66, 72, 73, 79
 N_JWORK = 94

@@ -4,9 +4,10 @@ the Schur complement on the ring. SI throughout.
 The matrix is block-arrowhead: every ball's 6×6 block (its centre's velocity and its spin)
 couples only to the ring's five rates, so :func:`factor` and :func:`solve` are O(Z), with
 the blocks :func:`rvcore.dynamics.rhs.rhs_jac` accumulates (the columns of
-:mod:`rvcore.dynamics.tangent`). :func:`pack` copies the factors a row at a time into a layout
-of one quantity a row of balls, in which LLVM vectorises the solve's loops over the
-balls (:func:`solve`, Notes). The scheme that calls them: :mod:`rvcore.integrate.imex`.
+:mod:`rvcore.dynamics.tangent`). :func:`factor` copies them a row at a time into a layout
+of one quantity a row of balls and factors them there, in which LLVM vectorises the
+factorization's and the solve's loops over the balls (:func:`solve`, Notes). The scheme
+that calls them: :mod:`rvcore.integrate.imex`.
 """
 from __future__ import annotations
 
@@ -21,109 +22,8 @@ from ..dynamics.races import W
 from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
 
-@kernel
-def factor(jwork, schur, rows, mass):
-    """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.dynamics.rhs.rhs_jac`
-    accumulated.
-
-    Per ball: ``A = Uᵀ·U`` (Cholesky, U in A's upper triangle) and ``X = U⁻ᵀ·B`` in place
-    of B; then the ring's Schur complement ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and
-    ``S = Uᵀ·U`` in place. ``mass`` is the state-indexed mass (0 at positions). A ball
-    with no inner-race contact has ``B = 0`` (``J_COUPLED`` clear, set by
-    :func:`rvcore.dynamics.tangent.contact_blocks` when it writes B): skipped here and in
-    :func:`solve`.
-
-    Notes
-    -----
-    The diagonals of U (the balls' and the ring's) are stored as their reciprocals: they
-    are only ever divisors, and a multiplication costs a fraction of a division. The
-    ball's 6×6 block lives in scalar locals (no allocation, no index arithmetic in the
-    inner loops; the 5 columns of B share them).
-    """
-    for i in range(5):
-        schur[i, i] += mass[5 + i]
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            # Cholesky A = UᵀU, row by row of U (same operation order as the textbook loop)
-            u00 = math.sqrt(jwork[k, J_A + 0] + mass[b])
-            i0 = 1.0 / u00
-            u01 = jwork[k, J_A + 1] * i0
-            u02 = jwork[k, J_A + 2] * i0
-            u03 = jwork[k, J_A + 3] * i0
-            u04 = jwork[k, J_A + 4] * i0
-            u05 = jwork[k, J_A + 5] * i0
-            u11 = math.sqrt(jwork[k, J_A + 7] + mass[b + 1] - u01 * u01)
-            i1 = 1.0 / u11
-            u12 = (jwork[k, J_A + 8] - u01 * u02) * i1
-            u13 = (jwork[k, J_A + 9] - u01 * u03) * i1
-            u14 = (jwork[k, J_A + 10] - u01 * u04) * i1
-            u15 = (jwork[k, J_A + 11] - u01 * u05) * i1
-            u22 = math.sqrt(jwork[k, J_A + 14] + mass[b + 2] - u02 * u02 - u12 * u12)
-            i2 = 1.0 / u22
-            u23 = (jwork[k, J_A + 15] - u02 * u03 - u12 * u13) * i2
-            u24 = (jwork[k, J_A + 16] - u02 * u04 - u12 * u14) * i2
-            u25 = (jwork[k, J_A + 17] - u02 * u05 - u12 * u15) * i2
-            u33 = math.sqrt(jwork[k, J_A + 21] + mass[b + 3] - u03 * u03 - u13 * u13 - u23 * u23)
-            i3 = 1.0 / u33
-            u34 = (jwork[k, J_A + 22] - u03 * u04 - u13 * u14 - u23 * u24) * i3
-            u35 = (jwork[k, J_A + 23] - u03 * u05 - u13 * u15 - u23 * u25) * i3
-            u44 = math.sqrt(jwork[k, J_A + 28] + mass[b + 4] - u04 * u04 - u14 * u14 - u24 * u24
-                            - u34 * u34)
-            i4 = 1.0 / u44
-            u45 = (jwork[k, J_A + 29] - u04 * u05 - u14 * u15 - u24 * u25 - u34 * u35) * i4
-            u55 = math.sqrt(jwork[k, J_A + 35] + mass[b + 5] - u05 * u05 - u15 * u15 - u25 * u25
-                            - u35 * u35 - u45 * u45)
-            i5 = 1.0 / u55
-            jwork[k, J_A + 0], jwork[k, J_A + 1], jwork[k, J_A + 2] = i0, u01, u02
-            jwork[k, J_A + 3], jwork[k, J_A + 4], jwork[k, J_A + 5] = u03, u04, u05
-            jwork[k, J_A + 7], jwork[k, J_A + 8], jwork[k, J_A + 9] = i1, u12, u13
-            jwork[k, J_A + 10], jwork[k, J_A + 11] = u14, u15
-            jwork[k, J_A + 14], jwork[k, J_A + 15], jwork[k, J_A + 16] = i2, u23, u24
-            jwork[k, J_A + 17] = u25
-            jwork[k, J_A + 21], jwork[k, J_A + 22], jwork[k, J_A + 23] = i3, u34, u35
-            jwork[k, J_A + 28], jwork[k, J_A + 29] = i4, u45
-            jwork[k, J_A + 35] = i5
-            if jwork[k, J_COUPLED] == 0.0:
-                continue
-            # X = U⁻ᵀ B (forward substitution, column by column)
-            for c in range(5):
-                x0 = jwork[k, J_B + c] * i0
-                x1 = (jwork[k, J_B + 5 + c] - u01 * x0) * i1
-                x2 = (jwork[k, J_B + 10 + c] - u02 * x0 - u12 * x1) * i2
-                x3 = (jwork[k, J_B + 15 + c] - u03 * x0 - u13 * x1 - u23 * x2) * i3
-                x4 = (jwork[k, J_B + 20 + c] - u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
-                x5 = (jwork[k, J_B + 25 + c] - u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
-                jwork[k, J_B + c], jwork[k, J_B + 5 + c], jwork[k, J_B + 10 + c] = x0, x1, x2
-                jwork[k, J_B + 15 + c], jwork[k, J_B + 20 + c], jwork[k, J_B + 25 + c] = x3, x4, x5
-            # S −= XᵀX (upper triangle)
-            for c in range(5):
-                for d in range(c, 5):
-                    schur[c, d] -= (jwork[k, J_B + c] * jwork[k, J_B + d]
-                                    + jwork[k, J_B + 5 + c] * jwork[k, J_B + 5 + d]
-                                    + jwork[k, J_B + 10 + c] * jwork[k, J_B + 10 + d]
-                                    + jwork[k, J_B + 15 + c] * jwork[k, J_B + 15 + d]
-                                    + jwork[k, J_B + 20 + c] * jwork[k, J_B + 20 + d]
-                                    + jwork[k, J_B + 25 + c] * jwork[k, J_B + 25 + d])
-    # Cholesky of S (upper triangle; reciprocal diagonal, as the balls')
-    for i in range(5):
-        s = schur[i, i]
-        for l in range(i):
-            s -= schur[l, i] ** 2
-        inv = 1.0 / math.sqrt(s)
-        schur[i, i] = inv
-        for c in range(i + 1, 5):
-            s = schur[i, c]
-            for l in range(i):
-                s -= schur[l, i] * schur[l, c]
-            schur[i, c] = s * inv
-
-
-#: The packed factors of one row (:func:`pack`), a quantity ``f`` of the row's ball ``j``
-#: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals, as :func:`factor`
-#: leaves it), X = U⁻ᵀ·B, the blocks of ``h·γ·K``, the coupling flag, the ball's masses,
+#: The packed factors of one row (:func:`factor`), a quantity ``f`` of the row's ball ``j``
+#: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals), X = U⁻ᵀ·B, the blocks of ``h·γ·K``, the coupling flag, the ball's masses,
 #: and the solve's own quantities (the ball's ê_x, then its velocities, w and the
 #: result in turn). Constant distances and indices from 0, so that LLVM vectorises the
 #: loops over the balls (rvcore.dynamics.races, "The scratch").
@@ -136,25 +36,156 @@ N_SOLVE_FIELDS = 88
 
 
 @kernel
-def pack(jwork, rows, mass, sf):
-    """Copy the factors :func:`factor` left in ``jwork`` and the balls' masses into ``sf``,
-    row ``r`` from ``r·N_SOLVE_FIELDS·WS``, for :func:`solve`."""
+def factor(jwork, schur, rows, mass, sf):
+    """Factor ``M + h·γ·D + (h·γ)²·K`` from the blocks :func:`rvcore.dynamics.rhs.rhs_jac`
+    accumulated in ``jwork``, into the packed factors ``sf`` (row ``r`` from
+    ``r·N_SOLVE_FIELDS·WS``) that :func:`solve` reads.
+
+    Per ball: ``A = Uᵀ·U`` (Cholesky) and ``X = U⁻ᵀ·B``; then the ring's Schur complement
+    ``S = M_ring + h·γ·D_ring − Σ Xᵀ·X`` and ``S = Uᵀ·U`` in place in ``schur``. ``mass``
+    is the state-indexed mass (0 at positions). A ball with no inner-race contact has
+    ``B = 0`` (``J_COUPLED`` clear, set by :func:`rvcore.dynamics.tangent.contact_blocks`
+    when it writes B): its ``X`` is 0, left out of ``S`` here and skipped in :func:`solve`.
+
+    Notes
+    -----
+    The blocks are first copied into the packed layout (a quantity a row of balls), where
+    each ball's Cholesky and ``X`` are one loop over the row's balls that LLVM vectorises
+    (:func:`_factor_balls`); ``S``'s sums over the balls stay a loop in the balls' order.
+    The diagonals of U (the balls' and the ring's) are stored as their reciprocals: they
+    are only ever divisors, and a multiplication costs a fraction of a division.
+    """
+    for i in range(5):
+        schur[i, i] += mass[5 + i]
     for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        o = r * N_SOLVE_FIELDS * WS
-        for j in range(int(rows[r, R_Z])):
+        b0, p0, nz = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0]), int(rows[r, R_Z])
+        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
+        for j in range(nz):
             k = p0 + j
             b = b0 + BALL_STATES * j + 3
             for i in range(21):
-                sf[o + i * WS + j] = jwork[k, J_A + _U_COLUMNS[i]]
+                s[i * WS + j] = jwork[k, J_A + _U_COLUMNS[i]]
             for i in range(30):
-                sf[o + (F_X + i) * WS + j] = jwork[k, J_B + i]
+                s[(F_X + i) * WS + j] = jwork[k, J_B + i]
             for i in range(6):
-                sf[o + (F_KA + i) * WS + j] = jwork[k, J_KA + i]
-                sf[o + (F_M + i) * WS + j] = mass[b + i]
+                s[(F_KA + i) * WS + j] = jwork[k, J_KA + i]
+                s[(F_M + i) * WS + j] = mass[b + i]
             for i in range(15):
-                sf[o + (F_KB + i) * WS + j] = jwork[k, J_KB + i]
-            sf[o + F_COUPLED * WS + j] = jwork[k, J_COUPLED]
+                s[(F_KB + i) * WS + j] = jwork[k, J_KB + i]
+            s[F_COUPLED * WS + j] = jwork[k, J_COUPLED]
+        _factor_balls(s, nz)
+        # S −= XᵀX (upper triangle), ball by ball
+        for j in range(nz):
+            if s[F_COUPLED * WS + j] == 0.0:
+                continue
+            x = F_X * WS + j
+            for c in range(5):
+                for d in range(c, 5):
+                    schur[c, d] -= (s[x + c * WS] * s[x + d * WS]
+                                    + s[x + (5 + c) * WS] * s[x + (5 + d) * WS]
+                                    + s[x + (10 + c) * WS] * s[x + (10 + d) * WS]
+                                    + s[x + (15 + c) * WS] * s[x + (15 + d) * WS]
+                                    + s[x + (20 + c) * WS] * s[x + (20 + d) * WS]
+                                    + s[x + (25 + c) * WS] * s[x + (25 + d) * WS])
+    # Cholesky of S (upper triangle; reciprocal diagonal, as the balls')
+    for i in range(5):
+        t = schur[i, i]
+        for l in range(i):
+            t -= schur[l, i] ** 2
+        inv = 1.0 / math.sqrt(t)
+        schur[i, i] = inv
+        for c in range(i + 1, 5):
+            t = schur[i, c]
+            for l in range(i):
+                t -= schur[l, i] * schur[l, c]
+            schur[i, c] = t * inv
+
+
+@kernel(inline=True)
+def _root(x):
+    """``√x``, NaN for ``x < 0`` (a pivot of a matrix that is not positive definite), as
+    ``math.sqrt`` gives; taken of ``|x|`` so that LLVM, which then knows the argument is
+    not negative, calls no C library ``sqrt`` (it may set errno) and vectorises the loop
+    (as :func:`rvcore.contact.laws.hertz_load`)."""
+    return math.sqrt(abs(x)) if x >= 0.0 else math.nan
+
+
+@kernel
+def _factor_balls(s, nz):
+    """Every ball of a row, in the packed layout: ``A + M_b = Uᵀ·U`` in place of A's upper
+    triangle (row by row of U, the textbook loop's operation order; reciprocal diagonal)
+    and ``X = U⁻ᵀ·B`` in place of B (forward substitution, column by column)."""
+    for j in range(nz):
+        m = F_M * WS + j
+        u00 = _root((s[U00 * WS + j] + s[m]))
+        i0 = 1.0 / u00
+        u01 = s[U01 * WS + j] * i0
+        u02 = s[U02 * WS + j] * i0
+        u03 = s[U03 * WS + j] * i0
+        u04 = s[U04 * WS + j] * i0
+        u05 = s[U05 * WS + j] * i0
+        u11 = _root((s[U11 * WS + j] + s[m + WS] - u01 * u01))
+        i1 = 1.0 / u11
+        u12 = (s[U12 * WS + j] - u01 * u02) * i1
+        u13 = (s[U13 * WS + j] - u01 * u03) * i1
+        u14 = (s[U14 * WS + j] - u01 * u04) * i1
+        u15 = (s[U15 * WS + j] - u01 * u05) * i1
+        u22 = _root((s[U22 * WS + j] + s[m + 2 * WS] - u02 * u02 - u12 * u12))
+        i2 = 1.0 / u22
+        u23 = (s[U23 * WS + j] - u02 * u03 - u12 * u13) * i2
+        u24 = (s[U24 * WS + j] - u02 * u04 - u12 * u14) * i2
+        u25 = (s[U25 * WS + j] - u02 * u05 - u12 * u15) * i2
+        u33 = _root((s[U33 * WS + j] + s[m + 3 * WS] - u03 * u03 - u13 * u13 - u23 * u23))
+        i3 = 1.0 / u33
+        u34 = (s[U34 * WS + j] - u03 * u04 - u13 * u14 - u23 * u24) * i3
+        u35 = (s[U35 * WS + j] - u03 * u05 - u13 * u15 - u23 * u25) * i3
+        u44 = _root((s[U44 * WS + j] + s[m + 4 * WS] - u04 * u04 - u14 * u14 - u24 * u24 - u34 * u34))
+        i4 = 1.0 / u44
+        u45 = (s[U45 * WS + j] - u04 * u05 - u14 * u15 - u24 * u25 - u34 * u35) * i4
+        u55 = _root((s[U55 * WS + j] + s[m + 5 * WS] - u05 * u05 - u15 * u15 - u25 * u25 - u35 * u35
+                            - u45 * u45))
+        i5 = 1.0 / u55
+        s[U00 * WS + j], s[U01 * WS + j], s[U02 * WS + j] = i0, u01, u02
+        s[U03 * WS + j], s[U04 * WS + j], s[U05 * WS + j] = u03, u04, u05
+        s[U11 * WS + j], s[U12 * WS + j], s[U13 * WS + j] = i1, u12, u13
+        s[U14 * WS + j], s[U15 * WS + j] = u14, u15
+        s[U22 * WS + j], s[U23 * WS + j], s[U24 * WS + j] = i2, u23, u24
+        s[U25 * WS + j] = u25
+        s[U33 * WS + j], s[U34 * WS + j], s[U35 * WS + j] = i3, u34, u35
+        s[U44 * WS + j], s[U45 * WS + j] = i4, u45
+        s[U55 * WS + j] = i5
+    for c in range(5):     # a column at a time: the loop over the balls innermost
+        for j in range(nz):
+            i0, u01, u02, u03, u04, u05 = (s[U00 * WS + j], s[U01 * WS + j], s[U02 * WS + j], s[U03 * WS + j],
+                                           s[U04 * WS + j], s[U05 * WS + j])
+            i1, u12, u13, u14, u15 = s[U11 * WS + j], s[U12 * WS + j], s[U13 * WS + j], s[U14 * WS + j], s[U15 * WS + j]
+            i2, u23, u24, u25 = s[U22 * WS + j], s[U23 * WS + j], s[U24 * WS + j], s[U25 * WS + j]
+            i3, u34, u35 = s[U33 * WS + j], s[U34 * WS + j], s[U35 * WS + j]
+            i4, u45, i5 = s[U44 * WS + j], s[U45 * WS + j], s[U55 * WS + j]
+            x = (F_X + c) * WS + j
+            x0 = s[x] * i0
+            x1 = (s[x + 5 * WS] - u01 * x0) * i1
+            x2 = (s[x + 10 * WS] - u02 * x0 - u12 * x1) * i2
+            x3 = (s[x + 15 * WS] - u03 * x0 - u13 * x1 - u23 * x2) * i3
+            x4 = (s[x + 20 * WS] - u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
+            x5 = (s[x + 25 * WS] - u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
+            s[x], s[x + 5 * WS], s[x + 10 * WS] = x0, x1, x2
+            s[x + 15 * WS], s[x + 20 * WS], s[x + 25 * WS] = x3, x4, x5
+
+
+@kernel
+def unpack(jwork, rows, sf):
+    """Copy the balls' factors ``U`` and ``X`` from the packed ``sf`` (:func:`factor`) into
+    ``jwork``'s ``A`` and ``B`` columns, for :func:`factor_modes`, which reads them there."""
+    for r in range(rows.shape[0]):
+        p0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
+        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
+        for j in range(nz):
+            k = p0 + j
+            for i in range(21):
+                jwork[k, J_A + _U_COLUMNS[i]] = s[i * WS + j]
+            for i in range(30):
+                jwork[k, J_B + i] = s[(F_X + i) * WS + j]
 
 
 @kernel
@@ -225,7 +256,7 @@ def _backward(s, nz, z0, z1, z2, z3, z4):
 def solve(v, schur, rows, mass, sf):
     """Overwrite the velocities of the balls and the ring in the increment ``v`` with
     ``(M + h·γ·D + (h·γ)²·K)⁻¹·(M·v_v − h·γ·K·v_x)`` (the stage's velocity increment, its
-    positions ``v_x`` being ``ê_x``; module docstring) with the factors :func:`pack` left
+    positions ``v_x`` being ``ê_x``; module docstring) with the factors :func:`factor` left
     in ``sf`` (reciprocal diagonals), the ring's factor and ``h·γ·K`` block in ``schur``
     and the state-indexed ``mass``; the rest is untouched. ``schur[5]`` is its scratch.
 
@@ -297,7 +328,7 @@ FX_Y, FX_RM, FX_FLAT = 0, 5, 6
 #: The family pairs ``(f, g)``, ``f ≤ g``, of the harmonic sums, in their order.
 N_PAIRS = 10
 #: The packed modal factors of one row, a quantity ``q`` of the row's ball ``j`` at
-#: ``q·WS + j`` (as :func:`pack`'s, so that the solve's loops over the balls vectorise):
+#: ``q·WS + j`` (as :func:`factor`'s, so that the solve's loops over the balls vectorise):
 #: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
 #: ``P_f`` and ``PK_f`` (5 each), ``h·γ·K``'s own blocks per ring (3 each), ``A_b⁻¹·V_f``
 #: (6 each), ``A_b⁻¹·B_b`` (6×5); the solve's own (the ball's ê_x or y, the families'
