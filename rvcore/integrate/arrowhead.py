@@ -647,16 +647,22 @@ def _modal_terms(s, nz, x0, x1, x2, x3, x4):
 @kernel
 def _coupling_terms(s, nz, y0, y1, y2, y3, y4):
     """Every ball of a row: add ``Cᵀ·y``'s factor per family, ``V_f·y_b + P_f·y_r``, to
-    ``MP_T`` (the ball's y in ``MP_EX``, the ring's ``y``)."""
-    for j in range(nz):
-        bx, by, bz = s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j]
-        for f in range(4):
-            k = (MP_V + 3 * f) * WS + j
-            u = s[k] * bx + s[k + WS] * by + s[k + 2 * WS] * bz
-            if f < 2:
-                p = (MP_P + 5 * f) * WS + j
-                u += s[p] * y0 + s[p + WS] * y1 + s[p + 2 * WS] * y2 + s[p + 3 * WS] * y3 + s[p + 4 * WS] * y4
-            s[(MP_T + f) * WS + j] += u
+    ``MP_T`` (the ball's y in ``MP_EX``, the ring's ``y``); a family at a time, along views
+    (vectorised)."""
+    bx, by, bz = _field(s, MP_EX, nz), _field(s, MP_EX + 1, nz), _field(s, MP_EX + 2, nz)
+    for f in range(4):
+        out = _field(s, MP_T + f, nz)
+        vx, vy, vz = _field(s, MP_V + 3 * f, nz), _field(s, MP_V + 3 * f + 1, nz), _field(s, MP_V + 3 * f + 2, nz)
+        if f < 2:
+            p0, p1, p2 = _field(s, MP_P + 5 * f, nz), _field(s, MP_P + 5 * f + 1, nz), _field(s, MP_P + 5 * f + 2, nz)
+            p3, p4 = _field(s, MP_P + 5 * f + 3, nz), _field(s, MP_P + 5 * f + 4, nz)
+            for j in range(nz):
+                u = vx[j] * bx[j] + vy[j] * by[j] + vz[j] * bz[j]
+                u += p0[j] * y0 + p1[j] * y1 + p2[j] * y2 + p3[j] * y3 + p4[j] * y4
+                out[j] += u
+        else:
+            for j in range(nz):
+                out[j] += vx[j] * bx[j] + vy[j] * by[j] + vz[j] * bz[j]
 
 
 @kernel(inline=True)
