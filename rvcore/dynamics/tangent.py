@@ -88,16 +88,12 @@ N_JWORK = 94
 #: families' own block per ring (``FX_C + 3ρ``: radial–radial, radial–axial, axial–axial;
 #: ρ = 0 inner, 1 outer); each in the stage matrix's weights (``h·γ·c + (h·γ)²·k``) and,
 #: at ``FX_VK``, ``FX_PK``, ``FX_CK``, in ``h·γ·K``'s; the ball's azimuth's cosine and sine
-#: (``FX_ANG``), a flag set where any term is written (``FX_ON``), and what the
-#: factorization leaves for the solves (:func:`rvcore.integrate.arrowhead.factor_modes`):
-#: per family ``U⁻ᵀ·V_f``, 6, and ``y_f``, 5 (``FX_SCR + 11f``), the 10 family pairs' ``H``
-#: (``FX_H``), per family ``A_b⁻¹·V_f`` (``FX_Q + 6f``), ``A_b⁻¹·B_b`` (``FX_AB``, 6×5
-#: row-major), and from ``FX_PHI`` the shape ``φ(θ) = (cos kθ, sin kθ)_k`` at the ball's
-#: azimuth, as many values as the largest family has modes (the columns' count is
-#: ``N_FX`` plus those).
+#: (``FX_ANG``), a flag set where any term is written (``FX_ON``), and from ``FX_PHI`` the
+#: shape ``φ(θ) = (cos kθ, sin kθ)_k`` at the ball's azimuth that the factorization
+#: (:func:`rvcore.integrate.arrowhead.factor_modes`) writes, as many values as the largest
+#: family has modes (the columns' count is ``N_FX`` plus those).
 J_FX = N_JWORK
-FX_V, FX_VK, FX_P, FX_PK, FX_C, FX_CK, FX_ANG, FX_ON, FX_SCR, FX_H = 0, 12, 24, 34, 44, 50, 56, 58, 59, 103
-FX_Q, FX_AB, FX_PHI = 113, 137, 167
+FX_V, FX_VK, FX_P, FX_PK, FX_C, FX_CK, FX_ANG, FX_ON, FX_PHI = 0, 12, 24, 34, 44, 50, 56, 58, 59
 N_FX = FX_PHI
 #: Rows of ``schur``: 0–4 the ring's block of ``M + h·γ·D + (h·γ)²·K`` (factored in
 #: place), 5 the solve's scratch, 6–10 the ring's block of ``h·γ·K`` (upper triangle).

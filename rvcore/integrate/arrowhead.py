@@ -15,8 +15,8 @@ import math
 
 from .._numba import kernel
 
-from ..dynamics.tangent import (FX_AB, FX_ANG, FX_C, FX_CK, FX_H, FX_ON, FX_P, FX_PHI, FX_PK, FX_Q, FX_SCR, FX_V,
-                                FX_VK, J_A, J_B, J_COUPLED, J_FX, J_KA, J_KB, S_K)
+from ..dynamics.tangent import (FX_ANG, FX_C, FX_CK, FX_ON, FX_P, FX_PHI, FX_V, J_A, J_B, J_COUPLED, J_FX,
+                                J_KA, J_KB, S_K)
 from ..dynamics.ring_modes import FX_ORDER, family_record, modal_offset
 from ..dynamics.races import W
 from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
@@ -174,21 +174,6 @@ def _factor_balls(s, nz):
 
 
 @kernel
-def unpack(jwork, rows, sf):
-    """Copy the balls' factors ``U`` and ``X`` from the packed ``sf`` (:func:`factor`) into
-    ``jwork``'s ``A`` and ``B`` columns, for :func:`factor_modes`, which reads them there."""
-    for r in range(rows.shape[0]):
-        p0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
-        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
-        for j in range(nz):
-            k = p0 + j
-            for i in range(21):
-                jwork[k, J_A + _U_COLUMNS[i]] = s[i * WS + j]
-            for i in range(30):
-                jwork[k, J_B + i] = s[(F_X + i) * WS + j]
-
-
-@kernel
 def _forward(s, nz, x0, x1, x2, x3, x4):
     """Every ball of a row: ``w = U⁻ᵀ·(M_b·v_b − h·γ·K·ê_x)`` in place of its velocities."""
     for j in range(nz):
@@ -332,10 +317,12 @@ N_PAIRS = 10
 #: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
 #: ``P_f`` and ``PK_f`` (5 each), ``h·γ·K``'s own blocks per ring (3 each), ``A_b⁻¹·V_f``
 #: (6 each), ``A_b⁻¹·B_b`` (6×5); the solve's own (the ball's ê_x or y, the families'
-#: shape values, their terms, the ball's force, σ_f, its correction); from ``MP_PHI`` the
-#: shape ``φ``.
+#: shape values, their terms, the ball's force, σ_f, its correction); :func:`factor_modes`'
+#: own (the ball's families' own block per ring in the stage matrix's weights, 3 each, its
+#: flag, per family ``U⁻ᵀ·V_f`` (6) and ``y_f`` (5), the 10 family pairs' ``H``); from
+#: ``MP_PHI`` the shape ``φ``.
 (MP_V, MP_VK, MP_P, MP_PK, MP_CK, MP_Q, MP_AB, MP_EX, MP_SH, MP_T, MP_FB, MP_SG, MP_CR,
- MP_PHI) = 0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128
+ MP_C, MP_ON, MP_X, MP_Y, MP_H, MP_PHI) = 0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128, 134, 135, 159, 179, 189
 
 
 def _packed_size(max_orders: int) -> int:
@@ -359,44 +346,106 @@ def _max_orders(params):
 
 
 @kernel(inline=True)
-def _core(jw, f, g):
-    """The ball's contacts' own block of families ``f ≤ g`` in the stage matrix (0 across rings)."""
-    if f // 2 != g // 2:
-        return 0.0
-    return jw[J_FX + FX_C + 3 * (f // 2) + (f % 2) + (g % 2)]
-
-
-@kernel(inline=True)
-def _core_k(jw, f, g):
-    """As :func:`_core`, in ``h·γ·K``."""
-    if f // 2 != g // 2:
-        return 0.0
-    return jw[J_FX + FX_CK + 3 * (f // 2) + (f % 2) + (g % 2)]
-
-
-@kernel(inline=True)
-def _back_substitute(jw, x0, x1, x2, x3, x4, x5):
-    """``U⁻¹·x`` with the ball's factor ``U`` as :func:`factor` leaves it in ``jw`` (upper
-    triangle, reciprocal diagonal)."""
-    x5 = x5 * jw[J_A + 35]
-    x4 = (x4 - jw[J_A + 29] * x5) * jw[J_A + 28]
-    x3 = (x3 - jw[J_A + 22] * x4 - jw[J_A + 23] * x5) * jw[J_A + 21]
-    x2 = (x2 - jw[J_A + 15] * x3 - jw[J_A + 16] * x4 - jw[J_A + 17] * x5) * jw[J_A + 14]
-    x1 = (x1 - jw[J_A + 8] * x2 - jw[J_A + 9] * x3 - jw[J_A + 10] * x4 - jw[J_A + 11] * x5) * jw[J_A + 7]
-    x0 = (x0 - jw[J_A + 1] * x1 - jw[J_A + 2] * x2 - jw[J_A + 3] * x3 - jw[J_A + 4] * x4
-          - jw[J_A + 5] * x5) * jw[J_A]
+def _back_substitute(s, j, x0, x1, x2, x3, x4, x5):
+    """``U⁻¹·x`` with the ball ``j``'s factor ``U`` as :func:`factor` leaves it in the packed
+    ``s`` (upper triangle, reciprocal diagonal)."""
+    x5 = x5 * s[U55 * WS + j]
+    x4 = (x4 - s[U45 * WS + j] * x5) * s[U44 * WS + j]
+    x3 = (x3 - s[U34 * WS + j] * x4 - s[U35 * WS + j] * x5) * s[U33 * WS + j]
+    x2 = (x2 - s[U23 * WS + j] * x3 - s[U24 * WS + j] * x4 - s[U25 * WS + j] * x5) * s[U22 * WS + j]
+    x1 = (x1 - s[U12 * WS + j] * x2 - s[U13 * WS + j] * x3 - s[U14 * WS + j] * x4
+          - s[U15 * WS + j] * x5) * s[U11 * WS + j]
+    x0 = (x0 - s[U01 * WS + j] * x1 - s[U02 * WS + j] * x2 - s[U03 * WS + j] * x3 - s[U04 * WS + j] * x4
+          - s[U05 * WS + j] * x5) * s[U00 * WS + j]
     return x0, x1, x2, x3, x4, x5
 
 
 @kernel
-def factor_modes(jwork, schur, rows, params, fx, hg):
+def _modal_balls(s, mp, nz):
+    """Every ball of a row, from its factors (``s``, :func:`factor`) and its couplings
+    (``mp``): per family ``x_f = U⁻ᵀ·V_f`` (``MP_X``), ``y_f = P_f − Xᵀ·x_f`` (``MP_Y``)
+    and ``A_b⁻¹·V_f = U⁻¹·x_f`` (``MP_Q``); ``A_b⁻¹·B_b = U⁻¹·X`` (``MP_AB``); the
+    family pairs' ``H = core − x_f·x_g`` (``MP_H``). A ball without a contact on a flexible
+    ring (``MP_ON`` 0) gets 0 in ``MP_Q`` and ``MP_AB``. Loops over the balls innermost
+    (vectorised)."""
+    for f in range(4):
+        v = (MP_V + 3 * f) * WS
+        x = (MP_X + 6 * f) * WS
+        y = (MP_Y + 5 * f) * WS
+        q = (MP_Q + 6 * f) * WS
+        for j in range(nz):
+            i0, i1, i2 = s[U00 * WS + j], s[U11 * WS + j], s[U22 * WS + j]
+            i3, i4, i5 = s[U33 * WS + j], s[U44 * WS + j], s[U55 * WS + j]
+            u01, u02, u03, u04, u05 = s[U01 * WS + j], s[U02 * WS + j], s[U03 * WS + j], s[U04 * WS + j], s[U05 * WS + j]
+            u12, u13, u14, u15 = s[U12 * WS + j], s[U13 * WS + j], s[U14 * WS + j], s[U15 * WS + j]
+            u23, u24, u25 = s[U23 * WS + j], s[U24 * WS + j], s[U25 * WS + j]
+            u34, u35, u45 = s[U34 * WS + j], s[U35 * WS + j], s[U45 * WS + j]
+            x0 = mp[v + j] * i0
+            x1 = (mp[v + WS + j] - u01 * x0) * i1
+            x2 = (mp[v + 2 * WS + j] - u02 * x0 - u12 * x1) * i2
+            x3 = (-u03 * x0 - u13 * x1 - u23 * x2) * i3
+            x4 = (-u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
+            x5 = (-u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
+            mp[x + j], mp[x + WS + j], mp[x + 2 * WS + j] = x0, x1, x2
+            mp[x + 3 * WS + j], mp[x + 4 * WS + j], mp[x + 5 * WS + j] = x3, x4, x5
+            # A_b⁻¹·V_f = U⁻¹·(U⁻ᵀ·V_f), for the solve's back substitution
+            x0, x1, x2, x3, x4, x5 = _back_substitute(s, j, x0, x1, x2, x3, x4, x5)
+            on = mp[MP_ON * WS + j] != 0.0
+            mp[q + j] = x0 if on else 0.0
+            mp[q + WS + j] = x1 if on else 0.0
+            mp[q + 2 * WS + j] = x2 if on else 0.0
+            mp[q + 3 * WS + j] = x3 if on else 0.0
+            mp[q + 4 * WS + j] = x4 if on else 0.0
+            mp[q + 5 * WS + j] = x5 if on else 0.0
+        for c in range(5):      # y_f = P_f − Xᵀ·(U⁻ᵀV_f)
+            xc = (F_X + c) * WS
+            for j in range(nz):
+                t = mp[(MP_P + 5 * f + c) * WS + j] if f < 2 else 0.0
+                x0, x1, x2 = mp[x + j], mp[x + WS + j], mp[x + 2 * WS + j]
+                x3, x4, x5 = mp[x + 3 * WS + j], mp[x + 4 * WS + j], mp[x + 5 * WS + j]
+                t = t - (s[xc + j] * x0 + s[xc + 5 * WS + j] * x1 + s[xc + 10 * WS + j] * x2
+                         + s[xc + 15 * WS + j] * x3 + s[xc + 20 * WS + j] * x4 + s[xc + 25 * WS + j] * x5
+                         ) if s[F_COUPLED * WS + j] != 0.0 else t
+                mp[y + c * WS + j] = t
+    for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
+        for j in range(nz):
+            live = s[F_COUPLED * WS + j] != 0.0 and mp[MP_ON * WS + j] != 0.0
+            xc = (F_X + c) * WS + j
+            x0, x1, x2, x3, x4, x5 = _back_substitute(s, j, s[xc], s[xc + 5 * WS], s[xc + 10 * WS],
+                                                      s[xc + 15 * WS], s[xc + 20 * WS], s[xc + 25 * WS])
+            q = (MP_AB + c) * WS + j
+            mp[q] = x0 if live else 0.0
+            mp[q + 5 * WS] = x1 if live else 0.0
+            mp[q + 10 * WS] = x2 if live else 0.0
+            mp[q + 15 * WS] = x3 if live else 0.0
+            mp[q + 20 * WS] = x4 if live else 0.0
+            mp[q + 25 * WS] = x5 if live else 0.0
+    pair = 0
+    for f in range(4):
+        o = (MP_X + 6 * f) * WS
+        for g in range(f, 4):
+            q = (MP_X + 6 * g) * WS
+            h = (MP_H + pair) * WS
+            # the contacts' own block (0 across rings)
+            core = (MP_C + 3 * (f // 2) + (f % 2) + (g % 2)) * WS
+            same = f // 2 == g // 2
+            for j in range(nz):
+                mp[h + j] = (mp[core + j] if same else 0.0) - (
+                    mp[o + j] * mp[q + j] + mp[o + WS + j] * mp[q + WS + j] + mp[o + 2 * WS + j] * mp[q + 2 * WS + j]
+                    + mp[o + 3 * WS + j] * mp[q + 3 * WS + j] + mp[o + 4 * WS + j] * mp[q + 4 * WS + j]
+                    + mp[o + 5 * WS + j] * mp[q + 5 * WS + j])
+            pair += 1
+
+
+@kernel
+def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     """The Schur complement of the stage matrix on a flexible ring's modes, factored.
 
-    After :func:`factor` (which leaves each ball's ``U`` and ``X = U⁻ᵀ·B`` in ``jwork`` and the
-    ring's factor in ``schur``). The stage matrix ``[[A, C], [Cᵀ, D]]``: ``A`` the arrowhead
-    system (balls and pose), ``D`` the modes' ``M_k + h·γ·c_k + (h·γ)²·K_k`` plus the
-    contacts' own block on them, ``C`` the contacts' coupling of the modes with the balls and
-    the pose (:func:`rvcore.dynamics.tangent.modal_blocks`, rank one a term)::
+    After :func:`factor` (which leaves each ball's ``U`` and ``X = U⁻ᵀ·B`` in the packed
+    ``sf`` and the ring's factor in ``schur``). The stage matrix ``[[A, C], [Cᵀ, D]]``: ``A``
+    the arrowhead system (balls and pose), ``D`` the modes' ``M_k + h·γ·c_k + (h·γ)²·K_k``
+    plus the contacts' own block on them, ``C`` the contacts' coupling of the modes with the
+    balls and the pose (:func:`rvcore.dynamics.tangent.modal_blocks`, rank one a term)::
 
         S = D − Cᵀ·A⁻¹·C = D − Σ_b P_bᵀ·P_b − Yᵀ·S_r⁻¹·Y,   P_b = U_b⁻ᵀ·C_b,
         Y = C_r − Σ_b X_bᵀ·P_b
@@ -408,9 +457,17 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
     ``S = UᵀU`` in place in ``fx[:nm]`` (upper triangle, reciprocal diagonal, as :func:`factor`;
     its transpose in the lower triangle, for the solve's back substitution along rows).
     ``hg = h·γ`` [s].
+
+    Notes
+    -----
+    Each row's couplings are first copied into the packed modal factors (``MP_*``), where
+    each ball's own algebra is a loop over the balls that LLVM vectorises
+    (:func:`_modal_balls`); the sums over the balls (the harmonics, ``Y``) stay a loop in the
+    balls' order.
     """
     nm = modal_offset(params, 4)
     nh = 2 * _max_orders(params) - 1
+    size = MP_PHI + 2 * _max_orders(params)
     hs = fx[nm + FX_FLAT:].reshape(-1)
     for i in range(2 * N_PAIRS * nh):
         hs[i] = 0.0
@@ -419,69 +476,43 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
             fx[i, c] = 0.0
     y0 = nm + FX_Y
     for r in range(rows.shape[0]):
-        p0 = int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
+        p0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
+        mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
+        s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
+        for j in range(nz):     # the couplings, a quantity a row of balls
+            jw = jwork[p0 + j]
+            for i in range(24):
+                mp[(MP_V + i) * WS + j] = jw[J_FX + FX_V + i]      # V, VK
+            for i in range(20):
+                mp[(MP_P + i) * WS + j] = jw[J_FX + FX_P + i]      # P, PK
+            for i in range(6):
+                mp[(MP_CK + i) * WS + j] = jw[J_FX + FX_CK + i]
+                mp[(MP_C + i) * WS + j] = jw[J_FX + FX_C + i]
+            mp[MP_ON * WS + j] = jw[J_FX + FX_ON]
+        _modal_balls(s, mp, nz)
+        for j in range(nz):     # the sums over the balls, in their order
             jw = jwork[p0 + j]
             if jw[J_FX + FX_ON] == 0.0:
+                for i in range(size - MP_PHI):
+                    mp[(MP_PHI + i) * WS + j] = 0.0
                 continue
-            i0, u01, u02, u03, u04, u05 = jw[J_A], jw[J_A + 1], jw[J_A + 2], jw[J_A + 3], jw[J_A + 4], jw[J_A + 5]
-            i1, u12, u13, u14, u15 = jw[J_A + 7], jw[J_A + 8], jw[J_A + 9], jw[J_A + 10], jw[J_A + 11]
-            i2, u23, u24, u25 = jw[J_A + 14], jw[J_A + 15], jw[J_A + 16], jw[J_A + 17]
-            i3, u34, u35, i4, u45, i5 = jw[J_A + 21], jw[J_A + 22], jw[J_A + 23], jw[J_A + 28], jw[J_A + 29], jw[J_A + 35]
-            coupled = jw[J_COUPLED] != 0.0
-            for f in range(4):
-                v = J_FX + FX_V + 3 * f
-                x0 = jw[v] * i0
-                x1 = (jw[v + 1] - u01 * x0) * i1
-                x2 = (jw[v + 2] - u02 * x0 - u12 * x1) * i2
-                x3 = (-u03 * x0 - u13 * x1 - u23 * x2) * i3
-                x4 = (-u04 * x0 - u14 * x1 - u24 * x2 - u34 * x3) * i4
-                x5 = (-u05 * x0 - u15 * x1 - u25 * x2 - u35 * x3 - u45 * x4) * i5
-                o = J_FX + FX_SCR + 11 * f
-                jw[o], jw[o + 1], jw[o + 2], jw[o + 3], jw[o + 4], jw[o + 5] = x0, x1, x2, x3, x4, x5
-                for c in range(5):      # y_f = P_f − Xᵀ·(U⁻ᵀV_f)
-                    s = jw[J_FX + FX_P + 5 * f + c] if f < 2 else 0.0
-                    if coupled:
-                        s -= (jw[J_B + c] * x0 + jw[J_B + 5 + c] * x1 + jw[J_B + 10 + c] * x2
-                              + jw[J_B + 15 + c] * x3 + jw[J_B + 20 + c] * x4 + jw[J_B + 25 + c] * x5)
-                    jw[o + 6 + c] = s
-                # A_b⁻¹·V_f = U⁻¹·(U⁻ᵀ·V_f), for the solve's back substitution
-                q = J_FX + FX_Q + 6 * f
-                x0, x1, x2, x3, x4, x5 = _back_substitute(jw, x0, x1, x2, x3, x4, x5)
-                jw[q], jw[q + 1], jw[q + 2], jw[q + 3], jw[q + 4], jw[q + 5] = x0, x1, x2, x3, x4, x5
-            for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
-                if coupled:
-                    x0, x1, x2, x3, x4, x5 = _back_substitute(jw, jw[J_B + c], jw[J_B + 5 + c], jw[J_B + 10 + c],
-                                                              jw[J_B + 15 + c], jw[J_B + 20 + c], jw[J_B + 25 + c])
-                else:
-                    x0, x1, x2, x3, x4, x5 = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-                q = J_FX + FX_AB + c
-                jw[q], jw[q + 5], jw[q + 10], jw[q + 15], jw[q + 20], jw[q + 25] = x0, x1, x2, x3, x4, x5
-            pair = 0
-            for f in range(4):
-                o = J_FX + FX_SCR + 11 * f
-                for g in range(f, 4):
-                    q = J_FX + FX_SCR + 11 * g
-                    jw[J_FX + FX_H + pair] = _core(jw, f, g) - (
-                        jw[o] * jw[q] + jw[o + 1] * jw[q + 1] + jw[o + 2] * jw[q + 2] + jw[o + 3] * jw[q + 3]
-                        + jw[o + 4] * jw[q + 4] + jw[o + 5] * jw[q + 5])
-                    pair += 1
             c1, s1 = jw[J_FX + FX_ANG], jw[J_FX + FX_ANG + 1]
             cm, sm = 1.0, 0.0
             for m in range(nh):
                 if 2 * m < nh:
                     jw[J_FX + FX_PHI + 2 * m], jw[J_FX + FX_PHI + 2 * m + 1] = cm, sm
                 for pair in range(N_PAIRS):
-                    h = jw[J_FX + FX_H + pair]
+                    h = mp[(MP_H + pair) * WS + j]
                     hs[2 * pair * nh + m] += h * cm
                     hs[(2 * pair + 1) * nh + m] += h * sm
                 cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
             for f in range(4):
                 n = family_record(params, f)[0]
                 of = modal_offset(params, f)
-                o = J_FX + FX_SCR + 11 * f + 6
                 for c in range(5):
-                    _phi_add(jw, fx[y0 + c], of, n, jw[o + c])
+                    _phi_add(jw, fx[y0 + c], of, n, mp[(MP_Y + 5 * f + c) * WS + j])
+            for i in range(size - MP_PHI):
+                mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i]
     # the balls' part from the harmonic sums (upper triangle), then the modes' own diagonal
     pair = 0
     for f in range(4):
@@ -536,23 +567,6 @@ def factor_modes(jwork, schur, rows, params, fx, hg):
     for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
         for c in range(i + 1, nm):
             fx[c, i] = fx[i, c]
-    # the solve's packed factors, a row at a time (MP_*)
-    size = MP_PHI + 2 * _max_orders(params)
-    for r in range(rows.shape[0]):
-        p0 = int(rows[r, R_POCKET0])
-        mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
-        for j in range(int(rows[r, R_Z])):
-            jw = jwork[p0 + j]
-            for i in range(24):
-                mp[(MP_V + i) * WS + j] = jw[J_FX + FX_V + i]      # V, VK
-            for i in range(20):
-                mp[(MP_P + i) * WS + j] = jw[J_FX + FX_P + i]      # P, PK
-            for i in range(6):
-                mp[(MP_CK + i) * WS + j] = jw[J_FX + FX_CK + i]
-            for i in range(54):
-                mp[(MP_Q + i) * WS + j] = jw[J_FX + FX_Q + i]      # A⁻¹V, A⁻¹B
-            for i in range(size - MP_PHI):
-                mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i] if jw[J_FX + FX_ON] != 0.0 else 0.0
 
 
 @kernel(inline=True)

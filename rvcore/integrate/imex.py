@@ -176,7 +176,7 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from .arrowhead import N_SOLVE_FIELDS, WS, factor, factor_modes, modal_block_rows, solve, solve_coupled, unpack
+from .arrowhead import N_SOLVE_FIELDS, WS, factor, factor_modes, modal_block_rows, solve, solve_coupled
 from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from ..bearing.layout import (BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
@@ -528,8 +528,7 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     if refresh:
         factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
         if flexible(params):
-            unpack(jwork, rows, work[W_SF:].reshape(-1))
-            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * GAMMA)
+            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * GAMMA, work[W_SF:].reshape(-1))
         grow = work[W_SET, SET_ONSET] / (dt * dt)
         for k in range(bdiag.shape[0]):
             work[W_QREF, k] = bdiag[k, B_QI]
@@ -580,8 +579,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
             diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
             factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
             if flexible(params):
-                unpack(jwork, rows, work[W_SF:].reshape(-1))
-                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA)
+                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA,
+                             work[W_SF:].reshape(-1))
             for k in range(bdiag.shape[0]):
                 work[W_PACC, k] = B1 * bdiag[k, B_PP]
                 if bdiag[k, B_PV] > 0.0:
