@@ -91,7 +91,8 @@ N_JWORK = 94
 #: (``FX_ANG``), a flag set where any term is written (``FX_ON``), and from ``FX_PHI`` the
 #: shape ``φ(θ) = (cos kθ, sin kθ)_k`` at the ball's azimuth that the factorization
 #: (:func:`rvcore.integrate.arrowhead.factor_modes`) writes, as many values as the largest
-#: family has modes (the columns' count is ``N_FX`` plus those).
+#: family has modes, then the harmonics it sums (cos mθ, then sin mθ, m < 2K − 1; the
+#: columns' count is ``N_FX`` plus those, ``rvcore.integrate.imex.new_work``).
 J_FX = N_JWORK
 FX_V, FX_VK, FX_P, FX_PK, FX_C, FX_CK, FX_ANG, FX_ON, FX_PHI = 0, 12, 24, 34, 44, 50, 56, 58, 59
 N_FX = FX_PHI

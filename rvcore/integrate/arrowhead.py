@@ -23,9 +23,9 @@ from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 
 
 #: The packed factors of one row (:func:`factor`), a quantity ``f`` of the row's ball ``j``
-#: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals), X = U⁻ᵀ·B, the blocks of ``h·γ·K``, the coupling flag, the ball's masses,
-#: and the solve's own quantities (the ball's ê_x, then its velocities, w and the
-#: result in turn). Constant distances and indices from 0, so that LLVM vectorises the
+#: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals), X = U⁻ᵀ·B, the
+#: blocks of ``h·γ·K``, the coupling flag, the ball's masses, and the solve's own
+#: quantities (the ball's ê_x, then its velocities, w and the result in turn). Constant distances and indices from 0, so that LLVM vectorises the
 #: loops over the balls (rvcore.dynamics.races, "The scratch").
 WS = W
 (U00, U01, U02, U03, U04, U05, U11, U12, U13, U14, U15, U22, U23, U24, U25, U33, U34, U35, U44, U45,
@@ -322,7 +322,8 @@ N_PAIRS = 10
 #: flag, per family ``U⁻ᵀ·V_f`` (6) and ``y_f`` (5), the 10 family pairs' ``H``); from
 #: ``MP_PHI`` the shape ``φ``.
 (MP_V, MP_VK, MP_P, MP_PK, MP_CK, MP_Q, MP_AB, MP_EX, MP_SH, MP_T, MP_FB, MP_SG, MP_CR,
- MP_C, MP_ON, MP_X, MP_Y, MP_H, MP_PHI) = 0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128, 134, 135, 159, 179, 189
+ MP_C, MP_ON, MP_X, MP_Y, MP_H, MP_PHI) = (0, 12, 24, 34, 44, 50, 74, 104, 107, 111, 115, 118, 122, 128, 134, 135,
+                                           159, 179, 189)
 
 
 def _packed_size(max_orders: int) -> int:
@@ -376,7 +377,8 @@ def _modal_balls(s, mp, nz):
         for j in range(nz):
             i0, i1, i2 = s[U00 * WS + j], s[U11 * WS + j], s[U22 * WS + j]
             i3, i4, i5 = s[U33 * WS + j], s[U44 * WS + j], s[U55 * WS + j]
-            u01, u02, u03, u04, u05 = s[U01 * WS + j], s[U02 * WS + j], s[U03 * WS + j], s[U04 * WS + j], s[U05 * WS + j]
+            u01, u02, u03 = s[U01 * WS + j], s[U02 * WS + j], s[U03 * WS + j]
+            u04, u05 = s[U04 * WS + j], s[U05 * WS + j]
             u12, u13, u14, u15 = s[U12 * WS + j], s[U13 * WS + j], s[U14 * WS + j], s[U15 * WS + j]
             u23, u24, u25 = s[U23 * WS + j], s[U24 * WS + j], s[U25 * WS + j]
             u34, u35, u45 = s[U34 * WS + j], s[U35 * WS + j], s[U45 * WS + j]
@@ -466,8 +468,9 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     balls' order.
     """
     nm = modal_offset(params, 4)
-    nh = 2 * _max_orders(params) - 1
-    size = MP_PHI + 2 * _max_orders(params)
+    nmax = _max_orders(params)
+    nh = 2 * nmax - 1
+    size = MP_PHI + 2 * nmax
     hs = fx[nm + FX_FLAT:].reshape(-1)
     for i in range(2 * N_PAIRS * nh):
         hs[i] = 0.0
@@ -475,6 +478,9 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
         for c in range(nm):
             fx[i, c] = 0.0
     y0 = nm + FX_Y
+    family_n = (family_record(params, 0)[0], family_record(params, 1)[0], family_record(params, 2)[0],
+                family_record(params, 3)[0])
+    family_at = (0, modal_offset(params, 1), modal_offset(params, 2), modal_offset(params, 3))
     for r in range(rows.shape[0]):
         p0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
         mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
@@ -496,21 +502,33 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
                 for i in range(size - MP_PHI):
                     mp[(MP_PHI + i) * WS + j] = 0.0
                 continue
+            # the harmonics (cos mθ, sin mθ), m < nh, by the rotation recurrence, into the
+            # ball's columns after the shape φ (its first orders), then added a pair at a
+            # time along them (each sum still takes the balls in their order)
             c1, s1 = jw[J_FX + FX_ANG], jw[J_FX + FX_ANG + 1]
+            harm = jw[J_FX + FX_PHI + 2 * nmax:J_FX + FX_PHI + 2 * nmax + 2 * nh]
             cm, sm = 1.0, 0.0
             for m in range(nh):
                 if 2 * m < nh:
                     jw[J_FX + FX_PHI + 2 * m], jw[J_FX + FX_PHI + 2 * m + 1] = cm, sm
-                for pair in range(N_PAIRS):
-                    h = mp[(MP_H + pair) * WS + j]
-                    hs[2 * pair * nh + m] += h * cm
-                    hs[(2 * pair + 1) * nh + m] += h * sm
+                harm[m], harm[nh + m] = cm, sm
                 cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
-            for f in range(4):
-                n = family_record(params, f)[0]
-                of = modal_offset(params, f)
-                for c in range(5):
-                    _phi_add(jw, fx[y0 + c], of, n, mp[(MP_Y + 5 * f + c) * WS + j])
+            for pair in range(N_PAIRS):
+                h = mp[(MP_H + pair) * WS + j]
+                tc, ts = hs[2 * pair * nh:(2 * pair + 1) * nh], hs[(2 * pair + 1) * nh:(2 * pair + 2) * nh]
+                hc, hsn = harm[:nh], harm[nh:]
+                for m in range(nh):
+                    tc[m] += h * hc[m]
+                    ts[m] += h * hsn[m]
+            phi = jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * nmax]
+            for c in range(5):
+                yc = fx[y0 + c]
+                for f in range(4):
+                    n, of = family_n[f], family_at[f]
+                    value = mp[(MP_Y + 5 * f + c) * WS + j]
+                    target = yc[of:of + 2 * n]
+                    for i in range(2 * n):
+                        target[i] += value * phi[i]
             for i in range(size - MP_PHI):
                 mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i]
     # the balls' part from the harmonic sums (upper triangle), then the modes' own diagonal
@@ -567,14 +585,6 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
         for c in range(i + 1, nm):
             fx[c, i] = fx[i, c]
-
-
-@kernel(inline=True)
-def _phi_add(jw, x, start, n, value):
-    """``x[start + i] += value·φ_i`` (i < 2n)."""
-    target, phi = x[start:start + 2 * n], jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * n]
-    for i in range(2 * n):
-        target[i] += value * phi[i]
 
 
 @kernel(inline=True)

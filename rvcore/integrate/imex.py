@@ -328,7 +328,10 @@ def new_work(model, pocket_tolerance, load_tolerance):
     orders = max(family_states(model, name)[0] for name in FAMILIES)
     work[W_SET, 2] = work.shape[0]
     work = np.vstack([work, np.zeros((modal_block_rows(len(modal), orders, n, model.rows.shape[0]), n))])
-    return work, np.zeros((model.n_balls + 1, N_JWORK + N_FX + 2 * orders)), np.zeros((N_SCHUR, 5))
+    # a flexible ball's jwork columns: its modes' (N_FX), the shape φ (2 values an order) and
+    # the harmonics m < 2·orders − 1 (cos and sin) that arrowhead.factor_modes sums
+    columns = N_JWORK + N_FX + 2 * orders + 2 * (2 * orders - 1)
+    return work, np.zeros((model.n_balls + 1, columns)), np.zeros((N_SCHUR, 5))
 
 
 @kernel(inline=True)
