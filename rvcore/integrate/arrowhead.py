@@ -173,6 +173,21 @@ def _factor_balls(s, nz):
             s[x + 15 * WS], s[x + 20 * WS], s[x + 25 * WS] = x3, x4, x5
 
 
+@kernel(inline=True)
+def _back_substitute(s, j, x0, x1, x2, x3, x4, x5):
+    """``U⁻¹·x`` with the ball ``j``'s factor ``U`` as :func:`factor` leaves it in the packed
+    ``s`` (upper triangle, reciprocal diagonal)."""
+    x5 = x5 * s[U55 * WS + j]
+    x4 = (x4 - s[U45 * WS + j] * x5) * s[U44 * WS + j]
+    x3 = (x3 - s[U34 * WS + j] * x4 - s[U35 * WS + j] * x5) * s[U33 * WS + j]
+    x2 = (x2 - s[U23 * WS + j] * x3 - s[U24 * WS + j] * x4 - s[U25 * WS + j] * x5) * s[U22 * WS + j]
+    x1 = (x1 - s[U12 * WS + j] * x2 - s[U13 * WS + j] * x3 - s[U14 * WS + j] * x4
+          - s[U15 * WS + j] * x5) * s[U11 * WS + j]
+    x0 = (x0 - s[U01 * WS + j] * x1 - s[U02 * WS + j] * x2 - s[U03 * WS + j] * x3 - s[U04 * WS + j] * x4
+          - s[U05 * WS + j] * x5) * s[U00 * WS + j]
+    return x0, x1, x2, x3, x4, x5
+
+
 @kernel
 def _forward(s, nz, x0, x1, x2, x3, x4):
     """Every ball of a row: ``w = U⁻ᵀ·(M_b·v_b − h·γ·K·ê_x)`` in place of its velocities."""
@@ -226,14 +241,7 @@ def _backward(s, nz, z0, z1, z2, z3, z4):
                    + s[x + 24 * WS] * z4) if coupled else w4
         w5 = w5 - (s[x + 25 * WS] * z0 + s[x + 26 * WS] * z1 + s[x + 27 * WS] * z2 + s[x + 28 * WS] * z3
                    + s[x + 29 * WS] * z4) if coupled else w5
-        x5 = w5 * s[U55 * WS + j]
-        x4 = (w4 - s[U45 * WS + j] * x5) * s[U44 * WS + j]
-        x3 = (w3 - s[U34 * WS + j] * x4 - s[U35 * WS + j] * x5) * s[U33 * WS + j]
-        x2 = (w2 - s[U23 * WS + j] * x3 - s[U24 * WS + j] * x4 - s[U25 * WS + j] * x5) * s[U22 * WS + j]
-        x1 = (w1 - s[U12 * WS + j] * x2 - s[U13 * WS + j] * x3 - s[U14 * WS + j] * x4
-              - s[U15 * WS + j] * x5) * s[U11 * WS + j]
-        x0 = (w0 - s[U01 * WS + j] * x1 - s[U02 * WS + j] * x2 - s[U03 * WS + j] * x3 - s[U04 * WS + j] * x4
-              - s[U05 * WS + j] * x5) * s[U00 * WS + j]
+        x0, x1, x2, x3, x4, x5 = _back_substitute(s, j, w0, w1, w2, w3, w4, w5)
         s[v], s[v + WS], s[v + 2 * WS], s[v + 3 * WS], s[v + 4 * WS], s[v + 5 * WS] = x0, x1, x2, x3, x4, x5
 
 
@@ -344,21 +352,6 @@ def _max_orders(params):
     for f in range(4):
         n = max(n, family_record(params, f)[0])
     return n
-
-
-@kernel(inline=True)
-def _back_substitute(s, j, x0, x1, x2, x3, x4, x5):
-    """``U⁻¹·x`` with the ball ``j``'s factor ``U`` as :func:`factor` leaves it in the packed
-    ``s`` (upper triangle, reciprocal diagonal)."""
-    x5 = x5 * s[U55 * WS + j]
-    x4 = (x4 - s[U45 * WS + j] * x5) * s[U44 * WS + j]
-    x3 = (x3 - s[U34 * WS + j] * x4 - s[U35 * WS + j] * x5) * s[U33 * WS + j]
-    x2 = (x2 - s[U23 * WS + j] * x3 - s[U24 * WS + j] * x4 - s[U25 * WS + j] * x5) * s[U22 * WS + j]
-    x1 = (x1 - s[U12 * WS + j] * x2 - s[U13 * WS + j] * x3 - s[U14 * WS + j] * x4
-          - s[U15 * WS + j] * x5) * s[U11 * WS + j]
-    x0 = (x0 - s[U01 * WS + j] * x1 - s[U02 * WS + j] * x2 - s[U03 * WS + j] * x3 - s[U04 * WS + j] * x4
-          - s[U05 * WS + j] * x5) * s[U00 * WS + j]
-    return x0, x1, x2, x3, x4, x5
 
 
 @kernel
