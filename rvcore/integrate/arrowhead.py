@@ -25,8 +25,9 @@ from ..bearing.layout import BALL_STATES, R_BALL0, R_POCKET0, R_Z
 #: The packed factors of one row (:func:`factor`), a quantity ``f`` of the row's ball ``j``
 #: at ``f·WS + j``: U's upper triangle (the diagonal as reciprocals), X = U⁻ᵀ·B, the
 #: blocks of ``h·γ·K``, the coupling flag, the ball's masses, and the solve's own
-#: quantities (the ball's ê_x, then its velocities, w and the result in turn). Constant distances and indices from 0, so that LLVM vectorises the
-#: loops over the balls (rvcore.dynamics.races, "The scratch").
+#: quantities (the ball's ê_x, then its velocities, w and the result in turn). Constant
+#: distances and indices from 0, so that LLVM vectorises the loops over the balls
+#: (rvcore.dynamics.races, "The scratch").
 WS = W
 (U00, U01, U02, U03, U04, U05, U11, U12, U13, U14, U15, U22, U23, U24, U25, U33, U34, U35, U44, U45,
  U55) = range(21)
