@@ -321,6 +321,18 @@ def solve(v, schur, rows, mass, sf):
 FX_Y, FX_RM, FX_FLAT = 0, 5, 6
 #: The family pairs ``(f, g)``, ``f ≤ g``, of the harmonic sums, in their order.
 N_PAIRS = 10
+#: The sums over the balls that run along a family's modes (the solve's shape forces,
+#: :func:`factor_modes`' ``Y``) when the largest family has at most 8 orders: over all 16
+#: lanes, those past a family's own left over, into accumulators of their own
+#: (:data:`N_LANE_SUMS` of them after the harmonic sums), and the harmonic sums a family
+#: pair at a time, cos and sin in one loop (:func:`harmonic_width`). Each sum still takes
+#: the balls in their order: the same bits. Which form LLVM vectorises was measured, not
+#: assumed (docs/performance.md, "Flexible rings in the dynamics"): the solve's four
+#: families at once with the constant length 16 (a length known only at run time was
+#: slower), ``factor_modes``' sums with a length known only at run time (vectorised behind
+#: a check that the views do not overlap; with the constant 16, unrolled and left scalar).
+LANES = 16
+N_LANE_SUMS = 4 + 20
 #: The packed modal factors of one row, a quantity ``q`` of the row's ball ``j`` at
 #: ``q·WS + j`` (as :func:`factor`'s, so that the solve's loops over the balls vectorise):
 #: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
@@ -343,8 +355,24 @@ def _packed_size(max_orders: int) -> int:
 def modal_block_rows(n_modes: int, max_orders: int, width: int, n_rows: int) -> int:
     """Rows of width ``width`` the modes' block ``fx`` takes: ``n_modes`` modal unknowns,
     ``max_orders`` orders in the largest family, ``n_rows`` rows of balls."""
-    flat = 2 * N_PAIRS * (2 * max_orders - 1) + n_rows * _packed_size(max_orders) * WS
+    flat = _rows_at(max_orders) + n_rows * _packed_size(max_orders) * WS
     return n_modes + FX_FLAT + -(-flat // width)
+
+
+@kernel(inline=True)
+def harmonic_width(max_orders):
+    """The room of each harmonic sum (cos or sin of one family pair) and of a ball's
+    harmonics in ``jwork``: :data:`LANES` where the sums run along the lanes (``2·K ≤
+    LANES``), else the ``2·K − 1`` harmonics themselves (``K`` the largest family's
+    orders)."""
+    return LANES if 2 * max_orders <= LANES else 2 * max_orders - 1
+
+
+@kernel(inline=True)
+def _rows_at(max_orders):
+    """Where the rows' packed modal factors start in the flat part of ``fx``: after the
+    harmonic sums and the lanes' accumulators."""
+    return 2 * N_PAIRS * harmonic_width(max_orders) + N_LANE_SUMS * LANES
 
 
 @kernel(inline=True)
@@ -459,15 +487,22 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     Each row's couplings are first copied into the packed modal factors (``MP_*``), where
     each ball's own algebra is a loop over the balls that LLVM vectorises
     (:func:`_modal_balls`); the sums over the balls (the harmonics, ``Y``) stay a loop in the
-    balls' order.
+    balls' order, each ball's terms added along the modes (:data:`LANES`).
     """
     nm = modal_offset(params, 4)
     nmax = _max_orders(params)
     nh = 2 * nmax - 1
+    hl = harmonic_width(nmax)
+    along = hl == LANES      # Y's sums along the lanes (LANES)
     size = MP_PHI + 2 * nmax
     hs = fx[nm + FX_FLAT:].reshape(-1)
-    for i in range(2 * N_PAIRS * nh):
+    for i in range(2 * N_PAIRS * hl):
         hs[i] = 0.0
+    # Y's sums along the lanes: a family's, per component c, at (4·c + f)·LANES
+    lanes = hs[2 * N_PAIRS * hl + 4 * LANES:2 * N_PAIRS * hl + N_LANE_SUMS * LANES]
+    for i in range(lanes.size):
+        lanes[i] = 0.0
+    at = _rows_at(nmax)
     for i in range(nm + FX_RM):      # S and Y
         for c in range(nm):
             fx[i, c] = 0.0
@@ -477,7 +512,7 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     family_at = (0, modal_offset(params, 1), modal_offset(params, 2), modal_offset(params, 3))
     for r in range(rows.shape[0]):
         p0, nz = int(rows[r, R_POCKET0]), int(rows[r, R_Z])
-        mp = hs[2 * N_PAIRS * nh + r * size * WS:2 * N_PAIRS * nh + (r + 1) * size * WS]
+        mp = hs[at + r * size * WS:at + (r + 1) * size * WS]
         s = sf[r * N_SOLVE_FIELDS * WS:(r + 1) * N_SOLVE_FIELDS * WS]
         for j in range(nz):     # the couplings, a quantity a row of balls
             jw = jwork[p0 + j]
@@ -500,38 +535,50 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
             # ball's columns after the shape φ (its first orders), then added a pair at a
             # time along them (each sum still takes the balls in their order)
             c1, s1 = jw[J_FX + FX_ANG], jw[J_FX + FX_ANG + 1]
-            harm = jw[J_FX + FX_PHI + 2 * nmax:J_FX + FX_PHI + 2 * nmax + 2 * nh]
+            harm = jw[J_FX + FX_PHI + 2 * nmax:J_FX + FX_PHI + 2 * nmax + 2 * hl]
             cm, sm = 1.0, 0.0
             for m in range(nh):
                 if 2 * m < nh:
                     jw[J_FX + FX_PHI + 2 * m], jw[J_FX + FX_PHI + 2 * m + 1] = cm, sm
-                harm[m], harm[nh + m] = cm, sm
+                harm[m], harm[hl + m] = cm, sm
                 cm, sm = cm * c1 - sm * s1, sm * c1 + cm * s1
-            for pair in range(N_PAIRS):
+            for pair in range(N_PAIRS):     # its cos and sin sums in one loop
                 h = mp[(MP_H + pair) * WS + j]
-                tc, ts = hs[2 * pair * nh:(2 * pair + 1) * nh], hs[(2 * pair + 1) * nh:(2 * pair + 2) * nh]
-                hc, hsn = harm[:nh], harm[nh:]
-                for m in range(nh):
-                    tc[m] += h * hc[m]
-                    ts[m] += h * hsn[m]
-            phi = jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * nmax]
-            for c in range(5):
-                yc = fx[y0 + c]
-                for f in range(4):
-                    n, of = family_n[f], family_at[f]
-                    value = mp[(MP_Y + 5 * f + c) * WS + j]
-                    target = yc[of:of + 2 * n]
-                    for i in range(2 * n):
-                        target[i] += value * phi[i]
+                tcs = hs[2 * pair * hl:(2 * pair + 2) * hl]
+                for m in range(2 * hl):
+                    tcs[m] += h * harm[m]
+            if along:
+                phi = jw[J_FX + FX_PHI:J_FX + FX_PHI + hl]
+                for c in range(5):
+                    for f in range(4):
+                        value = mp[(MP_Y + 5 * f + c) * WS + j]
+                        target = lanes[(4 * c + f) * hl:(4 * c + f + 1) * hl]
+                        for i in range(hl):     # hl, not LANES: a loop of unknown length vectorises
+                            target[i] += value * phi[i]
+            else:
+                phi = jw[J_FX + FX_PHI:J_FX + FX_PHI + 2 * nmax]
+                for c in range(5):
+                    yc = fx[y0 + c]
+                    for f in range(4):
+                        n, of = family_n[f], family_at[f]
+                        value = mp[(MP_Y + 5 * f + c) * WS + j]
+                        target = yc[of:of + 2 * n]
+                        for i in range(2 * n):
+                            target[i] += value * phi[i]
             for i in range(size - MP_PHI):
                 mp[(MP_PHI + i) * WS + j] = jw[J_FX + FX_PHI + i]
+    if along:
+        for c in range(5):
+            for f in range(4):
+                n, of = family_n[f], family_at[f]
+                _lanes_to(lanes[(4 * c + f) * LANES:(4 * c + f + 1) * LANES], fx[y0 + c, of:of + 2 * n])
     # the balls' part from the harmonic sums (upper triangle), then the modes' own diagonal
     pair = 0
     for f in range(4):
         nf, of = family_record(params, f)[0], modal_offset(params, f)
         for g in range(f, 4):
             ng, og = family_record(params, g)[0], modal_offset(params, g)
-            hc_at, hs_at = 2 * pair * nh, (2 * pair + 1) * nh
+            hc_at, hs_at = 2 * pair * hl, (2 * pair + 1) * hl
             for i in range(nf):
                 for i2 in range(ng):
                     d = abs(i - i2)
@@ -609,11 +656,32 @@ def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
 
 
 @kernel(inline=True)
-def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
+def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3, lanes):
     """``rm[o_f + i] −= Σ_j φ_i(θ_j)·s[(MP_T + f)·WS + j]``: the four families' terms at the
     balls onto their modes (ball by ball, along the shape ``φ`` each ball keeps in ``jwork``;
-    views from index 0, which LLVM vectorises)."""
+    views from index 0, which LLVM vectorises). With ``lanes`` (:data:`LANES` accumulators
+    a family, else empty) along all of them."""
     r0, r1, r2, r3 = rm[0:2 * n0], rm[o1:o1 + 2 * n1], rm[o2:o2 + 2 * n2], rm[o3:o3 + 2 * n3]
+    if lanes.size:
+        a0, a1, a2, a3 = lanes[0:LANES], lanes[LANES:2 * LANES], lanes[2 * LANES:3 * LANES], lanes[3 * LANES:]
+        _lanes_from(a0, r0)
+        _lanes_from(a1, r1)
+        _lanes_from(a2, r2)
+        _lanes_from(a3, r3)
+        for j in range(nz):
+            phi = jwork[p0 + j, J_FX + FX_PHI:J_FX + FX_PHI + LANES]
+            t0, t1 = s[MP_T * WS + j], s[(MP_T + 1) * WS + j]
+            t2, t3 = s[(MP_T + 2) * WS + j], s[(MP_T + 3) * WS + j]
+            for i in range(LANES):
+                a0[i] -= t0 * phi[i]
+                a1[i] -= t1 * phi[i]
+                a2[i] -= t2 * phi[i]
+                a3[i] -= t3 * phi[i]
+        _lanes_to(a0, r0)
+        _lanes_to(a1, r1)
+        _lanes_to(a2, r2)
+        _lanes_to(a3, r3)
+        return
     for j in range(nz):
         phi = jwork[p0 + j, J_FX + FX_PHI:]
         t0, t1 = s[MP_T * WS + j], s[(MP_T + 1) * WS + j]
@@ -626,6 +694,18 @@ def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3):
             r2[i] -= t2 * phi[i]
         for i in range(2 * n3):
             r3[i] -= t3 * phi[i]
+
+
+@kernel(inline=True)
+def _lanes_from(lanes, values):
+    for i in range(values.size):
+        lanes[i] = values[i]
+
+
+@kernel(inline=True)
+def _lanes_to(lanes, values):
+    for i in range(values.size):
+        values[i] = lanes[i]
 
 
 @kernel
@@ -734,7 +814,9 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     nmax = _max_orders(params)
     size = MP_PHI + 2 * nmax
     flat = fx[nm + FX_FLAT:].reshape(-1)
-    at = 2 * N_PAIRS * (2 * nmax - 1)
+    at = _rows_at(nmax)
+    lanes_at = 2 * N_PAIRS * harmonic_width(nmax)
+    lanes = flat[lanes_at:lanes_at + (4 * LANES if 2 * nmax <= LANES else 0)]
     n0, a0, _ = family_record(params, 0)
     n1, a1, _ = family_record(params, 1)
     n2, a2, _ = family_record(params, 2)
@@ -784,7 +866,7 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
             b = b0 + BALL_STATES * j
             s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b + 3], v[b + 4], v[b + 5]
         _coupling_terms(s, nz, v[5], v[6], v[7], v[8], v[9])
-        _shape_forces(s, nz, jwork, int(rows[r, R_POCKET0]), rm, n0, o1, n1, o2, n2, o3, n3)
+        _shape_forces(s, nz, jwork, int(rows[r, R_POCKET0]), rm, n0, o1, n1, o2, n2, o3, n3, lanes)
     # S·e_m = r: Uᵀ (along U's rows) then U
     for i in range(nm):
         e = rm[i] * fx[i, i]

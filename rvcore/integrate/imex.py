@@ -176,7 +176,8 @@ import math
 import numpy as np
 from .._numba import kernel
 
-from .arrowhead import N_SOLVE_FIELDS, WS, factor, factor_modes, modal_block_rows, solve, solve_coupled
+from .arrowhead import (N_SOLVE_FIELDS, WS, factor, factor_modes, harmonic_width, modal_block_rows, solve,
+                        solve_coupled)
 from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from ..bearing.layout import (BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
@@ -329,8 +330,9 @@ def new_work(model, pocket_tolerance, load_tolerance):
     work[W_SET, 2] = work.shape[0]
     work = np.vstack([work, np.zeros((modal_block_rows(len(modal), orders, n, model.rows.shape[0]), n))])
     # a flexible ball's jwork columns: its modes' (N_FX), the shape φ (2 values an order) and
-    # the harmonics m < 2·orders − 1 (cos and sin) that arrowhead.factor_modes sums
-    columns = N_JWORK + N_FX + 2 * orders + 2 * (2 * orders - 1)
+    # the harmonics m < 2·orders − 1 (cos and sin, each in arrowhead.harmonic_width) that
+    # arrowhead.factor_modes sums
+    columns = N_JWORK + N_FX + 2 * orders + 2 * harmonic_width(orders)
     return work, np.zeros((model.n_balls + 1, columns)), np.zeros((N_SCHUR, 5))
 
 
