@@ -610,19 +610,23 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
                              + fx[y0 + 2, row] * fx[y0 + 2, col] + fx[y0 + 3, row] * fx[y0 + 3, col]
                              + fx[y0 + 4, row] * fx[y0 + 4, col])
     # Cholesky (upper triangle, reciprocal diagonal; right-looking, so that the inner loops
-    # run along rows)
+    # run along rows), two pivots at a time: each row below takes both pivot rows' updates
+    # in one pass, in the order one at a time gave them (the same bits, half the passes)
     # with views from the loops' first index (an index LLVM knows to be ≥ 0 vectorises)
-    for i in range(nm):
-        inv = 1.0 / math.sqrt(fx[i, i])
-        fx[i, i] = inv
-        row = fx[i, i + 1:nm]
+    for i in range(0, nm, 2):
+        _pivot_row(fx, i, nm)
+        if i + 1 == nm:
+            break
+        u = fx[i, i + 1]
+        target, source = fx[i + 1, i + 1:nm], fx[i, i + 1:nm]
         for c in range(nm - i - 1):
-            row[c] *= inv
-        for k in range(i + 1, nm):
-            u = fx[i, k]
-            target, source = fx[k, k:nm], fx[i, k:nm]
+            target[c] -= u * source[c]
+        _pivot_row(fx, i + 1, nm)
+        for k in range(i + 2, nm):
+            u0, u1 = fx[i, k], fx[i + 1, k]
+            target, s0, s1 = fx[k, k:nm], fx[i, k:nm], fx[i + 1, k:nm]
             for c in range(nm - k):
-                target[c] -= u * source[c]
+                target[c] = (target[c] - u0 * s0[c]) - u1 * s1[c]
     for i in range(nm):     # U's columns as the lower triangle's rows, for the back substitution
         for c in range(i + 1, nm):
             fx[c, i] = fx[i, c]
@@ -694,6 +698,17 @@ def _shape_forces(s, nz, jwork, p0, rm, n0, o1, n1, o2, n2, o3, n3, lanes):
             r2[i] -= t2 * phi[i]
         for i in range(2 * n3):
             r3[i] -= t3 * phi[i]
+
+
+@kernel(inline=True)
+def _pivot_row(fx, i, nm):
+    """Row ``i`` of the modes' Cholesky factor: its pivot's reciprocal root and the row
+    scaled by it."""
+    inv = 1.0 / math.sqrt(fx[i, i])
+    fx[i, i] = inv
+    row = fx[i, i + 1:nm]
+    for c in range(nm - i - 1):
+        row[c] *= inv
 
 
 @kernel(inline=True)
@@ -867,19 +882,28 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
             s[MP_EX * WS + j], s[(MP_EX + 1) * WS + j], s[(MP_EX + 2) * WS + j] = v[b + 3], v[b + 4], v[b + 5]
         _coupling_terms(s, nz, v[5], v[6], v[7], v[8], v[9])
         _shape_forces(s, nz, jwork, int(rows[r, R_POCKET0]), rm, n0, o1, n1, o2, n2, o3, n3, lanes)
-    # S·e_m = r: Uᵀ (along U's rows) then U
-    for i in range(nm):
-        e = rm[i] * fx[i, i]
-        rm[i] = e
-        target, source = rm[i + 1:nm], fx[i, i + 1:nm]
-        for c in range(nm - i - 1):
-            target[c] -= source[c] * e
-    for i in range(nm - 1, -1, -1):
-        e = rm[i] * fx[i, i]
-        rm[i] = e
-        target, source = rm[:i], fx[i, :i]      # U[l, i], kept in the lower triangle
-        for l in range(i):
-            target[l] -= source[l] * e
+    # S·e_m = r: Uᵀ (along U's rows) then U, two unknowns a pass (each value takes their
+    # terms in the order one at a time gave them: the same bits)
+    for i in range(0, nm, 2):
+        e0 = rm[i] * fx[i, i]
+        rm[i] = e0
+        if i + 1 == nm:
+            break
+        e1 = (rm[i + 1] - fx[i, i + 1] * e0) * fx[i + 1, i + 1]
+        rm[i + 1] = e1
+        target, s0, s1 = rm[i + 2:nm], fx[i, i + 2:nm], fx[i + 1, i + 2:nm]
+        for c in range(nm - i - 2):
+            target[c] = (target[c] - s0[c] * e0) - s1[c] * e1
+    for i in range(nm - 1, -1, -2):
+        e0 = rm[i] * fx[i, i]
+        rm[i] = e0
+        if i == 0:
+            break
+        e1 = (rm[i - 1] - fx[i, i - 1] * e0) * fx[i - 1, i - 1]
+        rm[i - 1] = e1
+        target, s0, s1 = rm[:i - 1], fx[i, :i - 1], fx[i - 1, :i - 1]      # U[l, i], kept in the lower triangle
+        for l in range(i - 1):
+            target[l] = (target[l] - s0[l] * e0) - s1[l] * e1
     # A⁻¹·C·e_m: the ring's z = S_r⁻¹·Y·e_m = U_r⁻¹·(Z·e_m) (Z = U_r⁻ᵀ·Y in fx), then the balls'
     y0 = nm + FX_Y
     t0 = t1 = t2 = t3 = t4 = 0.0
