@@ -45,7 +45,7 @@ from ..contact.laws import (FRICTION_KINDS, NO_FILM, NO_FILM_CONSTANTS, ball_con
 from ..bearing.layout import A_EEFF, A_ELL, A_K, A_LOG_HC1, A_LOG_LAM1, A_PC3, A_RING, A_RX, BALL_STATES, MAX_ROW_ARCS, MAX_ROW_BALLS, R_BALL0, R_IMPERFECT, R_POCKET0, R_Z
 from ..contact.film import HC_EXP_U, HC_EXP_W, HM_EXP_U, HM_EXP_W, log_films
 from .raceway import ball_offsets
-from .ring_modes import F_INNER_AXIAL, F_INNER_RADIAL, F_OUTER_AXIAL, F_OUTER_RADIAL, family_record, flexible
+from .ring_modes import F_INNER_RADIAL, F_OUTER_RADIAL, family_record, flexible
 from ..contact.pose import ring_to_global, to_ring_frame
 
 # The scratch: quantity ``f`` of the row's ball ``j`` (its index in the row, from 0) at

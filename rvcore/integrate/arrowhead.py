@@ -646,17 +646,22 @@ def _shape_values(s, nz, v, a0, n0, a1, n1, a2, n2, a3, n3, nmax, at):
     c2, c3 = s[(at + 2) * WS:(at + 2) * WS + nz], s[(at + 3) * WS:(at + 3) * WS + nz]
     for j in range(nz):
         c0[j], c1[j], c2[j], c3[j] = 0.0, 0.0, 0.0, 0.0
-    for i in range(2 * nmax):
+    for i in range(0, 2 * nmax, 2):     # two terms a pass (2·nmax is even), in their order
         e0 = v[a0 + i] if i < 2 * n0 else 0.0
         e1 = v[a1 + i] if i < 2 * n1 else 0.0
         e2 = v[a2 + i] if i < 2 * n2 else 0.0
         e3 = v[a3 + i] if i < 2 * n3 else 0.0
+        f0 = v[a0 + i + 1] if i + 1 < 2 * n0 else 0.0
+        f1 = v[a1 + i + 1] if i + 1 < 2 * n1 else 0.0
+        f2 = v[a2 + i + 1] if i + 1 < 2 * n2 else 0.0
+        f3 = v[a3 + i + 1] if i + 1 < 2 * n3 else 0.0
         ph = s[(MP_PHI + i) * WS:(MP_PHI + i) * WS + nz]
+        pk = s[(MP_PHI + i + 1) * WS:(MP_PHI + i + 1) * WS + nz]
         for j in range(nz):
-            c0[j] += ph[j] * e0
-            c1[j] += ph[j] * e1
-            c2[j] += ph[j] * e2
-            c3[j] += ph[j] * e3
+            c0[j] = (c0[j] + ph[j] * e0) + pk[j] * f0
+            c1[j] = (c1[j] + ph[j] * e1) + pk[j] * f1
+            c2[j] = (c2[j] + ph[j] * e2) + pk[j] * f2
+            c3[j] = (c3[j] + ph[j] * e3) + pk[j] * f3
 
 
 @kernel(inline=True)
