@@ -389,8 +389,9 @@ def _modal_balls(s, mp, nz):
     (``mp``): per family ``x_f = U⁻ᵀ·V_f`` (``MP_X``), ``y_f = P_f − Xᵀ·x_f`` (``MP_Y``)
     and ``A_b⁻¹·V_f = U⁻¹·x_f`` (``MP_Q``); ``A_b⁻¹·B_b = U⁻¹·X`` (``MP_AB``); the
     family pairs' ``H = core − x_f·x_g`` (``MP_H``). A ball without a contact on a flexible
-    ring (``MP_ON`` 0) gets 0 in ``MP_Q`` and ``MP_AB``. Loops over the balls innermost
-    (vectorised)."""
+    ring (``MP_ON`` 0) gets 0 in ``MP_Q``, one not coupled to the ring 0 in ``MP_AB``: a
+    ball coupled to the ring takes its part of ``A⁻¹·C`` through the ring even without
+    modes of its own. Loops over the balls innermost (vectorised)."""
     for f in range(4):
         v = (MP_V + 3 * f) * WS
         x = (MP_X + 6 * f) * WS
@@ -433,7 +434,7 @@ def _modal_balls(s, mp, nz):
                 mp[y + c * WS + j] = t
     for c in range(5):      # A_b⁻¹·B_b = U⁻¹·X, column by column
         for j in range(nz):
-            live = s[F_COUPLED * WS + j] != 0.0 and mp[MP_ON * WS + j] != 0.0
+            live = s[F_COUPLED * WS + j] != 0.0
             xc = (F_X + c) * WS + j
             x0, x1, x2, x3, x4, x5 = _back_substitute(s, j, s[xc], s[xc + 5 * WS], s[xc + 10 * WS],
                                                       s[xc + 15 * WS], s[xc + 20 * WS], s[xc + 25 * WS])
@@ -718,12 +719,14 @@ def _pivot_row(fx, i, nm):
 
 @kernel(inline=True)
 def _lanes_from(lanes, values):
+    """The first ``values.size`` lanes from ``values``."""
     for i in range(values.size):
         lanes[i] = values[i]
 
 
 @kernel(inline=True)
 def _lanes_to(lanes, values):
+    """``values`` from the first ``values.size`` lanes."""
     for i in range(values.size):
         values[i] = lanes[i]
 
@@ -836,7 +839,7 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     flat = fx[nm + FX_FLAT:].reshape(-1)
     at = _rows_at(nmax)
     lanes_at = 2 * N_PAIRS * harmonic_width(nmax)
-    lanes = flat[lanes_at:lanes_at + (4 * LANES if 2 * nmax <= LANES else 0)]
+    lanes = flat[lanes_at:lanes_at + (4 * LANES if harmonic_width(nmax) == LANES else 0)]
     n0, a0, _ = family_record(params, 0)
     n1, a1, _ = family_record(params, 1)
     n2, a2, _ = family_record(params, 2)
