@@ -332,7 +332,8 @@ N_PAIRS = 10
 #: slower), ``factor_modes``' sums with a length known only at run time (vectorised behind
 #: a check that the views do not overlap; with the constant 16, unrolled and left scalar).
 LANES = 16
-N_LANE_SUMS = 4 + 20
+N_SOLVE_LANE_SUMS, N_Y_LANE_SUMS = 4, 20      # the solve's (a family each), Y's (5 components × 4 families)
+N_LANE_SUMS = N_SOLVE_LANE_SUMS + N_Y_LANE_SUMS
 #: The packed modal factors of one row, a quantity ``q`` of the row's ball ``j`` at
 #: ``q·WS + j`` (as :func:`factor`'s, so that the solve's loops over the balls vectorise):
 #: per family ``V_f`` and ``h·γ·K``'s ``VK_f`` (3 each), for the inner ring's families
@@ -369,10 +370,18 @@ def harmonic_width(max_orders):
 
 
 @kernel(inline=True)
+def _lanes_at(max_orders):
+    """Where the lanes' accumulators start in the flat part of ``fx``, after the harmonic
+    sums: the solve's :data:`N_SOLVE_LANE_SUMS`, then ``Y``'s :data:`N_Y_LANE_SUMS`, each
+    :data:`LANES` long."""
+    return 2 * N_PAIRS * harmonic_width(max_orders)
+
+
+@kernel(inline=True)
 def _rows_at(max_orders):
     """Where the rows' packed modal factors start in the flat part of ``fx``: after the
     harmonic sums and the lanes' accumulators."""
-    return 2 * N_PAIRS * harmonic_width(max_orders) + N_LANE_SUMS * LANES
+    return _lanes_at(max_orders) + N_LANE_SUMS * LANES
 
 
 @kernel(inline=True)
@@ -500,7 +509,7 @@ def factor_modes(jwork, schur, rows, params, fx, hg, sf):
     for i in range(2 * N_PAIRS * hl):
         hs[i] = 0.0
     # Y's sums along the lanes: a family's, per component c, at (4·c + f)·LANES
-    lanes = hs[2 * N_PAIRS * hl + 4 * LANES:2 * N_PAIRS * hl + N_LANE_SUMS * LANES]
+    lanes = hs[_lanes_at(nmax) + N_SOLVE_LANE_SUMS * LANES:_rows_at(nmax)]
     for i in range(lanes.size):
         lanes[i] = 0.0
     at = _rows_at(nmax)
@@ -838,8 +847,8 @@ def solve_coupled(v, g, schur, rows, mass, sf, jwork, params, fx, hg):
     size = MP_PHI + 2 * nmax
     flat = fx[nm + FX_FLAT:].reshape(-1)
     at = _rows_at(nmax)
-    lanes_at = 2 * N_PAIRS * harmonic_width(nmax)
-    lanes = flat[lanes_at:lanes_at + (4 * LANES if harmonic_width(nmax) == LANES else 0)]
+    lanes_at = _lanes_at(nmax)
+    lanes = flat[lanes_at:lanes_at + (N_SOLVE_LANE_SUMS * LANES if harmonic_width(nmax) == LANES else 0)]
     n0, a0, _ = family_record(params, 0)
     n1, a1, _ = family_record(params, 1)
     n2, a2, _ = family_record(params, 2)
