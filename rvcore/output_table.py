@@ -58,7 +58,6 @@ SIGNALS = (
     Signal("drive_torque", "N m", "moment about the ring's spin axis the prescribed spin needs", STAGE),
     Signal("friction_power", "W", "sum of |F_t . u| over every friction contact"),
     Signal("damping_power", "W", "sum of (q - K delta^1.5) d(delta)/dt over every contact: the dampers' dissipation"),
-    Signal("load_power", "W", "power of the applied loads and of gravity on every body"),
     Signal("tilt_power", "W", "power the small-tilt ring equations leave out (rvcore.dynamics.rhs.rhs, Notes)"),
     Signal("max_pocket_force", "N", "largest ball-pocket normal force"),
     Signal("cage_land_force", "N", "largest cage-land normal force"),
@@ -103,6 +102,9 @@ SIGNALS = (
     Signal("drive_torque_band_limited", "N m", "the step's drive torque band-limited to "
                                                 "rvcore.integrate.loop.TORQUE_BANDWIDTH", STEP),
     Signal("drive_power_step", "W", "the step's drive power, stage-weighted (the work the step's impulse did)", STEP),
+    Signal("load_power_step", "W", "the work of the applied loads and of gravity on every body over the step, over "
+                                   "the step: their potential's fall across it, the loads at the step's midpoint "
+                                   "(rvcore.integrate.loop.integrate)", STEP),
 )
 
 #: Signals once per row of balls, from slot ``N_SIGNALS + N_ROW_SIGNALS·r``.

@@ -89,6 +89,35 @@ def kinetic_energy(y, params, rows):
 
 
 @kernel
+def gravity_potential(y, params, rows):
+    """``−Σ m·g·r`` over the inner ring, the cages and the balls [J]: gravity's potential."""
+    gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
+    e = -params[P_RING_M] * (gx * y[0] + gy * y[1] + gz * y[2])
+    for r in range(rows.shape[0]):
+        b0, c0 = int(rows[r, R_BALL0]), int(rows[r, R_CAGE0])
+        e -= rows[r, R_CAGE_M] * (gx * y[c0] + gy * y[c0 + 1] + gz * y[c0 + 2])
+        m_b = rows[r, R_MB]
+        for j in range(int(rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            e -= m_b * (gx * y[b] + gy * y[b + 1] + gz * y[b + 2])
+    return e
+
+
+@kernel(inline=True)
+def ring_load_potential(t, xi, yi, zi, tx, ty, table, meta):
+    """``−(F·r_ring + M·θ)`` [J]: the applied loads' potential at the ring's pose
+    ``(xi, yi, zi, tx, ty)`` [m, rad], the loads those of the profile at ``t`` [s] held
+    constant (the radial load along the load direction ψ, the axial along z, the moment
+    about the axis at ψ + 90°)."""
+    fr = channel_value(table, meta, CH_RADIAL, t)
+    fa = channel_value(table, meta, CH_AXIAL, t)
+    moment = channel_value(table, meta, CH_MOMENT, t)
+    psi = channel_value(table, meta, CH_DIRECTION, t)
+    lc, ls = math.cos(psi), math.sin(psi)
+    return -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
+
+
+@kernel
 def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     """Elastic energy of every contact minus the work potential of the applied loads [J].
 
@@ -100,17 +129,10 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
     (:func:`kinetic_energy`) it is conserved when friction and damping
     are off, the loads are constant and the ring does not spin.
     """
-    fr = channel_value(table, meta, CH_RADIAL, t)
-    fa = channel_value(table, meta, CH_AXIAL, t)
-    moment = channel_value(table, meta, CH_MOMENT, t)
-    psi = channel_value(table, meta, CH_DIRECTION, t)
-    lc, ls = math.cos(psi), math.sin(psi)
-    gx, gy, gz = params[P_GX], params[P_GY], params[P_GZ]
     xi, yi, zi, tx, ty = y[0], y[1], y[2], y[3], y[4]
     r00, r01, r02, r10, r11, r12, r20, r21, r22 = ring_rotation(tx, ty)
     cos_spin, sin_spin = spin_of(rows, table, meta, t)
-    e = -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
-    e -= params[P_RING_M] * (gx * xi + gy * yi + gz * zi)
+    e = ring_load_potential(t, xi, yi, zi, tx, ty, table, meta) + gravity_potential(y, params, rows)
     flex = flexible(params)
     if flex:
         e += modal_energy(params, y)[1]
@@ -120,11 +142,9 @@ def potential_energy(t, y, params, rows, arcs, pockets, table, meta):
         zrow, h = rows[r, R_ZROW], rows[r, R_HALF_D]
         xc, yc, zc, phi = y[c0], y[c0 + 1], y[c0 + 2], y[c0 + 3]
         cphi, sphi = math.cos(phi), math.sin(phi)
-        e -= rows[r, R_CAGE_M] * (gx * xc + gy * yc + gz * zc)
         for j in range(int(rows[r, R_Z])):
             b = b0 + BALL_STATES * j
             px, py, pz = y[b], y[b + 1], y[b + 2]
-            e -= rows[r, R_MB] * (gx * px + gy * py + gz * pz)
             plx, ply, plz, rho_l = to_ring_frame(px, py, pz, xi, yi, zi, r00, r01, r02, r10, r11, r12,
                                                  r20, r21, r22, zrow)
             rho_b = math.sqrt(px * px + py * py)

@@ -69,9 +69,9 @@ from .ring_modes import clear_modal_forces, flexible, modal_rhs
 D_MAX_QI, D_MAX_QO, D_LOADED, D_MAX_P3, D_MAX_PEN, D_PEN_BALL, D_DRIVE_TORQUE = (SLOT[n] for n in (
     "max_inner_contact_load", "max_outer_contact_load", "loaded_ball_count", "max_contact_pressure_cubed",
     "max_penetration", "penetration_ball", "drive_torque"))
-(D_FRICTION_POWER, D_DAMPING_POWER, D_LOAD_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q, D_MAX_SLIDE2, D_MAX_PV6,
+(D_FRICTION_POWER, D_DAMPING_POWER, D_TILT_POWER, D_MAX_QP, D_LAND_Q, D_MAX_SLIDE2, D_MAX_PV6,
  D_RACE_P3, D_SIN_MIN, D_SIN_MAX, D_DRIVE_POWER, D_HOLD_MX, D_HOLD_MY) = (SLOT[n] for n in (
-    "friction_power", "damping_power", "load_power", "tilt_power", "max_pocket_force", "cage_land_force",
+    "friction_power", "damping_power", "tilt_power", "max_pocket_force", "cage_land_force",
     "max_race_sliding_speed_squared", "max_race_pv_sixth", "max_race_pressure_cubed", "sin_contact_angle_min",
     "sin_contact_angle_max", "drive_power", "tilt_reaction_moment_x", "tilt_reaction_moment_y"))
 D_FILM_C, D_FILM_MIN, D_FILM_LAMBDA = (SLOT[n] for n in (
@@ -124,7 +124,9 @@ def rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag):
 
       ``P_tilt`` is what the small-tilt ring equations leave out of the rigid ring's
       power (they put ``M_x`` where ``M·(Ry·x̂)`` belongs, and ``I_p·ω̇`` works on the
-      tilts); it is second order in the tilt and reported as ``D_TILT_POWER``.
+      tilts); it is second order in the tilt and reported as ``D_TILT_POWER``. ``P_load``,
+      the applied loads' and gravity's power, is not sampled here: the loop takes their
+      work over each step from the positions' change (:func:`rvcore.integrate.loop.integrate`).
     """
     _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, MODE_FULL, 0.0, bdiag, bdiag)
 
@@ -201,7 +203,7 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
     fxi, fyi, fzi, mxi, myi, mzi = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     max_qi, max_qo, loaded, max_p3, max_pen, pen_ball = 0.0, 0.0, 0.0, 0.0, 0.0, -1.0
     # the designer's outputs (D_DRIVE_TORQUE …): sums and extremes over the contacts below
-    p_fric, p_damp, p_load, max_qp, land_q = 0.0, 0.0, 0.0, 0.0, 0.0
+    p_fric, p_damp, max_qp, land_q = 0.0, 0.0, 0.0, 0.0
     max_s2, max_pv6, race_p3, sin_min, sin_max = 0.0, 0.0, 0.0, 2.0, -1.0
     # the smallest film over the loaded race contacts, as logarithms (docs/model.md, "The film
     # along the cycle"): log h_c, log λ; +inf while none is loaded
@@ -457,8 +459,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
             dy[b + 1] = vy
             dy[b + 2] = vz
             # race contacts plus the pocket's (zero without pocket contact)
-            if full:
-                p_load += m_b * (gx * vx + gy * vy + gz * vz)
             dy[b + 3] = (fbx + fpx) * inv_mb + gx
             dy[b + 4] = (fby + fpy) * inv_mb + gy
             dy[b + 5] = (fbz + fpz) * inv_mb + gz
@@ -505,8 +505,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
                             p_fric -= ftx * ux + fty * uy + ftz * uz
 
         mc = rows[r, R_CAGE_M]
-        if full:
-            p_load += mc * (gx * vxc + gy * vyc + gz * vzc)
         dy[c0] = vxc
         dy[c0 + 1] = vyc
         dy[c0 + 2] = vzc
@@ -553,8 +551,6 @@ def _rhs(t, y, dy, params, rows, arcs, pockets, table, meta, diag, bdiag, mode, 
         return
     diag[D_FRICTION_POWER] = p_fric
     diag[D_DAMPING_POWER] = p_damp
-    diag[D_LOAD_POWER] = (p_load + m_ring * (gx * vxi + gy * vyi + gz * vzi)
-                          + fr * (lc * vxi + ls * vyi) + fa * vzi + moment * (lc * wyi - ls * wxi))
     # the rigid ring's contact power on θ̇x is M·(Ry·x̂) = M_x·cos θy − M_z·sin θy, the
     # small-tilt equation above takes M_x; and I_p·ω̇ does work on the tilts (see Notes)
     diag[D_TILT_POWER] = wxi * (mxi * (r00 - 1.0) + mzi * r20) - ip * dw_ring * (tx * wyi - ty * wxi)

@@ -16,11 +16,11 @@ import numpy as np
 
 from .._numba import kernel
 
-from ..dynamics.energy import kinetic_energy
+from ..dynamics.energy import gravity_potential, kinetic_energy, ring_load_potential
 from ..dynamics.races import SCRATCH_SIZE
 from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
-from ..recording.plan import (SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end, fill_state_signals,
-                              in_window, reduce_step, write_series)
+from ..recording.plan import (SL_LOAD_POWER_STEP, SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end,
+                              fill_state_signals, in_window, reduce_step, write_series)
 from .methods import NAMES, evaluate, method, step
 from .protocol import S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 
@@ -81,6 +81,7 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
     torque_f1, torque_f2 = 0.0, 0.0
     end_half = half        # the trapezoid's end weight of the step just taken
+    gravity = gravity_potential(y, params, rows)
     for i in range(n_steps + 1):
         t = t_start + i * dt
         # the outputs' signals at the step's state (the stages skip the costly ones), and
@@ -120,9 +121,18 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
         # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
         # and ends on a substep's weight
+        # the loads' and gravity's work over the step: the fall of their potential across
+        # it, the loads held at the step's midpoint. Exact for constant loads (the step's
+        # displacement is its stages' weighted velocities, Σ b_i·v(Y_i)·h); the sampled
+        # power F·v would alias the ring's vibration (rvcore.recording.plan.ENERGIES).
+        ring_before = ring_load_potential(t + half, y[0], y[1], y[2], y[3], y[4], table, meta)
         torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
                                                 bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
         end_half = half / divisor
+        gravity_after = gravity_potential(y, params, rows)
+        diag[SL_LOAD_POWER_STEP] = (ring_before - ring_load_potential(t + half, y[0], y[1], y[2], y[3], y[4], table,
+                                                                      meta) + gravity - gravity_after) / dt
+        gravity = gravity_after
         # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
         # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
         # would only lag; it is weighed over the stages as the step's torque is, so that

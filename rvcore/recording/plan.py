@@ -56,19 +56,22 @@ _KIND_OF = {"mean": SUM, "slip": SUM, "max": MAX, "min": MIN, "max_time": MAX_AN
 #: tests/core/test_energy_balance.py and the life sums of :mod:`rvcore.standards.iso16281`.
 #: The drive's work comes from the step's stage-weighted power (the work its impulse did):
 #: the instantaneous ``drive_power`` carries the contact oscillation's chatter, which a
-#: trapezoid of samples at the steps' starts aliases (docs/performance.md).
+#: trapezoid of samples at the steps' starts aliases (docs/performance.md). The loads' and
+#: gravity's work from the fall of their potential across each step: the power ``F·v``
+#: aliases the ring's vibration alike, by up to 1 % of the dissipation on the study
+#: bearing (docs/validation.md, §9.4).
 ENERGIES = {"friction": "friction_power", "damping": "damping_power", "drive": "drive_power_step",
-            "load": "load_power", "tilt": "tilt_power"}
+            "load": "load_power_step", "tilt": "tilt_power"}
 
 _S = SLOT
 _R = ROW_SLOT
 # the fixed slots the loop writes (rvcore.output_table.SIGNALS)
 (SL_X, SL_Y, SL_Z, SL_TX, SL_TY, SL_DR, SL_DA, SL_FR, SL_FA, SL_W, SL_M, SL_PSI, SL_HOLD, SL_REV, SL_TORQUE_STEP,
- SL_TORQUE_BAND, SL_POWER_STEP) = (_S[n] for n in (
+ SL_TORQUE_BAND, SL_POWER_STEP, SL_LOAD_POWER_STEP) = (_S[n] for n in (
      "inner_ring_x", "inner_ring_y", "inner_ring_z", "inner_ring_tilt_x", "inner_ring_tilt_y", "radial_displacement",
      "axial_displacement", "applied_radial_load", "applied_axial_load", "inner_ring_speed", "applied_moment",
      "load_direction", "tilt_reaction_moment", "revolutions", "drive_torque_step", "drive_torque_band_limited",
-     "drive_power_step"))
+     "drive_power_step", "load_power_step"))
 SL_KAPPA, SL_A_ISO, SL_REV_LOW = _S["kappa"], _S["a_iso"], _S["revolutions_kappa_below_scope"]
 SL_HOLD_X, SL_HOLD_Y = _S["tilt_reaction_moment_x"], _S["tilt_reaction_moment_y"]
 SL_OVAL_I, SL_OVAL_O = _S["inner_ring_ovalisation"], _S["outer_ring_ovalisation"]

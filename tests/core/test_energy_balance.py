@@ -30,12 +30,16 @@ prescribed spin, and ``V_el = Σ ⅖·K·δ^2.5`` the elastic energy of every co
        ∫T·ω dt + W_load = Δ(E_kin + ½·I_p·ω² + V_el) + E_fric + E_damp + E_tilt.
 
 So T·ω is the whole drive power only up to ``E_tilt``, which the core reports; it is
-checked here to be negligible (it is second order in the tilt). The core integrates
-the powers by the trapezoid rule over the steps' states (rvcore.integrate.loop), while the
-state advances by RK4: the two agree to O(dt²) (measured: 0.03 % of the drive's work at
-constant speed, 0.1 % of the dissipation over the study cycle), well inside the 1 %. (A
-rectangle rule left an O(dt) error of 10 % of the drive's work after the start
-transient: the tests do resolve the quadrature.)
+checked here to be negligible (it is second order in the tilt). The core
+(rvcore.integrate.loop) takes the drive's work as the steps' stage-weighted power (the
+work of the impulse each step gave), the loads' and gravity's as the fall of their
+potential across each step (exact for constant loads: a step's displacement is its
+stages' weighted velocities), and friction, damping and ``E_tilt`` by the trapezoid rule
+over the steps' states. Sampled powers alias the contact oscillation: the drive's did by
+8 % of its work until MODEL_VERSION 10, the loads' by up to 1 % of the dissipation on the
+study bearing until 2026-11-29 (docs/validation.md). (A rectangle rule left an O(dt) error
+of 10 % of the drive's work after the start transient: the tests do resolve the
+quadrature.)
 
 The balance is the equations of motion's, whatever integrates them: the tests run for
 every integrator of ``rvcore.integrate.methods.METHODS``, each at its default step.
@@ -52,7 +56,8 @@ from rvcore.simulation.initial_state import initial_state
 from rvcore.simulation.settings import SolverSettings
 from rvcore.integrate.methods import NAMES as METHODS
 from rvcore.dynamics.energy import kinetic_energy, potential_energy
-from rvcore.bearing.layout import P_GX, P_GY, P_GZ, P_RING_IP, compile_bearing
+from rvcore.bearing.layout import (BALL_STATES, P_GX, P_GY, P_GZ, P_RING_IP, P_RING_M, R_BALL0, R_CAGE0, R_CAGE_M, R_MB,
+                                  R_Z, compile_bearing)
 from rvcore.profile import CH_SPEED, OperatingPoint, scaled_study_profile
 
 from .physics_cases import constant_profile, section_bearing
@@ -107,6 +112,35 @@ def test_energy_balance_at_constant_speed_and_load(method):
     # (within 1 % of the whole cycle's: the endpoint halves of the trapezoid differ)
     np.testing.assert_allclose(m["inner_ring_drive_torque_mean"] * op.speed * duration, res.energy["drive"][:3],
                                rtol=0.0, atol=0.01 * e["drive"])
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_load_work_is_the_fall_of_the_loads_potential(method):
+    """With constant loads the work of the applied force and of gravity over a run is
+    ``F_r·Δx + F_a·Δz + Σ m·g·Δr`` over the ring, the cages and the balls, whatever the
+    path: the core's load work (one step at a time) equals it to round-off. The sum is
+    formed here from the run's first and last states (the radial load along +x, load angle
+    0; the axial along +z)."""
+    bearing = section_bearing(8)
+    op = OperatingPoint(math.radians(660.0), 20e3, 5e3)
+    settings = SolverSettings(output_rate=1e3, method=method)
+    model = compile_bearing(bearing, friction=settings.friction, damping=settings.damping,
+                            gravity=settings.gravity)
+    y0 = initial_state(model, constant_profile(0.0, 0.01).resolve(op), 0.0)
+    res = run_case(bearing, constant_profile(0.0, 0.01), op, settings, initial_state_vector=y0)
+    y1 = res.final_state
+    g = model.params[[P_GX, P_GY, P_GZ]]
+    assert g[2] != 0.0 or g[0] != 0.0 or g[1] != 0.0      # gravity on: it does work too
+    d = y1 - y0
+    work = op.radial_load * d[0] + op.axial_load * d[2] + model.params[P_RING_M] * (g @ d[0:3])
+    for r in range(model.rows.shape[0]):
+        c0, b0 = int(model.rows[r, R_CAGE0]), int(model.rows[r, R_BALL0])
+        work += model.rows[r, R_CAGE_M] * (g @ d[c0:c0 + 3])
+        for j in range(int(model.rows[r, R_Z])):
+            b = b0 + BALL_STATES * j
+            work += model.rows[r, R_MB] * (g @ d[b:b + 3])
+    assert abs(op.radial_load * d[0]) > 1e-4   # the ring moved under its load [J]
+    assert res.energy["load"][-1] == pytest.approx(work, rel=1e-9, abs=1e-12)
 
 
 def test_imex_energy_balance_closes_as_its_step_shrinks():
