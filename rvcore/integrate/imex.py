@@ -82,7 +82,11 @@ What bounds it (:func:`rvcore.integrate.imex.imex_time_step`):
   ``λ_f·h ≤`` :data:`FRICTION_LIMIT`, where that factor is :data:`FRICTION_DAMPING`.
   Beyond it the friction's slip oscillates from step to step, and the law's saturation
   turns that into a chatter that dissipates energy the physics does not (the energy
-  balances of tests/core/test_energy_balance.py break); λ_f is RK4's friction-and-damping
+  balances of tests/core/test_energy_balance.py broke, when measured with the loads' work
+  then sampled; docs/performance.md, "Three more routes"); the chatter also moves the
+  loads the tangents follow, so they are taken again at most steps: without the bound the
+  study case at 30 kN took 1.12× the time at a 1.11× longer step (docs/performance.md,
+  "The damping tableau and a longer steady step"). λ_f is RK4's friction-and-damping
   rate (:func:`rvcore.integrate.rk4.rk4_time_step`), so the IMEX step is
   ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
 - the friction law's falling slope between v_s and v_d, explicit (at most
