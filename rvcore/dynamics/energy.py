@@ -104,17 +104,26 @@ def gravity_potential(y, params, rows):
 
 
 @kernel(inline=True)
-def ring_load_potential(t, xi, yi, zi, tx, ty, table, meta):
-    """``−(F·r_ring + M·θ)`` [J]: the applied loads' potential at the ring's pose
-    ``(xi, yi, zi, tx, ty)`` [m, rad], the loads those of the profile at ``t`` [s] held
-    constant (the radial load along the load direction ψ, the axial along z, the moment
-    about the axis at ψ + 90°)."""
+def ring_load_coefficients(t, table, meta):
+    """The applied loads at ``t`` [s] as the coefficients ``a`` of the ring's pose
+    ``(x, y, z, θx, θy)`` [m, rad] in their work potential ``−a·q`` [N, N m]: the radial
+    load along the load direction ψ, the axial along z, the moment about the axis at
+    ψ + 90°."""
     fr = channel_value(table, meta, CH_RADIAL, t)
     fa = channel_value(table, meta, CH_AXIAL, t)
     moment = channel_value(table, meta, CH_MOMENT, t)
     psi = channel_value(table, meta, CH_DIRECTION, t)
     lc, ls = math.cos(psi), math.sin(psi)
-    return -(fr * lc * xi + fr * ls * yi + fa * zi) - moment * (-ls * tx + lc * ty)
+    return fr * lc, fr * ls, fa, -moment * ls, moment * lc
+
+
+@kernel(inline=True)
+def ring_load_potential(t, xi, yi, zi, tx, ty, table, meta):
+    """``−(F·r_ring + M·θ)`` [J]: the applied loads' potential at the ring's pose
+    ``(xi, yi, zi, tx, ty)`` [m, rad], the loads those of the profile at ``t`` [s] held
+    constant (:func:`ring_load_coefficients`)."""
+    a0, a1, a2, a3, a4 = ring_load_coefficients(t, table, meta)
+    return -(a0 * xi + a1 * yi + a2 * zi) - (a3 * tx + a4 * ty)
 
 
 @kernel

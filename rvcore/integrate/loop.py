@@ -16,7 +16,7 @@ import numpy as np
 
 from .._numba import kernel
 
-from ..dynamics.energy import gravity_potential, kinetic_energy, ring_load_potential
+from ..dynamics.energy import gravity_potential, kinetic_energy, ring_load_coefficients
 from ..dynamics.races import SCRATCH_SIZE
 from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
 from ..recording.plan import (SL_LOAD_POWER_STEP, SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end,
@@ -125,13 +125,14 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
         # it, the loads held at the step's midpoint. Exact for constant loads (the step's
         # displacement is its stages' weighted velocities, Σ b_i·v(Y_i)·h); the sampled
         # power F·v would alias the ring's vibration (rvcore.recording.plan.ENERGIES).
-        ring_before = ring_load_potential(t + half, y[0], y[1], y[2], y[3], y[4], table, meta)
+        q0, q1, q2, q3, q4 = y[0], y[1], y[2], y[3], y[4]
         torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
                                                 bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
         end_half = half / divisor
+        a0, a1, a2, a3, a4 = ring_load_coefficients(t + half, table, meta)
         gravity_after = gravity_potential(y, params, rows)
-        diag[SL_LOAD_POWER_STEP] = (ring_before - ring_load_potential(t + half, y[0], y[1], y[2], y[3], y[4], table,
-                                                                      meta) + gravity - gravity_after) / dt
+        diag[SL_LOAD_POWER_STEP] = (a0 * (y[0] - q0) + a1 * (y[1] - q1) + a2 * (y[2] - q2) + a3 * (y[3] - q3)
+                                    + a4 * (y[4] - q4) + gravity - gravity_after) / dt
         gravity = gravity_after
         # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
         # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
