@@ -116,16 +116,16 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
             n_out += 1
         if i == n_steps:
             break
-        # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
-        # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
-        # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
-        # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
-        # and ends on a substep's weight
         # the loads' and gravity's work over the step: the fall of their potential across
         # it, the loads held at the step's midpoint. Exact for constant loads (the step's
         # displacement is its stages' weighted velocities, Σ b_i·v(Y_i)·h); the sampled
         # power F·v would alias the ring's vibration (rvcore.recording.plan.ENERGIES).
         q0, q1, q2, q3, q4 = y[0], y[1], y[2], y[3], y[4]
+        # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
+        # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
+        # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
+        # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
+        # and ends on a substep's weight
         torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
                                                 bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
         end_half = half / divisor
