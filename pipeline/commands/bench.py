@@ -12,6 +12,7 @@ _CYCLE_ROWS = (
     ("integrator wall [s]", "integrator_wall_s", "12.2f"),
     ("steps", "steps", "12d"),
     ("time step [us]", "time_step_s", "12.3f"),
+    ("held-load step [us]", "held_time_step_s", "12.3f"),
     ("RHS evaluations", "rhs_evaluations", "12d"),
     ("per ball per RHS [ns]", "ns_per_ball_rhs", "12.1f"),
     ("simulated s per wall s", "simulated_s_per_wall_s", "12.3f"),
@@ -92,7 +93,7 @@ def run(args):
           f"(default method: {f['method']})")
     print("  " + " " * 24 + "".join(f"{m:>12s}" for m in methods))
     for label, key, fmt in _CYCLE_ROWS:
-        print(f"  {label:24s}" + "".join(format(f[f"{m}_{key}"] * (1e6 if key == "time_step_s" else 1), fmt)
+        print(f"  {label:24s}" + "".join(format(f[f"{m}_{key}"] * (1e6 if key.endswith("time_step_s") else 1), fmt)
                                           for m in methods))
     if "rk4" in methods:
         print(f"  {'speedup vs rk4':24s}" + "".join(

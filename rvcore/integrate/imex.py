@@ -137,6 +137,27 @@ ring-down or an impact then refreshes them every step; a running bearing, whose 
 move by a fraction of a newton per step, every :data:`TANGENT_MAX_STEPS`
 (docs/performance.md, "IMEX at MODEL_VERSION 11").
 
+Where the loads are held
+------------------------
+Where every channel of the profile is held (the steady phase of the study cycle; the
+step schedule, :mod:`rvcore.integrate.schedule`), no contact closes for a load's change
+and nothing drives the contact oscillation but the balls' passage through the load zone.
+There the friction takes a damping tableau instead of the all-pass one: the third stage
+weighs the balls' damping part of ``g_2``, ``−M⁻¹·D·e_v``, by ``â_32 = 7/36`` instead of
+2/9 (:data:`DAMP_32`; the ring's rows keep the all-pass tableau). Its stability function
+is ``(1 + z/2 + z²/12)/(1 − z/6)³``, with the same nodes, weights and diagonal, so the
+same factorization and the same drive impulse; it is of order 2, L-stable and positive
+on the negative real axis, and keeps at most 0.30 of a stiff friction mode a step at
+any ``λ_f·h ≥ 2`` (0 as λ_f·h → ∞; the all-pass tableau keeps ``|R(−λ_f·h)| → 1``). So the friction adds no bound there, and the contact
+oscillation's accuracy bound is :data:`HELD_CONTACT_LIMIT` = 6 instead of 5: the step is
+:func:`imex_time_step` with ``held``, 1.18–1.36× the step elsewhere over the study grid.
+The step changes inside the loop, at output times, and each stretch starts with new
+tangents and its own pocket tolerance (:func:`begin_segment`). Measured on the study
+bearing: every phase metric within 0.7 % of a tenth of the step, the steady ones within
+0.29 %, and the case 0.83–0.92× as long (docs/performance.md, "The step where the loads
+are held"). Where the step is set by hand (``SolverSettings.time_step``) it is the same
+throughout, and so is the tableau.
+
 Flexible rings
 --------------
 A flexible ring's modes (:mod:`rvcore.dynamics.ring_modes`) are implicit unknowns too,
@@ -182,11 +203,12 @@ from .._numba import kernel
 
 from .arrowhead import (N_SOLVE_FIELDS, WS, factor, factor_modes, harmonic_width, modal_block_rows, solve,
                         solve_coupled)
-from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
+from ..dynamics.tangent import J_A, J_B, J_COUPLED, J_KA, J_KB, N_FX, N_JWORK, N_SCHUR
 from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
 from ..bearing.layout import (BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
-                              R_BALL0, R_IB, R_MB, R_Z)
+                              R_BALL0, R_IB, R_MB, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_error
+from .schedule import SEG_HELD, SEG_TOL
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
@@ -211,6 +233,12 @@ I21 = 0.5 - GAMMA
 I31 = 0.5 - GAMMA - I32
 I41 = 1.0 - GAMMA - I42 - I43
 IB1, IB2, IB3, IB4 = B1, B2, B3, B4
+#: The damping tableau, where the loads and speed are held (module docstring, "Where the
+#: loads are held"): the implicit tableau but for ``â_32 = 7/36`` on the balls' damping
+#: part ``−M⁻¹·D·e_v``; its stability function ``(1 + z/2 + z²/12)/(1 − z/6)³`` (the same
+#: nodes, weights and diagonal, so the same factorization), order 2 and L-stable.
+#: ``DAMP_32`` is what the third stage adds to the all-pass tableau's weight of ``g_2``.
+DAMP_32 = 7.0 / 36.0 - I32
 #: Largest ``λ_f·h`` (λ_f the friction's rate at zero slip, on the negative real axis):
 #: where the implicit tableau damps a friction mode by at least :data:`FRICTION_DAMPING`
 #: per step. ``R(−x) = ((6 − x)/(6 + x))³`` tends to −1 as x → ∞ (an all-pass function
@@ -226,6 +254,14 @@ FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION
 #: step, and by 1.2 % at ω_n·h = 4.9 (docs/model.md §9.6: 1 %; docs/performance.md, "The
 #: step at MODEL_VERSION 19").
 CONTACT_LIMIT = 5.0
+#: :data:`CONTACT_LIMIT` where the loads and speed are held (module docstring, "Where the
+#: loads are held"): no contact closes there and no load moves, so the oscillation is
+#: little excited, and its frequency error at 0.8 of this limit (ω_n·h = 4.8) is 16 %.
+#: Measured on the study bearing (660 °/s, 10 kN axial, against a tenth of the
+#: MODEL_VERSION 19 step): every steady metric within 0.29 % at 20 kN (45.5 µs, ω_n·h =
+#: 4.6), where ω_n·h = 6.4 in a probe moved the steady sliding-speed peak by 3.2 %
+#: (docs/performance.md, "The step where the loads are held").
+HELD_CONTACT_LIMIT = 6.0
 #: Limit on ``ω_c·h`` for a race contact's stiffness that the tangents do not hold, such
 #: as a contact that closes within a step: for that step it is explicit, on the explicit
 #: tableau's imaginary-axis limit 2√2; ``ω_c = √(Δk/m_b)``, one contact on the ball (the
@@ -282,11 +318,14 @@ FIRST_SUBSTEPS = 2
 #: ball the reference's rotations (:func:`_orbit_rotations`), and the pockets'
 #: ``Σ b_i·P_i`` over a retake's substeps, each substep's weighed by its share of the
 #: step; per ball the inner- and outer-race onset limits [N] (``W_QLIM``, two rows: the
-#: loads beyond which the tangents miss too much stiffness, module docstring, "Step").
+#: loads beyond which the tangents miss too much stiffness, module docstring, "Step");
+#: ``work[W_SET, SET_DAMP]`` the damping tableau's :data:`DAMP_32` where the loads are
+#: held (0 elsewhere), and ``work[W_GD]`` the balls' damping part of ``g_2`` it weighs.
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_SF = 14, 15, 16, 17, 18, 19, 21, 22, 23, 25
-N_WORK = 25      # and the rows of the packed factors from W_SF (new_work)
-SET_ONSET, SET_ONSET_LOAD = 4, 5
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_GD, W_SF = (14, 15, 16, 17, 18, 19, 21, 22,
+                                                                                 23, 25, 26)
+N_WORK = 26      # and the rows of the packed factors from W_SF (new_work)
+SET_ONSET, SET_ONSET_LOAD, SET_DAMP = 4, 5, 6
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -350,6 +389,7 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g1, g2 = work[W_G + 1], work[W_G + 2]
     mass, isv, isp = work[W_M], work[W_ISV], work[W_ISP]
+    damp = work[W_SET, SET_DAMP]
     for m in range(n):
         s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
         if i >= 2:
@@ -357,6 +397,10 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
         if i >= 3:
             s += a3 * f2[m] + (i3 - a3) * g2[m]
         tmp[m] = dt * s        # Ŷ − y_n
+    if i == 2 and damp != 0.0:     # the damping tableau: its â_32 on the balls' damping part of g_2
+        gd = work[W_GD]
+        for m in range(n):
+            tmp[m] += dt * damp * gd[m]
     # The balls' stages are solved as deviations from a reference ỹ(t): y_n turned about
     # the bearing's axis at the ball's orbital speed Ω = (x·v_y − y·v_x)/ρ² (centre,
     # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
@@ -391,6 +435,8 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
                       work[int(work[W_SET, 2]):], hg)
     else:
         solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
+    if i == 1 and damp != 0.0:
+        _damping_part(tmp, work[W_GD], jwork, rows, work[W_INVM], hg)
     inv_hg = 1.0 / hg
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
     for m in range(5):
@@ -409,6 +455,39 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
         tmp[m] += y[m] + off[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
+
+
+@kernel(inline=True)
+def _damping_part(e, gd, jwork, rows, inv_m, hg):
+    """Into ``gd``: the balls' damping part of a stage's ``g``, ``−M⁻¹·D·e_v`` (0 off the
+    balls' velocities), ``e`` holding the stage's solved velocity unknowns (the ball's and
+    the ring's). ``h·γ·D`` is the tangent's block less its stiffness part:
+    ``jwork``'s ``A`` and ``B`` blocks (``h·γ·D + (h·γ)²·K``) less ``h·γ`` times its
+    ``h·γ·K`` (``KA``, ``KB``; :mod:`rvcore.dynamics.tangent`)."""
+    for m in range(gd.size):
+        gd[m] = 0.0
+    inv = 1.0 / hg
+    for r in range(rows.shape[0]):
+        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
+        for j in range(int(rows[r, R_Z])):
+            k = p0 + j
+            b = b0 + BALL_STATES * j + 3
+            jw = jwork[k]
+            for a in range(6):
+                acc = 0.0
+                for c in range(6):
+                    lo, hi = (a, c) if a <= c else (c, a)
+                    d = jw[J_A + 6 * lo + hi]
+                    if hi < 3:
+                        d -= hg * jw[J_KA + lo * 3 - (lo * (lo - 1)) // 2 + (hi - lo)]
+                    acc += d * e[b + c]
+                if jw[J_COUPLED] != 0.0:
+                    for c in range(5):
+                        d = jw[J_B + 5 * a + c]
+                        if a < 3:
+                            d -= hg * jw[J_KB + 5 * a + c]
+                        acc += d * e[5 + c]
+                gd[b + a] = -inv_m[b + a] * acc * inv
 
 
 @kernel(inline=True)
@@ -614,13 +693,14 @@ STAGES = 4
 #: they no longer fit the contacts' loads (1), and whether this step evaluates them (1).
 S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
 
-def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
-    """IMEX's fixed step [s] (:func:`imex_time_step`)."""
-    return imex_time_step(model, peak_contact_load, safety=safety)
+def time_step(model, peak_contact_load: float, *, safety: float = 0.8, held: bool = False) -> float:
+    """IMEX's fixed step [s] (:func:`imex_time_step`); ``held``: where the loads and speed
+    are held (the damping tableau)."""
+    return imex_time_step(model, peak_contact_load, safety=safety, held=held)
 
 
 def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
-                   dynamic_margin: float = 1.0) -> float:
+                   dynamic_margin: float = 1.0, held: bool = False) -> float:
     """The fixed IMEX step [s] from the rates that bound it (:mod:`rvcore.integrate.imex`, "Step").
 
     Notes
@@ -634,7 +714,10 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
 
     with ``c_f = Q·dμ/ds`` at zero slip, ``|min μ'|`` the law's steepest fall
     (:func:`rvcore.contact.laws.friction_falling_slope`), and ω_n the contact oscillation of
-    :func:`rvcore.integrate.step_size.row_rates`. A contact that closes within a step adds
+    :func:`rvcore.integrate.step_size.row_rates`. Where the loads and speed are held
+    (``held``), the damping tableau damps the friction modes at any ``λ_f·h``, so the
+    friction adds no bound, and the contact oscillation's is :data:`HELD_CONTACT_LIMIT`
+    (module docstring, "Where the loads are held"). A contact that closes within a step adds
     no bound (the step is taken again in substeps, :func:`onset_constant`), nor does a
     flexible ring's modes: their own stiffness and damping and the contacts' Hertz
     stiffness, groove stiffness and damper on them are implicit
@@ -651,9 +734,12 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     for omega, m, rot in row_rates(model, q):
         lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         lam = 2.0 * q * falling * max(1.0 / m, rot)
-        dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
-                       RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
-                       CONTACT_LIMIT / omega))
+        if held:
+            dts.append(min(RK4_REAL_LIMIT / lam if lam > 0 else np.inf, HELD_CONTACT_LIMIT / omega))
+        else:
+            dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
+                           RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
+                           CONTACT_LIMIT / omega))
     return safety * min(dts)
 
 
@@ -712,6 +798,22 @@ def new_state():
     state[S_SINCE] = TANGENT_MAX_STEPS
     state[S_STALE] = 1
     return state
+
+
+def segment_constant(model, peak_contact_load: float, time_step: float) -> float:
+    """The constant a stretch of the step schedule hands :func:`begin_segment` at the step
+    ``time_step`` [s]: the pocket check's tolerance [J] (:func:`pocket_energy_tolerance`)."""
+    return pocket_energy_tolerance(model, peak_contact_load, time_step)
+
+
+@kernel(inline=True)
+def begin_segment(segment, work, state):
+    """A stretch of the step schedule begins (:mod:`rvcore.integrate.schedule`): its pocket
+    tolerance, the damping tableau where the loads and speed are held, and tangents
+    evaluated anew at its first step (their blocks carry the step, ``h·γ``)."""
+    work[W_SET, 0] = segment[SEG_TOL]
+    work[W_SET, SET_DAMP] = DAMP_32 if segment[SEG_HELD] != 0.0 else 0.0
+    state[S_STALE] = 1
 
 
 def rhs_evaluations(n_steps: int, substeps: int) -> int:

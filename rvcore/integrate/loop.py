@@ -6,7 +6,8 @@ diagnostics are the outputs' signals, :mod:`rvcore.output_table`), the blow-up c
 output lines, the per-phase reductions (:mod:`rvcore.recording.plan`) and the drive torque's
 filter. It knows no method by name: a step is the method's ``evaluate`` and ``step``
 (:mod:`rvcore.integrate.methods`, :mod:`rvcore.integrate.protocol`), its size the
-method's ``time_step``.
+method's ``time_step`` by the stretches of the step schedule
+(:mod:`rvcore.integrate.schedule`), each begun by the method's ``begin_segment``.
 """
 from __future__ import annotations
 
@@ -21,7 +22,8 @@ from ..dynamics.races import SCRATCH_SIZE
 from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
 from ..recording.plan import (SL_LOAD_POWER_STEP, SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end,
                               fill_state_signals, in_window, reduce_step, write_series)
-from .methods import NAMES, evaluate, method, step
+from .methods import NAMES, begin_segment, evaluate, method, step
+from .schedule import SEG_DT, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL
 from .protocol import S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
@@ -40,20 +42,25 @@ TORQUE_BANDWIDTH = 1.0e3
 # FAST (rvcore._numba: no fast-math flags) keeps IEEE semantics, so the non-finite check
 # below works and the state sums are rounded in the same order on every CPU.
 @kernel
-def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, table, meta,
-              phases, sensors, out, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
+def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
+              phases, sensors, out, out_time, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
               cos_nominal, code, jwork, schur, inner, state):
-    """Advance ``y`` in place by ``n_steps`` steps of ``dt`` of the method of ``code``
-    (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance` allocates its
-    scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
+    """Advance ``y`` in place through the step schedule ``segments`` with the method of
+    ``code`` (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance`
+    allocates its scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
 
-    Every ``out_every`` steps (and at the first and last step) a line of ``out`` is
-    written, the columns of the series plan ``series``. At every step the state at the
-    step's start is reduced into each accumulator line of ``acc`` whose window
-    (``phases[k] = (start, end)``; the last line the whole cycle) holds it, by the
-    reduction plan ``reductions`` (:func:`rvcore.recording.plan.build_plan`). ``sensors``
-    holds rows ``(px, py, pz, dx, dy, dz)``; ``cos_nominal[r]`` is cos α of row r's
-    nominal contact angle.
+    ``segments[s]`` is a stretch of the schedule (:mod:`rvcore.integrate.schedule`): its
+    steps, their size [s], the steps between output lines, whether the loads and speed
+    are held over it, and the method's constants for that step
+    (:data:`rvcore.integrate.schedule.SEG_STEPS` …); the stretches follow one another,
+    each starting where the last ended. Every ``out_every`` steps of a stretch (and at
+    the first and last step) a line of ``out`` is written, the columns of the series plan
+    ``series``, and its time into ``out_time``. At every step the state at the step's
+    start is reduced into each accumulator line of ``acc`` whose window (``phases[k] =
+    (start, end)``; the last line the whole cycle) holds it, by the reduction plan
+    ``reductions`` (:func:`rvcore.recording.plan.build_plan`). ``sensors`` holds rows
+    ``(px, py, pz, dx, dy, dz)``; ``cos_nominal[r]`` is cos α of row r's nominal contact
+    angle.
 
     Returns
     -------
@@ -74,105 +81,130 @@ def integrate(y, t_start, dt, n_steps, out_every, params, rows, arcs, pockets, t
     n = y.size
     k1 = work[0]
     n_out = 0
-    half = 0.5 * dt
     n_ph = phases.shape[0]
-    # the band-limited drive torque (TORQUE_BANDWIDTH): two first-order stages, exact for
-    # a torque held over each step, started at the first step's torque
-    decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
+    n_seg = segments.shape[0]
     torque_f1, torque_f2 = 0.0, 0.0
-    end_half = half        # the trapezoid's end weight of the step just taken
+    end_half = 0.0         # the trapezoid's end weight of the step just taken
     gravity = gravity_potential(y, params, rows)
-    for i in range(n_steps + 1):
-        t = t_start + i * dt
-        # the outputs' signals at the step's state (the stages skip the costly ones), and
-        # whatever else the method takes from that evaluation (IMEX: its tangents)
-        evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur, state)
-        # blow-up checks on the state at t: x − x is 0 for a finite x, NaN otherwise (an
-        # or over the state, which vectorises where a sum in order would not)
-        bad = False
-        for m in range(n):
-            s = y[m] + k1[m]
-            bad |= (s - s) != 0.0
-        if bad:
+    t_seg = t_start        # where the stretch starts
+    t = t_start
+    t_prev = t_start       # the start of the step just taken
+    first = True           # the run's first step
+    for sg in range(n_seg):
+        n_steps = int(segments[sg, SEG_STEPS])
+        dt = segments[sg, SEG_DT]
+        out_every = int(segments[sg, SEG_OUT_EVERY])
+        last = sg == n_seg - 1
+        half = 0.5 * dt
+        # the band-limited drive torque (TORQUE_BANDWIDTH): two first-order stages, exact
+        # for a torque held over each step, started at the first step's torque
+        decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
+        # the method's constants for this stretch's step (IMEX: the pocket check's
+        # tolerance, the damping tableau where the loads are held; new tangents)
+        begin_segment(code, segments[sg], work, state)
+        for i in range(n_steps + 1):
+            if i == n_steps and not last:
+                break          # the next stretch's first step starts here
+            t = t_seg + i * dt
+            # the outputs' signals at the step's state (the stages skip the costly ones), and
+            # whatever else the method takes from that evaluation (IMEX: its tangents)
+            evaluate(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur,
+                     state)
+            # blow-up checks on the state at t: x − x is 0 for a finite x, NaN otherwise (an
+            # or over the state, which vectorises where a sum in order would not)
+            bad = False
             for m in range(n):
-                if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
-                    return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
-        if diag[D_MAX_PEN] > pen_limit:
-            return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
-        fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal, params)
-        if i > 0:
-            tp = t - dt
-            for k in range(n_ph + 1):
-                if in_window(phases, k, n_ph, tp):
-                    add_integral_end(acc[k], reductions, diag, end_half)
-        if i < n_steps:
+                s = y[m] + k1[m]
+                bad |= (s - s) != 0.0
+            if bad:
+                for m in range(n):
+                    if not (math.isfinite(y[m]) and math.isfinite(k1[m])):
+                        return NONFINITE, t, m, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+            if diag[D_MAX_PEN] > pen_limit:
+                return PENETRATION, t, int(diag[D_PEN_BALL]), n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+            fill_state_signals(diag, y, t, dt, table, meta, rows, bdiag, sensors, cos_nominal, params)
+            if not first:
+                # the step just taken started at t − dt, or in the last stretch
+                tp = t - dt if i > 0 else t_prev
+                for k in range(n_ph + 1):
+                    if in_window(phases, k, n_ph, tp):
+                        add_integral_end(acc[k], reductions, diag, end_half)
+            if i < n_steps:
+                for k in range(n_ph + 1):
+                    if in_window(phases, k, n_ph, t):
+                        reduce_step(acc[k], reductions, diag, t, 0, half)
+            if i % out_every == 0 or i == n_steps:
+                if kinetic_energy(y, params, rows) > ke_limit:
+                    return ENERGY, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+                write_series(out[n_out], series, diag)
+                out_time[n_out] = t
+                n_out += 1
+            if i == n_steps:
+                break
+            # the loads' and gravity's work over the step: the fall of their potential across
+            # it, the loads held at the step's midpoint. Exact for constant loads (the step's
+            # displacement is its stages' weighted velocities, Σ b_i·v(Y_i)·h); the sampled
+            # power F·v would alias the ring's vibration (rvcore.recording.plan.ENERGIES).
+            q0, q1, q2, q3, q4 = y[0], y[1], y[2], y[3], y[4]
+            # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
+            # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
+            # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
+            # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
+            # and ends on a substep's weight
+            torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta,
+                                                    diag, bdiag, work, jwork, schur, state, inner, acc,
+                                                    reductions, phases)
+            end_half = half / divisor
+            t_prev = t
+            a0, a1, a2, a3, a4 = ring_load_coefficients(t + half, table, meta)
+            gravity_after = gravity_potential(y, params, rows)
+            diag[SL_LOAD_POWER_STEP] = (a0 * (y[0] - q0) + a1 * (y[1] - q1) + a2 * (y[2] - q2)
+                                        + a3 * (y[3] - q3) + a4 * (y[4] - q4) + gravity - gravity_after) / dt
+            gravity = gravity_after
+            # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
+            # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
+            # would only lag; it is weighed over the stages as the step's torque is, so that
+            # the filter sees the contacts' part alone
+            if first:
+                torque_f1 = torque_f2 = torque - inertial
+            # the band-limited torque at t, the time whose phase it goes to: the filter's
+            # output before this step's torque enters it (after, it is the output at t + dt,
+            # which put the filter's decay over one step after a profile's corner into the
+            # next phase's peak: an error growing as the step squared)
+            diag[SL_TORQUE_BAND] = inertial + torque_f2
+            if not first:
+                torque_f1 += decay * (torque - inertial - torque_f1)
+                torque_f2 += decay * (torque_f1 - torque_f2)
+            first = False
+            diag[SL_TORQUE_STEP] = torque
+            diag[SL_POWER_STEP] = power
             for k in range(n_ph + 1):
                 if in_window(phases, k, n_ph, t):
-                    reduce_step(acc[k], reductions, diag, t, 0, half)
-        if i % out_every == 0 or i == n_steps:
-            if kinetic_energy(y, params, rows) > ke_limit:
-                return ENERGY, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
-            write_series(out[n_out], series, diag)
-            n_out += 1
-        if i == n_steps:
-            break
-        # the loads' and gravity's work over the step: the fall of their potential across
-        # it, the loads held at the step's midpoint. Exact for constant loads (the step's
-        # displacement is its stages' weighted velocities, Σ b_i·v(Y_i)·h); the sampled
-        # power F·v would alias the ring's vibration (rvcore.recording.plan.ENERGIES).
-        q0, q1, q2, q3, q4 = y[0], y[1], y[2], y[3], y[4]
-        # the step's drive torque Σ b_i·T(Y_i): the moment whose impulse the step gave
-        # the balls, and its power Σ b_i·T(Y_i)·ω(t_i), the work that impulse did (the
-        # drive's energy); the prescribed spin's I_p·ω̇ weighed over the stages alike; a
-        # step taken in substeps adds their integrals (rvcore.recording.plan.add_substep_integrals)
-        # and ends on a substep's weight
-        torque, power, inertial, divisor = step(code, t, y, dt, params, rows, arcs, pockets, table, meta, diag,
-                                                bdiag, work, jwork, schur, state, inner, acc, reductions, phases)
-        end_half = half / divisor
-        a0, a1, a2, a3, a4 = ring_load_coefficients(t + half, table, meta)
-        gravity_after = gravity_potential(y, params, rows)
-        diag[SL_LOAD_POWER_STEP] = (a0 * (y[0] - q0) + a1 * (y[1] - q1) + a2 * (y[2] - q2) + a3 * (y[3] - q3)
-                                    + a4 * (y[4] - q4) + gravity - gravity_after) / dt
-        gravity = gravity_after
-        # the peak is band-limited (TORQUE_BANDWIDTH) in its contacts' part only: the
-        # prescribed spin's I_p·ω̇ is known exactly, and its jumps at the profile's corners
-        # would only lag; it is weighed over the stages as the step's torque is, so that
-        # the filter sees the contacts' part alone
-        if i == 0:
-            torque_f1 = torque_f2 = torque - inertial
-        # the band-limited torque at t, the time whose phase it goes to: the filter's
-        # output before this step's torque enters it (after, it is the output at t + dt,
-        # which put the filter's decay over one step after a profile's corner into the
-        # next phase's peak: an error growing as the step squared)
-        diag[SL_TORQUE_BAND] = inertial + torque_f2
-        if i > 0:
-            torque_f1 += decay * (torque - inertial - torque_f1)
-            torque_f2 += decay * (torque_f1 - torque_f2)
-        diag[SL_TORQUE_STEP] = torque
-        diag[SL_POWER_STEP] = power
-        for k in range(n_ph + 1):
-            if in_window(phases, k, n_ph, t):
-                reduce_step(acc[k], reductions, diag, t, 1, half)
-    return OK, t_start + n_steps * dt, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
+                    reduce_step(acc[k], reductions, diag, t, 1, half)
+        t_seg = t_seg + n_steps * dt
+    return OK, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
 
 
-def advance(method_name: str, y, t_start, dt, n_steps, out_every, model, table, meta, phases, sensors, out,
-            acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, pocket_tolerance, load_tolerance):
+def advance(method_name: str, y, t_start, schedule, model, table, meta, phases, sensors, out, acc, plan, diag,
+            bdiag, pen_limit, ke_limit, cos_nominal, load_tolerance, out_time=None):
     """:func:`integrate` with the method named ``method_name``
-    (:data:`rvcore.integrate.methods.METHODS`), the plan's arrays and the method's scratch.
+    (:data:`rvcore.integrate.methods.METHODS`) through the step schedule ``schedule``
+    (:mod:`rvcore.integrate.schedule`), the plan's arrays and the method's scratch.
 
-    ``pocket_tolerance`` [J] and ``load_tolerance`` [N] are the IMEX pocket check's and
-    tangents' (:func:`rvcore.integrate.imex.pocket_energy_tolerance`,
-    :func:`rvcore.integrate.imex.tangent_load_tolerance`). Returns ``(status, t_fail, where,
-    n_out, substepped, refreshes)`` as :func:`integrate`, and ``substeps_taken``, the substeps
+    ``load_tolerance`` [N] is the IMEX tangents'
+    (:func:`rvcore.integrate.imex.tangent_load_tolerance`); ``out_time`` receives the output
+    lines' times [s] (default: discarded). Returns ``(status, t_fail, where, n_out,
+    substepped, refreshes)`` as :func:`integrate`, and ``substeps_taken``, the substeps
     computed in the steps taken again (``state[S_SUBSTEPS]``).
     """
     m = method(method_name)
-    work, jwork, schur = m.new_work(model, pocket_tolerance, load_tolerance)
+    work, jwork, schur = m.new_work(model, schedule[0, SEG_TOL], load_tolerance)
     state = m.new_state()
+    if out_time is None:
+        out_time = np.zeros(out.shape[0])
     status, t_fail, where, n_out, substepped, refreshes = integrate(
-        y, t_start, dt, n_steps, out_every, model.params, model.rows, model.arcs, model.pockets,
-        table, meta, phases, sensors, out, acc, plan.series, plan.reductions, diag, bdiag, work,
+        y, t_start, schedule, model.params, model.rows, model.arcs, model.pockets,
+        table, meta, phases, sensors, out, out_time, acc, plan.series, plan.reductions, diag, bdiag, work,
         pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), jwork, schur,
         np.zeros(diag.size - SCRATCH_SIZE), state)
     return status, t_fail, where, n_out, int(substepped), int(refreshes), int(state[S_SUBSTEPS])

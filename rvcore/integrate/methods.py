@@ -10,7 +10,7 @@ compiles a kernel that takes another kernel as an argument (or closes over one) 
 every process (its on-disk cache cannot key on the function), which would cost every
 sweep worker the minute of the loop's compile. The branches are inlined and cost nothing.
 A new method is a module beside :mod:`rvcore.integrate.rk4`, an entry in :data:`METHODS`
-and its branch in :func:`evaluate` and :func:`step`.
+and its branch in :func:`evaluate`, :func:`step` and :func:`begin_segment`.
 """
 from __future__ import annotations
 
@@ -33,9 +33,20 @@ def method(name: str):
     return METHODS[name]
 
 
-def time_step(model, peak_contact_load: float, name: str, *, safety: float = 0.8) -> float:
-    """The fixed step [s] of the method named ``name``: its module's ``time_step``."""
-    return method(name).time_step(model, peak_contact_load, safety=safety)
+def time_step(model, peak_contact_load: float, name: str, *, safety: float = 0.8, held: bool = False) -> float:
+    """The fixed step [s] of the method named ``name``: its module's ``time_step``;
+    ``held``: where the loads and speed are held (:mod:`rvcore.integrate.schedule`)."""
+    return method(name).time_step(model, peak_contact_load, safety=safety, held=held)
+
+
+@kernel(inline=True)
+def begin_segment(code, segment, work, state):
+    """Method ``code``'s ``begin_segment``: a stretch of the step schedule begins
+    (:mod:`rvcore.integrate.schedule`)."""
+    if code == IMEX:
+        imex.begin_segment(segment, work, state)
+    else:
+        rk4.begin_segment(segment, work, state)
 
 
 @kernel(inline=True)

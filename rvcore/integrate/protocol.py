@@ -5,13 +5,18 @@ one entry of :data:`rvcore.integrate.methods.METHODS`. The module supplies:
 
 - ``new_work(model, pocket_tolerance, load_tolerance)``: its scratch arrays
   ``(work, jwork, schur)``; ``work[0]`` receives the right-hand side at each step's start;
-- ``time_step(model, peak_contact_load, *, safety)``: its fixed step [s];
+- ``time_step(model, peak_contact_load, *, safety, held)``: its fixed step [s], where the
+  loads and speed are held or not (:mod:`rvcore.integrate.schedule`);
+- ``segment_constant(model, peak_contact_load, time_step)``: the constant a stretch of
+  the step schedule at that step hands ``begin_segment``
+  (:data:`rvcore.integrate.schedule.SEG_TOL`);
 - ``new_state()``: its counters for one run (:func:`new_state`, its own slots set);
 - ``rhs_evaluations(n_steps, substeps)``: how many right-hand sides a run of ``n_steps``
   evaluated, with ``substeps`` substeps computed in the steps it took again;
 - the kernels ``evaluate(...)`` (the right-hand side at the step's start, with whatever
-  else the method takes from it) and ``step(...)`` (one step), which
-  :mod:`rvcore.integrate.methods` dispatches to.
+  else the method takes from it), ``step(...)`` (one step) and ``begin_segment(segment,
+  work, state)`` (a stretch of the schedule begins), which :mod:`rvcore.integrate.methods`
+  dispatches to.
 
 ``state`` is an int64 array of :data:`N_STATE` counters the loop hands to every call: the
 first three are read by the loop and the run (below), the rest belong to the method.

@@ -112,9 +112,21 @@ def new_work(model, pocket_tolerance=0.0, load_tolerance=0.0):
     return np.zeros((N_WORK, model.n_states)), np.zeros((1, 1)), np.zeros((1, 1))
 
 
-def time_step(model, peak_contact_load: float, *, safety: float = 0.8) -> float:
-    """RK4's fixed step [s] (:func:`rk4_time_step`)."""
+def time_step(model, peak_contact_load: float, *, safety: float = 0.8, held: bool = False) -> float:
+    """RK4's fixed step [s] (:func:`rk4_time_step`), held loads or not: its bounds are
+    stability limits, which hold loads do not lift."""
     return rk4_time_step(model, peak_contact_load, safety=safety)
+
+
+def segment_constant(model, peak_contact_load: float, time_step: float) -> float:
+    """A stretch's constant for :func:`begin_segment`: none (0)."""
+    return 0.0
+
+
+@kernel(inline=True)
+def begin_segment(segment, work, state):
+    """A stretch of the step schedule begins: nothing to set."""
+    return
 
 
 def new_state():

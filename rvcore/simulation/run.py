@@ -31,7 +31,8 @@ from ..recording.results import (CaseResult, SimulationError, duty_cycle_outputs
                       read_phase_metrics)
 from .settings import SolverSettings
 from ..recording.spectra import kinematic_frequencies, steady_spectra
-from ..integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
+from ..integrate.imex import tangent_load_tolerance
+from ..integrate.schedule import SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_STEPS, output_lines, step_schedule
 from ..dynamics.ring_modes import DYNAMICS_MAX_ORDER, truncated, with_ring_modes
 from ..rings.flexible import RIGID_RINGS, FlexibleRings
 
@@ -94,14 +95,14 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if settings.method not in METHODS:
         raise ValueError(f"solver method {settings.method!r} is not one of {', '.join(NAMES)}")
     method = METHODS[settings.method]
-    dt_max = settings.time_step if settings.time_step > 0 else method.time_step(
-        model, q_peak, safety=settings.step_safety)
-    # The step divides the output interval exactly, so every case of a sweep samples at
-    # the same times t_start + k/output_rate whatever its own stability limit.
-    out_every = max(1, int(math.ceil(1.0 / (settings.output_rate * dt_max) - 1e-9)))
-    dt = 1.0 / (settings.output_rate * out_every)
-    n_steps = int(math.ceil((t_end - t_start) / dt - 1e-6))
-    n_out_max = n_steps // out_every + 2
+    # The steps divide the output interval exactly, so every case of a sweep samples at
+    # the same times t_start + k/output_rate whatever its own stability limit; where the
+    # loads and speed are held the step may be longer (rvcore.integrate.schedule).
+    schedule = step_schedule(method, model, q_peak, resolved, t_start, t_end, settings.output_rate,
+                             safety=settings.step_safety, time_step=settings.time_step)
+    dt = float(schedule[0, SEG_DT])
+    n_steps = int(schedule[:, SEG_STEPS].sum())
+    n_out_max = output_lines(schedule)
     sensor_rows = (np.array([s.as_row() for s in sensors], dtype=float) if len(sensors)
                    else np.zeros((0, 6)))
     n_sensors = sensor_rows.shape[0]
@@ -114,11 +115,12 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     ke_limit = kinetic_energy_limit(model, resolved, bearing.outer_diameter)
 
     t0 = time_module.perf_counter()
+    out_time = np.zeros(n_out_max)
     status, t_fail, where, n_out, substepped, refreshes, substeps_taken = advance(
-        settings.method, y, t_start, dt, n_steps, out_every, model, table, meta, resolved.phases, sensor_rows,
+        settings.method, y, t_start, schedule, model, table, meta, resolved.phases, sensor_rows,
         out, acc, plan, diag, bdiag, pen_limit, ke_limit,
         np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]),
-        pocket_energy_tolerance(model, q_peak, dt), tangent_load_tolerance(q_peak))
+        tangent_load_tolerance(q_peak), out_time)
     wall = time_module.perf_counter() - t0
     if status != OK:
         what = {NONFINITE: "a non-finite state value",
@@ -132,8 +134,11 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
                               f"(time step {dt:.3g} s; {hint})")
     out = out[:n_out]
-    k = np.minimum(np.arange(n_out) * out_every, n_steps)
-    time = t_start + np.where(k % out_every == 0, k // out_every / settings.output_rate, k * dt)
+    # the output lines' times: on the output grid t_start + k/output_rate (each stretch of
+    # the schedule starts on it), the last at the run's end
+    k = np.arange(n_out)
+    on_grid = int(schedule[-1, SEG_STEPS]) % int(schedule[-1, SEG_OUT_EVERY]) == 0
+    time = np.where((k < n_out - 1) | on_grid, t_start + k / settings.output_rate, out_time[n_out - 1])
     series = {}
     for c, (name, instance) in enumerate(plan.series_labels):
         series.setdefault(name, []).append(out[:, c])
@@ -146,7 +151,10 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     if "fatigue_damage" in life:
         metrics["fatigue_damage"] = life.pop("fatigue_damage")
     energy = read_energies(acc, plan)
-    info = {"steps": n_steps, "time_step": dt, "rhs_evaluations": method.rhs_evaluations(n_steps, substeps_taken),
+    held = schedule[schedule[:, SEG_HELD] != 0.0]
+    info = {"steps": n_steps, "time_step": dt,
+            "held_time_step": float(held[0, SEG_DT]) if held.size else dt,
+            "held_steps": int(held[:, SEG_STEPS].sum()), "rhs_evaluations": method.rhs_evaluations(n_steps, substeps_taken),
             "substepped_steps": substepped, "substeps_taken": substeps_taken, "tangent_refreshes": refreshes,
             "method": settings.method,
             "wall_time": wall, "ball_count": model.n_balls, "peak_contact_load_estimate": q_peak,

@@ -182,6 +182,7 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks, retakes=None):
     from rvcore.simulation.initial_state import peak_contact_load
     from rvcore.dynamics.rhs import new_diagnostics
     from rvcore.integrate.imex import pocket_energy_tolerance, tangent_load_tolerance
+    from rvcore.integrate.schedule import uniform_schedule
 
     table, meta = resolved.arrays()
     plan = build_plan(model.rows.shape[0], 0)
@@ -193,8 +194,9 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks, retakes=None):
     t = 0.0
     for _ in range(chunks):
         status, _, _, _, again, _, computed = ig.advance(
-            method, y, t, dt, per, per, model, table, meta, resolved.phases, np.zeros((0, 6)), out, acc, plan, diag,
-            bdiag, 1e-3, 1e9, np.ones(model.rows.shape[0]), pocket_tolerance, tangent_load_tolerance(q_peak))
+            method, y, t, uniform_schedule(per, dt, per, pocket_tolerance), model, table, meta, resolved.phases,
+            np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9, np.ones(model.rows.shape[0]),
+            tangent_load_tolerance(q_peak))
         if retakes is not None:
             retakes.append((again, computed))
         if status != ig.OK:

@@ -254,8 +254,9 @@ def test_peak_contact_load_covers_reverse_thrust():
 def test_continuing_from_the_final_state_matches_one_run():
     """t0→t2 in one go equals t0→t1 then t1→t2 started from the first run's final state.
 
-    The fixed step depends only on the bearing and the whole profile, so both runs take
-    the same steps; only the step times ``t_start + i·dt`` are rounded differently, so the
+    The fixed steps depend only on the bearing, the whole profile and whether the loads
+    and speed are held (from 2 ms here: rvcore.integrate.schedule), so both runs take the
+    same steps; only the step times ``t_start + i·dt`` are rounded differently, so the
     states agree to round-off amplified over a few thousand steps."""
     bearing = section_bearing(8)
     prof = constant_profile(0.002, 0.006)
@@ -265,7 +266,9 @@ def test_continuing_from_the_final_state_matches_one_run():
     a = run_case(bearing, prof, op, SolverSettings(output_rate=1e4, end_time=t1))
     b = run_case(bearing, prof, op, SolverSettings(output_rate=1e4, start_time=t1),
                  initial_state_vector=a.final_state)
-    assert a.info["time_step"] == one.info["time_step"] == b.info["time_step"]
+    assert a.info["time_step"] == one.info["time_step"]
+    assert a.info["held_time_step"] == one.info["held_time_step"] == b.info["time_step"] == b.info["held_time_step"]
+    assert b.info["held_steps"] == b.info["steps"]      # held throughout
     assert a.info["steps"] + b.info["steps"] == one.info["steps"]
     assert b.time[0] == pytest.approx(t1) and b.time[-1] == pytest.approx(one.time[-1])
     y1, y2 = one.final_state, b.final_state

@@ -74,6 +74,44 @@ def test_implicit_tableau_is_all_pass_and_second_order():
     assert abs(implicit_stability(-imex.FRICTION_LIMIT)) == pytest.approx(imex.FRICTION_DAMPING, rel=1e-12)
 
 
+def scalar_step(z, weight_32):
+    """The implicit stages' step on ``y' = λ·y`` with ``z = λ·h``, every force in the implicit
+    part and the tangent exact, in the deviation form rvcore.integrate.imex computes
+    (``g_j = λ·(Y_j − y_n)``, so ``g_1 = 0`` and ``â_31`` drops out), the third stage
+    weighing ``g_2`` by ``weight_32``."""
+    tableau = IMPLICIT.copy()
+    tableau[2, 1] = weight_32
+    y, forces, implicit = 1.0, [], []
+    for i in range(4):
+        known = y + z * sum(EXPLICIT[i, j] * forces[j] + (tableau[i, j] - EXPLICIT[i, j]) * implicit[j]
+                            for j in range(i))
+        stage = y if i == 0 else (known - z * imex.GAMMA * y) / (1.0 - z * imex.GAMMA)
+        forces.append(stage)                 # F = λ·Y, in units of λ·h over h
+        implicit.append(stage - y)
+    return y + z * sum(WEIGHTS[i] * forces[i] for i in range(4))
+
+
+def test_damping_tableau_is_l_stable_and_second_order():
+    """Where the loads and speed are held the balls' damping part takes â_32 = 7/36
+    (``I32 + DAMP_32``; rvcore.integrate.imex, "Where the loads are held"): on ``y' = λ·y``
+    the step is ``(1 + z/2 + z²/12)/(1 − z/6)³``, of order 2 (``R − e^z = O(z³)``),
+    positive on the negative real axis, at most 0.30 for ``λ·h ≥ 2`` and falling to 0
+    (L-stable), where the all-pass tableau's tends to −1. The same deviation form with the
+    all-pass weight gives the all-pass function (so the form is the module's)."""
+    damped = imex.I32 + imex.DAMP_32
+    assert damped == pytest.approx(7.0 / 36.0, abs=1e-15)
+    for z in (-0.5, -2.0, -6.0, -20.5, -100.0, -1e4, 0.3 + 2.0j):
+        assert scalar_step(z, damped) == pytest.approx((1 + z / 2 + z * z / 12) / (1 - z / 6) ** 3, rel=1e-8)
+        assert scalar_step(z, imex.I32) == pytest.approx(implicit_stability(z), rel=1e-8)
+    for z in (1e-2, 2e-2):
+        assert abs(scalar_step(z, damped) - math.exp(z)) < 0.1 * z ** 2
+    assert abs(scalar_step(2e-2, damped) - math.exp(2e-2)) > 4.0 * abs(scalar_step(1e-2, damped) - math.exp(1e-2))
+    stiff = -np.logspace(np.log10(2.0), 6, 2000)
+    values = np.array([scalar_step(z, damped) for z in stiff])
+    assert np.all(values > 0.0) and values.max() < 0.30
+    assert values[-1] < 1e-4 and abs(scalar_step(-1e6, imex.I32)) > 0.99
+
+
 def test_implicit_tableau_is_stiffly_accurate_with_stage_values_at_most_twice_the_start():
     """The member of the all-pass family the module takes: its last row is b̂ (the last
     stage is the step's end), and on a stiff linear mode the stage values

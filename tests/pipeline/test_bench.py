@@ -170,7 +170,9 @@ def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
     """The reduced bearing on the short cycle: the stretches are the profile's phases with
     what lies before and after them, end to end from 0 to the cycle's duration; each
     stretch's steps are its length over the case's step (the phases' edges are whole
-    output intervals, which the step divides), and together they are the whole cycle's."""
+    output intervals, which the step divides): the longer step where the loads and speed
+    are held, in the steady phase (rvcore.integrate.schedule), and together they are the
+    whole cycle's."""
     from pipeline.schema import load_bearing, load_profile
     from pipeline.schema.shipped import shipped_file
     from rvcore.profile import OperatingPoint
@@ -187,7 +189,10 @@ def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
     assert all(a[1] == b[0] for a, b in zip(windows, windows[1:]))
     whole = run_case(bearing, profile, op, SolverSettings()).info
     steps = [f[f"phase_steps_{k}"] for k in range(len(windows))]
-    assert steps == [round((b - a) / whole["time_step"]) for a, b in windows]
+    held = [name == "steady" for name in f["phase_names"]]
+    assert whole["held_time_step"] > whole["time_step"]
+    assert steps == [round((b - a) / whole["held_time_step" if h else "time_step"])
+                     for (a, b), h in zip(windows, held)]
     assert sum(steps) == whole["steps"]
 
 

@@ -1,0 +1,130 @@
+"""The step schedule: the fixed step by stretches of the cycle, longer where the loads and
+speed are held. SI throughout.
+
+Why
+---
+A method's step (``time_step`` of :mod:`rvcore.integrate.imex`, :mod:`rvcore.integrate.rk4`)
+is sized for the whole cycle, so for its hardest stretch: in the load ramps race contacts
+close and balls strike their pockets. Where every channel of the profile (the loads, the
+moment, the load's direction and the speed) is held, what sizes the step is the motion
+the bearing keeps up by itself; for IMEX that stretch takes the damping tableau and its
+own, longer step (:func:`rvcore.integrate.imex.imex_time_step` with ``held``). On the
+study cycle that is the steady phase, 0.8–3.8 s.
+
+Each stretch's step divides the output interval, and a held stretch starts and ends on
+an output time (inside the held window), so the outputs keep the times
+``t_start + k/output_rate`` of a schedule without stretches. The step changes inside the
+loop (:func:`rvcore.integrate.loop.integrate`): the state, the phase reductions and the
+drive torque's filter run on; the method begins each stretch with its own constants
+(``begin_segment``: IMEX's pocket tolerance, its tableau and new tangents).
+
+A schedule is an array of rows, one a stretch, with the columns :data:`SEG_STEPS` (its
+steps), :data:`SEG_DT` (their size [s]), :data:`SEG_OUT_EVERY` (steps between output
+lines), :data:`SEG_HELD` (1 where the loads and speed are held) and :data:`SEG_TOL` (the
+method's ``segment_constant`` at that step).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+SEG_STEPS, SEG_DT, SEG_OUT_EVERY, SEG_HELD, SEG_TOL = range(5)
+N_SEG = 5
+
+
+def held_windows(resolved, t_start: float, t_end: float) -> list:
+    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` over which every channel of
+    the resolved profile is constant.
+
+    Between two consecutive breakpoints of all the channels together each channel's
+    interpolation (linear or smoothstep) is monotone, so it is constant there if and only
+    if its values at both ends agree; the windows join such intervals.
+    """
+    tables = resolved.channels()
+    knots = sorted({float(t) for times, _, _ in tables for t in times if t_start < t < t_end}
+                   | {t_start, t_end})
+    windows = []
+    for a, b in zip(knots[:-1], knots[1:]):
+        held = all(resolved.value(c, a) == resolved.value(c, b) for c in range(len(tables)))
+        if not held:
+            continue
+        if windows and windows[-1][1] == a:
+            windows[-1] = (windows[-1][0], b)
+        else:
+            windows.append((a, b))
+    return windows
+
+
+def _fitted(dt_max: float, output_rate: float):
+    """``(out_every, dt)``: the largest step ≤ ``dt_max`` [s] that divides the output
+    interval ``1/output_rate`` [s], and the steps in that interval."""
+    out_every = max(1, int(math.ceil(1.0 / (output_rate * dt_max) - 1e-9)))
+    return out_every, 1.0 / (output_rate * out_every)
+
+
+def step_schedule(method, model, peak_contact_load: float, resolved, t_start: float, t_end: float,
+                  output_rate: float, *, safety: float = 0.8, time_step: float = 0.0) -> np.ndarray:
+    """The step schedule of a run from ``t_start`` to ``t_end`` [s] (module docstring).
+
+    Parameters
+    ----------
+    method : module
+        The method (:data:`rvcore.integrate.methods.METHODS`): its ``time_step`` and
+        ``segment_constant``.
+    model : CompiledBearing
+    peak_contact_load : float
+        The case's peak contact load [N], on which the steps are sized.
+    resolved : rvcore.profile.ResolvedProfile
+    t_start, t_end : float
+        The run's window [s].
+    output_rate : float
+        Output lines per second [Hz]; every step divides its interval.
+    safety : float
+        The steps' share of their bounds [-] (``SolverSettings.step_safety``).
+    time_step : float
+        A step set by hand [s] (``SolverSettings.time_step``; 0: none): then the schedule
+        is one stretch of it, the held windows too.
+
+    Returns
+    -------
+    ndarray (n, N_SEG)
+    """
+    if time_step > 0:
+        out_every, dt = _fitted(time_step, output_rate)
+        held_every, dt_held = out_every, dt
+    else:
+        out_every, dt = _fitted(method.time_step(model, peak_contact_load, safety=safety), output_rate)
+        held_every, dt_held = _fitted(method.time_step(model, peak_contact_load, safety=safety, held=True),
+                                      output_rate)
+    rows = []
+    k = 0                      # the output line where the next stretch starts
+    if dt_held > dt:
+        for a, b in held_windows(resolved, t_start, t_end):
+            k_a = max(int(math.ceil((a - t_start) * output_rate - 1e-9)), k)
+            k_b = int(math.floor((b - t_start) * output_rate + 1e-9))
+            if t_start + k_b / output_rate > t_end or k_b <= k_a:
+                continue
+            if k_a > k:
+                rows.append([(k_a - k) * out_every, dt, out_every, 0.0, 0.0])
+            rows.append([(k_b - k_a) * held_every, dt_held, held_every, 1.0, 0.0])
+            k = k_b
+    t_last = t_start + k / output_rate
+    n_last = int(math.ceil((t_end - t_last) / dt - 1e-6))
+    if n_last > 0 or not rows:
+        rows.append([n_last, dt, out_every, 0.0, 0.0])
+    schedule = np.array(rows, dtype=float)
+    for row in schedule:
+        row[SEG_TOL] = method.segment_constant(model, peak_contact_load, row[SEG_DT])
+    return schedule
+
+
+def uniform_schedule(n_steps: int, dt: float, out_every: int, constant: float = 0.0) -> np.ndarray:
+    """One stretch of ``n_steps`` steps of ``dt`` [s], an output line every ``out_every``,
+    the method's ``constant`` (:data:`SEG_TOL`; IMEX: its pocket tolerance [J])."""
+    return np.array([[n_steps, dt, out_every, 0.0, constant]], dtype=float)
+
+
+def output_lines(schedule: np.ndarray) -> int:
+    """The most output lines a run of ``schedule`` writes."""
+    return int(sum(int(s[SEG_STEPS]) // int(s[SEG_OUT_EVERY]) + 1 for s in schedule)) + 1

@@ -1,0 +1,124 @@
+"""The step schedule (rvcore.integrate.schedule): where the loads and speed are held, the
+stretches on the output grid, and a run whose step changes inside the loop.
+
+The held windows are read off each profile's own breakpoints here (the study cycle's
+loads are held over 0.3–4.3 s and its speed over 0.8–3.8 s: sweeps/profiles/study.toml);
+the steps from the methods' bounds at the case's peak contact load.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rvcore.bearing.layout import compile_bearing
+from rvcore.integrate import imex, rk4
+from rvcore.integrate.methods import time_step
+from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL, held_windows,
+                                       step_schedule)
+from rvcore.profile import Channel, OperatingPoint, Profile, scaled_study_profile, study_profile
+from rvcore.simulation.initial_state import peak_contact_load
+from rvcore.simulation.run import run_case
+from rvcore.simulation.settings import SolverSettings
+
+from .physics_cases import section_bearing
+
+OP = OperatingPoint(math.radians(660.0), 30e3, 10e3)
+
+
+def test_the_study_cycle_is_held_over_its_steady_phase_only():
+    """Loads held 0.3–4.3 s, speed 0.8–3.8 s: everything held 0.8–3.8 s, the steady phase;
+    a window inside it is held throughout, one across its edge from the edge on."""
+    resolved = study_profile().resolve(OP)
+    windows = held_windows(resolved, 0.0, 4.6)
+    assert windows == [(pytest.approx(0.8), pytest.approx(3.8))]
+    assert held_windows(resolved, 1.0, 2.0) == [(1.0, 2.0)]
+    assert held_windows(resolved, 0.5, 1.0) == [(pytest.approx(0.8), 1.0)]
+    assert held_windows(resolved, 0.0, 0.8) == []
+
+
+def test_a_turning_load_or_a_changing_moment_is_not_held():
+    """The load's direction and the moment are channels too: the steady phase with the
+    load turning over 2–3 s is held before and after, and the schedule takes the held
+    step on both stretches; a moment that rises over 1.5–1.6 s splits it likewise."""
+    base = study_profile()
+    turning = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
+                      load_direction=Channel((0.0, 2.0, 3.0), (0.0, 0.0, 1.0), relative=False))
+    resolved = turning.resolve(OP)
+    windows = held_windows(resolved, 0.0, 4.6)
+    assert windows == [(pytest.approx(0.8), pytest.approx(2.0)), (pytest.approx(3.0), pytest.approx(3.8))]
+    _, model = section_model()
+    schedule = step_schedule(imex, model, peak_contact_load(model, resolved), resolved, 0.0, 4.6, 1000.0)
+    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0, 1.0, 0.0]
+    np.testing.assert_allclose(np.cumsum(schedule[:, SEG_STEPS] * schedule[:, SEG_DT]), [0.8, 2.0, 3.0, 3.8, 4.6],
+                               rtol=1e-12)
+    moment = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
+                     moment=Channel((0.0, 1.5, 1.6), (0.0, 0.0, 1.0)))
+    windows = held_windows(moment.resolve(dataclass_moment(OP)), 0.0, 4.6)
+    assert windows == [(pytest.approx(0.8), pytest.approx(1.5)), (pytest.approx(1.6), pytest.approx(3.8))]
+
+
+def dataclass_moment(op):
+    """``op`` with a moment [N m], so that the moment channel has values to change."""
+    import dataclasses
+
+    return dataclasses.replace(op, moment=100.0)
+
+
+def section_model():
+    bearing = section_bearing(12)
+    return bearing, compile_bearing(bearing)
+
+
+def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_on_the_output_grid():
+    """IMEX on the study cycle: three stretches, the middle one the steady phase at the
+    method's held step (longer: the friction adds no bound there, the contact oscillation
+    ω_n·h ≤ 6 instead of 5), each step dividing the output interval, each stretch a whole
+    number of output intervals but the last, and the steps adding up to the cycle; each
+    stretch's pocket tolerance the method's at its own step."""
+    _, model = section_model()
+    resolved = study_profile().resolve(OP)
+    q = peak_contact_load(model, resolved)
+    rate = 1000.0
+    schedule = step_schedule(imex, model, q, resolved, 0.0, 4.6, rate)
+    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0]
+    plain, held = time_step(model, q, "imex"), time_step(model, q, "imex", held=True)
+    assert held > plain
+    for row, bound in zip(schedule, (plain, held, plain)):
+        assert row[SEG_DT] <= bound and row[SEG_DT] * (row[SEG_OUT_EVERY] + 1) > 1.0 / rate * (1 - 1e-12)
+        assert row[SEG_DT] * row[SEG_OUT_EVERY] == pytest.approx(1.0 / rate, rel=1e-12)
+        assert row[SEG_TOL] == imex.pocket_energy_tolerance(model, q, row[SEG_DT])
+    spans = schedule[:, SEG_STEPS] * schedule[:, SEG_DT]
+    np.testing.assert_allclose(np.cumsum(spans), [0.8, 3.8, 4.6], rtol=1e-12)
+
+
+def test_rk4_and_a_step_set_by_hand_keep_one_step_throughout():
+    """RK4's bounds are stability limits that held loads do not lift, and a step set by hand
+    (``SolverSettings.time_step``) is the step everywhere: one stretch, not held."""
+    _, model = section_model()
+    resolved = study_profile().resolve(OP)
+    q = peak_contact_load(model, resolved)
+    assert time_step(model, q, "rk4", held=True) == time_step(model, q, "rk4")
+    for schedule in (step_schedule(rk4, model, q, resolved, 0.0, 4.6, 1000.0),
+                     step_schedule(imex, model, q, resolved, 0.0, 4.6, 1000.0, time_step=2e-5)):
+        assert schedule.shape[0] == 1 and schedule[0, SEG_HELD] == 0.0
+    assert step_schedule(imex, model, q, resolved, 0.0, 4.6, 1000.0, time_step=2e-5)[0, SEG_DT] == 2e-5
+
+
+def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
+    """The 12-ball section on the study cycle scaled to 46 ms: the outputs keep the times
+    ``k/output_rate`` through both changes of step, the run's steps are its stretches', the
+    held ones those of the steady phase."""
+    bearing, _ = section_model()
+    profile = scaled_study_profile(0.01)
+    settings = SolverSettings(output_rate=1e4)
+    result = run_case(bearing, profile, OP, settings)
+    info = result.info
+    assert info["held_time_step"] > info["time_step"]
+    steady = profile.phases[1]
+    assert info["held_steps"] == round((steady[2] - steady[1]) / info["held_time_step"])
+    outside = profile.duration - (steady[2] - steady[1])
+    assert info["steps"] == info["held_steps"] + round(outside / info["time_step"])
+    np.testing.assert_allclose(result.time, np.arange(result.time.size) / 1e4, rtol=0, atol=1e-15)
+    assert result.time[-1] == pytest.approx(profile.duration)
