@@ -549,8 +549,8 @@ _PROFILE += [Field(f"phases.{_p}", "list", "profile", "time", "nonnegative", uni
 _SOLVER_DOC = {
     "output_rate": ("frequency", "Hz", "positive", "stored samples per second"),
     "method": (None, "", None, "integrator: imex (the default: contacts, friction and damping implicit) or rk4 (the reference)"),
-    "step_safety": ("dimensionless", "", "fraction", "fraction of the method's explicit stability limit"),
-    "time_step": ("time", "us", "nonnegative", "fixed step; 0 derives it from the stiffest contact"),
+    "step_safety": ("dimensionless", "", "fraction", "fraction of the method's step bounds"),
+    "time_step": ("time", "us", "nonnegative", "one fixed step throughout; 0 derives the steps from the stiffest contact (imex: longer where the loads and speed are held)"),
     "start_time": ("time", "s", "nonnegative", "start of the simulated window"),
     "end_time": ("time", "s", "nonnegative", "end of the simulated window; 0: the profile's duration"),
     "friction": (None, "", None, "friction on (false only for conservation checks)"),

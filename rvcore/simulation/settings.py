@@ -21,10 +21,13 @@ class SolverSettings:
         at small slip and contact damping implicit, the rest explicit; about 4× faster on
         the study cycle), or ``"rk4"`` (classical RK4, the reference it is checked against).
     step_safety : float
-        Fraction of the method's explicit stability limit used as the fixed step [-].
+        Fraction of the method's bounds used as the fixed step [-], in each stretch of
+        the step schedule (:mod:`rvcore.integrate.schedule`: IMEX takes a longer step
+        where the loads and speed are held).
     time_step : float
-        Explicit fixed step [s]; 0 derives it from the stiffest contact and friction
-        rates (see ``rvcore.integrate.rk4.rk4_time_step``).
+        Explicit fixed step [s], the same throughout (no longer step where the loads are
+        held); 0 derives the steps from the stiffest contact and friction rates (see
+        ``rvcore.integrate.rk4.rk4_time_step``, ``rvcore.integrate.imex.imex_time_step``).
     start_time, end_time : float
         Simulated window [s]; ``end_time`` 0 means the profile's duration.
     friction : bool
