@@ -240,3 +240,45 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load)
     for name, change in changes.items():
         limit = 1e-3 if name.startswith("cage_slip") else 0.01
         assert np.all(change < limit), (name, change)
+
+
+@pytest.mark.slow
+def test_imex_seed_means_converge_with_the_step_at_a_low_speed():
+    """§9.6 at the grid's low speeds, where one case is not the figure to read: there a
+    case's transients are draws of where the balls start in their pockets, which a tenth
+    of the step moves as another seed does (docs/validation.md, "Known limits": at 20 kN
+    and 120–240 °/s single cases' start-up stds by up to 4.4 %, steady ranges and torque
+    peaks by up to 1.6 %). The seeds' means are (the sweep's ``*_ensemble_mean``): the study
+    bearing and cycle at 180 °/s, 20 kN + 10 kN, seeds 0–2, at the default steps and at a
+    tenth of them; the mean over the seeds of every steady and deceleration metric moves
+    by less than 1 % (the cage slips by less than 0.001), by the rules of
+    tests/core/physics_cases.py::phase_metric_changes. The steady phase runs at the longer
+    step where the loads are held (rvcore.integrate.schedule). Measured at MODEL_VERSION 20
+    (the same seeds as the study sweep's): within 0.54 % (the steady radial range). About
+    85 s on two cores."""
+    from types import SimpleNamespace
+
+    bearing, profile, _ = study_case()
+    op = OperatingPoint(math.radians(180.0), 20e3, 10e3)
+    end = max(p[2] for p in profile.phases)
+    jobs = [SolverSettings(method="imex", end_time=end, seed=seed, step_safety=safety)
+            for safety in (0.8, 0.08) for seed in (0, 1, 2)]
+    with ThreadPoolExecutor(max_workers=2) as pool:   # the kernels release the GIL
+        runs = list(pool.map(lambda s: run_case(bearing, profile, op, s), jobs))
+
+    def seed_means(results):
+        return SimpleNamespace(phase_metrics={name: np.mean([np.asarray(r.phase_metrics[name], dtype=float)
+                                                             for r in results], axis=0)
+                                              for name in results[0].phase_metrics})
+
+    coarse, fine = seed_means(runs[:3]), seed_means(runs[3:])
+    # each step is fitted down to a divisor of the output interval: a tenth within 5 %
+    assert runs[3].info["held_time_step"] == pytest.approx(runs[0].info["held_time_step"] / 10, rel=0.05)
+    changes = phase_metric_changes(coarse, fine)
+    assert len(changes) >= 20, sorted(changes)
+    later = [phase_index(profile, "steady"), phase_index(profile, "deceleration")]
+    worst = max((float(np.nanmax(np.asarray(c)[later])), n) for n, c in changes.items() if not n.startswith("cage_slip"))
+    print(f"the seeds' means at a tenth of the step: worst steady or deceleration change {worst[0]:.3%} ({worst[1]})")
+    for name, change in changes.items():
+        limit = 1e-3 if name.startswith("cage_slip") else 0.01
+        assert np.all(np.asarray(change)[later] < limit), (name, change)
