@@ -148,8 +148,9 @@ weighs the balls' damping part of ``g_2``, ``−M⁻¹·D·e_v``, by ``â_32 = 7
 is ``(1 + z/2 + z²/12)/(1 − z/6)³``, with the same nodes, weights and diagonal, so the
 same factorization and the same drive impulse; it is of order 2, L-stable and positive
 on the negative real axis, and keeps at most 0.30 of a stiff friction mode a step at
-any ``λ_f·h ≥ 2`` (0 as λ_f·h → ∞; the all-pass tableau keeps ``|R(−λ_f·h)| → 1``). So the friction adds no bound there, and the contact
-oscillation's accuracy bound is :data:`HELD_CONTACT_LIMIT` = 6 instead of 5: the step is
+any ``λ_f·h ≥ 2`` (0 as λ_f·h → ∞; the all-pass tableau keeps ``|R(−λ_f·h)| → 1``). So
+the friction adds no bound there, and the contact oscillation's accuracy bound is
+:data:`HELD_CONTACT_LIMIT` = 6 instead of 5: the step is
 :func:`imex_time_step` with ``held``, 1.18–1.36× the step elsewhere over the study grid.
 The step changes inside the loop, at output times, and each stretch starts with new
 tangents and its own pocket tolerance (:func:`begin_segment`). Measured on the study
