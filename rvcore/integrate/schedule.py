@@ -29,8 +29,9 @@ import math
 
 import numpy as np
 
+from ..profile import channel_value
+
 SEG_STEPS, SEG_DT, SEG_OUT_EVERY, SEG_HELD, SEG_TOL = range(5)
-N_SEG = 5
 
 
 def held_windows(resolved, t_start: float, t_end: float) -> list:
@@ -42,11 +43,12 @@ def held_windows(resolved, t_start: float, t_end: float) -> list:
     if its values at both ends agree; the windows join such intervals.
     """
     tables = resolved.channels()
+    table, meta = resolved.arrays()
     knots = sorted({float(t) for times, _, _ in tables for t in times if t_start < t < t_end}
                    | {t_start, t_end})
     windows = []
     for a, b in zip(knots[:-1], knots[1:]):
-        held = all(resolved.value(c, a) == resolved.value(c, b) for c in range(len(tables)))
+        held = all(channel_value(table, meta, c, a) == channel_value(table, meta, c, b) for c in range(len(tables)))
         if not held:
             continue
         if windows and windows[-1][1] == a:
@@ -88,7 +90,8 @@ def step_schedule(method, model, peak_contact_load: float, resolved, t_start: fl
 
     Returns
     -------
-    ndarray (n, N_SEG)
+    ndarray (n, 5)
+        One row a stretch, the columns ``SEG_*``.
     """
     if time_step > 0:
         out_every, dt = _fitted(time_step, output_rate)
