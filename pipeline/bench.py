@@ -94,9 +94,9 @@ def full_cycle_of(method: str) -> dict:
 
     warm_up()
     bearing, profile, op = _study()
-    run_case(bearing, profile, op, SolverSettings(method=method, end_time=2e-4))
+    run_case(bearing, profile, op, SolverSettings(method=method, end_time=2e-4), starts=None)
     t0 = time.perf_counter()
-    r = run_case(bearing, profile, op, SolverSettings(method=method))
+    r = run_case(bearing, profile, op, SolverSettings(method=method), starts=None)
     wall = time.perf_counter() - t0
     n_balls = r.info["ball_count"]
     return {
@@ -177,12 +177,13 @@ def phase_cost(bearing=None, profile=None, op=None) -> dict:
 
     if bearing is None:
         bearing, profile, op = _study()
-    run_case(bearing, profile, op, SolverSettings(end_time=2e-4))      # load every kernel
+    run_case(bearing, profile, op, SolverSettings(end_time=2e-4), starts=None)      # load every kernel
     parts = stretches(profile)
     out = {"phase_names": [p[0] for p in parts], "phase_windows_s": [(p[1], p[2]) for p in parts]}
     y, total = None, 0.0
     for k, (_, start, end) in enumerate(parts):
-        r = run_case(bearing, profile, op, SolverSettings(start_time=start, end_time=end), initial_state_vector=y)
+        r = run_case(bearing, profile, op, SolverSettings(start_time=start, end_time=end), initial_state_vector=y,
+                     starts=None)
         info, y = r.info, r.final_state
         steps = max(int(info["steps"]), 1)
         out[f"phase_wall_s_{k}"] = float(info["wall_time"])
@@ -236,10 +237,11 @@ def scipy_comparison(method: str = "imex", window: float = 0.01, t_start: float 
         phases = np.zeros((0, 2))
         sensors = np.zeros((0, 6))
         t0 = time.perf_counter()
-        schedule = uniform_schedule(n, window / n, n, pocket_energy_tolerance(model, q_peak, window / n))
+        schedule = uniform_schedule(n, window / n, n, pocket_energy_tolerance(model, q_peak, window / n),
+                                    tangent_load_tolerance(q_peak))
         status, _, _, _, _, _, substeps = ig.advance(method, y, t_start, schedule, model, table, meta,
                                                  phases, sensors, out, acc, plan, diag, bdiag, 1.0, 1e30,
-                                                 np.ones(model.rows.shape[0]), tangent_load_tolerance(q_peak))
+                                                 np.ones(model.rows.shape[0]))
         wall = time.perf_counter() - t0
         assert status == ig.OK
         # a step taken again in substeps (rvcore.integrate.imex) evaluates 4 per substep besides its own
@@ -393,11 +395,11 @@ def imperfection_cost(pairs: int = 3, end_time: float = 0.6) -> dict:
     normal = dataclasses.replace(bearing, rows=tuple(
         dataclasses.replace(r, imperfections=Imperfections(tolerance_class="normal")) for r in bearing.rows))
     settings = SolverSettings(end_time=end_time, seed=0)
-    run_case(normal, profile, op, dataclasses.replace(settings, end_time=0.01))   # load every kernel
+    run_case(normal, profile, op, dataclasses.replace(settings, end_time=0.01), starts=None)   # load every kernel
     perfect, imperfect = [], []
     for _ in range(pairs):
-        perfect.append(run_case(bearing, profile, op, settings).info["wall_time"])
-        imperfect.append(run_case(normal, profile, op, settings).info["wall_time"])
+        perfect.append(run_case(bearing, profile, op, settings, starts=None).info["wall_time"])
+        imperfect.append(run_case(normal, profile, op, settings, starts=None).info["wall_time"])
     return {"imperfection_perfect_wall_s": statistics.median(perfect),
             "imperfection_normal_wall_s": statistics.median(imperfect),
             "imperfection_cost_ratio": statistics.median([b / a for a, b in zip(perfect, imperfect)])}
@@ -426,14 +428,14 @@ def lubricated_cost(pairs: int = 2, speeds=LUBRICATED_COST_SPEEDS) -> dict:
     bearing, profile, op = _study()
     wet = dataclasses.replace(bearing, contact=dataclasses.replace(bearing.contact, law="ehl_bair_winer"))
     settings = SolverSettings()
-    run_case(wet, profile, op, dataclasses.replace(settings, end_time=0.01))   # load every kernel
+    run_case(wet, profile, op, dataclasses.replace(settings, end_time=0.01), starts=None)   # load every kernel
     out, worst = {}, None
     for speed in speeds:
         point = OperatingPoint(math.radians(speed), op.radial_load, op.axial_load)
         dry_s, wet_s = [], []
         for _ in range(pairs):
-            dry_s.append(run_case(bearing, profile, point, settings).info["wall_time"])
-            wet_s.append(run_case(wet, profile, point, settings).info["wall_time"])
+            dry_s.append(run_case(bearing, profile, point, settings, starts=None).info["wall_time"])
+            wet_s.append(run_case(wet, profile, point, settings, starts=None).info["wall_time"])
         ratio = statistics.median([b / a for a, b in zip(dry_s, wet_s)])
         out[f"lubricated_cost_ratio_{speed:g}"] = ratio
         if worst is None or ratio > worst[0]:
@@ -471,14 +473,15 @@ def flexible_cost(pairs: int = 3, windows=None) -> dict:
     bearing = load_bearing(FLEXIBLE_BEARING)
     rings = bearing_rings(bearing, max_order=DYNAMICS_MAX_ORDER)
     settings = SolverSettings()
-    run_case(bearing, profile, op, dataclasses.replace(settings, end_time=2e-4), rings=rings)   # load every kernel
+    # load every kernel
+    run_case(bearing, profile, op, dataclasses.replace(settings, end_time=2e-4), rings=rings, starts=None)
     out = {}
     for suffix, (start, end) in (windows or FLEXIBLE_COST_WINDOWS).items():
         window = dataclasses.replace(settings, start_time=start, end_time=end)
         rigid, flexible = [], []
         for _ in range(pairs):
-            rigid.append(run_case(bearing, profile, op, window).info)
-            flexible.append(run_case(bearing, profile, op, window, rings=rings).info)
+            rigid.append(run_case(bearing, profile, op, window, starts=None).info)
+            flexible.append(run_case(bearing, profile, op, window, rings=rings, starts=None).info)
         ratios = [b["wall_time"] / a["wall_time"] for a, b in zip(rigid, flexible)]
         out[f"flexible_cost_ratio{suffix}"] = statistics.median(ratios)
         out[f"flexible_wall_s{suffix}"] = statistics.median(i["wall_time"] for i in flexible)
@@ -642,11 +645,11 @@ def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float
         op = OperatingPoint(math.radians(660.0), 30e3 * s, 10e3 * s)
         # an untimed short run first: whatever this bearing's first run does once (a kernel
         # first reached with its shapes, the statics' caches) stays out of both timings
-        run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4))
+        run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4), starts=None)
         c0 = time.thread_time()
-        short = run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4))
+        short = run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4), starts=None)
         c1 = time.thread_time()
-        r = run_case(bearing, profile, op, settings)
+        r = run_case(bearing, profile, op, settings, starts=None)
         c2 = time.thread_time()
         steps = int(r.info["steps"])
         # CPU time of this thread, the short run's taken off: what the extra steps cost,

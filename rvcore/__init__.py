@@ -84,6 +84,7 @@ Shared
 - ``simulation.settings``      SolverSettings and Sensor
 - ``simulation.initial_state`` the state a case starts from; the peak contact load
 - ``simulation.run``           ``run_case``: the one entry point for a dynamic case
+- ``simulation.shared_start``  the start before the ring turns, which a grid's speeds share
 
 The public API, importable from ``rvcore`` itself: :data:`PUBLIC`.
 """
@@ -91,7 +92,7 @@ The public API, importable from ``rvcore`` itself: :data:`PUBLIC`.
 #: Version of the model's equations and numerics. Part of every case id
 #: (:mod:`pipeline.schema.sweepfile`): bump it when a change to ``rvcore`` changes results,
 #: so that resumed sweeps recompute every case. What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 20
+MODEL_VERSION = 21
 
 from ._numba import use_source_keyed_cache
 

@@ -209,7 +209,7 @@ from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE
 from ..bearing.layout import (BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
                               R_BALL0, R_IB, R_MB, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_error
-from .schedule import SEG_HELD, SEG_TOL
+from .schedule import SEG_HELD, SEG_LOAD_TOL, SEG_TOL
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
@@ -801,6 +801,13 @@ def new_state():
     return state
 
 
+def load_tolerance(peak_contact_load: float) -> float:
+    """The tangents' load tolerance [N] a stretch of the step schedule hands
+    :func:`begin_segment` (:data:`rvcore.integrate.schedule.SEG_LOAD_TOL`):
+    :func:`tangent_load_tolerance` of the peak contact load [N] it was sized on."""
+    return tangent_load_tolerance(peak_contact_load)
+
+
 def segment_constant(model, peak_contact_load: float, time_step: float) -> float:
     """The constant a stretch of the step schedule hands :func:`begin_segment` at the step
     ``time_step`` [s]: the pocket check's tolerance [J] (:func:`pocket_energy_tolerance`)."""
@@ -810,9 +817,11 @@ def segment_constant(model, peak_contact_load: float, time_step: float) -> float
 @kernel(inline=True)
 def begin_segment(segment, work, state):
     """A stretch of the step schedule begins (:mod:`rvcore.integrate.schedule`): its pocket
-    tolerance, the damping tableau where the loads and speed are held, and tangents
-    evaluated anew at its first step (their blocks carry the step, ``h·γ``)."""
+    tolerance and tangents' load tolerance, the damping tableau where the loads and speed
+    are held, and tangents evaluated anew at its first step (their blocks carry the step,
+    ``h·γ``)."""
     work[W_SET, 0] = segment[SEG_TOL]
+    work[W_SET, 1] = segment[SEG_LOAD_TOL]
     work[W_SET, SET_DAMP] = DAMP_32 if segment[SEG_HELD] != 0.0 else 0.0
     state[S_STALE] = 1
 

@@ -23,10 +23,18 @@ from ..dynamics.rhs import D_MAX_PEN, D_PEN_BALL
 from ..recording.plan import (SL_LOAD_POWER_STEP, SL_POWER_STEP, SL_TORQUE_BAND, SL_TORQUE_STEP, add_integral_end,
                               fill_state_signals, in_window, reduce_step, write_series)
 from .methods import NAMES, begin_segment, evaluate, method, step
-from .schedule import SEG_DT, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL
+from .schedule import SEG_DT, SEG_LOAD_TOL, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL
 from .protocol import S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 
 OK, NONFINITE, PENETRATION, ENERGY = 0, 1, 2, 3
+
+#: The loop's own values a run hands on to the call that continues it (``carry``,
+#: :func:`integrate`): the drive torque's two filter stages [N m], the end weight of the
+#: step just taken [s], its start [s], whether no step has been taken yet (1/0), the
+#: output lines written, and whether the schedule's last stretch ends the run (1/0; 0
+#: for a run continued by another call, :class:`Scratch`).
+C_TORQUE_F1, C_TORQUE_F2, C_END_HALF, C_T_PREV, C_FIRST, C_N_OUT, C_ENDS = range(7)
+N_CARRY = 7
 
 #: Bandwidth of the drive torque whose peak is reported (``inner_ring_drive_torque_peak``)
 #: [Hz]: two cascaded first-order low-passes of this corner (a critically damped
@@ -44,7 +52,7 @@ TORQUE_BANDWIDTH = 1.0e3
 @kernel
 def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, out_time, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
-              cos_nominal, code, jwork, schur, inner, state):
+              cos_nominal, code, jwork, schur, inner, state, carry):
     """Advance ``y`` in place through the step schedule ``segments`` with the method of
     ``code`` (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance`
     allocates its scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
@@ -80,21 +88,22 @@ def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
     """
     n = y.size
     k1 = work[0]
-    n_out = 0
+    n_out = int(carry[C_N_OUT])
     n_ph = phases.shape[0]
     n_seg = segments.shape[0]
-    torque_f1, torque_f2 = 0.0, 0.0
-    end_half = 0.0         # the trapezoid's end weight of the step just taken
+    torque_f1, torque_f2 = carry[C_TORQUE_F1], carry[C_TORQUE_F2]
+    end_half = carry[C_END_HALF]   # the trapezoid's end weight of the step just taken
     gravity = gravity_potential(y, params, rows)
     t_seg = t_start        # where the stretch starts
     t = t_start
-    t_prev = t_start       # the start of the step just taken
-    first = True           # the run's first step
+    first = carry[C_FIRST] != 0.0  # the run's first step
+    t_prev = t_start if first else carry[C_T_PREV]   # the start of the step just taken
+    ends = carry[C_ENDS] != 0.0
     for sg in range(n_seg):
         n_steps = int(segments[sg, SEG_STEPS])
         dt = segments[sg, SEG_DT]
         out_every = int(segments[sg, SEG_OUT_EVERY])
-        last = sg == n_seg - 1
+        last = sg == n_seg - 1 and ends
         half = 0.5 * dt
         # the band-limited drive torque (TORQUE_BANDWIDTH): two first-order stages, exact
         # for a torque held over each step, started at the first step's torque
@@ -182,29 +191,62 @@ def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
                 if in_window(phases, k, n_ph, t):
                     reduce_step(acc[k], reductions, diag, t, 1, half)
         t_seg = t_seg + n_steps * dt
+    carry[C_TORQUE_F1], carry[C_TORQUE_F2], carry[C_END_HALF] = torque_f1, torque_f2, end_half
+    carry[C_T_PREV], carry[C_FIRST], carry[C_N_OUT] = t_prev, 1.0 if first else 0.0, n_out
     return OK, t, -1, n_out, state[S_SUBSTEPPED], state[S_REFRESHES]
 
 
+class Scratch:
+    """What a run keeps between the calls of :func:`advance` that make it up: the method's
+    scratch and counters (``work``, ``jwork``, ``schur``, ``state``, the substeps'
+    integrals ``inner``) and the loop's own values (``carry``, :data:`N_CARRY`).
+
+    A run split in two (:mod:`rvcore.simulation.shared_start`): the first call with
+    ``ends=False`` stops where its schedule ends; a second with the same ``Scratch`` and
+    the rest of the schedule goes on as if the stretches were one schedule's, each begun
+    by the method's ``begin_segment``. :meth:`copy` lets one start serve several runs.
+    """
+
+    def __init__(self, method_name: str, model, schedule, diag, ends: bool = True):
+        m = method(method_name)
+        self.method_name = method_name
+        self.work, self.jwork, self.schur = m.new_work(model, schedule[0, SEG_TOL], schedule[0, SEG_LOAD_TOL])
+        self.state = m.new_state()
+        self.inner = np.zeros(diag.size - SCRATCH_SIZE)
+        self.carry = np.zeros(N_CARRY)
+        self.carry[C_FIRST] = 1.0
+        self.carry[C_ENDS] = 1.0 if ends else 0.0
+
+    def copy(self) -> "Scratch":
+        """An independent copy (every array copied)."""
+        new = object.__new__(Scratch)
+        new.method_name = self.method_name
+        for name in ("work", "jwork", "schur", "state", "inner", "carry"):
+            setattr(new, name, getattr(self, name).copy())
+        return new
+
+
 def advance(method_name: str, y, t_start, schedule, model, table, meta, phases, sensors, out, acc, plan, diag,
-            bdiag, pen_limit, ke_limit, cos_nominal, load_tolerance, out_time=None):
+            bdiag, pen_limit, ke_limit, cos_nominal, out_time=None, scratch: Scratch = None):
     """:func:`integrate` with the method named ``method_name``
     (:data:`rvcore.integrate.methods.METHODS`) through the step schedule ``schedule``
     (:mod:`rvcore.integrate.schedule`), the plan's arrays and the method's scratch.
 
-    ``load_tolerance`` [N] is the IMEX tangents'
-    (:func:`rvcore.integrate.imex.tangent_load_tolerance`); ``out_time`` receives the output
-    lines' times [s] (default: discarded). Returns ``(status, t_fail, where, n_out,
-    substepped, refreshes)`` as :func:`integrate`, and ``substeps_taken``, the substeps
-    computed in the steps taken again (``state[S_SUBSTEPS]``).
+    ``out_time`` receives the output lines' times [s] (default: discarded). ``scratch``
+    (:class:`Scratch`): a run made of several calls, continued in place; default: a run
+    of this call alone. Returns ``(status, t_fail, where, n_out, substepped, refreshes)``
+    as :func:`integrate`, and ``substeps_taken``, the substeps computed in the steps taken
+    again (``state[S_SUBSTEPS]``); the counters are the run's, over all its calls.
     """
-    m = method(method_name)
-    work, jwork, schur = m.new_work(model, schedule[0, SEG_TOL], load_tolerance)
-    state = m.new_state()
+    if scratch is None:
+        scratch = Scratch(method_name, model, schedule, diag)
+    elif scratch.method_name != method_name:
+        raise ValueError(f"a run of {scratch.method_name!r} cannot go on with {method_name!r}")
     if out_time is None:
         out_time = np.zeros(out.shape[0])
+    s = scratch
     status, t_fail, where, n_out, substepped, refreshes = integrate(
         y, t_start, schedule, model.params, model.rows, model.arcs, model.pockets,
-        table, meta, phases, sensors, out, out_time, acc, plan.series, plan.reductions, diag, bdiag, work,
-        pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), jwork, schur,
-        np.zeros(diag.size - SCRATCH_SIZE), state)
-    return status, t_fail, where, n_out, int(substepped), int(refreshes), int(state[S_SUBSTEPS])
+        table, meta, phases, sensors, out, out_time, acc, plan.series, plan.reductions, diag, bdiag, s.work,
+        pen_limit, ke_limit, cos_nominal, NAMES.index(method_name), s.jwork, s.schur, s.inner, s.state, s.carry)
+    return status, t_fail, where, n_out, int(substepped), int(refreshes), int(s.state[S_SUBSTEPS])

@@ -10,6 +10,8 @@ one entry of :data:`rvcore.integrate.methods.METHODS`. The module supplies:
 - ``segment_constant(model, peak_contact_load, time_step)``: the constant a stretch of
   the step schedule at that step hands ``begin_segment``
   (:data:`rvcore.integrate.schedule.SEG_TOL`);
+- ``load_tolerance(peak_contact_load)``: a second such constant, sized on the load alone
+  (:data:`rvcore.integrate.schedule.SEG_LOAD_TOL`; IMEX: its tangents' load tolerance);
 - ``new_state()``: its counters for one run (:func:`new_state`, its own slots set);
 - ``rhs_evaluations(n_steps, substeps)``: how many right-hand sides a run of ``n_steps``
   evaluated, with ``substeps`` substeps computed in the steps it took again;

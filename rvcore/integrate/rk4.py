@@ -118,6 +118,11 @@ def time_step(model, peak_contact_load: float, *, safety: float = 0.8, held: boo
     return rk4_time_step(model, peak_contact_load, safety=safety)
 
 
+def load_tolerance(peak_contact_load: float) -> float:
+    """A stretch's load tolerance for :func:`begin_segment`: none (0; RK4 has no tangents)."""
+    return 0.0
+
+
 def segment_constant(model, peak_contact_load: float, time_step: float) -> float:
     """A stretch's constant for :func:`begin_segment`: none (0)."""
     return 0.0

@@ -20,8 +20,11 @@ drive torque's filter run on; the method begins each stretch with its own consta
 
 A schedule is an array of rows, one a stretch, with the columns :data:`SEG_STEPS` (its
 steps), :data:`SEG_DT` (their size [s]), :data:`SEG_OUT_EVERY` (steps between output
-lines), :data:`SEG_HELD` (1 where the loads and speed are held) and :data:`SEG_TOL` (the
-method's ``segment_constant`` at that step).
+lines), :data:`SEG_HELD` (1 where the loads and speed are held), :data:`SEG_TOL` (the
+method's ``segment_constant`` at that step) and :data:`SEG_LOAD_TOL` (the method's
+``load_tolerance``: IMEX's tangents' [N]). Both are sized on the peak contact load the
+schedule is given: a run in two parts (:mod:`rvcore.simulation.shared_start`) sizes each
+on its own.
 """
 from __future__ import annotations
 
@@ -31,7 +34,7 @@ import numpy as np
 
 from ..profile import channel_value
 
-SEG_STEPS, SEG_DT, SEG_OUT_EVERY, SEG_HELD, SEG_TOL = range(5)
+SEG_STEPS, SEG_DT, SEG_OUT_EVERY, SEG_HELD, SEG_TOL, SEG_LOAD_TOL = range(6)
 
 
 def held_windows(resolved, t_start: float, t_end: float) -> list:
@@ -72,8 +75,8 @@ def step_schedule(method, model, peak_contact_load: float, resolved, t_start: fl
     Parameters
     ----------
     method : module
-        The method (:data:`rvcore.integrate.methods.METHODS`): its ``time_step`` and
-        ``segment_constant``.
+        The method (:data:`rvcore.integrate.methods.METHODS`): its ``time_step``,
+        ``segment_constant`` and ``load_tolerance``.
     model : CompiledBearing
     peak_contact_load : float
         The case's peak contact load [N], on which the steps are sized.
@@ -90,7 +93,7 @@ def step_schedule(method, model, peak_contact_load: float, resolved, t_start: fl
 
     Returns
     -------
-    ndarray (n, 5)
+    ndarray (n, 6)
         One row a stretch, the columns ``SEG_*``.
     """
     if time_step > 0:
@@ -109,23 +112,26 @@ def step_schedule(method, model, peak_contact_load: float, resolved, t_start: fl
             if t_start + k_b / output_rate > t_end or k_b <= k_a:
                 continue
             if k_a > k:
-                rows.append([(k_a - k) * out_every, dt, out_every, 0.0, 0.0])
-            rows.append([(k_b - k_a) * held_every, dt_held, held_every, 1.0, 0.0])
+                rows.append([(k_a - k) * out_every, dt, out_every, 0.0, 0.0, 0.0])
+            rows.append([(k_b - k_a) * held_every, dt_held, held_every, 1.0, 0.0, 0.0])
             k = k_b
     t_last = t_start + k / output_rate
     n_last = int(math.ceil((t_end - t_last) / dt - 1e-6))
     if n_last > 0 or not rows:
-        rows.append([n_last, dt, out_every, 0.0, 0.0])
+        rows.append([n_last, dt, out_every, 0.0, 0.0, 0.0])
     schedule = np.array(rows, dtype=float)
     for row in schedule:
         row[SEG_TOL] = method.segment_constant(model, peak_contact_load, row[SEG_DT])
+        row[SEG_LOAD_TOL] = method.load_tolerance(peak_contact_load)
     return schedule
 
 
-def uniform_schedule(n_steps: int, dt: float, out_every: int, constant: float = 0.0) -> np.ndarray:
+def uniform_schedule(n_steps: int, dt: float, out_every: int, constant: float = 0.0,
+                     load_tolerance: float = 0.0) -> np.ndarray:
     """One stretch of ``n_steps`` steps of ``dt`` [s], an output line every ``out_every``,
-    the method's ``constant`` (:data:`SEG_TOL`; IMEX: its pocket tolerance [J])."""
-    return np.array([[n_steps, dt, out_every, 0.0, constant]], dtype=float)
+    the method's ``constant`` (:data:`SEG_TOL`; IMEX: its pocket tolerance [J]) and
+    ``load_tolerance`` (:data:`SEG_LOAD_TOL`; IMEX: its tangents' [N])."""
+    return np.array([[n_steps, dt, out_every, 0.0, constant, load_tolerance]], dtype=float)
 
 
 def output_lines(schedule: np.ndarray) -> int:

@@ -19,7 +19,7 @@ from ..bearing.geometry import Arc, Bearing, Cage, ContactLaw, InnerRing, Materi
 from ..bearing.imperfections import realize
 from ..contact.film import with_film_columns
 from .initial_state import initial_state, peak_contact_load
-from ..integrate.loop import ENERGY, NONFINITE, OK, PENETRATION, advance
+from ..integrate.loop import C_ENDS, ENERGY, NONFINITE, OK, PENETRATION, Scratch, advance
 from ..integrate.methods import METHODS, NAMES
 from ..dynamics.energy import kinetic_energy_limit
 from ..dynamics.rhs import new_diagnostics
@@ -31,14 +31,15 @@ from ..recording.results import (CaseResult, SimulationError, duty_cycle_outputs
                       read_phase_metrics)
 from .settings import SolverSettings
 from ..recording.spectra import kinematic_frequencies, steady_spectra
-from ..integrate.imex import tangent_load_tolerance
+from .shared_start import STARTS, Start, StartStore, shared_until, start_key, zero_speed
 from ..integrate.schedule import SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_STEPS, output_lines, step_schedule
 from ..dynamics.ring_modes import DYNAMICS_MAX_ORDER, truncated, with_ring_modes
 from ..rings.flexible import RIGID_RINGS, FlexibleRings
 
 
 def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), initial_state_vector=None,
-             sensors=(), rings: FlexibleRings = RIGID_RINGS, ring_max_order: int = DYNAMICS_MAX_ORDER) -> CaseResult:
+             sensors=(), rings: FlexibleRings = RIGID_RINGS, ring_max_order: int = DYNAMICS_MAX_ORDER,
+             starts: StartStore = STARTS) -> CaseResult:
     """Integrate one case through its duty cycle.
 
     Parameters
@@ -60,6 +61,10 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         the steady outputs' truncation figure, ``ring_mode_truncation``.
     ring_max_order : int
         Highest Fourier order of a flexible ring the dynamics keep [-].
+    starts : rvcore.simulation.shared_start.StartStore or None
+        Where the start before the ring turns is looked up and kept
+        (:mod:`rvcore.simulation.shared_start`; default the process's); None computes it
+        whatever was kept, as a benchmark must. The results are the same bits either way.
 
     Returns
     -------
@@ -86,23 +91,31 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     t_end = settings.end_time if settings.end_time > 0 else profile.duration
     if t_end <= t_start:
         raise ValueError(f"end time {t_end} s is not after start time {t_start} s")
+    if settings.method not in METHODS:
+        raise ValueError(f"solver method {settings.method!r} is not one of {', '.join(NAMES)}")
+    method = METHODS[settings.method]
+    # the start before the ring turns is computed from the profile at zero speed, so that
+    # the grid's speeds share it (rvcore.simulation.shared_start)
+    t_split = shared_until(resolved, t_start, t_end, settings.output_rate)
+    still = zero_speed(profile, op) if t_split > t_start else resolved
     y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
-         else initial_state(model, resolved, t_start, seed=int(settings.seed), rings=rings if flexing else None))
+         else initial_state(model, still, t_start, seed=int(settings.seed), rings=rings if flexing else None))
     if y.shape != (model.n_states,):
         raise ValueError(f"initial state has {y.size} values; this bearing needs {model.n_states}")
 
     q_peak = peak_contact_load(model, resolved)
-    if settings.method not in METHODS:
-        raise ValueError(f"solver method {settings.method!r} is not one of {', '.join(NAMES)}")
-    method = METHODS[settings.method]
     # The steps divide the output interval exactly, so every case of a sweep samples at
     # the same times t_start + k/output_rate whatever its own stability limit; where the
-    # loads and speed are held the step may be longer (rvcore.integrate.schedule).
-    schedule = step_schedule(method, model, q_peak, resolved, t_start, t_end, settings.output_rate,
-                             safety=settings.step_safety, time_step=settings.time_step)
+    # loads and speed are held the step may be longer (rvcore.integrate.schedule). Each
+    # part of a run in two is sized on its own profile's peak contact load.
+    parts = [(t_start, t_split, still, peak_contact_load(model, still))] if t_split > t_start else []
+    parts.append((t_split, t_end, resolved, q_peak))
+    schedules = [step_schedule(method, model, q, res, a, b, settings.output_rate, safety=settings.step_safety,
+                               time_step=settings.time_step) for a, b, res, q in parts]
+    schedule = np.vstack(schedules)
     dt = float(schedule[0, SEG_DT])
     n_steps = int(schedule[:, SEG_STEPS].sum())
-    n_out_max = output_lines(schedule)
+    n_out_max = sum(output_lines(s) for s in schedules)
     sensor_rows = (np.array([s.as_row() for s in sensors], dtype=float) if len(sensors)
                    else np.zeros((0, 6)))
     n_sensors = sensor_rows.shape[0]
@@ -113,26 +126,45 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     diag, bdiag = new_diagnostics(n_rows, model.n_balls, n_sensors)
     pen_limit = 0.1 * 2 * float(model.rows[:, R_HALF_D].min())
     ke_limit = kinetic_energy_limit(model, resolved, bearing.outer_diameter)
+    cos_nominal = np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows])
 
     t0 = time_module.perf_counter()
     out_time = np.zeros(n_out_max)
+    scratch = Scratch(settings.method, model, schedule, diag, ends=t_split == t_start)
+    n_out = 0
+    if t_split > t_start:
+        first = schedules[0]
+        table0, meta0 = still.arrays()
+        ke_limit0 = kinetic_energy_limit(model, still, bearing.outer_diameter)
+        args = (model, table0, meta0, resolved.phases, sensor_rows, out, acc, plan, diag, bdiag, pen_limit,
+                ke_limit0, cos_nominal)
+        key = start_key(settings.method,
+                        (model.params, model.rows, model.arcs, model.pockets, table0, meta0, resolved.phases,
+                         sensor_rows, first, y, plan.series, plan.reductions, acc, diag, bdiag, cos_nominal,
+                         scratch.work, scratch.jwork, scratch.schur, scratch.state, scratch.inner, scratch.carry,
+                         np.array(out.shape)),
+                        (t_start, pen_limit, ke_limit0))
+        start = starts.get(key) if starts is not None else None
+        if start is None:
+            status, t_fail, where, n_out, _, _, _ = advance(settings.method, y, t_start, first, *args, out_time,
+                                                           scratch=scratch)
+            if status != OK:
+                _blew_up(status, t_fail, where, model, y, pen_limit, ke_limit0, dt, settings)
+            if starts is not None:
+                starts.put(key, Start(y, scratch, diag, bdiag, acc, out[:n_out], out_time[:n_out]))
+        else:
+            y[:], diag[:], bdiag[:], acc[:] = start.y, start.diag, start.bdiag, start.acc
+            scratch = start.scratch
+            n_out = start.out.shape[0]
+            out[:n_out], out_time[:n_out] = start.out, start.out_time
+        scratch.carry[C_ENDS] = 1.0
     status, t_fail, where, n_out, substepped, refreshes, substeps_taken = advance(
-        settings.method, y, t_start, schedule, model, table, meta, resolved.phases, sensor_rows,
-        out, acc, plan, diag, bdiag, pen_limit, ke_limit,
-        np.array([math.cos(row.nominal_contact_angle) for row in bearing.rows]),
-        tangent_load_tolerance(q_peak), out_time)
+        settings.method, y, t_split, schedule[len(schedules[0]) if t_split > t_start else 0:], model, table, meta,
+        resolved.phases, sensor_rows, out, acc, plan, diag, bdiag, pen_limit, ke_limit, cos_nominal, out_time,
+        scratch=scratch)
     wall = time_module.perf_counter() - t0
     if status != OK:
-        what = {NONFINITE: "a non-finite state value",
-                PENETRATION: f"a penetration beyond {pen_limit * 1e3:.3g} mm (10 % of the ball diameter)",
-                ENERGY: f"kinetic energy beyond the physical bound {ke_limit:.3g} J"}[status]
-        if where < 0:  # energy bound: name the body holding the most kinetic energy
-            where = _most_energetic_state(model, y)
-        body = body_name(model, where)
-        hint = ("try a smaller solver.time_step" if settings.time_step > 0
-                else "try a smaller solver.step_safety")
-        raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
-                              f"(time step {dt:.3g} s; {hint})")
+        _blew_up(status, t_fail, where, model, y, pen_limit, ke_limit, dt, settings)
     out = out[:n_out]
     # the output lines' times: on the output grid t_start + k/output_rate (each stretch of
     # the schedule starts on it), the last at the run's end
@@ -152,7 +184,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
         metrics["fatigue_damage"] = life.pop("fatigue_damage")
     energy = read_energies(acc, plan)
     held = schedule[schedule[:, SEG_HELD] != 0.0]
-    info = {"steps": n_steps, "time_step": dt,
+    info = {"steps": n_steps, "time_step": dt, "shared_start_end": t_split,
             "held_time_step": float(held[0, SEG_DT]) if held.size else dt,
             "held_steps": int(held[:, SEG_STEPS].sum()),
             "rhs_evaluations": method.rhs_evaluations(n_steps, substeps_taken),
@@ -173,6 +205,20 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
                       steady=steady_outputs(bearing, profile, op, gravity=settings.gravity,
                                             rings=rings if flexing else None, all_rings=all_rings if flexing else None),
                       life_sums=life_sums, life=life, energy=energy, spectra=spectra)
+
+
+def _blew_up(status, t_fail, where, model, y, pen_limit, ke_limit, dt, settings):
+    """Raise the :class:`SimulationError` of a run that stopped with ``status``."""
+    what = {NONFINITE: "a non-finite state value",
+            PENETRATION: f"a penetration beyond {pen_limit * 1e3:.3g} mm (10 % of the ball diameter)",
+            ENERGY: f"kinetic energy beyond the physical bound {ke_limit:.3g} J"}[status]
+    if where < 0:  # energy bound: name the body holding the most kinetic energy
+        where = _most_energetic_state(model, y)
+    body = body_name(model, where)
+    hint = ("try a smaller solver.time_step" if settings.time_step > 0
+            else "try a smaller solver.step_safety")
+    raise SimulationError(f"simulation blew up at t = {t_fail:.6g} s: {what} in {body} "
+                          f"(time step {dt:.3g} s; {hint})")
 
 
 def _most_energetic_state(model, y) -> int:

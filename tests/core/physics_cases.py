@@ -194,9 +194,9 @@ def run_in_chunks(method, model, y, resolved, dt, per, chunks, retakes=None):
     t = 0.0
     for _ in range(chunks):
         status, _, _, _, again, _, computed = ig.advance(
-            method, y, t, uniform_schedule(per, dt, per, pocket_tolerance), model, table, meta, resolved.phases,
-            np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9, np.ones(model.rows.shape[0]),
-            tangent_load_tolerance(q_peak))
+            method, y, t, uniform_schedule(per, dt, per, pocket_tolerance, tangent_load_tolerance(q_peak)), model,
+            table, meta, resolved.phases, np.zeros((0, 6)), out, acc, plan, diag, bdiag, 1e-3, 1e9,
+            np.ones(model.rows.shape[0]))
         if retakes is not None:
             retakes.append((again, computed))
         if status != ig.OK:

@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 20, IMEX the default): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 21, IMEX the default): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -61,6 +61,12 @@ and a damping tableau where the loads and speed are held, the steady phase) move
 weightless steady ranges by 0.2 % and the steady torque peak by 0.58 % (the pocket-impact
 chain again), the other weightless pins by at most 2.5e-5, and the pins in gravity by at
 most 4.4e-8: the weightless pins and the case ids taken again from their run.
+MODEL_VERSION 21 (issue 42: the start before the ring turns computed from the profile at
+zero speed, its steps and tolerances sized on that profile's peak contact load, and run as
+a call of its own that the grid's speeds share) moved the weightless steady axial range by
+0.36 %, the steady torque peak by 0.16 % and the steady radial range by 0.035 % (the
+pocket-impact chain again), the other weightless pins by at most 3.6e-6, and the pins in
+gravity by at most 4.4e-8: the weightless pins and the case ids taken again from their run.
 """
 from __future__ import annotations
 
@@ -74,7 +80,7 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 20
+PINNED_MODEL_VERSION = 21
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
@@ -87,35 +93,35 @@ PINNED_MODEL_VERSION = 20
 #: MODEL_VERSION 16 (issue 40: the lubricated law's film held through a step); the dry bearing's
 #: results did not move (PINNED_METRICS unchanged). Re-pinned at MODEL_VERSION 17 (issue 41: the
 #: case files' new ``ring_mode_truncation``); no result moved (PINNED_METRICS unchanged).
-#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, and at 20 with the metrics (module docstring).
+#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, and at 20 and 21 with the metrics (module docstring).
 PINNED_CASE_IDS = {
-    (120, 20): "acf468c5c20b60b8",
-    (120, 30): "49d2802c2978ea6b",
-    (120, 40): "f723914805248bc7",
-    (390, 20): "fb9b723b29a756f2",
-    (390, 30): "106d3ccaad205949",
-    (390, 40): "ba0f34d4e12a4965",
-    (660, 20): "6b7330038acabb34",
-    (660, 30): "06a748136ec33f01",
-    (660, 40): "cd6e3eaa1cce40ab",
+    (120, 20): "7c68ff122f54b0e2",
+    (120, 30): "4617f48e5bc29d3c",
+    (120, 40): "5607d9bb91abf4af",
+    (390, 20): "b430f4fc12d6dc58",
+    (390, 30): "0230ad2add4f5664",
+    (390, 40): "a53cd54764554264",
+    (660, 20): "982dc74d98e97195",
+    (660, 30): "d8a3fc3e208c5abf",
+    (660, 40): "50689b01463f21c0",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
 #: m, 1; N/m, N/m, N m/rad; N m, 1, J, 1; revolutions.
 PINNED_METRICS = {
-    "radial_displacement_range": [2.5512015374096143e-06, 6.770630303218274e-07, 2.8807777384067977e-07],
-    "radial_displacement_mean": [0.00014765744228429384, 0.00014737535274963375, 0.00014723947642058605],
-    "axial_displacement_range": [6.860994096201473e-06, 9.62117013795404e-07, 2.6177514755538545e-07],
-    "axial_displacement_mean": [7.295338706060788e-05, 7.308287852818468e-05, 7.304631343416053e-05],
-    "cage_slip": [0.011465006421152557, 0.001236547129758292, 0.0029870708360855147],
+    "radial_displacement_range": [2.5512015751414762e-06, 6.768235497919112e-07, 2.8807788585906587e-07],
+    "radial_displacement_mean": [0.00014765744230380734, 0.00014737535283021762, 0.00014723947627553883],
+    "axial_displacement_range": [6.860994079570652e-06, 9.58617923216352e-07, 2.6177510426292165e-07],
+    "axial_displacement_mean": [7.295338710368903e-05, 7.308287810194846e-05, 7.304631340823306e-05],
+    "cage_slip": [0.011465002082771791, 0.001236544229121117, 0.002987070318909879],
     "radial_stiffness": 862619633.1248139,
     "axial_stiffness": 226974930.92885756,
     "tilting_stiffness": 4335229.58086289,
-    "inner_ring_drive_torque_peak": [46.05969030364011, 3.446820157241414, 18.3376348223287],
-    "static_safety_factor_min": [2.434532333621556, 2.46277992202679, 2.5521427582980847],
-    "friction_energy": [0.04726074553181677, 3.618089326768927, 0.7131572400836708],
-    "fatigue_damage": [5.012996219271812e-09, 5.96804561257296e-08, 4.9507153811547364e-09],
-    "rating_life_L10r": 9213501.8281769,
+    "inner_ring_drive_torque_peak": [46.05968917635474, 3.4524033879564526, 18.337635349198063],
+    "static_safety_factor_min": [2.4345323337254494, 2.462771171099296, 2.5521427707465256],
+    "friction_energy": [0.04726074479170042, 3.6180846931369874, 0.7131574267029372],
+    "fatigue_damage": [5.012996227773635e-09, 5.96804560125272e-08, 4.950715335479369e-09],
+    "rating_life_L10r": 9213501.848070774,
     "reference_rating_life_L10r": 9129374.665455198,
     "basic_rating_life_L10": 12760404.244598672,
     "radial_stiffness_compliant": 585154743.6417171,

@@ -1,0 +1,129 @@
+"""The start a sweep's speeds share: the load ramp before the inner ring turns. SI throughout.
+
+Why
+---
+On the study cycle the inner ring stands still until 0.3 s while the loads ramp up, so the
+ten speeds of one load and seed compute the same first 0.3 s (8 % of a case). A run is
+therefore made of two calls of the loop (:class:`rvcore.integrate.loop.Scratch`): the
+start, up to the last output time before the speed leaves zero (:func:`shared_until`),
+and the rest. The start is computed from the profile with its speed set to zero
+(:func:`zero_speed`), its steps and tolerances sized on that profile's peak contact
+load, so that it depends on nothing the speed sets; then every case that would compute
+the same start (the same bearing, imperfections, loads, settings and initial state:
+:func:`start_key` hashes every array and number the loop reads) takes a copy of it from
+:data:`STARTS`, a process's store of the starts it computed last. A case computed alone
+(``rvsweep simulate``) takes the same two calls, so its results are the same bits whether
+its start was computed or copied.
+
+Where the speed is not zero at the run's start (a profile that starts turning, a run that
+starts later) nothing is shared and the run is one call.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+from collections import OrderedDict
+
+import numpy as np
+
+#: Starts a process keeps (:class:`StartStore`): a sweep's worker takes its cases a load
+#: at a time, each load's seeds in turn, so a few suffice; each is the state, the method's
+#: scratch, the accumulators and the start's output lines (a few hundred kB on the study
+#: bearing).
+KEEP = 16
+
+
+def shared_until(resolved, t_start: float, t_end: float, output_rate: float) -> float:
+    """The output time [s] up to which a run does not depend on the speed's value: the
+    last one at or before the end of the speed channel's leading zeros, and after
+    ``t_start`` and before ``t_end``; ``t_start`` where there is none (no shared start).
+
+    The speed channel is exactly zero up to the last of its leading breakpoints whose
+    values are all zero (linear and smoothstep interpolation between two zeros give zero).
+    """
+    times, values, _ = resolved.speed
+    end = -math.inf
+    for t, v in zip(times, values):
+        if v != 0.0:
+            break
+        end = float(t)
+    if len(times) and all(v == 0.0 for v in values):
+        end = math.inf          # a profile that never turns: no speed to share a start over
+    if not end > t_start or end == math.inf:
+        return t_start
+    k = int(math.floor((min(end, t_end) - t_start) * output_rate + 1e-9))
+    t_split = t_start + k / output_rate
+    return t_split if t_start < t_split < t_end else t_start
+
+
+def zero_speed(profile, op):
+    """``profile`` resolved at ``op`` with its speed set to zero."""
+    return profile.resolve(dataclasses.replace(op, speed=0.0))
+
+
+def start_key(method_name: str, arrays, numbers) -> str:
+    """A hash of everything a start's computation reads: the method's name, ``arrays``
+    (their dtypes, shapes and bytes) and ``numbers`` (as ``float.hex``)."""
+    h = hashlib.sha256(method_name.encode())
+    for a in arrays:
+        a = np.ascontiguousarray(a)
+        h.update(f"{a.dtype.str}{a.shape}".encode())
+        h.update(a.tobytes())
+    for x in numbers:
+        h.update(float(x).hex().encode())
+    return h.hexdigest()
+
+
+@dataclasses.dataclass
+class Start:
+    """A computed start: the state at its end, the loop's scratch, the diagnostics, the
+    accumulators, the output lines and their times."""
+
+    y: np.ndarray
+    scratch: object
+    diag: np.ndarray
+    bdiag: np.ndarray
+    acc: np.ndarray
+    out: np.ndarray
+    out_time: np.ndarray
+
+    def copy(self) -> "Start":
+        return Start(self.y.copy(), self.scratch.copy(), self.diag.copy(), self.bdiag.copy(), self.acc.copy(),
+                     self.out.copy(), self.out_time.copy())
+
+
+class StartStore:
+    """The last :data:`KEEP` starts a process computed, by :func:`start_key`; ``hits`` and
+    ``misses`` count the lookups."""
+
+    def __init__(self, keep: int = KEEP):
+        self.keep = keep
+        self._starts = OrderedDict()
+        self.hits = 0
+        self.misses = 0
+
+    def get(self, key: str):
+        """A copy of the start stored under ``key``, or None."""
+        start = self._starts.get(key)
+        if start is None:
+            self.misses += 1
+            return None
+        self.hits += 1
+        self._starts.move_to_end(key)
+        return start.copy()
+
+    def put(self, key: str, start: Start) -> None:
+        """Store a copy of ``start`` under ``key``, dropping the oldest beyond :data:`KEEP`."""
+        self._starts[key] = start.copy()
+        self._starts.move_to_end(key)
+        while len(self._starts) > self.keep:
+            self._starts.popitem(last=False)
+
+    def clear(self) -> None:
+        self._starts.clear()
+        self.hits = self.misses = 0
+
+
+#: This process's starts (:func:`rvcore.simulation.run.run_case` reads and fills it).
+STARTS = StartStore()
