@@ -178,10 +178,12 @@ def client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
     }
     with dask.config.set(settings):
         # Every listening socket on the loopback interface: the scheduler, the workers and
-        # the dashboard (a dask scheduler runs code for whoever reaches it).
+        # the dashboard (a dask scheduler runs code for whoever reaches it). The workers'
+        # own logging stays quiet: a worker's heartbeat that meets the scheduler already
+        # closing logs a traceback at ERROR, and a case's failure is the sweep's to report.
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                host=LOCAL_HOST, dashboard_address=f"{LOCAL_HOST}:0",
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)
         client = Client(cluster)
     stopped = False
     try:
