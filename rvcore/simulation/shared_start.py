@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import math
+import threading
 from collections import OrderedDict
 
 import numpy as np
@@ -95,34 +96,40 @@ class Start:
 
 class StartStore:
     """The last :data:`KEEP` starts a process computed, by :func:`start_key`; ``hits`` and
-    ``misses`` count the lookups."""
+    ``misses`` count the lookups. Safe to share between threads (cases run in threads,
+    the kernels releasing the GIL)."""
 
     def __init__(self, keep: int = KEEP):
         self.keep = keep
         self._starts = OrderedDict()
+        self._lock = threading.Lock()
         self.hits = 0
         self.misses = 0
 
     def get(self, key: str):
         """A copy of the start stored under ``key``, or None."""
-        start = self._starts.get(key)
-        if start is None:
-            self.misses += 1
-            return None
-        self.hits += 1
-        self._starts.move_to_end(key)
-        return start.copy()
+        with self._lock:
+            start = self._starts.get(key)
+            if start is None:
+                self.misses += 1
+                return None
+            self.hits += 1
+            self._starts.move_to_end(key)
+            return start.copy()
 
     def put(self, key: str, start: Start) -> None:
         """Store a copy of ``start`` under ``key``, dropping the oldest beyond :data:`KEEP`."""
-        self._starts[key] = start.copy()
-        self._starts.move_to_end(key)
-        while len(self._starts) > self.keep:
-            self._starts.popitem(last=False)
+        start = start.copy()
+        with self._lock:
+            self._starts[key] = start
+            self._starts.move_to_end(key)
+            while len(self._starts) > self.keep:
+                self._starts.popitem(last=False)
 
     def clear(self) -> None:
-        self._starts.clear()
-        self.hits = self.misses = 0
+        with self._lock:
+            self._starts.clear()
+            self.hits = self.misses = 0
 
 
 #: This process's starts (:func:`rvcore.simulation.run.run_case` reads and fills it).

@@ -223,9 +223,10 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load)
     The reduced 12-ball section of test_dynamics.py is where IMEX fails the same check: its
     steady phase is a chain of pocket impacts that RK4 itself does not converge on once
     gravity is on (docs/performance.md, "§9.6 on the study bearing"). Measured at
-    MODEL_VERSION 20: the worst change 0.69 % at 20 kN, 0.44 % at 30 kN and 0.67 % at 40 kN
-    (each the start-up pocket-force peak, as at 19); every steady metric ≤ 0.29 %, 0.095 % and 0.18 %. About 70 s a load on two
-    cores (the fine run is 1.2–1.75 million steps).
+    MODEL_VERSION 21: the worst change 0.69 % at 20 kN, 0.44 % at 30 kN and 0.62 % at 40 kN
+    (each the start-up pocket-force peak, as at 19 and 20); every steady metric ≤ 0.29 %,
+    0.094 % and 0.17 %. About 70 s a load on two cores (the fine run is 1.2–1.75 million
+    steps).
     """
     bearing, profile, op = study_case()
     op = dataclasses.replace(op, radial_load=radial_load)
