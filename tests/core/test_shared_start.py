@@ -106,19 +106,50 @@ def test_a_case_whose_start_was_copied_is_the_case_computed_alone():
     assert (store.hits, store.misses) == (1, 3)
 
 
+def test_flexible_lubricated_rings_copy_their_start_bit_for_bit():
+    """The same on the 12-ball section with the lubricated law and both rings flexible
+    (their modes are states, their block of the IMEX scratch is carried over too)."""
+    from .test_lubricated_law import lubricated
+    from .test_ring_dynamics import rings_of
+
+    bearing = lubricated(section_bearing(12))
+    rings = rings_of(bearing, 1e11, damping_ratio=0.02)
+    profile = scaled_study_profile(0.004)
+    settings = SolverSettings(output_rate=1e4, seed=1)
+    store = StartStore()
+    run_case(bearing, profile, OP, settings, rings=rings, starts=store)
+    slow = dataclasses.replace(OP, speed=math.radians(120.0))
+    shared = run_case(bearing, profile, slow, settings, rings=rings, starts=store)
+    assert (store.hits, store.misses) == (1, 1)
+    _same(shared, run_case(bearing, profile, slow, settings, rings=rings, starts=None))
+
+
+class _Fake:
+    def __init__(self, v):
+        self.v = v
+
+    @property
+    def nbytes(self):
+        return self.v.nbytes
+
+    def copy(self):
+        return _Fake(self.v.copy())
+
+
 def test_the_store_keeps_the_last_starts_and_hands_out_copies():
     store = StartStore(keep=2)
-
-    class Fake:
-        def __init__(self, v):
-            self.v = v
-
-        def copy(self):
-            return Fake(self.v.copy())
-
     for k in ("a", "b", "c"):
-        store.put(k, Fake(np.array([1.0])))
+        store.put(k, _Fake(np.array([1.0])))
     assert store.get("a") is None and store.get("b") is not None
     got = store.get("c")
     got.v[0] = 5.0
     assert store.get("c").v[0] == 1.0
+
+
+def test_the_store_keeps_no_more_bytes_than_its_budget_but_the_newest():
+    store = StartStore(keep=10, budget=3 * 800)
+    for k in "abcd":
+        store.put(k, _Fake(np.zeros(100)))          # 800 bytes each
+    assert [store.get(k) is not None for k in "abcd"] == [False, True, True, True]
+    store.put("big", _Fake(np.zeros(1000)))         # over the budget alone: kept, the rest dropped
+    assert store.get("big") is not None and store.get("d") is None
