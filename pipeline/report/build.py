@@ -53,6 +53,7 @@ from ..io import read_status, write_text_atomic
 from ..io.statics import STATICS_FILE
 from .context import SENSOR, Context, ensemble_text, phase_windows, read_configuration, sensors
 from .definitions import section_definitions
+from .figures import drawn_at_the_end
 from .headline import section_headline
 from .imperfect import extra_axes_note, section_classes, section_spectrum
 from .loads import section_load_distribution, stored_statics
@@ -246,7 +247,8 @@ def build_report(directory, reference=None, targets=None, dry=None) -> ReportFil
     ctx = load_context(directory, reference, targets, dry)
     try:
         (ctx.report_dir / "figures").mkdir(parents=True, exist_ok=True)
-        blocks = [block for section in SECTIONS for block in section(ctx)]
+        with drawn_at_the_end():   # the figures on two cores
+            blocks = [block for section in SECTIONS for block in section(ctx)]
         title = f"Sweep report: {directory.name}"
         md = write_text_atomic(ctx.report_dir / "report.md", render_markdown(blocks))
         ht = write_text_atomic(ctx.report_dir / "report.html", render_html(blocks, title))

@@ -3,6 +3,7 @@ visible (issue rows 13), and one convention for the case-status flags (row 14)."
 from __future__ import annotations
 
 import matplotlib
+import pytest
 import numpy as np
 import xarray as xr
 
@@ -61,3 +62,34 @@ def test_status_json_names_the_units_of_its_values(smoke_run):
     for entry in status.values():
         assert entry["units"]["speed"] == "rad s-1" and entry["units"]["radial_load"] == "N"
         assert entry["units"]["seconds"] == "s"
+
+
+def test_figures_drawn_at_the_end_are_the_bytes_drawn_at_once(tmp_path):
+    """Inside ``drawn_at_the_end`` nothing is drawn until the block ends; then every
+    figure is written (half of them by a forked process where the platform forks), each
+    the same PNG bytes as drawn at once. A block that fails draws nothing."""
+    from pipeline.report import figures as F
+
+    def figs():
+        out = []
+        for k in range(5):
+            fig, axes = F.new_figure(1, 1, (3, 2))
+            axes[0, 0].plot(np.arange(10.0), np.arange(10.0) ** (k + 1), label=f"x^{k + 1}")
+            axes[0, 0].set_xlabel("time [s]")
+            out.append(fig)
+        return out
+
+    for k, fig in enumerate(figs()):
+        F.save_figure(fig, tmp_path / f"now{k}.png")
+    with F.drawn_at_the_end():
+        for k, fig in enumerate(figs()):
+            F.save_figure(fig, tmp_path / f"end{k}.png")
+            assert not (tmp_path / f"end{k}.png").exists()
+    for k in range(5):
+        assert (tmp_path / f"end{k}.png").read_bytes() == (tmp_path / f"now{k}.png").read_bytes()
+    with pytest.raises(RuntimeError):
+        with F.drawn_at_the_end():
+            F.save_figure(figs()[0], tmp_path / "never.png")
+            raise RuntimeError("a section failed")
+    assert not (tmp_path / "never.png").exists()
+    assert F._PENDING is None
