@@ -54,8 +54,9 @@ def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
               phases, sensors, out, out_time, acc, series, reductions, diag, bdiag, work, pen_limit, ke_limit,
               cos_nominal, code, jwork, schur, inner, state, carry):
     """Advance ``y`` in place through the step schedule ``segments`` with the method of
-    ``code`` (its place in :data:`rvcore.integrate.methods.METHODS`; :func:`advance`
-    allocates its scratch ``work``, ``jwork``, ``schur`` and its counters ``state``).
+    ``code`` (its place in :data:`rvcore.integrate.methods.METHODS`; :class:`Scratch`
+    holds its scratch ``work``, ``jwork``, ``schur``, ``inner``, its counters ``state`` and
+    the loop's own ``carry``).
 
     ``segments[s]`` is a stretch of the schedule (:mod:`rvcore.integrate.schedule`): its
     steps, their size [s], the steps between output lines, whether the loads and speed
