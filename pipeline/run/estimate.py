@@ -34,8 +34,11 @@ _PER_BALL_STEP = 0.41e-6
 #: 2026-11-29, MODEL_VERSION 19: their cores took 821.5 s in all, 4.62 s a case at 20 kN
 #: and 6.63 s at 40 kN on average; 0.153 gave 820 s, 4.59 s and 6.35 s), times 0.874,
 #: what MODEL_VERSION 20's longer step where the loads are held took of 19's in `make
-#: sweep` runs side by side (768 s against 879.5 s of the cores).
-_METHOD = {"rk4": 1.0, "imex": 0.134}
+#: sweep` runs side by side (768 s against 879.5 s of the cores), times 0.918, what
+#: MODEL_VERSION 21's start shared by a grid's speeds took of 20's (1,431.7 s against
+#: 1,559.7 s of the cores in two pairs; a sweep whose speeds share no start is
+#: overestimated by that much).
+_METHOD = {"rk4": 1.0, "imex": 0.123}
 
 #: Above either, ``rvsweep sweep`` starts only with ``--yes``.
 CONFIRM_CASES = 1000
