@@ -142,7 +142,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
                         (model.params, model.rows, model.arcs, model.pockets, table0, meta0, resolved.phases,
                          sensor_rows, first, y, plan.series, plan.reductions, acc, diag, bdiag, cos_nominal,
                          scratch.work, scratch.jwork, scratch.schur, scratch.state, scratch.inner, scratch.carry,
-                         np.array(out.shape)),
+                         np.array(out.shape[1:])),   # not the buffer's length: the rest's output lines
                         (t_start, pen_limit, ke_limit0))
         start = starts.get(key) if starts is not None else None
         if start is None:
