@@ -4,6 +4,7 @@ metadata and are written atomically."""
 from __future__ import annotations
 
 import contextlib
+import gc
 import io
 import math
 import multiprocessing
@@ -60,6 +61,15 @@ def _draw_all(figures) -> None:
         _draw(fig, path)
 
 
+def _draw_in_fork(figures) -> None:
+    """:func:`_draw_all` in the forked child, its cyclic garbage collector off: the child
+    holds a copy of whatever garbage the parent had not yet collected, a netCDF file left
+    open among it, and collecting that here would close the file's HDF5 handle in the
+    child too, beside the parent's."""
+    gc.disable()
+    _draw_all(figures)
+
+
 @contextlib.contextmanager
 def drawn_at_the_end():
     """Figures saved inside the block are drawn when it ends without an error: half of
@@ -67,9 +77,11 @@ def drawn_at_the_end():
     two cores. Drawing is most of a report's time (6.5 s of the study report's 10 s on the
     Intel Xeon, 2026-11-29): the layout and the rasterization of each figure, its own work.
 
-    The child draws from its copy of the figures and only writes PNGs (atomically); it
-    ends without the parent's exit handlers (``multiprocessing``'s fork start). Should it
-    fail, the parent draws its half too. The PNGs are the same bytes either way.
+    The parent collects its garbage first and the child draws from its copy of the
+    figures and only writes PNGs (atomically), its garbage collector off
+    (:func:`_draw_in_fork`); it ends without the parent's exit
+    handlers (``multiprocessing``'s fork start). Should it fail, the parent draws its half
+    too. The PNGs are the same bytes either way.
     """
     global _PENDING
     outer, pending = _PENDING, []
@@ -81,7 +93,9 @@ def drawn_at_the_end():
     if len(pending) < 2 or "fork" not in multiprocessing.get_all_start_methods():
         _draw_all(pending)
         return
-    child = multiprocessing.get_context("fork").Process(target=_draw_all, args=(pending[1::2],), daemon=True)
+    # the garbage collected here, where its files were opened, not in the child
+    gc.collect()
+    child = multiprocessing.get_context("fork").Process(target=_draw_in_fork, args=(pending[1::2],), daemon=True)
     child.start()
     try:
         _draw_all(pending[0::2])
