@@ -7,6 +7,7 @@ the steps from the methods' bounds at the case's peak contact load.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -15,8 +16,8 @@ import pytest
 from rvcore.bearing.layout import compile_bearing
 from rvcore.integrate import imex, rk4
 from rvcore.integrate.methods import time_step
-from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL, held_windows,
-                                       step_schedule)
+from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_SLIP2, SEG_STEPS, SEG_SUB_DT, SEG_TOL,
+                                       held_windows, step_schedule)
 from rvcore.profile import Channel, OperatingPoint, Profile, scaled_study_profile, study_profile
 from rvcore.simulation.initial_state import peak_contact_load
 from rvcore.simulation.run import run_case
@@ -122,3 +123,55 @@ def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
     assert info["steps"] == info["held_steps"] + round(outside / info["time_step"])
     np.testing.assert_allclose(result.time, np.arange(result.time.size) / 1e4, rtol=0, atol=1e-15)
     assert result.time[-1] == pytest.approx(profile.duration)
+
+
+def test_the_held_step_leaves_the_falling_slope_to_a_guard():
+    """Where the loads are held the step no longer keeps the friction law's falling slope
+    (μ_s to μ_d between v_s and v_d) within RK4's real-axis limit; the held stretch carries
+    a guard instead: the squared slip v_s² above which a step is taken in substeps, and the
+    longest substep ``0.8·2.785/λ_−``, ``λ_− = 2·Q·1.5·(μ_s − μ_d)/(v_d − v_s)·2.5/m_b``
+    (the STEP law's steepest fall, a ball's ``max(1/m_b, r²/I_b) = 2.5/m_b``), computed here
+    from the section's ball. The other stretches, RK4 and a law that never falls carry none."""
+    bearing, model = section_model()
+    resolved = study_profile().resolve(OP)
+    q = peak_contact_load(model, resolved)
+    c = bearing.contact
+    row = bearing.rows[0]
+    m_b = bearing.ball_material.density * math.pi * row.ball_diameter ** 3 / 6.0
+    lam = 2.0 * q * 1.5 * (c.mu_static - c.mu_dynamic) / (c.v_dynamic - c.v_static) * 2.5 / m_b
+    slip2, sub_dt = imex.falling_guard(model, q, safety=0.8, held=True)
+    assert slip2 == pytest.approx(c.v_static ** 2, rel=1e-12)
+    assert sub_dt == pytest.approx(0.8 * 2.785 / lam, rel=1e-3)
+    held = time_step(model, q, "imex", held=True)
+    assert held > sub_dt           # the guard is what keeps the bound there
+    schedule = step_schedule(imex, model, q, resolved, 0.0, 4.6, 1000.0)
+    assert schedule[:, SEG_SLIP2].tolist() == [0.0, slip2, 0.0]
+    assert schedule[:, SEG_SUB_DT].tolist() == [0.0, sub_dt, 0.0]
+    assert imex.falling_guard(model, q, held=False) == (0.0, 0.0)
+    assert rk4.falling_guard(model, q, held=True) == (0.0, 0.0)
+    lubricated = compile_bearing(dataclasses.replace(bearing, contact=dataclasses.replace(c, law="ehl_bair_winer")))
+    assert imex.falling_guard(lubricated, q, held=True) == (0.0, 0.0)
+
+
+def test_a_held_step_whose_race_contact_slides_past_v_s_is_taken_in_substeps(monkeypatch):
+    """The 12-ball section on the study cycle scaled to 46 ms, its held stretch's guard set
+    to a slip its race contacts pass at every step (1 µm/s): every held step is then taken
+    in substeps within the falling slope's bound (steps of at most ``h_f``), so the run
+    takes more steps again than without, and the inner ring's mean steady displacements
+    agree with the plain run's to a few per cent (the same physics at a finer step; the
+    section's pocket impacts make its other steady metrics spread far more, docs/model.md
+    §9.6)."""
+    bearing, _ = section_model()
+    profile = scaled_study_profile(0.01)
+    settings = SolverSettings(output_rate=1e4)
+    plain = run_case(bearing, profile, OP, settings)
+    guard = imex.falling_guard
+    monkeypatch.setattr(imex, "falling_guard",
+                        lambda *a, **k: (1e-12, guard(*a, **k)[1]) if k.get("held") else guard(*a, **k))
+    guarded = run_case(bearing, profile, OP, settings)
+    info = guarded.info
+    assert info["held_time_step"] == plain.info["held_time_step"]
+    assert info["substepped_steps"] >= info["held_steps"] + plain.info["substepped_steps"] // 2 > 0
+    assert info["substeps_taken"] >= 2 * info["held_steps"]
+    for name in ("radial_displacement_mean", "axial_displacement_mean"):
+        assert guarded.phase_metrics[name][1] == pytest.approx(plain.phase_metrics[name][1], rel=0.05), name
