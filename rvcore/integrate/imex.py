@@ -90,7 +90,8 @@ What bounds it (:func:`rvcore.integrate.imex.imex_time_step`):
   rate (:func:`rvcore.integrate.rk4.rk4_time_step`), so the IMEX step is
   ``FRICTION_LIMIT/2.785`` ≈ 8.2 times RK4's wherever friction binds RK4;
 - the friction law's falling slope between v_s and v_d, explicit (at most
-  ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit;
+  ``1.5·(μ_s − μ_d)/(v_d − v_s)·Q``), on RK4's real-axis limit (where the loads are held,
+  a guard instead: "Where the loads are held", below);
 - the race contacts' oscillation, implicit and undamped: an accuracy bound,
   ``ω_n·h ≤`` :data:`CONTACT_LIMIT` = 5 at the peak contact load. The tableau turns its
   phase per step by ``6·atan(ω_n·h/6)`` against ω_n·h, a frequency error of about
@@ -142,22 +143,31 @@ Where the loads are held
 Where every channel of the profile is held (the steady phase of the study cycle; the
 step schedule, :mod:`rvcore.integrate.schedule`), no contact closes for a load's change
 and nothing drives the contact oscillation but the balls' passage through the load zone.
-There the friction takes a damping tableau instead of the all-pass one: the third stage
-weighs the balls' damping part of ``g_2``, ``−M⁻¹·D·e_v``, by ``â_32 = 7/36`` instead of
-2/9 (:data:`DAMP_32`; the ring's rows keep the all-pass tableau). Its stability function
-is ``(1 + z/2 + z²/12)/(1 − z/6)³``, with the same nodes, weights and diagonal, so the
-same factorization and the same drive impulse; it is of order 2, L-stable and positive
-on the negative real axis, and keeps at most 0.30 of a stiff friction mode a step at
-any ``λ_f·h ≥ 2`` (0 as λ_f·h → ∞; the all-pass tableau keeps ``|R(−λ_f·h)| → 1``). So
-the friction adds no bound there, and the contact oscillation's accuracy bound is
-:data:`HELD_CONTACT_LIMIT` = 6 instead of 5: the step is
-:func:`imex_time_step` with ``held``, 1.18–1.36× the step elsewhere over the study grid.
-The step changes inside the loop, at output times, and each stretch starts with new
-tangents and its own pocket tolerance (:func:`begin_segment`). Measured on the study
-bearing: every phase metric within 0.7 % of a tenth of the step, the steady ones within
-0.29 %, and the case 0.83–0.92× as long (docs/performance.md, "The step where the loads
-are held"). Where the step is set by hand (``SolverSettings.time_step``) it is the same
-throughout, and so is the tableau.
+There the implicit part takes the held tableau instead of the all-pass one: the same
+nodes and weights (``b̂ = b``, so the same drive impulse), γ = 1/3 (:data:`HELD_GAMMA`),
+and the stability function ``R(z) = (1 − z²/6)/(1 − z/3)³``: of order 2, A-stable
+(``|Q(iy)|² − |P(iy)|² = y⁴/108 + y⁶/729 ≥ 0``) and L-stable. It damps what the all-pass
+tableau kept: a stiff friction mode (``R(−x) → 0``), and the contact oscillation, of which
+it keeps 0.72 a step at ω_n·h = 4.8 and 0.996 at 1 (phase per step 3.04 rad against
+4.8), so the oscillation, excited there by little but the load zone, is damped instead of
+carried at a wrong frequency. Its free entries (:data:`HELD_I32`, :data:`HELD_I42`,
+:data:`HELD_I43`) are the rational member whose stage values of a stiff mode stay within
+1.25× the step's start. The step there (:func:`imex_time_step` with ``held``) is bounded
+by the contact oscillation's accuracy alone, ``ω_n·h ≤`` :data:`HELD_CONTACT_LIMIT` = 7.5
+(× 0.8): the friction adds no bound, and the friction law's falling slope, which would
+(the explicit part's real-axis limit, as elsewhere), is left to a guard
+(:func:`falling_guard`): a step at whose start a race contact slides faster than the
+law's ``v_s`` is taken in substeps within that bound (the study's race contacts slide at
+0.7–7 mm/s in every phase, against v_s = 100 mm/s). Over the study grid the held step is
+1.29×, 1.16×, 1.28×, 1.36× and 1.47× MODEL_VERSION 21's at 20–40 kN (58.8, 52.6, 55.6,
+52.6 and 52.6 µs). The step changes inside the loop, at output times, and each stretch
+starts with new tangents, its own pocket tolerance, guard and tableau
+(:func:`begin_segment`; the tangents' blocks carry ``h·γ``). Measured on the study
+bearing (660 °/s, 10 kN axial): every steady metric within 0.35 %, 0.11 % and 0.20 % of a
+tenth of the step at 20, 30 and 40 kN, and the case 0.80–0.85× as long (docs/performance.md,
+"The held tableau (MODEL_VERSION 22)"); an oscillation step of ω_n·h = 7.2 (66.7 µs) moved
+the steady sliding-speed peak by 6–8 %. Where the step is set by hand
+(``SolverSettings.time_step``) it is the same throughout, and so is the tableau.
 
 Flexible rings
 --------------
@@ -204,17 +214,17 @@ from .._numba import kernel
 
 from .arrowhead import (N_SOLVE_FIELDS, WS, factor, factor_modes, harmonic_width, modal_block_rows, solve,
                         solve_coupled)
-from ..dynamics.tangent import J_A, J_B, J_COUPLED, J_KA, J_KB, N_FX, N_JWORK, N_SCHUR
-from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, rhs_jac, rhs_stage
+from ..dynamics.tangent import N_FX, N_JWORK, N_SCHUR
+from ..dynamics.rhs import B_PP, B_PV, B_QI, B_QO, D_DRIVE_POWER, D_DRIVE_TORQUE, D_MAX_SLIDE2, rhs_jac, rhs_stage
 from ..bearing.layout import (BALL_STATES, P_DAMP_C, P_DAMPING, P_LAW, P_RING_IT, P_RING_M, P_TILT_HELD,
                               R_BALL0, R_IB, R_MB, R_POCKET0, R_Z)
 from .pocket_check import pocket_energy_error
-from .schedule import SEG_HELD, SEG_LOAD_TOL, SEG_TOL
+from .schedule import SEG_HELD, SEG_LOAD_TOL, SEG_SLIP2, SEG_SUB_DT, SEG_TOL
 from .protocol import S_OWN, S_REFRESHES, S_SUBSTEPPED, S_SUBSTEPS
 from .protocol import new_state as new_counters
 from .rk4 import RK4_REAL_LIMIT, stage_weighted_inertia
 from .step_size import row_rates
-from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON
+from ..bearing.laws import FRICTION_LAW_SIZE, LAW_ON, LAW_V_S
 from ..contact.laws import friction_falling_slope, friction_slope_at_zero_slip
 from ..dynamics.ring_modes import FAMILIES, family_states, flexible, modal_implicit_masses
 from ..dynamics.rhs import rhs
@@ -234,12 +244,15 @@ I21 = 0.5 - GAMMA
 I31 = 0.5 - GAMMA - I32
 I41 = 1.0 - GAMMA - I42 - I43
 IB1, IB2, IB3, IB4 = B1, B2, B3, B4
-#: The damping tableau, where the loads and speed are held (module docstring, "Where the
-#: loads are held"): the implicit tableau but for ``â_32 = 7/36`` on the balls' damping
-#: part ``−M⁻¹·D·e_v``; its stability function ``(1 + z/2 + z²/12)/(1 − z/6)³`` (the same
-#: nodes, weights and diagonal, so the same factorization), order 2 and L-stable.
-#: ``DAMP_32`` is what the third stage adds to the all-pass tableau's weight of ``g_2``.
-DAMP_32 = 7.0 / 36.0 - I32
+#: The held tableau, where the loads and speed are held (module docstring, "Where the
+#: loads are held"): an ESDIRK with the same nodes and weights (``b̂ = b``) and γ = 1/3,
+#: whose stability function is ``(1 − z²/6)/(1 − z/3)³``: order 2, A- and L-stable. Its
+#: rows sum to c; ``HELD_I32`` and ``HELD_I42``, ``HELD_I43`` are its free entries
+#: (``â_31 = 0``, ``â_41 = 5/9``), chosen so that ``R(∞) = 0`` with a stiff mode's stage
+#: values at most 1.25× the step's start on the real and imaginary axes.
+HELD_GAMMA = 1.0 / 3.0
+HELD_I32 = 1.0 / 6.0
+HELD_I42, HELD_I43 = 5.0 / 9.0, -4.0 / 9.0
 #: Largest ``λ_f·h`` (λ_f the friction's rate at zero slip, on the negative real axis):
 #: where the implicit tableau damps a friction mode by at least :data:`FRICTION_DAMPING`
 #: per step. ``R(−x) = ((6 − x)/(6 + x))³`` tends to −1 as x → ∞ (an all-pass function
@@ -255,14 +268,15 @@ FRICTION_LIMIT = 6.0 * (1.0 + FRICTION_DAMPING ** (1.0 / 3.0)) / (1.0 - FRICTION
 #: step, and by 1.2 % at ω_n·h = 4.9 (docs/model.md §9.6: 1 %; docs/performance.md, "The
 #: step at MODEL_VERSION 19").
 CONTACT_LIMIT = 5.0
-#: :data:`CONTACT_LIMIT` where the loads and speed are held (module docstring, "Where the
-#: loads are held"): no contact closes there and no load moves, so the oscillation is
-#: little excited, and its frequency error at 0.8 of this limit (ω_n·h = 4.8) is 16 %.
-#: Measured on the study bearing (660 °/s, 10 kN axial, against a tenth of the
-#: MODEL_VERSION 19 step): every steady metric within 0.29 % at 20 kN (45.5 µs, ω_n·h =
-#: 4.6), where ω_n·h = 6.4 in a probe moved the steady sliding-speed peak by 3.2 %
-#: (docs/performance.md, "The step where the loads are held").
-HELD_CONTACT_LIMIT = 6.0
+#: :data:`CONTACT_LIMIT` where the loads and speed are held, with the held tableau (module
+#: docstring, "Where the loads are held"): it damps the contact oscillation (0.72 kept a
+#: step at ω_n·h = 4.8 and 0.63 at 6.0, the limit's 0.8) instead of carrying it at a wrong
+#: frequency.
+#: Measured on the study bearing (660 °/s, 10 kN axial, against a tenth of the step): every
+#: steady metric within 0.35 % at 20 kN (58.8 µs, ω_n·h = 6.0); at ω_n·h = 7.2 (66.7 µs,
+#: the limit 9 in a probe) the steady sliding-speed peak moved by 6 % at 20 kN and 8 % at
+#: 30 kN (docs/performance.md, "The held tableau (MODEL_VERSION 22)").
+HELD_CONTACT_LIMIT = 7.5
 #: Limit on ``ω_c·h`` for a race contact's stiffness that the tangents do not hold, such
 #: as a contact that closes within a step: for that step it is explicit, on the explicit
 #: tableau's imaginary-axis limit 2√2; ``ω_c = √(Δk/m_b)``, one contact on the ball (the
@@ -320,13 +334,15 @@ FIRST_SUBSTEPS = 2
 #: ``Σ b_i·P_i`` over a retake's substeps, each substep's weighed by its share of the
 #: step; per ball the inner- and outer-race onset limits [N] (``W_QLIM``, two rows: the
 #: loads beyond which the tangents miss too much stiffness, module docstring, "Step");
-#: ``work[W_SET, SET_DAMP]`` the damping tableau's :data:`DAMP_32` where the loads are
-#: held (0 elsewhere), and ``work[W_GD]`` the balls' damping part of ``g_2`` it weighs.
+#: ``work[W_SET, SET_GAMMA]``, ``SET_I32``, ``SET_I42`` and ``SET_I43`` the stretch's
+#: implicit tableau (γ and its free entries; the all-pass one, or the held one where the
+#: loads are held: :func:`begin_segment`); ``work[W_SET, SET_SLIP2]`` and ``SET_SUB_DT`` the
+#: stretch's falling-slope guard (:func:`falling_guard`: the squared slip [m² s^-2] above
+#: which a step is taken in substeps of at most ``SET_SUB_DT`` [s]; 0 and 0: none).
 W_F, W_TMP, W_G, W_INVM, W_M, W_ISV, W_ISP, W_OFF = 0, 4, 5, 9, 10, 11, 12, 13
-W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_GD, W_SF = (14, 15, 16, 17, 18, 19, 21, 22,
-                                                                                 23, 25, 26)
-N_WORK = 26      # and the rows of the packed factors from W_SF (new_work)
-SET_ONSET, SET_ONSET_LOAD, SET_DAMP = 4, 5, 6
+W_Y0, W_PV0, W_PACC, W_TOUCH, W_SET, W_QREF, W_ROT, W_PSUM, W_QLIM, W_SF = (14, 15, 16, 17, 18, 19, 21, 22, 23, 25)
+N_WORK = 25      # and the rows of the packed factors from W_SF (new_work)
+SET_ONSET, SET_ONSET_LOAD, SET_GAMMA, SET_I32, SET_I42, SET_I43, SET_SLIP2, SET_SUB_DT = 4, 5, 6, 7, 8, 9, 10, 11
 
 
 def new_work(model, pocket_tolerance, load_tolerance):
@@ -368,6 +384,7 @@ def new_work(model, pocket_tolerance, load_tolerance):
         raise ValueError(f"FIRST_SUBSTEPS = {FIRST_SUBSTEPS}: SUBSTEPS ({SUBSTEPS}) over it must be a power of two")
     work[W_SET, 3] = FIRST_SUBSTEPS
     work[W_SET, SET_ONSET] = onset_constant(model)
+    _set_tableau(work, False)
     if not modal:
         return work, np.zeros((model.n_balls + 1, N_JWORK)), np.zeros((N_SCHUR, 5))
     orders = max(family_states(model, name)[0] for name in FAMILIES)
@@ -390,7 +407,6 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
     f0, f1, f2 = work[W_F], work[W_F + 1], work[W_F + 2]
     g1, g2 = work[W_G + 1], work[W_G + 2]
     mass, isv, isp = work[W_M], work[W_ISV], work[W_ISP]
-    damp = work[W_SET, SET_DAMP]
     for m in range(n):
         s = a1 * f0[m]         # g_1 = 0: the reference at t_n is y_n
         if i >= 2:
@@ -398,10 +414,6 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
         if i >= 3:
             s += a3 * f2[m] + (i3 - a3) * g2[m]
         tmp[m] = dt * s        # Ŷ − y_n
-    if i == 2 and damp != 0.0:     # the damping tableau: its â_32 on the balls' damping part of g_2
-        gd = work[W_GD]
-        for m in range(n):
-            tmp[m] += dt * damp * gd[m]
     # The balls' stages are solved as deviations from a reference ỹ(t): y_n turned about
     # the bearing's axis at the ball's orbital speed Ω = (x·v_y − y·v_x)/ρ² (centre,
     # velocity and spin; module docstring, "Reference"). ê = Ŷ − y_n − h·a·ỹ'(t_prev)
@@ -430,14 +442,12 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
                 tmp[b + o + 1] -= w * (cp1 * ux - snp * uy)
     for m in range(n):
         g[m] = tmp[m]          # ê, for g_i below
-    hg = dt * GAMMA
+    hg = dt * work[W_SET, SET_GAMMA]
     if flexible(params):       # the modes among the unknowns (their positions done there)
         solve_coupled(tmp, g, schur, rows, mass, work[W_SF:].reshape(-1), jwork, params,
                       work[int(work[W_SET, 2]):], hg)
     else:
         solve(tmp, schur, rows, mass, work[W_SF:].reshape(-1))
-    if i == 1 and damp != 0.0:
-        _damping_part(tmp, work[W_GD], jwork, rows, work[W_INVM], hg)
     inv_hg = 1.0 / hg
     # the positions: e_x = ê_x + h·γ·e_v and g_x = e_v (the velocities still increments)
     for m in range(5):
@@ -456,39 +466,6 @@ def _implicit_stage(i, t, dt, y, work, jwork, schur, params, rows, arcs, pockets
         tmp[m] += y[m] + off[m]
     rhs_stage(t + c * dt, tmp, f, params, rows, arcs, pockets, table, meta, diag, bdiag)
     return diag[D_DRIVE_TORQUE]
-
-
-@kernel(inline=True)
-def _damping_part(e, gd, jwork, rows, inv_m, hg):
-    """Into ``gd``: the balls' damping part of a stage's ``g``, ``−M⁻¹·D·e_v`` (0 off the
-    balls' velocities), ``e`` holding the stage's solved velocity unknowns (the ball's and
-    the ring's). ``h·γ·D`` is the tangent's block less its stiffness part:
-    ``jwork``'s ``A`` and ``B`` blocks (``h·γ·D + (h·γ)²·K``) less ``h·γ`` times its
-    ``h·γ·K`` (``KA``, ``KB``; :mod:`rvcore.dynamics.tangent`)."""
-    for m in range(gd.size):
-        gd[m] = 0.0
-    inv = 1.0 / hg
-    for r in range(rows.shape[0]):
-        b0, p0 = int(rows[r, R_BALL0]), int(rows[r, R_POCKET0])
-        for j in range(int(rows[r, R_Z])):
-            k = p0 + j
-            b = b0 + BALL_STATES * j + 3
-            jw = jwork[k]
-            for a in range(6):
-                acc = 0.0
-                for c in range(6):
-                    lo, hi = (a, c) if a <= c else (c, a)
-                    d = jw[J_A + 6 * lo + hi]
-                    if hi < 3:
-                        d -= hg * jw[J_KA + lo * 3 - (lo * (lo - 1)) // 2 + (hi - lo)]
-                    acc += d * e[b + c]
-                if jw[J_COUPLED] != 0.0:
-                    for c in range(5):
-                        d = jw[J_B + 5 * a + c]
-                        if a < 3:
-                            d -= hg * jw[J_KB + 5 * a + c]
-                        acc += d * e[5 + c]
-                gd[b + a] = -inv_m[b + a] * acc * inv
 
 
 @kernel(inline=True)
@@ -542,16 +519,19 @@ def _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wor
     the g_i drop out; module docstring); returns ``Σ_{i≥2} b_i·T(Y_i)`` and
     ``Σ_{i≥2} b_i·T(Y_i)·ω(t_i)``."""
     _orbit_rotations(y, dt, rows, work[W_ROT])
+    # the stretch's implicit tableau (begin_segment): γ and the free entries, the rows summing to c
+    gamma, i32, i42, i43 = work[W_SET, SET_GAMMA], work[W_SET, SET_I32], work[W_SET, SET_I42], work[W_SET, SET_I43]
+    i21, i31, i41 = 0.5 - gamma, 0.5 - gamma - i32, 1.0 - gamma - i42 - i43
     torque = B2 * _implicit_stage(1, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
-                                  bdiag, A21, 0.0, 0.0, I21, 0.0, 0.0, 0.5)
+                                  bdiag, A21, 0.0, 0.0, i21, 0.0, 0.0, 0.5)
     _pocket_power(work, bdiag, B2)
     power = B2 * diag[D_DRIVE_POWER]
     torque += B3 * _implicit_stage(2, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
-                                   bdiag, 0.0, A32, 0.0, I31, I32, 0.0, 0.5)
+                                   bdiag, 0.0, A32, 0.0, i31, i32, 0.0, 0.5)
     _pocket_power(work, bdiag, B3)
     power += B3 * diag[D_DRIVE_POWER]
     torque += B4 * _implicit_stage(3, t, dt, y, work, jwork, schur, params, rows, arcs, pockets, table, meta, diag,
-                                   bdiag, 0.0, 0.0, A43, I41, I42, I43, 1.0)
+                                   bdiag, 0.0, 0.0, A43, i41, i42, i43, 1.0)
     _pocket_power(work, bdiag, B4)
     power += B4 * diag[D_DRIVE_POWER]
     f0, f1, f2, f3 = work[W_F], work[W_F + 1], work[W_F + 2], work[W_F + 3]
@@ -617,7 +597,8 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     if refresh:
         factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
         if flexible(params):
-            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * GAMMA, work[W_SF:].reshape(-1))
+            factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], dt * work[W_SET, SET_GAMMA],
+                         work[W_SF:].reshape(-1))
         grow = work[W_SET, SET_ONSET] / (dt * dt)
         for k in range(bdiag.shape[0]):
             work[W_QREF, k] = bdiag[k, B_QI]
@@ -632,24 +613,33 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         work[W_PV0, k] = bdiag[k, B_PV]
         work[W_PACC, k] = B1 * bdiag[k, B_PP]
         work[W_TOUCH, k] = 1.0 if bdiag[k, B_PV] > 0.0 else 0.0
-    torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
-    error = pocket_energy_error(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH])
-    onset = work[W_SET, SET_ONSET_LOAD]
-    if error <= work[W_SET, 0] and onset == 0.0:
-        return torque, power, 0, 0, _tangents_stale(work, bdiag)
-    # the first retake: the fewest substeps (from work[W_SET, 3]) whose error, falling as the
-    # square of their share of the step (the scheme's order: n substeps of h/n, each erring
-    # as (h/n)³), would meet the tolerance; and, where a race contact closed beyond its
-    # onset limit, enough that the contact at the largest load it reached is within that
-    # limit at the substeps' step (n² ≥ h²·Q^⅓/c_on); at most SUBSTEPS
-    ratio = error / work[W_SET, 0]
-    n_sub = int(work[W_SET, 3])
-    while n_sub < SUBSTEPS and n_sub * n_sub < ratio:
-        n_sub *= 2
-    if onset > 0.0:
-        need = dt * dt * np.cbrt(onset) / work[W_SET, SET_ONSET]
-        while n_sub < SUBSTEPS and n_sub * n_sub < need:
+    # the falling-slope guard (falling_guard): where the stretch's step is beyond the
+    # falling slope's bound and a race contact slides faster than the law's v_s at the
+    # step's start, the step is taken in substeps within that bound from the start
+    sub_dt = work[W_SET, SET_SUB_DT]
+    if sub_dt > 0.0 and diag[D_MAX_SLIDE2] > work[W_SET, SET_SLIP2]:
+        n_sub = 2
+        while n_sub < SUBSTEPS and n_sub * sub_dt < dt:
             n_sub *= 2
+    else:
+        torque, power = _stages(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, work, jwork, schur)
+        error = pocket_energy_error(y, dt, rows, pockets, work[W_PV0], work[W_PACC], work[W_TOUCH])
+        onset = work[W_SET, SET_ONSET_LOAD]
+        if error <= work[W_SET, 0] and onset == 0.0:
+            return torque, power, 0, 0, _tangents_stale(work, bdiag)
+        # the first retake: the fewest substeps (from work[W_SET, 3]) whose error, falling as
+        # the square of their share of the step (the scheme's order: n substeps of h/n, each
+        # erring as (h/n)³), would meet the tolerance; and, where a race contact closed beyond
+        # its onset limit, enough that the contact at the largest load it reached is within
+        # that limit at the substeps' step (n² ≥ h²·Q^⅓/c_on); at most SUBSTEPS
+        ratio = error / work[W_SET, 0]
+        n_sub = int(work[W_SET, 3])
+        while n_sub < SUBSTEPS and n_sub * n_sub < ratio:
+            n_sub *= 2
+        if onset > 0.0:
+            need = dt * dt * np.cbrt(onset) / work[W_SET, SET_ONSET]
+            while n_sub < SUBSTEPS and n_sub * n_sub < need:
+                n_sub *= 2
     first_try = n_sub
     while True:
         for m in range(n):
@@ -661,14 +651,14 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
         total, total_power = 0.0, 0.0
         for s in range(n_sub):
             ts = t + s * h
-            rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * GAMMA, jwork,
+            rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * work[W_SET, SET_GAMMA], jwork,
                     schur)
             for m in range(inner.size):
                 inner[m] = -0.5 * (n_sub - 1) * diag[m] if s == 0 else inner[m] + diag[m]
             diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
             factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
             if flexible(params):
-                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * GAMMA,
+                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * work[W_SET, SET_GAMMA],
                              work[W_SF:].reshape(-1))
             for k in range(bdiag.shape[0]):
                 work[W_PACC, k] = B1 * bdiag[k, B_PP]
@@ -696,7 +686,7 @@ S_SINCE, S_STALE, S_REFRESH = S_OWN, S_OWN + 1, S_OWN + 2
 
 def time_step(model, peak_contact_load: float, *, safety: float = 0.8, held: bool = False) -> float:
     """IMEX's fixed step [s] (:func:`imex_time_step`); ``held``: where the loads and speed
-    are held (the damping tableau)."""
+    are held (the held tableau)."""
     return imex_time_step(model, peak_contact_load, safety=safety, held=held)
 
 
@@ -716,9 +706,15 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     with ``c_f = Q·dμ/ds`` at zero slip, ``|min μ'|`` the law's steepest fall
     (:func:`rvcore.contact.laws.friction_falling_slope`), and ω_n the contact oscillation of
     :func:`rvcore.integrate.step_size.row_rates`. Where the loads and speed are held
-    (``held``), the damping tableau damps the friction modes at any ``λ_f·h``, so the
-    friction adds no bound, and the contact oscillation's is :data:`HELD_CONTACT_LIMIT`
-    (module docstring, "Where the loads are held"). A contact that closes within a step adds
+    (``held``), the held tableau damps the friction modes at any ``λ_f·h``, so the
+    friction adds no bound; the falling slope's is left to the guard (:func:`falling_guard`)
+    up to :data:`SUBSTEPS` times it, so that the guard's substeps keep it; and the contact
+    oscillation's is :data:`HELD_CONTACT_LIMIT` (module docstring, "Where the loads are
+    held")::
+
+        dt_held = safety · min(HELD_CONTACT_LIMIT/ω_n, SUBSTEPS·2.785/λ_−)
+
+    A contact that closes within a step adds
     no bound (the step is taken again in substeps, :func:`onset_constant`), nor does a
     flexible ring's modes: their own stiffness and damping and the contacts' Hertz
     stiffness, groove stiffness and damper on them are implicit
@@ -735,8 +731,8 @@ def imex_time_step(model, peak_contact_load: float, *, safety: float = 0.8,
     for omega, m, rot in row_rates(model, q):
         lam_f = 2.0 * (c_f * max(1.0 / m, rot) + p[P_DAMP_C] * p[P_DAMPING] / m)
         lam = 2.0 * q * falling * max(1.0 / m, rot)
-        if held:
-            dts.append(min(RK4_REAL_LIMIT / lam if lam > 0 else np.inf, HELD_CONTACT_LIMIT / omega))
+        if held:    # the falling slope to the guard (falling_guard), within its substeps
+            dts.append(min(HELD_CONTACT_LIMIT / omega, SUBSTEPS * RK4_REAL_LIMIT / lam if lam > 0 else np.inf))
         else:
             dts.append(min(FRICTION_LIMIT / lam_f if lam_f > 0 else np.inf,
                            RK4_REAL_LIMIT / lam if lam > 0 else np.inf,
@@ -814,16 +810,51 @@ def segment_constant(model, peak_contact_load: float, time_step: float) -> float
     return pocket_energy_tolerance(model, peak_contact_load, time_step)
 
 
+def falling_guard(model, peak_contact_load: float, *, safety: float = 0.8, held: bool = False):
+    """``(s², h_f)`` for a stretch of the step schedule: where the loads are held the step
+    (:func:`imex_time_step` with ``held``) does not keep the friction law's falling slope
+    within its bound, so a step at whose start a race contact slides faster than the law's
+    ``v_s`` (``s² = v_s²`` [m² s^-2]) is taken in substeps of at most ``h_f`` [s], that
+    bound: ``h_f = safety·min over the rows of 2.785/λ_−``, ``λ_− = 2·Q·|min μ'|·max(1/m_b,
+    r²/I_b)`` at ``Q = peak_contact_load`` [N] (:func:`imex_time_step`). ``(0, 0)`` (none)
+    elsewhere, and for a law that never falls. The slip is the largest race contact's at
+    the step's start (``max_race_sliding_speed``, in the diagnostics every step's start
+    evaluates); such a step counts as taken again, its substeps as computed
+    (:func:`imex_step`), and :func:`rhs_evaluations` counts its first try too."""
+    p = model.params
+    law = p[P_LAW:P_LAW + FRICTION_LAW_SIZE]
+    falling = friction_falling_slope(law) * law[LAW_ON]
+    if not held or falling <= 0.0:
+        return 0.0, 0.0
+    q = max(peak_contact_load, 1.0)
+    lam = max(2.0 * q * falling * max(1.0 / m, rot) for _, m, rot in row_rates(model, q))
+    return float(law[LAW_V_S]) ** 2, safety * RK4_REAL_LIMIT / lam
+
+
 @kernel(inline=True)
 def begin_segment(segment, work, state):
     """A stretch of the step schedule begins (:mod:`rvcore.integrate.schedule`): its pocket
-    tolerance and tangents' load tolerance, the damping tableau where the loads and speed
-    are held, and tangents evaluated anew at its first step (their blocks carry the step,
-    ``h·γ``)."""
+    tolerance and tangents' load tolerance, the held tableau where the loads and speed
+    are held (the all-pass one elsewhere), and tangents evaluated anew at its first step
+    (their blocks carry the step and the tableau's γ, ``h·γ``)."""
     work[W_SET, 0] = segment[SEG_TOL]
     work[W_SET, 1] = segment[SEG_LOAD_TOL]
-    work[W_SET, SET_DAMP] = DAMP_32 if segment[SEG_HELD] != 0.0 else 0.0
+    work[W_SET, SET_SLIP2] = segment[SEG_SLIP2]
+    work[W_SET, SET_SUB_DT] = segment[SEG_SUB_DT]
+    _set_tableau(work, segment[SEG_HELD] != 0.0)
     state[S_STALE] = 1
+
+
+@kernel(inline=True)
+def _set_tableau(work, held):
+    """The implicit tableau's γ and free entries into ``work[W_SET]``: the held tableau
+    (:data:`HELD_GAMMA`, ...) where ``held``, else the all-pass one (:data:`GAMMA`, ...)."""
+    if held:
+        work[W_SET, SET_GAMMA], work[W_SET, SET_I32] = HELD_GAMMA, HELD_I32
+        work[W_SET, SET_I42], work[W_SET, SET_I43] = HELD_I42, HELD_I43
+    else:
+        work[W_SET, SET_GAMMA], work[W_SET, SET_I32] = GAMMA, I32
+        work[W_SET, SET_I42], work[W_SET, SET_I43] = I42, I43
 
 
 def rhs_evaluations(n_steps: int, substeps: int) -> int:
@@ -844,7 +875,8 @@ def evaluate(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, wo
         state[S_SINCE] = 0
         state[S_REFRESHES] += 1
         state[S_REFRESH] = 1
-        rhs_jac(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, dt * GAMMA, jwork, schur)
+        rhs_jac(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, dt * work[W_SET, SET_GAMMA], jwork,
+                schur)
     else:
         state[S_REFRESH] = 0
         rhs(t, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag)

@@ -110,7 +110,7 @@ def integrate(y, t_start, segments, params, rows, arcs, pockets, table, meta,
         # for a torque held over each step, started at the first step's torque
         decay = 1.0 - math.exp(-2.0 * math.pi * TORQUE_BANDWIDTH * dt)
         # the method's constants for this stretch's step (IMEX: the pocket check's
-        # tolerance, the damping tableau where the loads are held; new tangents)
+        # tolerance, the held tableau where the loads are held; new tangents)
         begin_segment(code, segments[sg], work, state)
         for i in range(n_steps + 1):
             if i == n_steps and not last:

@@ -12,6 +12,9 @@ one entry of :data:`rvcore.integrate.methods.METHODS`. The module supplies:
   (:data:`rvcore.integrate.schedule.SEG_TOL`);
 - ``load_tolerance(peak_contact_load)``: a second such constant, sized on the load alone
   (:data:`rvcore.integrate.schedule.SEG_LOAD_TOL`; IMEX: its tangents' load tolerance);
+- ``falling_guard(model, peak_contact_load, *, safety, held)``: ``(slip², longest
+  substep)`` where its step does not keep the friction law's falling slope within its
+  bound (:data:`rvcore.integrate.schedule.SEG_SLIP2`, ``SEG_SUB_DT``; ``(0, 0)`` where it does);
 - ``new_state()``: its counters for one run (:func:`new_state`, its own slots set);
 - ``rhs_evaluations(n_steps, substeps)``: how many right-hand sides a run of ``n_steps``
   evaluated, with ``substeps`` substeps computed in the steps it took again;

@@ -128,6 +128,12 @@ def segment_constant(model, peak_contact_load: float, time_step: float) -> float
     return 0.0
 
 
+def falling_guard(model, peak_contact_load: float, *, safety: float = 0.8, held: bool = False):
+    """None (``(0, 0)``): RK4's step keeps the friction law's falling slope within its bound
+    everywhere (:func:`rk4_time_step`)."""
+    return 0.0, 0.0
+
+
 @kernel(inline=True)
 def begin_segment(segment, work, state):
     """A stretch of the step schedule begins: nothing to set."""

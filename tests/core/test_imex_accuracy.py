@@ -244,23 +244,28 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load)
 
 
 @pytest.mark.slow
-def test_imex_seed_means_converge_with_the_step_at_a_low_speed():
+@pytest.mark.parametrize("speed_deg", [120.0, 180.0])
+def test_imex_seed_means_converge_with_the_step_at_a_low_speed(speed_deg):
     """§9.6 at the grid's low speeds, where one case is not the figure to read: there a
     case's transients are draws of where the balls start in their pockets, which a tenth
     of the step moves as another seed does (docs/validation.md, "Known limits": at 20 kN
     and 120–240 °/s single cases' start-up stds by up to 4.4 %, steady ranges and torque
     peaks by up to 1.6 %). The seeds' means are (the sweep's ``*_ensemble_mean``): the study
-    bearing and cycle at 180 °/s, 20 kN + 10 kN, seeds 0–2, at the default steps and at a
+    bearing and cycle at 120 and at 180 °/s, 20 kN + 10 kN, seeds 0–2, at the default steps and at a
     tenth of them; the mean over the seeds of every steady and deceleration metric moves
     by less than 1 % (the cage slips by less than 0.001), by the rules of
     tests/core/physics_cases.py::phase_metric_changes. The steady phase runs at the longer
     step where the loads are held (rvcore.integrate.schedule). Measured at MODEL_VERSION 20
-    (the same seeds as the study sweep's): within 0.54 % (the steady radial range). About
-    85 s on two cores."""
+    (the same seeds as the study sweep's): within 0.54 % at 180 °/s (the steady radial
+    range). At MODEL_VERSION 22, whose held tableau moves one draw's steady sliding-speed
+    peak at 120 °/s (seed 2, a spike within 1.082–1.083 s) by 2.1 % against
+    its tenth step: the means within 0.83 % at 120 °/s (that peak) and 0.54 % at 180 °/s
+    (the steady radial range), the held stretch ending 10 ms before the deceleration.
+    About 85 s a speed on two cores."""
     from types import SimpleNamespace
 
     bearing, profile, _ = study_case()
-    op = OperatingPoint(math.radians(180.0), 20e3, 10e3)
+    op = OperatingPoint(math.radians(speed_deg), 20e3, 10e3)
     end = max(p[2] for p in profile.phases)
     jobs = [SolverSettings(method="imex", end_time=end, seed=seed, step_safety=safety)
             for safety in (0.8, 0.08) for seed in (0, 1, 2)]

@@ -74,42 +74,53 @@ def test_implicit_tableau_is_all_pass_and_second_order():
     assert abs(implicit_stability(-imex.FRICTION_LIMIT)) == pytest.approx(imex.FRICTION_DAMPING, rel=1e-12)
 
 
-def scalar_step(z, weight_32):
+def scalar_step(z, tableau, gamma):
     """The implicit stages' step on ``y' = λ·y`` with ``z = λ·h``, every force in the implicit
     part and the tangent exact, in the deviation form rvcore.integrate.imex computes
-    (``g_j = λ·(Y_j − y_n)``, so ``g_1 = 0`` and ``â_31`` drops out), the third stage
-    weighing ``g_2`` by ``weight_32``."""
-    tableau = IMPLICIT.copy()
-    tableau[2, 1] = weight_32
+    (``g_j = λ·(Y_j − y_n)``, so ``g_1 = 0`` and ``â_i1`` drops out), with the implicit
+    ``tableau`` and its diagonal ``gamma``."""
     y, forces, implicit = 1.0, [], []
     for i in range(4):
         known = y + z * sum(EXPLICIT[i, j] * forces[j] + (tableau[i, j] - EXPLICIT[i, j]) * implicit[j]
                             for j in range(i))
-        stage = y if i == 0 else (known - z * imex.GAMMA * y) / (1.0 - z * imex.GAMMA)
+        stage = y if i == 0 else (known - z * gamma * y) / (1.0 - z * gamma)
         forces.append(stage)                 # F = λ·Y, in units of λ·h over h
         implicit.append(stage - y)
     return y + z * sum(WEIGHTS[i] * forces[i] for i in range(4))
 
 
-def test_damping_tableau_is_l_stable_and_second_order():
-    """Where the loads and speed are held the balls' damping part takes â_32 = 7/36
-    (``I32 + DAMP_32``; rvcore.integrate.imex, "Where the loads are held"): on ``y' = λ·y``
-    the step is ``(1 + z/2 + z²/12)/(1 − z/6)³``, of order 2 (``R − e^z = O(z³)``),
-    positive on the negative real axis, at most 0.30 for ``λ·h ≥ 2`` and falling to 0
-    (L-stable), where the all-pass tableau's tends to −1. The same deviation form with the
-    all-pass weight gives the all-pass function (so the form is the module's)."""
-    damped = imex.I32 + imex.DAMP_32
-    assert damped == pytest.approx(7.0 / 36.0, abs=1e-15)
-    for z in (-0.5, -2.0, -6.0, -20.5, -100.0, -1e4, 0.3 + 2.0j):
-        assert scalar_step(z, damped) == pytest.approx((1 + z / 2 + z * z / 12) / (1 - z / 6) ** 3, rel=1e-8)
-        assert scalar_step(z, imex.I32) == pytest.approx(implicit_stability(z), rel=1e-8)
+HELD = np.array([[0.0, 0.0, 0.0, 0.0], [0.5 - imex.HELD_GAMMA, imex.HELD_GAMMA, 0.0, 0.0],
+                 [0.5 - imex.HELD_GAMMA - imex.HELD_I32, imex.HELD_I32, imex.HELD_GAMMA, 0.0],
+                 [1.0 - imex.HELD_GAMMA - imex.HELD_I42 - imex.HELD_I43, imex.HELD_I42, imex.HELD_I43,
+                  imex.HELD_GAMMA]])
+
+
+def test_held_tableau_is_l_stable_a_stable_and_second_order():
+    """Where the loads and speed are held the implicit part takes the held tableau
+    (rvcore.integrate.imex, "Where the loads are held"): γ = 1/3, the pair's nodes (its rows
+    sum to c = 0, ½, ½, 1) and weights, and on ``y' = λ·y`` the step
+    ``(1 − z²/6)/(1 − z/3)³``: of order 2 (``R − e^z = O(z³)``), ``|R(iy)| ≤ 1`` (A-stable:
+    ``|Q|² − |P|² = y⁴·(3γ⁴ − 1/36) + γ⁶·y⁶ ≥ 0``) and ``R → 0`` as z → −∞ (L-stable),
+    where the all-pass tableau's tends to −1. The same deviation form with the all-pass
+    tableau gives the all-pass function (so the form is the module's). A stiff mode's
+    stage values stay within 1.25× the step's start on both axes."""
+    np.testing.assert_allclose(HELD.sum(axis=1), [0.0, 0.5, 0.5, 1.0], atol=1e-15)
+    for z in (-0.5, -2.0, -6.0, -20.5, -100.0, -1e4, 0.3 + 2.0j, 4.8j, 8.0j):
+        assert scalar_step(z, HELD, imex.HELD_GAMMA) == pytest.approx((1 - z * z / 6) / (1 - z / 3) ** 3, rel=1e-8)
+        assert scalar_step(z, IMPLICIT, imex.GAMMA) == pytest.approx(implicit_stability(z), rel=1e-8)
     for z in (1e-2, 2e-2):
-        assert abs(scalar_step(z, damped) - math.exp(z)) < 0.1 * z ** 2
-    assert abs(scalar_step(2e-2, damped) - math.exp(2e-2)) > 4.0 * abs(scalar_step(1e-2, damped) - math.exp(1e-2))
-    stiff = -np.logspace(np.log10(2.0), 6, 2000)
-    values = np.array([scalar_step(z, damped) for z in stiff])
-    assert np.all(values > 0.0) and values.max() < 0.30
-    assert values[-1] < 1e-4 and abs(scalar_step(-1e6, imex.I32)) > 0.99
+        assert abs(scalar_step(z, HELD, imex.HELD_GAMMA) - math.exp(z)) < 0.1 * z ** 2
+    e1 = abs(scalar_step(1e-2, HELD, imex.HELD_GAMMA) - math.exp(1e-2))
+    e2 = abs(scalar_step(2e-2, HELD, imex.HELD_GAMMA) - math.exp(2e-2))
+    assert 7.0 < e2 / e1 < 9.0                       # the local error of an order-2 step: O(z³)
+    axis = np.logspace(-3, 6, 3000)
+    assert max(abs(scalar_step(1j * y, HELD, imex.HELD_GAMMA)) for y in axis) <= 1.0 + 1e-12
+    assert abs(scalar_step(-1e6, HELD, imex.HELD_GAMMA)) < 1e-5 and abs(scalar_step(-1e6, IMPLICIT, imex.GAMMA)) > 0.99
+    # what it keeps of an undamped oscillation a step at ω·h = 4.8: (1 + 4.8²/6)/(1 + 4.8²/9)^1.5
+    assert abs(scalar_step(4.8j, HELD, imex.HELD_GAMMA)) == pytest.approx(4.84 / 3.56 ** 1.5, rel=1e-9)
+    stages = max(np.abs(np.linalg.solve(np.eye(4) - z * HELD, np.ones(4))).max()
+                 for z in np.concatenate([1j * axis, -axis]))
+    assert stages < 1.26
 
 
 def test_implicit_tableau_is_stiffly_accurate_with_stage_values_at_most_twice_the_start():

@@ -7,6 +7,7 @@ the steps from the methods' bounds at the case's peak contact load.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -15,8 +16,8 @@ import pytest
 from rvcore.bearing.layout import compile_bearing
 from rvcore.integrate import imex, rk4
 from rvcore.integrate.methods import time_step
-from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_STEPS, SEG_TOL, held_windows,
-                                       step_schedule)
+from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_SLIP2, SEG_STEPS, SEG_SUB_DT, SEG_TOL,
+                                       HELD_END_MARGIN, held_windows, step_schedule)
 from rvcore.profile import Channel, OperatingPoint, Profile, scaled_study_profile, study_profile
 from rvcore.simulation.initial_state import peak_contact_load
 from rvcore.simulation.run import run_case
@@ -41,7 +42,8 @@ def test_the_study_cycle_is_held_over_its_steady_phase_only():
 def test_a_turning_load_or_a_changing_moment_is_not_held():
     """The load's direction and the moment are channels too: the steady phase with the
     load turning over 2–3 s is held before and after, and the schedule takes the held
-    step on both stretches; a moment that rises over 1.5–1.6 s splits it likewise."""
+    step on both stretches, each ending its margin before its window does; a moment that
+    rises over 1.5–1.6 s splits it likewise."""
     base = study_profile()
     turning = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
                       load_direction=Channel((0.0, 2.0, 3.0), (0.0, 0.0, 1.0), relative=False))
@@ -51,8 +53,9 @@ def test_a_turning_load_or_a_changing_moment_is_not_held():
     _, model = section_model()
     schedule = step_schedule(imex, model, peak_contact_load(model, resolved), resolved, 0.0, 4.6, 1000.0)
     assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0, 1.0, 0.0]
-    np.testing.assert_allclose(np.cumsum(schedule[:, SEG_STEPS] * schedule[:, SEG_DT]), [0.8, 2.0, 3.0, 3.8, 4.6],
-                               rtol=1e-12)
+    m = HELD_END_MARGIN
+    np.testing.assert_allclose(np.cumsum(schedule[:, SEG_STEPS] * schedule[:, SEG_DT]),
+                               [0.8, 2.0 - m, 3.0, 3.8 - m, 4.6], rtol=1e-12)
     moment = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
                      moment=Channel((0.0, 1.5, 1.6), (0.0, 0.0, 1.0)))
     windows = held_windows(moment.resolve(dataclass_moment(OP)), 0.0, 4.6)
@@ -76,7 +79,10 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
     method's held step (longer: the friction adds no bound there, the contact oscillation
     ω_n·h ≤ 6 instead of 5), each step dividing the output interval, each stretch a whole
     number of output intervals but the last, and the steps adding up to the cycle; each
-    stretch's pocket tolerance the method's at its own step."""
+    stretch's pocket tolerance the method's at its own step. The held stretch ends
+    ``HELD_END_MARGIN`` (10 ms) before the steady phase, so that the deceleration starts
+    from the plain tableau's motion; a run that ends inside the held window is held to its
+    end."""
     _, model = section_model()
     resolved = study_profile().resolve(OP)
     q = peak_contact_load(model, resolved)
@@ -90,7 +96,11 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
         assert row[SEG_DT] * row[SEG_OUT_EVERY] == pytest.approx(1.0 / rate, rel=1e-12)
         assert row[SEG_TOL] == imex.pocket_energy_tolerance(model, q, row[SEG_DT])
     spans = schedule[:, SEG_STEPS] * schedule[:, SEG_DT]
-    np.testing.assert_allclose(np.cumsum(spans), [0.8, 3.8, 4.6], rtol=1e-12)
+    assert HELD_END_MARGIN == pytest.approx(0.01) and HELD_END_MARGIN * rate == round(HELD_END_MARGIN * rate)
+    np.testing.assert_allclose(np.cumsum(spans), [0.8, 3.8 - HELD_END_MARGIN, 4.6], rtol=1e-12)
+    ends_held = step_schedule(imex, model, q, resolved, 0.0, 2.0, rate)
+    assert ends_held[:, SEG_HELD].tolist() == [0.0, 1.0]
+    np.testing.assert_allclose(np.cumsum(ends_held[:, SEG_STEPS] * ends_held[:, SEG_DT]), [0.8, 2.0], rtol=1e-12)
 
 
 def test_rk4_and_a_step_set_by_hand_keep_one_step_throughout():
@@ -109,7 +119,7 @@ def test_rk4_and_a_step_set_by_hand_keep_one_step_throughout():
 def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
     """The 12-ball section on the study cycle scaled to 46 ms: the outputs keep the times
     ``k/output_rate`` through both changes of step, the run's steps are its stretches', the
-    held ones those of the steady phase."""
+    held ones those of the steady phase less its end margin."""
     bearing, _ = section_model()
     profile = scaled_study_profile(0.01)
     settings = SolverSettings(output_rate=1e4)
@@ -117,8 +127,61 @@ def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
     info = result.info
     assert info["held_time_step"] > info["time_step"]
     steady = profile.phases[1]
-    assert info["held_steps"] == round((steady[2] - steady[1]) / info["held_time_step"])
-    outside = profile.duration - (steady[2] - steady[1])
+    held_span = steady[2] - steady[1] - HELD_END_MARGIN
+    assert info["held_steps"] == round(held_span / info["held_time_step"])
+    outside = profile.duration - held_span
     assert info["steps"] == info["held_steps"] + round(outside / info["time_step"])
     np.testing.assert_allclose(result.time, np.arange(result.time.size) / 1e4, rtol=0, atol=1e-15)
     assert result.time[-1] == pytest.approx(profile.duration)
+
+
+def test_the_held_step_leaves_the_falling_slope_to_a_guard():
+    """Where the loads are held the step no longer keeps the friction law's falling slope
+    (μ_s to μ_d between v_s and v_d) within RK4's real-axis limit; the held stretch carries
+    a guard instead: the squared slip v_s² above which a step is taken in substeps, and the
+    longest substep ``0.8·2.785/λ_−``, ``λ_− = 2·Q·1.5·(μ_s − μ_d)/(v_d − v_s)·2.5/m_b``
+    (the STEP law's steepest fall, a ball's ``max(1/m_b, r²/I_b) = 2.5/m_b``), computed here
+    from the section's ball. The other stretches, RK4 and a law that never falls carry none."""
+    bearing, model = section_model()
+    resolved = study_profile().resolve(OP)
+    q = peak_contact_load(model, resolved)
+    c = bearing.contact
+    row = bearing.rows[0]
+    m_b = bearing.ball_material.density * math.pi * row.ball_diameter ** 3 / 6.0
+    lam = 2.0 * q * 1.5 * (c.mu_static - c.mu_dynamic) / (c.v_dynamic - c.v_static) * 2.5 / m_b
+    slip2, sub_dt = imex.falling_guard(model, q, safety=0.8, held=True)
+    assert slip2 == pytest.approx(c.v_static ** 2, rel=1e-12)
+    assert sub_dt == pytest.approx(0.8 * 2.785 / lam, rel=1e-3)
+    held = time_step(model, q, "imex", held=True)
+    assert held > sub_dt           # the guard is what keeps the bound there
+    schedule = step_schedule(imex, model, q, resolved, 0.0, 4.6, 1000.0)
+    assert schedule[:, SEG_SLIP2].tolist() == [0.0, slip2, 0.0]
+    assert schedule[:, SEG_SUB_DT].tolist() == [0.0, sub_dt, 0.0]
+    assert imex.falling_guard(model, q, held=False) == (0.0, 0.0)
+    assert rk4.falling_guard(model, q, held=True) == (0.0, 0.0)
+    lubricated = compile_bearing(dataclasses.replace(bearing, contact=dataclasses.replace(c, law="ehl_bair_winer")))
+    assert imex.falling_guard(lubricated, q, held=True) == (0.0, 0.0)
+
+
+def test_a_held_step_whose_race_contact_slides_past_v_s_is_taken_in_substeps(monkeypatch):
+    """The 12-ball section on the study cycle scaled to 46 ms, its held stretch's guard set
+    to a slip its race contacts pass at every step (1 µm/s): every held step is then taken
+    in substeps within the falling slope's bound (steps of at most ``h_f``), so the run
+    takes more steps again than without, and the inner ring's mean steady displacements
+    agree with the plain run's to a few per cent (the same physics at a finer step; the
+    section's pocket impacts make its other steady metrics spread far more, docs/model.md
+    §9.6)."""
+    bearing, _ = section_model()
+    profile = scaled_study_profile(0.01)
+    settings = SolverSettings(output_rate=1e4)
+    plain = run_case(bearing, profile, OP, settings)
+    guard = imex.falling_guard
+    monkeypatch.setattr(imex, "falling_guard",
+                        lambda *a, **k: (1e-12, guard(*a, **k)[1]) if k.get("held") else guard(*a, **k))
+    guarded = run_case(bearing, profile, OP, settings)
+    info = guarded.info
+    assert info["held_time_step"] == plain.info["held_time_step"]
+    assert info["substepped_steps"] >= info["held_steps"] + plain.info["substepped_steps"] // 2 > 0
+    assert info["substeps_taken"] >= 2 * info["held_steps"]
+    for name in ("radial_displacement_mean", "axial_displacement_mean"):
+        assert guarded.phase_metrics[name][1] == pytest.approx(plain.phase_metrics[name][1], rel=0.05), name

@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 21, IMEX the default): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 22, IMEX the default): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -67,6 +67,13 @@ a call of its own that the grid's speeds share) moved the weightless steady axia
 0.36 %, the steady torque peak by 0.16 % and the steady radial range by 0.035 % (the
 pocket-impact chain again), the other weightless pins by at most 3.6e-6, and the pins in
 gravity by at most 4.4e-8: the weightless pins and the case ids taken again from their run.
+MODEL_VERSION 22 (issue 42: the held tableau, L-stable, and a held step on the contact
+oscillation alone, 1.3–1.5× the last) moved the weightless steady axial range by 9.2 %, the
+steady torque peak by 3.8 % and the steady radial range by 1.3 % (this 12-ball section's
+steady phase is a pocket-impact chain that spreads by 20–30 % over seeded starts,
+docs/model.md §9.6; the study bearing's steady metrics moved by at most 0.35 % against a
+tenth of the step), the other weightless pins by at most 7.4e-4 (friction energy), and
+the pins in gravity by at most 6.3e-7: every pin taken again from its run.
 """
 from __future__ import annotations
 
@@ -80,7 +87,7 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 21
+PINNED_MODEL_VERSION = 22
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
@@ -93,35 +100,35 @@ PINNED_MODEL_VERSION = 21
 #: MODEL_VERSION 16 (issue 40: the lubricated law's film held through a step); the dry bearing's
 #: results did not move (PINNED_METRICS unchanged). Re-pinned at MODEL_VERSION 17 (issue 41: the
 #: case files' new ``ring_mode_truncation``); no result moved (PINNED_METRICS unchanged).
-#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, and at 20 and 21 with the metrics (module docstring).
+#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, and at 20, 21 and 22 with the metrics (module docstring).
 PINNED_CASE_IDS = {
-    (120, 20): "7c68ff122f54b0e2",
-    (120, 30): "4617f48e5bc29d3c",
-    (120, 40): "5607d9bb91abf4af",
-    (390, 20): "b430f4fc12d6dc58",
-    (390, 30): "0230ad2add4f5664",
-    (390, 40): "a53cd54764554264",
-    (660, 20): "982dc74d98e97195",
-    (660, 30): "d8a3fc3e208c5abf",
-    (660, 40): "50689b01463f21c0",
+    (120, 20): "052ddfc3fea5703b",
+    (120, 30): "2d1851cf1b0b878d",
+    (120, 40): "9f9257924f2d248a",
+    (390, 20): "ac077e69186a4805",
+    (390, 30): "3ff67b49968e9519",
+    (390, 40): "51fa524cace00a9e",
+    (660, 20): "90fe099090fa33cc",
+    (660, 30): "1109e7933ff27e9b",
+    (660, 40): "b1fd3bb75c81cdfc",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
 #: m, 1; N/m, N/m, N m/rad; N m, 1, J, 1; revolutions.
 PINNED_METRICS = {
-    "radial_displacement_range": [2.5512015751414762e-06, 6.768235497919112e-07, 2.8807788585906587e-07],
-    "radial_displacement_mean": [0.00014765744230380734, 0.00014737535283021762, 0.00014723947627553883],
-    "axial_displacement_range": [6.860994079570652e-06, 9.58617923216352e-07, 2.6177510426292165e-07],
-    "axial_displacement_mean": [7.295338710368903e-05, 7.308287810194846e-05, 7.304631340823306e-05],
-    "cage_slip": [0.011465002082771791, 0.001236544229121117, 0.002987070318909879],
+    "radial_displacement_range": [2.5512015751414762e-06, 6.85408681023184e-07, 2.880757591961522e-07],
+    "radial_displacement_mean": [0.00014765744230380734, 0.00014733926365774293, 0.00014723947942988727],
+    "axial_displacement_range": [6.860994079570652e-06, 8.700392749159578e-07, 2.6177637335841387e-07],
+    "axial_displacement_mean": [7.295338710368903e-05, 7.309454492318122e-05, 7.304631346346422e-05],
+    "cage_slip": [0.011465002082771791, 0.0015244078611446055, 0.0029870771476085967],
     "radial_stiffness": 862619633.1248139,
     "axial_stiffness": 226974930.92885756,
     "tilting_stiffness": 4335229.58086289,
-    "inner_ring_drive_torque_peak": [46.05968917635474, 3.4524033879564526, 18.337635349198063],
-    "static_safety_factor_min": [2.4345323337254494, 2.462771171099296, 2.5521427707465256],
-    "friction_energy": [0.04726074479170042, 3.6180846931369874, 0.7131574267029372],
-    "fatigue_damage": [5.012996227773635e-09, 5.96804560125272e-08, 4.950715335479369e-09],
-    "rating_life_L10r": 9213501.848070774,
+    "inner_ring_drive_torque_peak": [46.05968917635474, 3.322843350579077, 18.33762723030113],
+    "static_safety_factor_min": [2.4345323337254494, 2.4620851761544746, 2.552142308617319],
+    "friction_energy": [0.04726074479170042, 3.620745332821521, 0.7130902019907236],
+    "fatigue_damage": [5.012996227717411e-09, 5.968050641243953e-08, 4.950716088312806e-09],
+    "rating_life_L10r": 9213495.080882078,
     "reference_rating_life_L10r": 9129374.665455198,
     "basic_rating_life_L10": 12760404.244598672,
     "radial_stiffness_compliant": 585154743.6417171,
@@ -132,12 +139,12 @@ PINNED_METRICS = {
 
 #: The run in gravity: what its transients do not set (module docstring).
 PINNED_GRAVITY_METRICS = {
-    "radial_displacement_mean": [0.00014765486856490234, 0.0001473610692377889, 0.00014722960912992954],
-    "axial_displacement_mean": [7.294796464506107e-05, 7.308430741102516e-05, 7.304965341840735e-05],
+    "radial_displacement_mean": [0.00014765486856101005, 0.0001473252549256296, 0.00014722960921331334],
+    "axial_displacement_mean": [7.294796463021194e-05, 7.309622885092682e-05, 7.304965314251213e-05],
     "radial_stiffness": 862619756.337396,
     "axial_stiffness": 226974514.8623921,
     "tilting_stiffness": 4335219.537622654,
-    "rating_life_L10r": 9216793.061232446,
+    "rating_life_L10r": 9216787.208703784,
     "reference_rating_life_L10r": 9129370.875033876,
     "basic_rating_life_L10": 12760397.473857554,
     "radial_stiffness_compliant": 585155084.6687288,
