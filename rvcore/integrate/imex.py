@@ -162,7 +162,9 @@ law's ``v_s`` is taken in substeps within that bound (the study's race contacts 
 1.29×, 1.16×, 1.28×, 1.36× and 1.47× MODEL_VERSION 21's at 20–40 kN (58.8, 52.6, 55.6,
 52.6 and 52.6 µs). The step changes inside the loop, at output times, and each stretch
 starts with new tangents, its own pocket tolerance, guard and tableau
-(:func:`begin_segment`; the tangents' blocks carry ``h·γ``). Measured on the study
+(:func:`begin_segment`; the tangents' blocks carry ``h·γ``), and a held stretch ends
+:data:`rvcore.integrate.schedule.HELD_END_MARGIN` (10 ms) before its window, so that the
+next phase starts from the all-pass tableau's motion. Measured on the study
 bearing (660 °/s, 10 kN axial): every steady metric within 0.35 %, 0.11 % and 0.20 % of a
 tenth of the step at 20, 30 and 40 kN, and the case 0.80–0.85× as long (docs/performance.md,
 "The held tableau (MODEL_VERSION 22)"); an oscillation step of ω_n·h = 7.2 (66.7 µs) moved

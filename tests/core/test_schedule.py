@@ -77,7 +77,7 @@ def section_model():
 def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_on_the_output_grid():
     """IMEX on the study cycle: three stretches, the middle one the steady phase at the
     method's held step (longer: the friction adds no bound there, the contact oscillation
-    ω_n·h ≤ 6 instead of 5), each step dividing the output interval, each stretch a whole
+    ω_n·h ≤ 7.5 instead of 5), each step dividing the output interval, each stretch a whole
     number of output intervals but the last, and the steps adding up to the cycle; each
     stretch's pocket tolerance the method's at its own step. The held stretch ends
     ``HELD_END_MARGIN`` (10 ms) before the steady phase, so that the deceleration starts
