@@ -81,8 +81,8 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
     number of output intervals but the last, and the steps adding up to the cycle; each
     stretch's pocket tolerance the method's at its own step. The held stretch ends
     ``HELD_END_MARGIN`` (10 ms) before the steady phase, so that the deceleration starts
-    from the plain tableau's motion; a run that ends inside the held window is held to its
-    end."""
+    from the plain tableau's motion, wherever the run is cut; a run that ends inside the
+    held window is held to its end."""
     _, model = section_model()
     resolved = study_profile().resolve(OP)
     q = peak_contact_load(model, resolved)
@@ -101,6 +101,15 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
     ends_held = step_schedule(imex, model, q, resolved, 0.0, 2.0, rate)
     assert ends_held[:, SEG_HELD].tolist() == [0.0, 1.0]
     np.testing.assert_allclose(np.cumsum(ends_held[:, SEG_STEPS] * ends_held[:, SEG_DT]), [0.8, 2.0], rtol=1e-12)
+    # a run cut at the window's end, or inside its margin, ends the held stretch where the whole run does
+    for cut in (3.8, 3.795):
+        part = step_schedule(imex, model, q, resolved, 0.0, cut, rate)
+        assert part[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0]
+        np.testing.assert_allclose(np.cumsum(part[:2, SEG_STEPS] * part[:2, SEG_DT]), [0.8, 3.8 - HELD_END_MARGIN],
+                                   rtol=1e-12)
+    second = step_schedule(imex, model, q, resolved, 2.0, 4.6, rate)
+    assert second[:, SEG_HELD].tolist() == [1.0, 0.0]
+    assert second[0, SEG_STEPS] * second[0, SEG_DT] == pytest.approx(1.8 - HELD_END_MARGIN, rel=1e-12)
 
 
 def test_rk4_and_a_step_set_by_hand_keep_one_step_throughout():
