@@ -217,16 +217,17 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load)
     step differs along the load axis, and so does what bounds it
     (docs/performance.md, "The study sweep in five minutes"): 38.5 µs at 20 kN, 33.3 µs at
     30 kN (the friction), 26.3 µs at 40 kN, and in the steady phase, where the loads and
-    speed are held, 45.5, 43.5 and 35.7 µs (rvcore.integrate.schedule): the step changes
-    inside the loop at 0.8 and 3.8 s, so the torque peaks' window edges are checked too.
+    speed are held, 58.8, 55.6 and 52.6 µs in the held tableau (rvcore.integrate.schedule):
+    the step and tableau change inside the loop at 0.8 and 3.79 s, so the torque peaks'
+    window edges are checked too.
 
     The reduced 12-ball section of test_dynamics.py is where IMEX fails the same check: its
     steady phase is a chain of pocket impacts that RK4 itself does not converge on once
     gravity is on (docs/performance.md, "§9.6 on the study bearing"). Measured at
-    MODEL_VERSION 21: the worst change 0.69 % at 20 kN, 0.44 % at 30 kN and 0.62 % at 40 kN
-    (each the start-up pocket-force peak, as at 19 and 20); every steady metric ≤ 0.29 %,
-    0.094 % and 0.17 %. About 70 s a load on two cores (the fine run is 1.2–1.75 million
-    steps).
+    MODEL_VERSION 22: the worst change 0.69 % at 20 kN, 0.44 % at 30 kN and 0.62 % at 40 kN
+    (each the start-up pocket-force peak, as at 19–21); every steady metric ≤ 0.35 %,
+    0.11 % and 0.20 %, every deceleration metric ≤ 0.44 %, 0.31 % and 0.05 %. About 50 s a
+    load on two cores (the fine run is 0.85–1.05 million steps).
     """
     bearing, profile, op = study_case()
     op = dataclasses.replace(op, radial_load=radial_load)
@@ -241,6 +242,32 @@ def test_imex_convergence_tenfold_smaller_step_on_the_study_bearing(radial_load)
     for name, change in changes.items():
         limit = 1e-3 if name.startswith("cage_slip") else 0.01
         assert np.all(change < limit), (name, change)
+
+
+@pytest.mark.slow
+def test_imex_deceleration_converges_after_the_held_stretch():
+    """§9.6 where the held tableau showed in the next phase: the study bearing and cycle at
+    600 °/s, 40 kN + 10 kN, seed 2 (the study sweep's draw), the default steps against a
+    tenth of them; every deceleration metric moves by less than 1 % (the cage slip by less
+    than 0.001), by the rules of tests/core/physics_cases.py::phase_metric_changes. The held
+    tableau damps a slow part of the rings' motion that the physics keeps, so the held
+    stretch ends ``HELD_END_MARGIN`` (10 ms) before the deceleration
+    (rvcore.integrate.schedule). Measured at MODEL_VERSION 22: the deceleration's axial
+    range 0.14 % below the tenth step's, against 1.36 % below with the stretch run to the
+    window's edge (docs/performance.md, "The held tableau"). About 45 s on two cores."""
+    bearing, profile, op = study_case()
+    op = dataclasses.replace(op, speed=math.radians(600.0), radial_load=40e3)
+    end = max(p[2] for p in profile.phases)
+    jobs = [SolverSettings(method="imex", end_time=end, seed=2, step_safety=safety) for safety in (0.8, 0.08)]
+    with ThreadPoolExecutor(max_workers=2) as pool:   # the kernels release the GIL
+        coarse, fine = pool.map(lambda s: run_case(bearing, profile, op, s), jobs)
+    assert coarse.info["held_steps"] > 0 and fine.info["held_time_step"] < coarse.info["held_time_step"] / 5
+    decel = phase_index(profile, "deceleration")
+    changes = phase_metric_changes(coarse, fine)
+    assert "axial_displacement_range" in changes
+    for name, change in changes.items():
+        limit = 1e-3 if name.startswith("cage_slip") else 0.01
+        assert np.asarray(change)[decel] < limit, (name, change)
 
 
 @pytest.mark.slow
