@@ -421,7 +421,11 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
     gives (the same variables, dimensions, coordinates, attributes, chunking and values),
     but no more than one case's data is held at a time: the variables are declared (by
     xarray, so that names, attributes and encodings are those of any write), then each
-    case's slab is read from its file and written into its one-case chunk.
+    case's slab is read from its file and written into its one-case chunk (by h5py). Where
+    the case file stores a variable as one chunk of that shape, type and compression (a
+    case file of this package), its compressed bytes are copied as they are
+    (:func:`_case_slabs`): no inflating and deflating again, about 1 ms a case instead of
+    60 (docs/performance.md, "Sweeps at scale").
 
     Parameters
     ----------
@@ -452,7 +456,7 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
     NaN outside the case's window, exactly as :func:`combine_cases`.
     """
     import dask
-    import netCDF4
+    import h5py
 
     from .netcdf import combined_encoding
 
@@ -502,74 +506,156 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
         from xarray.backends.writers import to_netcdf as _declare
     except ImportError:   # xarray before 2025.x
         from xarray.backends.api import to_netcdf as _declare
-    # the data are written here, not by dask: the synchronous scheduler keeps xarray from
-    # taking a distributed lock while a Client is active
+    # the variables are declared here, not written: the synchronous scheduler keeps xarray
+    # from taking a distributed lock while a Client is active
     with dask.config.set(scheduler="synchronous"):
         _, store = _declare(layout, str(path), engine="netcdf4", format="NETCDF4",
                             encoding=encoding, multifile=True)
-    try:
-        nc = store.ds
-        targets = {}
-        for k in kept:
-            var = nc.variables[k]
-            var.set_auto_maskandscale(False)
-            chunk = 8 * int(np.prod([sizes[d] for d in dims_of[k]]))
-            var.set_var_chunk_cache(size=max(_WRITE_CACHE_CHUNKS * chunk, 1 << 16), nelems=521, preemption=1.0)
-            targets[k] = var
-        flags = nc.variables["case_status"]
-        flags.set_auto_maskandscale(False)
-        flags.set_var_chunk_cache(size=1 << 16, nelems=521, preemption=1.0)
-        spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
-        files = {e.at: e.path for e in entries if e.path is not None}
+    store.close()
+    spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
+    files = {e.at: e.path for e in entries if e.path is not None}
+    trailing = {k: tuple(sizes[d] for d in dims_of[k]) for k in kept}
+    largest = max([8 * int(np.prod(t)) for t in trailing.values()] + [1])
+    with h5py.File(path, "r+", rdcc_nbytes=max(_WRITE_CACHE_CHUNKS * largest, 1 << 16),
+                   rdcc_nslots=521, rdcc_w0=1.0) as out:
+        targets = {k: out[k] for k in kept}
+        copyable = {k: (_filters(v.id), v.dtype) for k, v in targets.items()
+                    if v.chunks is not None and tuple(v.chunks) == (1,) * len(shape) + trailing[k]
+                    and trailing[k]}
+        flags = out["case_status"]
+        first_keys = _root_names(next(iter(files.values()))) if files and scan.partial else None
         for at in np.ndindex(*shape):   # every grid point, asked or not: each chunk written once
-            path = files.get(at)
-            case = _case_slabs(path, kept, dims_of, elapsed, resampled, spectrum_freq,
-                               scan if scan.partial else None) if path is not None else {}
+            path_at = files.get(at)
+            case = _case_slabs(path_at, kept, dims_of, elapsed, resampled, spectrum_freq,
+                               first_keys, scan if scan.partial else None, copyable) if path_at is not None else {}
             for k, var in targets.items():
                 v = case.get(k)
-                if v is None:
-                    v = np.full(tuple(sizes[d] for d in dims_of[k]), np.nan)
-                var[at] = v
+                if isinstance(v, _RawChunk):
+                    var.id.write_direct_chunk(at + (0,) * len(trailing[k]), v.data, v.filter_mask)
+                    continue
+                var[at] = np.full(trailing[k], np.nan) if v is None else v
             flags[at] = status[at]
-    finally:
-        store.close()
     return resampled
 
 
-def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first=None) -> dict:
-    """name -> the case's array in the combined variable's trailing dims (on the common
-    time grid when ``resampled``); absent when the file lacks it or its spectrum differs.
+@dataclass
+class _RawChunk:
+    """A case variable's one chunk as stored (compressed), to be written unchanged into its
+    combined variable's one-case chunk (the same shape, type and filters)."""
 
-    With ``first`` (a :func:`first_file_scan`), raises :class:`NeedsFullScan` when the file
-    has other sample times, or a variable or dimension the first file has not."""
-    import netCDF4
+    data: bytes
+    filter_mask: int
+
+
+def _filters(dataset_id) -> tuple:
+    """The HDF5 filter pipeline of a dataset (its h5py ``DatasetID``): ((filter id, flags,
+    parameters), …)."""
+    plist = dataset_id.get_create_plist()
+    return tuple(plist.get_filter(i)[:3] for i in range(plist.get_nfilters()))
+
+
+def _root_names(path) -> frozenset:
+    """The names of the HDF5 datasets at the root of a netCDF-4 file (its variables and
+    dimensions)."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        return frozenset(f.keys())
+
+
+def _int_attribute(object_id, name: bytes):
+    """An integer attribute of an HDF5 object as a tuple, or None where it has none."""
+    from h5py import h5a
+
+    if not h5a.exists(object_id, name):
+        return None
+    attr = h5a.open(object_id, name)
+    values = np.empty(attr.shape, dtype=attr.dtype)
+    attr.read(values)
+    return tuple(int(x) for x in np.atleast_1d(values))
+
+
+def _dimension_names(f, dataset_id, dim_ids) -> tuple:
+    """The netCDF dimensions of a variable of the netCDF-4 file ``f`` (h5py), in order: its
+    ``_Netcdf4Coordinates`` (dimension ids) named by ``dim_ids`` (id -> name, from the
+    dimensions' ``_Netcdf4Dimid``), else its HDF5 dimension scales (``DIMENSION_LIST``,
+    slower); () for a scalar."""
+    if dataset_id.rank == 0:
+        return ()
+    ids = _int_attribute(dataset_id, b"_Netcdf4Coordinates")
+    if ids is not None and len(ids) == dataset_id.rank and all(i in dim_ids for i in ids):
+        return tuple(dim_ids[i] for i in ids)
+    import h5py
+
+    refs = h5py.Dataset(dataset_id).attrs["DIMENSION_LIST"]
+    return tuple(f[r[0]].name.lstrip("/") for r in refs)
+
+
+def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first_keys=None,
+                first=None, copyable=None) -> dict:
+    """name -> the case's array in the combined variable's trailing dims (on the common
+    time grid when ``resampled``), or its :class:`_RawChunk` where the stored chunk can be
+    copied as it is; absent when the file lacks it or its spectrum differs.
+
+    A chunk is copied where ``copyable`` (name -> (filters, dtype) of the combined variable
+    whose chunks hold one case) has the name, and the case's variable is one chunk of the
+    combined chunk's shape and the same type, filters and dimension order, not packed
+    (``scale_factor``/``add_offset``) and not resampled: its bytes then decode to the very
+    values a write of the array would store. Any other variable is read, reordered (and
+    resampled) as an array, the values as stored (netCDF4 with its mask off reads the same).
+
+    With ``first`` (a :func:`first_file_scan`) and ``first_keys`` (the datasets at the
+    first file's root), raises :class:`NeedsFullScan` when the file has other sample
+    times, or a variable or dimension the first file has not."""
+    import h5py
+    from h5py import h5a, h5d
 
     out = {}
+    copyable = copyable or {}
     try:
-        with netCDF4.Dataset(path, "r") as nc:
-            nc.set_auto_mask(False)
-            t = np.asarray(nc.variables["elapsed_time"][...], dtype=np.float64)
+        with h5py.File(path, "r") as nc:
+            present = frozenset(nc.keys())
+            t = np.asarray(nc["elapsed_time"][()], dtype=np.float64)
             if first is not None and not (t.shape == first.times.shape and np.array_equal(t, first.times)
-                                          and set(nc.variables) <= first.names
-                                          and set(nc.dimensions) <= first.dims):
+                                          and (first_keys is None or present <= first_keys)):
                 raise NeedsFullScan(str(path))
-            same_spectrum = (spectrum_freq is not None and "frequency" in nc.variables
-                             and np.array_equal(np.asarray(nc.variables["frequency"][...]), spectrum_freq))
+            same_spectrum = (spectrum_freq is not None and "frequency" in present
+                             and np.array_equal(np.asarray(nc["frequency"][()]), spectrum_freq))
+            fid = nc.id
+            dim_ids = {}
+            for d in {d for k in names for d in dims_of[k]} & present:
+                i = _int_attribute(h5d.open(fid, d.encode()), b"_Netcdf4Dimid")
+                if i is not None and len(i) == 1:
+                    dim_ids[i[0]] = d
             for k in names:
-                if k not in nc.variables:
+                if k not in present:
                     continue
                 if "frequency" in dims_of[k] and not same_spectrum:   # another window or rate: left NaN
                     continue
-                var = nc.variables[k]
-                v = np.asarray(var[...], dtype=np.float64)
-                order = [var.dimensions.index(d) for d in dims_of[k]]
+                var = h5d.open(fid, k.encode())
+                packed = h5a.exists(var, b"scale_factor") or h5a.exists(var, b"add_offset")
+                series = resampled and VARIABLES[k][0][:1] == ("elapsed_time",)
+                dims = _dimension_names(nc, var, dim_ids)
+                if k in copyable and not packed and not series and dims == dims_of[k] and var.dtype == copyable[k][1]:
+                    plist = var.get_create_plist()
+                    if (plist.get_layout() == h5d.CHUNKED and plist.get_chunk() == var.shape
+                            and _filters(var) == copyable[k][0]):
+                        mask, data = var.read_direct_chunk((0,) * var.rank)
+                        out[k] = _RawChunk(data, mask)
+                        continue
+                dataset = h5py.Dataset(var)
+                v = dataset[()]
+                if packed:
+                    v = v * dataset.attrs.get("scale_factor", 1.0) + dataset.attrs.get("add_offset", 0.0)
+                v = np.asarray(v, dtype=np.float64)
+                order = [dims.index(d) for d in dims_of[k]]
                 v = np.transpose(v, order) if order != sorted(order) else v
-                if resampled and VARIABLES[k][0][:1] == ("elapsed_time",):
+                if series:
                     v = np.stack([np.interp(elapsed, t, col, left=np.nan, right=np.nan)
                                   for col in v.reshape(len(t), -1).T], axis=-1).reshape((len(elapsed),) + v.shape[1:])
                 out[k] = v
     except NeedsFullScan:
         raise
-    except Exception as exc:  # netCDF4/HDF5 raise OSError, RuntimeError, ...
+    except Exception as exc:  # h5py/HDF5 raise OSError, KeyError, ValueError, ...
         raise CaseFileError(path, str(exc).splitlines()[0] if str(exc) else type(exc).__name__) from None
     return out

@@ -111,6 +111,52 @@ def test_the_streamed_sweep_nc_is_the_in_memory_combiners(tmp_path, case_fn):
     assert _header(reference) == _header(result.combined)
 
 
+def test_the_combine_copies_the_case_files_chunks_and_reads_any_other(tmp_path, monkeypatch):
+    """Each variable that a case file of this package stores as one compressed chunk is
+    copied into sweep.nc as stored (one copy per such variable and file, counted here from
+    the files with netCDF4); a case file written with other filters (zlib level 1) or none
+    is read and written as values. Either way sweep.nc holds what the in-memory combiner
+    makes of the same files."""
+    import pipeline.io.combine as combine
+
+    path = make_sweep(tmp_path, GRID)
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=failing_case, progress=False,
+                       combine_at_end=False)
+    files = sorted((result.out_dir / "cases").glob("*.nc"))
+    assert len(files) == 3
+    # one file recompressed at level 1, one without compression: their chunks are not sweep.nc's
+    for f, enc in ((files[1], {"zlib": True, "complevel": 1}), (files[2], {"zlib": False})):
+        ds = xr.load_dataset(f)
+        ds.to_netcdf(f, engine="netcdf4",
+                     encoding={k: dict(enc, _FillValue=None) for k in ds.data_vars if ds[k].ndim})
+
+    def stored_chunks(f) -> int:
+        with netCDF4.Dataset(f) as nc:
+            return sum(1 for k, v in nc.variables.items()
+                       if k in combine.VARIABLES and v.ndim and v.filters().get("zlib")
+                       and v.filters().get("complevel") == 4 and list(v.chunking()) == list(v.shape))
+
+    assert stored_chunks(files[0]) > 0 and stored_chunks(files[1]) == stored_chunks(files[2]) == 0
+    copies = []
+
+    class Counted(combine._RawChunk):
+        def __init__(self, *args):
+            copies.append(1)
+            super().__init__(*args)
+
+    monkeypatch.setattr(combine, "_RawChunk", Counted)
+    combined = write_combined_sweep(result.sweep, result.out_dir, states=result.states)
+    assert len(copies) == stored_chunks(files[0])
+
+    streamed = xr.load_dataset(combined)
+    cases = [xr.load_dataset(f) for f in files]
+    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
+    axes, entries, fixed = grid_from_cases(cases, asked)
+    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
+    streamed.attrs = {}
+    assert memory.identical(streamed)
+
+
 def _combine_peak(tmp_path, n_speeds, n_loads) -> int:
     """tracemalloc's peak [bytes] of write_combined_sweep over a finished grid of long cases."""
     folder = tmp_path / f"g{n_speeds}x{n_loads}"
