@@ -519,7 +519,7 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
     with h5py.File(path, "r+", rdcc_nbytes=max(_WRITE_CACHE_CHUNKS * largest, 1 << 16),
                    rdcc_nslots=521, rdcc_w0=1.0) as out:
         targets = {k: out[k] for k in kept}
-        copyable = {k: (_filters(v.id), v.dtype) for k, v in targets.items()
+        copyable = {k: (_filters(v.id), v.dtype, trailing[k]) for k, v in targets.items()
                     if v.chunks is not None and tuple(v.chunks) == (1,) * len(shape) + trailing[k]
                     and trailing[k]}
         flags = out["case_status"]
@@ -597,8 +597,8 @@ def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first_k
     time grid when ``resampled``), or its :class:`_RawChunk` where the stored chunk can be
     copied as it is; absent when the file lacks it or its spectrum differs.
 
-    A chunk is copied where ``copyable`` (name -> (filters, dtype) of the combined variable
-    whose chunks hold one case) has the name, and the case's variable is one chunk of the
+    A chunk is copied where ``copyable`` (name -> (filters, dtype, one case's shape) of the
+    combined variable whose chunks hold one case) has the name, and the case's variable is one chunk of the
     combined chunk's shape and the same type, filters and dimension order, not packed
     (``scale_factor``/``add_offset``) and not resampled: its bytes then decode to the very
     values a write of the array would store. Any other variable is read, reordered (and
@@ -636,7 +636,8 @@ def _case_slabs(path, names, dims_of, elapsed, resampled, spectrum_freq, first_k
                 packed = h5a.exists(var, b"scale_factor") or h5a.exists(var, b"add_offset")
                 series = resampled and VARIABLES[k][0][:1] == ("elapsed_time",)
                 dims = _dimension_names(nc, var, dim_ids)
-                if k in copyable and not packed and not series and dims == dims_of[k] and var.dtype == copyable[k][1]:
+                if (k in copyable and not packed and not series and dims == dims_of[k]
+                        and var.dtype == copyable[k][1] and var.shape == copyable[k][2]):
                     plist = var.get_create_plist()
                     if (plist.get_layout() == h5d.CHUNKED and plist.get_chunk() == var.shape
                             and _filters(var) == copyable[k][0]):
