@@ -21,8 +21,8 @@ How a run goes
    without a record, it names the case in ``configuration_hash`` and every variable
    reads). Any other file is set aside as ``<name>.damaged`` with one line saying why;
    those cases and the rest are computed.
-3. The numba kernels are compiled in this process (``rvcore.simulation.run.warm_up``) so that
-   workers only read the cache.
+3. Where the cache of rvcore's sources has no kernels, they are compiled in this process
+   (``rvcore.simulation.run.warm_up``) so that workers only read the cache.
 4. The cases run serially in this process, on a ``distributed.LocalCluster`` (one
    process per core, one thread each), or on an existing cluster. A worker that sees
    the ``cases/`` folder (a local cluster; a cluster on a shared file system) labels

@@ -92,3 +92,21 @@ def test_compiling_is_announced_only_when_it_happens(smoke_run, monkeypatch, cap
     assert kernels_need_compiling()
     assert say_if_compiling() is True
     assert capsys.readouterr().err.startswith("compiling the numba kernels")
+
+
+def test_the_sweep_compiles_here_only_where_the_cache_has_no_kernels(monkeypatch, capsys):
+    """pipeline.run.cluster.warm_up compiles the kernels in the sweep's own process only
+    where the cache of these sources has none (then the workers only load them); where it
+    has them, each worker loads them, and this process loads nothing."""
+    import pipeline.run.cluster as cluster
+    import rvcore.simulation.run
+
+    calls = []
+    monkeypatch.setattr(rvcore.simulation.run, "warm_up", lambda: calls.append(1))
+    monkeypatch.setattr(rvcore._numba, "cache_dir", lambda: Path("/nonexistent-rvsweep-cache"))
+    assert kernels_need_compiling()
+    cluster.warm_up(None)
+    assert calls == [1] and capsys.readouterr().err.startswith("compiling the numba kernels")
+    monkeypatch.setattr("pipeline.run.estimate.kernels_need_compiling", lambda: False)
+    assert cluster.warm_up(None) == 0.0 and calls == [1] and capsys.readouterr().err == ""
+    assert cluster.warm_up(lambda *a, **k: None) == 0.0 and calls == [1]   # a stand-in core: nothing
