@@ -78,7 +78,7 @@ Shared
 - ``integrate.imex``           one step of the implicit–explicit scheme, its step and its checks' tolerances
 - ``integrate.arrowhead``      the scheme's block-arrowhead matrix factored and solved
 - ``integrate.pocket_check``   the IMEX step's check on the cage-pocket impacts' energy
-- ``integrate.schedule``       the step schedule: a longer step where the loads and speed are held
+- ``integrate.schedule``       the step schedule: a longer step where the loads and speed are held, and in the unload
 
 ``simulation``: one dynamic case
 - ``simulation.settings``      SolverSettings and Sensor
@@ -92,7 +92,7 @@ The public API, importable from ``rvcore`` itself: :data:`PUBLIC`.
 #: Version of the model's equations and numerics. Part of every case id
 #: (:mod:`pipeline.schema.sweepfile`): bump it when a change to ``rvcore`` changes results,
 #: so that resumed sweeps recompute every case. What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 22
+MODEL_VERSION = 23
 
 from ._numba import use_source_keyed_cache
 

@@ -169,7 +169,11 @@ bearing (660 °/s, 10 kN axial): every steady metric within 0.35 %, 0.11 % and 0
 tenth of the step at 20, 30 and 40 kN, and the case 0.80–0.85× as long (docs/performance.md,
 "The held tableau (MODEL_VERSION 22)"); an oscillation step of ω_n·h = 7.2 (66.7 µs) moved
 the steady sliding-speed peak by 6–8 %. Where the step is set by hand
-(``SolverSettings.time_step``) it is the same throughout, and so is the tableau.
+(``SolverSettings.time_step``) it is the same throughout, and so is the tableau. The
+held tableau and step also run where the ring stands still and no load grows (the study
+cycle's unload; :func:`rvcore.integrate.schedule.unloading_windows`): no ball rolls, the
+rings follow the falling loads slowly against the contact oscillation, and no contact
+closes for them.
 
 Flexible rings
 --------------

@@ -1,5 +1,5 @@
 """The step schedule: the fixed step by stretches of the cycle, longer where the loads and
-speed are held. SI throughout.
+speed are held, and where the ring stands still while its loads fall. SI throughout.
 
 Why
 ---
@@ -10,6 +10,18 @@ moment, the load's direction and the speed) is held, what sizes the step is the 
 the bearing keeps up by itself; for IMEX that stretch takes the held tableau and its
 own, longer step (:func:`rvcore.integrate.imex.imex_time_step` with ``held``). On the
 study cycle that is the steady phase, 0.8–3.8 s (the held stretch 0.8–3.79 s).
+
+So is a stretch where the inner ring stands still and no load grows
+(:func:`unloading_windows`): the study cycle's unload, 4.3–4.6 s. No ball rolls there, so
+none is carried into its pocket or through the load zone, and a contact that the falling
+loads open does not close again; the rings follow loads that change over 0.3 s against a
+contact oscillation of about 57 µs, so the step is sized by that oscillation too, not by
+the friction's stiff modes, which the held tableau damps. Not where the loads rise at
+standstill (the load ramp, 0–0.3 s): there contacts close. On the study bearing the
+unload then takes 5,100–5,700 steps instead of 7,800–11,400 (3–5 % of a case's); the
+phase metrics end at 4.3 s and are unchanged, and the unload's displacements are as close
+to those at a tenth of the step as the plain tableau's were (docs/performance.md, "The
+unload in the held tableau").
 
 A held stretch ends :data:`HELD_END_MARGIN` before its window does, where the profile
 moves on after the window (a channel changes), wherever the run itself ends: so a run cut
@@ -32,7 +44,7 @@ drive torque's filter run on; the method begins each stretch with its own consta
 
 A schedule is an array of rows, one a stretch, with the columns :data:`SEG_STEPS` (its
 steps), :data:`SEG_DT` (their size [s]), :data:`SEG_OUT_EVERY` (steps between output
-lines), :data:`SEG_HELD` (1 where the loads and speed are held), :data:`SEG_TOL` (the
+lines), :data:`SEG_HELD` (1 where the held tableau runs: :func:`held_tableau_windows`), :data:`SEG_TOL` (the
 method's ``segment_constant`` at that step), :data:`SEG_LOAD_TOL` (the method's
 ``load_tolerance``: IMEX's tangents' [N]), and :data:`SEG_SLIP2` and :data:`SEG_SUB_DT` (the
 method's ``falling_guard``: where the stretch's step does not keep the friction law's
@@ -47,7 +59,7 @@ import math
 
 import numpy as np
 
-from ..profile import channel_value
+from ..profile import CH_AXIAL, CH_DIRECTION, CH_MOMENT, CH_RADIAL, CH_SPEED, channel_value
 
 SEG_STEPS, SEG_DT, SEG_OUT_EVERY, SEG_HELD, SEG_TOL, SEG_LOAD_TOL, SEG_SLIP2, SEG_SUB_DT = range(8)
 N_SEG = 8
@@ -78,6 +90,52 @@ def held_windows(resolved, t_start: float, t_end: float) -> list:
         else:
             windows.append((a, b))
     return windows
+
+
+def unloading_windows(resolved, t_start: float, t_end: float) -> list:
+    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` over which the inner ring
+    stands still (the speed channel is zero) and no load grows: the radial and axial loads
+    and the moment keep their signs and do not grow in magnitude, and the load's direction
+    is held (the study cycle's unload, 4.3–4.6 s).
+
+    Between two consecutive breakpoints of all the channels together each channel is
+    monotone (:func:`held_windows`), so a channel whose values at both ends have the same
+    sign (or a zero) and a magnitude no larger at the end does not grow in magnitude there.
+    """
+    tables = resolved.channels()
+    table, meta = resolved.arrays()
+
+    def at(c, t):
+        return channel_value(table, meta, c, t)
+
+    knots = sorted({float(t) for times, _, _ in tables for t in times if t_start < t < t_end}
+                   | {t_start, t_end})
+    windows = []
+    for a, b in zip(knots[:-1], knots[1:]):
+        unloading = (at(CH_SPEED, a) == 0.0 and at(CH_SPEED, b) == 0.0
+                     and at(CH_DIRECTION, a) == at(CH_DIRECTION, b)
+                     and all(at(c, a) * at(c, b) >= 0.0 and abs(at(c, b)) <= abs(at(c, a))
+                             for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT)))
+        if not unloading:
+            continue
+        if windows and windows[-1][1] == a:
+            windows[-1] = (windows[-1][0], b)
+        else:
+            windows.append((a, b))
+    return windows
+
+
+def held_tableau_windows(resolved, t_start: float, t_end: float) -> list:
+    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` where the held tableau and
+    step run: those of :func:`held_windows` and of :func:`unloading_windows`, joined where
+    they touch or overlap, in order."""
+    joined = []
+    for a, b in sorted(held_windows(resolved, t_start, t_end) + unloading_windows(resolved, t_start, t_end)):
+        if joined and a <= joined[-1][1]:
+            joined[-1] = (joined[-1][0], max(joined[-1][1], b))
+        else:
+            joined.append((a, b))
+    return joined
 
 
 def _fitted(dt_max: float, output_rate: float):
@@ -126,7 +184,7 @@ def step_schedule(method, model, peak_contact_load: float, resolved, t_start: fl
     k = 0                      # the output line where the next stretch starts
     if dt_held > dt:
         upper = max(t_end, resolved.duration)
-        for a, b in held_windows(resolved, t_start, upper):
+        for a, b in held_tableau_windows(resolved, t_start, upper):
             if a >= t_end:
                 break
             if b < upper:           # the profile moves on after the window, wherever the run ends

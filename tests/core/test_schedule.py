@@ -17,7 +17,8 @@ from rvcore.bearing.layout import compile_bearing
 from rvcore.integrate import imex, rk4
 from rvcore.integrate.methods import time_step
 from rvcore.integrate.schedule import (SEG_DT, SEG_HELD, SEG_OUT_EVERY, SEG_SLIP2, SEG_STEPS, SEG_SUB_DT, SEG_TOL,
-                                       HELD_END_MARGIN, held_windows, step_schedule)
+                                       HELD_END_MARGIN, held_tableau_windows, held_windows, step_schedule,
+                                       unloading_windows)
 from rvcore.profile import Channel, OperatingPoint, Profile, scaled_study_profile, study_profile
 from rvcore.simulation.initial_state import peak_contact_load
 from rvcore.simulation.run import run_case
@@ -52,14 +53,36 @@ def test_a_turning_load_or_a_changing_moment_is_not_held():
     assert windows == [(pytest.approx(0.8), pytest.approx(2.0)), (pytest.approx(3.0), pytest.approx(3.8))]
     _, model = section_model()
     schedule = step_schedule(imex, model, peak_contact_load(model, resolved), resolved, 0.0, 4.6, 1000.0)
-    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0, 1.0, 0.0]
+    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0, 1.0, 0.0, 1.0]
     m = HELD_END_MARGIN
     np.testing.assert_allclose(np.cumsum(schedule[:, SEG_STEPS] * schedule[:, SEG_DT]),
-                               [0.8, 2.0 - m, 3.0, 3.8 - m, 4.6], rtol=1e-12)
+                               [0.8, 2.0 - m, 3.0, 3.8 - m, 4.3, 4.6], rtol=1e-12)
     moment = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
                      moment=Channel((0.0, 1.5, 1.6), (0.0, 0.0, 1.0)))
     windows = held_windows(moment.resolve(dataclass_moment(OP)), 0.0, 4.6)
     assert windows == [(pytest.approx(0.8), pytest.approx(1.5)), (pytest.approx(1.6), pytest.approx(3.8))]
+
+
+def test_the_unload_at_standstill_takes_the_held_tableau_and_the_load_ramp_does_not():
+    """Where the ring stands still and no load grows (the study cycle's unload, 4.3–4.6 s)
+    the held tableau runs; not where the loads ramp up at standstill (0–0.3 s), nor where
+    the ring turns, a load falls through zero or the load's direction turns."""
+    base = study_profile()
+    resolved = base.resolve(OP)
+    assert unloading_windows(resolved, 0.0, 4.6) == [(pytest.approx(4.3), 4.6)]
+    assert unloading_windows(resolved, 0.0, 0.3) == []
+    assert unloading_windows(resolved, 4.4, 4.5) == [(4.4, 4.5)]
+    assert held_tableau_windows(resolved, 0.0, 4.6) == [(pytest.approx(0.8), pytest.approx(3.8)),
+                                                         (pytest.approx(4.3), 4.6)]
+    through_zero = Profile(base.name, base.radial_load,
+                           Channel((0.0, 0.3, 4.3, 4.6), (0.0, 1.0, 1.0, -0.5)), base.speed, base.phases, base.duration)
+    assert unloading_windows(through_zero.resolve(OP), 0.0, 4.6) == []
+    turning = Profile(base.name, base.radial_load, base.axial_load, base.speed, base.phases, base.duration,
+                      load_direction=Channel((0.0, 4.3, 4.6), (0.0, 0.0, 1.0), relative=False))
+    assert unloading_windows(turning.resolve(OP), 0.0, 4.6) == []
+    rolling = Profile(base.name, base.radial_load, base.axial_load,
+                      Channel((0.3, 0.8, 4.6), (0.0, 1.0, 1.0)), base.phases, base.duration)
+    assert unloading_windows(rolling.resolve(OP), 0.0, 4.6) == []
 
 
 def dataclass_moment(op):
@@ -75,8 +98,8 @@ def section_model():
 
 
 def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_on_the_output_grid():
-    """IMEX on the study cycle: three stretches, the middle one the steady phase at the
-    method's held step (longer: the friction adds no bound there, the contact oscillation
+    """IMEX on the study cycle: four stretches, the second the steady phase and the last the
+    unload at the method's held step (longer: the friction adds no bound there, the contact oscillation
     ω_n·h ≤ 7.5 instead of 5), each step dividing the output interval, each stretch a whole
     number of output intervals but the last, and the steps adding up to the cycle; each
     stretch's pocket tolerance the method's at its own step. The held stretch ends
@@ -88,16 +111,16 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
     q = peak_contact_load(model, resolved)
     rate = 1000.0
     schedule = step_schedule(imex, model, q, resolved, 0.0, 4.6, rate)
-    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0]
+    assert schedule[:, SEG_HELD].tolist() == [0.0, 1.0, 0.0, 1.0]
     plain, held = time_step(model, q, "imex"), time_step(model, q, "imex", held=True)
     assert held > plain
-    for row, bound in zip(schedule, (plain, held, plain)):
+    for row, bound in zip(schedule, (plain, held, plain, held)):
         assert row[SEG_DT] <= bound and row[SEG_DT] * (row[SEG_OUT_EVERY] + 1) > 1.0 / rate * (1 - 1e-12)
         assert row[SEG_DT] * row[SEG_OUT_EVERY] == pytest.approx(1.0 / rate, rel=1e-12)
         assert row[SEG_TOL] == imex.pocket_energy_tolerance(model, q, row[SEG_DT])
     spans = schedule[:, SEG_STEPS] * schedule[:, SEG_DT]
     assert HELD_END_MARGIN == pytest.approx(0.01) and HELD_END_MARGIN * rate == round(HELD_END_MARGIN * rate)
-    np.testing.assert_allclose(np.cumsum(spans), [0.8, 3.8 - HELD_END_MARGIN, 4.6], rtol=1e-12)
+    np.testing.assert_allclose(np.cumsum(spans), [0.8, 3.8 - HELD_END_MARGIN, 4.3, 4.6], rtol=1e-12)
     ends_held = step_schedule(imex, model, q, resolved, 0.0, 2.0, rate)
     assert ends_held[:, SEG_HELD].tolist() == [0.0, 1.0]
     np.testing.assert_allclose(np.cumsum(ends_held[:, SEG_STEPS] * ends_held[:, SEG_DT]), [0.8, 2.0], rtol=1e-12)
@@ -108,7 +131,7 @@ def test_the_schedule_puts_the_longer_step_on_the_held_window_and_every_stretch_
         np.testing.assert_allclose(np.cumsum(part[:2, SEG_STEPS] * part[:2, SEG_DT]), [0.8, 3.8 - HELD_END_MARGIN],
                                    rtol=1e-12)
     second = step_schedule(imex, model, q, resolved, 2.0, 4.6, rate)
-    assert second[:, SEG_HELD].tolist() == [1.0, 0.0]
+    assert second[:, SEG_HELD].tolist() == [1.0, 0.0, 1.0]
     assert second[0, SEG_STEPS] * second[0, SEG_DT] == pytest.approx(1.8 - HELD_END_MARGIN, rel=1e-12)
 
 
@@ -127,8 +150,9 @@ def test_rk4_and_a_step_set_by_hand_keep_one_step_throughout():
 
 def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
     """The 12-ball section on the study cycle scaled to 46 ms: the outputs keep the times
-    ``k/output_rate`` through both changes of step, the run's steps are its stretches', the
-    held ones those of the steady phase less its end margin."""
+    ``k/output_rate`` through the three changes of step, the run's steps are its stretches',
+    the held ones those of the steady phase less its end margin and of the unload (the last
+    3 ms)."""
     bearing, _ = section_model()
     profile = scaled_study_profile(0.01)
     settings = SolverSettings(output_rate=1e4)
@@ -136,7 +160,9 @@ def test_a_run_changes_its_step_inside_the_loop_on_the_output_grid():
     info = result.info
     assert info["held_time_step"] > info["time_step"]
     steady = profile.phases[1]
-    held_span = steady[2] - steady[1] - HELD_END_MARGIN
+    unload = profile.duration - profile.phases[2][2]
+    assert unload == pytest.approx(0.003)
+    held_span = steady[2] - steady[1] - HELD_END_MARGIN + unload
     assert info["held_steps"] == round(held_span / info["held_time_step"])
     outside = profile.duration - held_span
     assert info["steps"] == info["held_steps"] + round(outside / info["time_step"])
@@ -164,8 +190,8 @@ def test_the_held_step_leaves_the_falling_slope_to_a_guard():
     held = time_step(model, q, "imex", held=True)
     assert held > sub_dt           # the guard is what keeps the bound there
     schedule = step_schedule(imex, model, q, resolved, 0.0, 4.6, 1000.0)
-    assert schedule[:, SEG_SLIP2].tolist() == [0.0, slip2, 0.0]
-    assert schedule[:, SEG_SUB_DT].tolist() == [0.0, sub_dt, 0.0]
+    assert schedule[:, SEG_SLIP2].tolist() == [0.0, slip2, 0.0, slip2]
+    assert schedule[:, SEG_SUB_DT].tolist() == [0.0, sub_dt, 0.0, sub_dt]
     assert imex.falling_guard(model, q, held=False) == (0.0, 0.0)
     assert rk4.falling_guard(model, q, held=True) == (0.0, 0.0)
     lubricated = compile_bearing(dataclasses.replace(bearing, contact=dataclasses.replace(c, law="ehl_bair_winer")))

@@ -172,7 +172,8 @@ def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
     stretch's steps are its length over the case's step (the phases' edges are whole
     output intervals, which the step divides): the longer step where the loads and speed
     are held, in the steady phase but for its last ``HELD_END_MARGIN``
-    (rvcore.integrate.schedule), and together they are the whole cycle's."""
+    (rvcore.integrate.schedule), and in the unload after the deceleration (the ring at
+    standstill, the loads falling), and together they are the whole cycle's."""
     from pipeline.schema import load_bearing, load_profile
     from pipeline.schema.shipped import shipped_file
     from rvcore.integrate.schedule import HELD_END_MARGIN
@@ -190,11 +191,12 @@ def test_phase_cost_cuts_the_cycle_at_the_phases_and_counts_every_step_once():
     assert all(a[1] == b[0] for a, b in zip(windows, windows[1:]))
     whole = run_case(bearing, profile, op, SolverSettings()).info
     steps = [f[f"phase_steps_{k}"] for k in range(len(windows))]
-    held = [name == "steady" for name in f["phase_names"]]
     assert whole["held_time_step"] > whole["time_step"]
     m = HELD_END_MARGIN
-    assert steps == [round((b - a - m) / whole["held_time_step"]) + round(m / whole["time_step"]) if h
-                     else round((b - a) / whole["time_step"]) for (a, b), h in zip(windows, held)]
+    expected = {"steady": lambda a, b: round((b - a - m) / whole["held_time_step"]) + round(m / whole["time_step"]),
+                f"after {names[-1]}": lambda a, b: round((b - a) / whole["held_time_step"])}
+    plain = lambda a, b: round((b - a) / whole["time_step"])   # noqa: E731
+    assert steps == [expected.get(name, plain)(a, b) for (a, b), name in zip(windows, f["phase_names"])]
     assert sum(steps) == whole["steps"]
 
 
