@@ -68,28 +68,40 @@ N_SEG = 8
 HELD_END_MARGIN = 0.01
 
 
-def held_windows(resolved, t_start: float, t_end: float) -> list:
-    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` over which every channel of
-    the resolved profile is constant.
+def _windows_where(resolved, t_start: float, t_end: float, holds) -> list:
+    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` joined from the intervals
+    between consecutive breakpoints of all the channels together for which
+    ``holds(value, a, b)`` is true, ``value(c, t)`` the resolved channel ``c`` at ``t``.
 
-    Between two consecutive breakpoints of all the channels together each channel's
-    interpolation (linear or smoothstep) is monotone, so it is constant there if and only
-    if its values at both ends agree; the windows join such intervals.
-    """
+    Between two such breakpoints each channel's interpolation (linear or smoothstep) is
+    monotone, so what its values at both ends say holds throughout."""
     tables = resolved.channels()
     table, meta = resolved.arrays()
+
+    def value(c, t):
+        return channel_value(table, meta, c, t)
+
     knots = sorted({float(t) for times, _, _ in tables for t in times if t_start < t < t_end}
                    | {t_start, t_end})
     windows = []
     for a, b in zip(knots[:-1], knots[1:]):
-        held = all(channel_value(table, meta, c, a) == channel_value(table, meta, c, b) for c in range(len(tables)))
-        if not held:
+        if not holds(value, a, b):
             continue
         if windows and windows[-1][1] == a:
             windows[-1] = (windows[-1][0], b)
         else:
             windows.append((a, b))
     return windows
+
+
+def held_windows(resolved, t_start: float, t_end: float) -> list:
+    """The windows ``(a, b)`` [s] within ``[t_start, t_end]`` over which every channel of
+    the resolved profile is constant: between two breakpoints a channel is constant if and
+    only if its values at both ends agree (:func:`_windows_where`).
+    """
+    n = len(resolved.channels())
+    return _windows_where(resolved, t_start, t_end,
+                          lambda value, a, b: all(value(c, a) == value(c, b) for c in range(n)))
 
 
 def unloading_windows(resolved, t_start: float, t_end: float) -> list:
@@ -98,31 +110,17 @@ def unloading_windows(resolved, t_start: float, t_end: float) -> list:
     and the moment keep their signs and do not grow in magnitude, and the load's direction
     is held (the study cycle's unload, 4.3–4.6 s).
 
-    Between two consecutive breakpoints of all the channels together each channel is
-    monotone (:func:`held_windows`), so a channel whose values at both ends have the same
-    sign (or a zero) and a magnitude no larger at the end does not grow in magnitude there.
+    Between two breakpoints a channel is monotone (:func:`_windows_where`), so one whose
+    values at both ends have the same sign (or a zero) and a magnitude no larger at the end
+    does not grow in magnitude there.
     """
-    tables = resolved.channels()
-    table, meta = resolved.arrays()
+    def unloading(value, a, b):
+        return (value(CH_SPEED, a) == 0.0 and value(CH_SPEED, b) == 0.0
+                and value(CH_DIRECTION, a) == value(CH_DIRECTION, b)
+                and all(value(c, a) * value(c, b) >= 0.0 and abs(value(c, b)) <= abs(value(c, a))
+                        for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT)))
 
-    def at(c, t):
-        return channel_value(table, meta, c, t)
-
-    knots = sorted({float(t) for times, _, _ in tables for t in times if t_start < t < t_end}
-                   | {t_start, t_end})
-    windows = []
-    for a, b in zip(knots[:-1], knots[1:]):
-        unloading = (at(CH_SPEED, a) == 0.0 and at(CH_SPEED, b) == 0.0
-                     and at(CH_DIRECTION, a) == at(CH_DIRECTION, b)
-                     and all(at(c, a) * at(c, b) >= 0.0 and abs(at(c, b)) <= abs(at(c, a))
-                             for c in (CH_RADIAL, CH_AXIAL, CH_MOMENT)))
-        if not unloading:
-            continue
-        if windows and windows[-1][1] == a:
-            windows[-1] = (windows[-1][0], b)
-        else:
-            windows.append((a, b))
-    return windows
+    return _windows_where(resolved, t_start, t_end, unloading)
 
 
 def held_tableau_windows(resolved, t_start: float, t_end: float) -> list:
