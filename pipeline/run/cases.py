@@ -13,6 +13,7 @@ from __future__ import annotations
 import time
 import traceback
 from dataclasses import dataclass
+from pathlib import Path
 
 import xarray as xr
 
@@ -120,7 +121,8 @@ def compute_and_write(spec: CaseSpec, case_fn=None, cases_dir=None, source: str 
                       sweep_name: str = "", marker: str = "") -> CaseOutcome:
     """:func:`compute_case`, then, where this process sees the sweep's ``cases_dir`` (its
     ``marker`` file is there), label the result and write ``<cases_dir>/<case id>.nc``
-    atomically here.
+    atomically here. There the run's core cases also share their starts with the other
+    workers' through the folder beside the marker (:func:`starts_folder`).
 
     Parameters
     ----------
@@ -144,12 +146,17 @@ def compute_and_write(spec: CaseSpec, case_fn=None, cases_dir=None, source: str 
         when the place is at fault (nothing else is wrong with the case); a case whose
         arrays cannot be written fails with the reason.
     """
-    from pathlib import Path
-
     from ..io import WriteError, file_digest, write_atomic
 
-    outcome = compute_case(spec, case_fn)
-    if not outcome.ok or cases_dir is None or not marker or not (Path(cases_dir) / marker).is_file():
+    here = cases_dir is not None and bool(marker) and (Path(cases_dir) / marker).is_file()
+    if here and case_fn is None:
+        share_starts(Path(cases_dir) / starts_folder(marker))
+    try:
+        outcome = compute_case(spec, case_fn)
+    finally:
+        if here and case_fn is None:
+            share_starts(None)
+    if not outcome.ok or not here:
         return outcome
     try:
         ds = label_case(spec, outcome.result, source=source or source_name(case_fn), sweep_name=sweep_name)
@@ -163,6 +170,23 @@ def compute_and_write(spec: CaseSpec, case_fn=None, cases_dir=None, source: str 
         outcome.traceback = traceback.format_exc()
     outcome.result = None   # the file holds it; nothing large goes back to the parent
     return outcome
+
+
+def starts_folder(marker: str) -> str:
+    """The name of the folder beside a run's marker file in ``cases/`` through which its
+    workers share the starts of the grid's speeds (:mod:`rvcore.simulation.shared_start`):
+    ``.rvsweep-<random>.starts``. The run makes it and removes it when it ends."""
+    return marker.rsplit(".", 1)[0] + ".starts"
+
+
+def share_starts(folder) -> None:
+    """Let this process's starts (``rvcore.simulation.shared_start.STARTS``) be shared
+    through ``folder`` where the run made it (None, or a folder that is not there: keep
+    them to this process)."""
+    from rvcore.simulation.shared_start import STARTS
+
+    ok = folder is not None and Path(folder).is_dir() and not Path(folder).is_symlink()
+    STARTS.share(folder if ok else None)
 
 
 def label_case(spec: CaseSpec, result, *, source: str = "rvcore.simulation.run.run_case",

@@ -71,7 +71,7 @@ from ..schema import MODEL_VERSION, OPERATING_POINT, Sweep, format_quantity, rea
 from ..schema.caseids import hash_id
 from . import cluster
 from .cases import (CaseOutcome, compute_case, failure_reason, label_case, run_one_case,
-                    source_name)
+                    source_name, starts_folder)
 from .cluster import DEFAULT_ALLOWED_FAILURES
 from .corners import store_corner_statics_or_warn
 
@@ -310,20 +310,29 @@ _MARKER = ".rvsweep-{}.here"
 
 
 def _here_marker(cases_dir: Path, stack) -> str:
-    """Make this run's marker file in ``cases_dir`` (removed when ``stack`` closes; those
-    of killed runs first) and return its name; '' when it cannot be made (the parent then
-    writes every case file)."""
+    """Make this run's marker file in ``cases_dir`` and the folder beside it through which
+    its workers share their starts (:func:`pipeline.run.cases.starts_folder`), both removed
+    when ``stack`` closes (those of killed runs first), and return the marker's name; ''
+    when it cannot be made (the parent then writes every case file)."""
+    import shutil
     import uuid
 
     for old in cases_dir.glob(_MARKER.format("*")):
         with contextlib.suppress(OSError):
             old.unlink()
+    for old in cases_dir.glob(starts_folder(_MARKER.format("*"))):
+        if old.is_dir() and not old.is_symlink():
+            shutil.rmtree(old, ignore_errors=True)
     name = _MARKER.format(uuid.uuid4().hex)
     try:
         (cases_dir / name).touch()
     except OSError:
         return ""
     stack.callback(lambda: (cases_dir / name).unlink(missing_ok=True))
+    starts = cases_dir / starts_folder(name)
+    with contextlib.suppress(OSError):
+        starts.mkdir()
+        stack.callback(lambda: shutil.rmtree(starts, ignore_errors=True))
     return name
 
 

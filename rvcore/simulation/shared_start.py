@@ -17,14 +17,21 @@ its start was computed or copied.
 
 Where the speed is not zero at the run's start (a profile that starts turning, a run that
 starts later) nothing is shared and the run is one call.
+
+A sweep's workers share their starts through a folder as well (:meth:`StartStore.share`):
+a start computed by one worker is written there (``<key>.npz``, every array as it is), and
+a worker that has not computed it reads it instead. Two workers on one machine took each
+start's turn of a load's speeds from each other and computed every start about twice.
 """
 from __future__ import annotations
 
 import dataclasses
 import hashlib
 import math
+import os
 import threading
 from collections import OrderedDict
+from pathlib import Path
 
 import numpy as np
 
@@ -96,6 +103,37 @@ class Start:
         return Start(self.y.copy(), self.scratch.copy(), self.diag.copy(), self.bdiag.copy(), self.acc.copy(),
                      self.out.copy(), self.out_time.copy())
 
+    def save(self, path) -> None:
+        """Write every array of the start to ``path`` (``.npz``, uncompressed), atomically:
+        a temporary name beside it, then ``os.replace``."""
+        from rvcore.integrate.loop import Scratch
+
+        path = Path(path)
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.{threading.get_ident()}.tmp")
+        s = self.scratch
+        arrays = {name: getattr(self, name) for name in _START_ARRAYS}
+        arrays.update({f"scratch_{name}": getattr(s, name) for name in _SCRATCH_ARRAYS})
+        if not isinstance(s, Scratch):
+            raise TypeError(f"a start's scratch is a Scratch, not {type(s).__name__}")
+        try:
+            with open(tmp, "wb") as fh:
+                np.savez(fh, method_name=np.array(s.method_name), **arrays)
+            os.replace(tmp, path)
+        finally:
+            tmp.unlink(missing_ok=True)
+
+    @classmethod
+    def load(cls, path) -> "Start":
+        """The start :meth:`save` wrote to ``path`` (no pickled objects are read)."""
+        from rvcore.integrate.loop import Scratch
+
+        with np.load(path, allow_pickle=False) as f:
+            scratch = object.__new__(Scratch)
+            scratch.method_name = str(f["method_name"])
+            for name in _SCRATCH_ARRAYS:
+                setattr(scratch, name, f[f"scratch_{name}"])
+            return cls(scratch=scratch, **{name: f[name] for name in _START_ARRAYS})
+
     @property
     def nbytes(self) -> int:
         """The bytes its arrays hold [B]."""
@@ -104,11 +142,22 @@ class Start:
                                       s.jwork, s.schur, s.state, s.inner, s.carry))
 
 
+#: The arrays of a :class:`Start` and of its scratch (:class:`rvcore.integrate.loop.Scratch`).
+_START_ARRAYS = ("y", "diag", "bdiag", "acc", "out", "out_time")
+_SCRATCH_ARRAYS = ("work", "jwork", "schur", "state", "inner", "carry")
+
+
 class StartStore:
     """The last :data:`KEEP` starts a process computed (no more than :data:`BUDGET` bytes
     of them but the newest), by :func:`start_key`; ``hits`` and ``misses`` count the
-    lookups. Safe to share between threads (cases run in threads, the kernels releasing
-    the GIL)."""
+    lookups, ``shared`` the hits read from the folder. Safe to share between threads
+    (cases run in threads, the kernels releasing the GIL).
+
+    With a folder (:meth:`share`), every start put is also written there as
+    ``<key>.npz`` (:meth:`Start.save`), and a start this process has not computed is read
+    from there when another process wrote it. The key hashes everything the start's
+    computation reads, not the code: a folder serves one run of one code (a sweep's
+    workers; the sweep makes it and removes it)."""
 
     def __init__(self, keep: int = KEEP, budget: int = BUDGET):
         self.keep = keep
@@ -117,32 +166,66 @@ class StartStore:
         self._lock = threading.Lock()
         self.hits = 0
         self.misses = 0
+        self.shared = 0
+        self.folder = None
+
+    def share(self, folder) -> None:
+        """Share the starts through ``folder`` (an existing folder; None: this process's
+        alone)."""
+        self.folder = Path(folder) if folder is not None else None
 
     def get(self, key: str):
-        """A copy of the start stored under ``key``, or None."""
+        """A copy of the start stored under ``key`` (here, else in the folder), or None."""
         with self._lock:
             start = self._starts.get(key)
+            if start is not None:
+                self.hits += 1
+                self._starts.move_to_end(key)
+                return start.copy()
+            folder = self.folder
+        start = self._read(folder, key) if folder is not None else None
+        with self._lock:
             if start is None:
                 self.misses += 1
                 return None
             self.hits += 1
-            self._starts.move_to_end(key)
+            self.shared += 1
+            self._keep(key, start)
             return start.copy()
 
+    @staticmethod
+    def _read(folder: Path, key: str):
+        path = folder / f"{key}.npz"
+        try:
+            return Start.load(path)
+        except Exception:   # none there (yet), or not whole (zipfile, numpy, OSError): compute it
+            return None
+
     def put(self, key: str, start: Start) -> None:
-        """Store a copy of ``start`` under ``key``, dropping the oldest beyond :data:`KEEP`."""
+        """Store a copy of ``start`` under ``key``, dropping the oldest beyond :data:`KEEP`;
+        with a folder, write it there too."""
+        folder = self.folder
+        if folder is not None:
+            try:
+                start.save(folder / f"{key}.npz")
+            except OSError:   # a full disk or a folder gone: the others compute it themselves
+                pass
         start = start.copy()
         with self._lock:
-            self._starts[key] = start
-            self._starts.move_to_end(key)
-            held = sum(s.nbytes for s in self._starts.values())
-            while len(self._starts) > 1 and (len(self._starts) > self.keep or held > self.budget):
-                held -= self._starts.popitem(last=False)[1].nbytes
+            self._keep(key, start)
+
+    def _keep(self, key: str, start: Start) -> None:
+        """Hold ``start`` (the caller holds the lock)."""
+        self._starts[key] = start
+        self._starts.move_to_end(key)
+        held = sum(s.nbytes for s in self._starts.values())
+        while len(self._starts) > 1 and (len(self._starts) > self.keep or held > self.budget):
+            held -= self._starts.popitem(last=False)[1].nbytes
 
     def clear(self) -> None:
         with self._lock:
             self._starts.clear()
-            self.hits = self.misses = 0
+            self.hits = self.misses = self.shared = 0
 
 
 #: This process's starts (:func:`rvcore.simulation.run.run_case` reads and fills it).

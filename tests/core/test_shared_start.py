@@ -106,6 +106,38 @@ def test_a_case_whose_start_was_copied_is_the_case_computed_alone():
     assert (store.hits, store.misses) == (1, 3)
 
 
+def test_two_processes_share_a_start_through_a_folder(tmp_path):
+    """Two stores (two workers) sharing a folder: the second takes the start the first
+    computed from the folder, and its case is the case computed alone, bit for bit; a
+    start file that does not read is computed again, and a store without the folder
+    computes its own."""
+    bearing = section_bearing()
+    profile = scaled_study_profile(0.01)
+    settings = SolverSettings(output_rate=1e4, seed=1)
+    slow = dataclasses.replace(OP, speed=math.radians(120.0))
+    first, second = StartStore(), StartStore()
+    first.share(tmp_path)
+    second.share(tmp_path)
+    run_case(bearing, profile, OP, settings, starts=first)
+    files = list(tmp_path.glob("*.npz"))
+    assert len(files) == 1 and not list(tmp_path.glob(".*"))     # written whole, no temporary left
+    shared = run_case(bearing, profile, slow, settings, starts=second)
+    assert (second.hits, second.misses, second.shared) == (1, 0, 1)
+    _same(shared, run_case(bearing, profile, slow, settings, starts=None))
+    # a damaged file is no start: the third computes its own, and writes it whole again
+    files[0].write_bytes(files[0].read_bytes()[:1000])
+    third = StartStore()
+    third.share(tmp_path)
+    again = run_case(bearing, profile, slow, settings, starts=third)
+    assert (third.hits, third.misses) == (0, 1)
+    _same(again, shared)
+    assert files[0].stat().st_size > 1000
+    # a store without the folder does not look there
+    alone = StartStore()
+    run_case(bearing, profile, slow, settings, starts=alone)
+    assert (alone.hits, alone.misses) == (0, 1)
+
+
 def test_flexible_lubricated_rings_copy_their_start_bit_for_bit():
     """The same on the 12-ball section with the lubricated law and both rings flexible
     (their modes are states, their block of the IMEX scratch is carried over too)."""

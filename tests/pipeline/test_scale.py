@@ -379,6 +379,44 @@ def test_a_worker_that_does_not_see_the_folder_returns_the_result(tmp_path):
     assert (elsewhere / f"{spec.case_id}.nc").is_file()
 
 
+def test_the_workers_share_their_starts_through_the_runs_folder(tmp_path, monkeypatch):
+    """Where a worker sees the run's marker, the core's cases share their starts through
+    the folder beside it (rvcore.simulation.shared_start) while they run, and only then; a
+    run makes that folder, removes it at its end, and removes a killed run's first, but not
+    a link of that name (nor what it points to)."""
+    import rvcore.simulation.run as driver
+    from contextlib import ExitStack
+
+    from pipeline.run.cases import compute_and_write, starts_folder
+    from pipeline.run.runner import _here_marker
+    from rvcore.simulation.shared_start import STARTS
+
+    seen = []
+
+    def core(*args, **kwargs):
+        seen.append(STARTS.folder)
+        return synthetic_case(*args, **kwargs)
+
+    monkeypatch.setattr(driver, "run_case", core)
+    spec = read_sweep_file(make_sweep(tmp_path, GRID)).cases[0]
+    cases = tmp_path / "cases"
+    cases.mkdir()
+    stale = cases / ".rvsweep-0ld.starts"
+    stale.mkdir()
+    (stale / "k.npz").write_bytes(b"x")
+    keep = tmp_path / "keep"
+    keep.mkdir()
+    (cases / ".rvsweep-1ink.starts").symlink_to(keep)
+    with ExitStack() as stack:
+        marker = _here_marker(cases, stack)
+        folder = cases / starts_folder(marker)
+        assert folder.is_dir() and not stale.exists()
+        assert compute_and_write(spec, None, cases_dir=str(cases), marker=marker).written
+        assert compute_and_write(spec, None, cases_dir=str(cases), marker=".rvsweep-other.here").result is not None
+    assert seen == [folder, None] and STARTS.folder is None
+    assert not folder.exists() and keep.is_dir() and (cases / ".rvsweep-1ink.starts").is_symlink()
+
+
 # --------------------------------------------------------------------------- the report
 
 
