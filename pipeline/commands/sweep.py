@@ -40,6 +40,13 @@ def add_arguments(parser):
     parser.add_argument("--yes", action="store_true",
                         help=f"start a sweep of more than {CONFIRM_CASES} cases to compute or of "
                              f"more than {CONFIRM_SECONDS / 3600:.0f} h estimated (refused without it)")
+    parser.add_argument("--report", action="store_true",
+                        help="then write the sweep's metrics, fits and report in this process, as "
+                             "`rvsweep report <out>/<name>` would (also after failed cases; not after a "
+                             "stop); the report's options below go with it")
+    from .report import add_report_options
+
+    add_report_options(parser.add_argument_group("the report's options (with --report)"))
 
 
 def sweep_path(arg) -> Path:
@@ -175,6 +182,11 @@ def run(args) -> int:
                             "--scheduler, --scheduler-file or --serial")
     check_scheduler(args)
     check_out_option(args.out)   # before any work
+    from .report import check_report_options, report_options_given, write_report
+
+    if not args.report and report_options_given(args):
+        raise UserError(f"{report_options_given(args)[0]}: a report option; it needs --report")
+    targets = check_report_options(args) if args.report else {}
     sweep = read_sweep_file(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
     writable_folder(out / "cases", f"--out {args.out}")
@@ -194,5 +206,7 @@ def run(args) -> int:
                     sys.stdout.flush()
                 os._exit(128 + stop.signum)
             return 130
-    print(summary(result))
+    print(summary(result), flush=True)
+    if args.report:
+        write_report(out, args, targets)
     return 0 if result.ok else 1

@@ -229,7 +229,7 @@ def build_report(directory, reference=None, targets=None, dry=None) -> ReportFil
     targets : dict, optional
         The headline's targets, key -> value in its summary column's unit (s₀ [1], L10r
         [Mrev], start-up torque [N m], k_r and k_a [N/µm], k_θ [N m/mrad]), as
-        :func:`.headline.parse_targets` returns them; default none (no pass/fail mark).
+        :func:`.targets.parse_targets` returns them; default none (no pass/fail mark).
     dry : path-like, optional
         A dry sweep of the same grid, compared point by point with this (lubricated) one
         (:mod:`.lubricated_vs_dry`); default none.

@@ -61,7 +61,7 @@ class Context:
     #: The summary values (:func:`.summary.summary_values`) and the CSV written of them.
     summary: object = None
     summary_path: Path | None = None
-    #: The headline's targets, key -> value in its column's unit (:func:`.headline.parse_targets`).
+    #: The headline's targets, key -> value in its column's unit (:func:`.targets.parse_targets`).
     targets: dict = field(default_factory=dict)
     #: The measured traces stored in ``measured/`` (:func:`pipeline.analysis.measured.read_measured`),
     #: their group of ``metrics.nc`` and their fits (dims ``speed``, ``radial_load``); empty when none.

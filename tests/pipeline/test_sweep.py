@@ -307,6 +307,27 @@ def test_a_failing_case_is_recorded_and_the_others_finish(grid_sweep, tmp_path, 
         assert int((ds["case_status"] == 0).sum()) == 3
 
 
+def test_sweep_with_report_writes_the_report_in_its_process_also_after_a_failed_case(
+        grid_sweep, tmp_path, monkeypatch, capsys):
+    """``rvsweep sweep --report``: the report of the folder the sweep wrote, as
+    ``rvsweep report`` writes it, after the summary and also where a case failed (the exit
+    status still says so); a report option without --report is refused before any case."""
+    monkeypatch.setattr(rvcore.simulation.run, "run_case", failing_case)
+    out = tmp_path / "res"
+    assert main(["sweep", str(grid_sweep), "--out", str(out), "--serial", "--no-progress", "--target-s0", "2"]) == 2
+    assert "--target-s0: a report option; it needs --report" in capsys.readouterr().err
+    assert not out.exists()
+    code = main(["sweep", str(grid_sweep), "--out", str(out), "--serial", "--no-progress", "--report",
+                 "--target-s0", "2"])
+    assert code == 1
+    printed = capsys.readouterr().out
+    folder = out / "s"
+    assert printed.index("1 failed") < printed.index(f"wrote {folder / 'metrics.nc'}")
+    assert "note: 1 case(s) failed or missing" in printed
+    assert (folder / "report" / "report.html").is_file() and (folder / "fits.nc").is_file()
+    assert "| ≥ 2 |" in (folder / "report" / "report.md").read_text(encoding="utf-8")   # the target, in the headline
+
+
 def _spy_run_case(monkeypatch):
     calls = []
     monkeypatch.setattr(rvcore.simulation.run, "run_case", lambda *a, **k: calls.append(a))
