@@ -455,10 +455,9 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
     A case's time series on the common grid: ``x(t_k) = interp(t_k; t_case, x_case)``,
     NaN outside the case's window, exactly as :func:`combine_cases`.
     """
-    import dask
     import h5py
 
-    from .netcdf import combined_encoding
+    from .netcdf import combined_encoding, declare_netcdf
 
     axes = list(axes)
     shape = tuple(len(a.values) for a in axes)
@@ -502,16 +501,7 @@ def write_streamed(path, axes, entries, scan: CaseScan, *, output_rate: float | 
     layout = xr.Dataset(data_vars=data, coords=coords, attrs=dict(attrs or {}))
     encoding = (encoding_of or combined_encoding)(layout, case_dims)
 
-    try:
-        from xarray.backends.writers import to_netcdf as _declare
-    except ImportError:   # xarray before 2025.x
-        from xarray.backends.api import to_netcdf as _declare
-    # the variables are declared here, not written: the synchronous scheduler keeps xarray
-    # from taking a distributed lock while a Client is active
-    with dask.config.set(scheduler="synchronous"):
-        _, store = _declare(layout, str(path), engine="netcdf4", format="NETCDF4",
-                            encoding=encoding, multifile=True)
-    store.close()
+    declare_netcdf(layout, path, encoding)   # the variables declared, not written
     spectrum_freq = scan.spectrum["frequency"][0] if scan.spectrum else None
     files = {e.at: e.path for e in entries if e.path is not None}
     trailing = {k: tuple(sizes[d] for d in dims_of[k]) for k in kept}

@@ -24,7 +24,7 @@ from pathlib import Path
 import xarray as xr
 
 from ..errors import UserError
-from .netcdf import encoding_for
+from .netcdf import encoding_for, write_netcdf
 
 TEMP_SUFFIX = ".tmp"
 
@@ -196,19 +196,14 @@ def write_atomic(ds: xr.Dataset, path, encoding: dict | None = None) -> Path:
     and Windows. On any error the temporary file is removed and ``path`` is untouched.
     A failure that is the place's fault (a full disk, a read-only file system, no
     permission) raises :class:`WriteError`: one line naming ``path`` and the reason.
-    No distributed lock is taken, whatever dask client is active.
+    No distributed lock is taken, whatever dask client is active: while a distributed
+    Client is active, xarray would take a scheduler-wide write lock (a round trip to the
+    scheduler, and where a signal could leave the write hung); the synchronous scheduler
+    gives it a plain in-process lock instead (:func:`pipeline.io.netcdf.write_netcdf`).
     """
-    import dask
-
     path = Path(path)
     with netcdf_atomic(path) as tmp:
-        # The data are numpy arrays in this process. While a distributed Client is
-        # active, xarray would take a scheduler-wide write lock (a round trip to the
-        # scheduler, and where a signal could leave the write hung); the synchronous
-        # scheduler gives it a plain in-process lock instead.
-        with dask.config.set(scheduler="synchronous"):
-            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                         encoding=encoding_for(ds) if encoding is None else encoding)
+        write_netcdf(ds, tmp, encoding_for(ds) if encoding is None else encoding)
         _pause_for_tests(path, tmp)
     return path
 

@@ -509,8 +509,11 @@ def test_case_files_alone_combine_as_sweep_nc(grid_sweep, tmp_path):
 
 
 def test_case_files_are_written_atomically(tmp_path, monkeypatch):
-    """write_case goes through the one atomic writer: a failing write leaves the old file
-    and no temporary behind."""
+    """write_case goes through the one atomic writer: a write that fails half-way (the
+    file declared, its values not yet written) leaves the old file and no temporary
+    behind."""
+    import h5py
+
     from pipeline.io import case_dataset, write_case
 
     ds = case_dataset(synthetic_result(math.radians(120.0), 20e3), speed=math.radians(120.0),
@@ -518,12 +521,18 @@ def test_case_files_are_written_atomically(tmp_path, monkeypatch):
     path = tmp_path / "case.nc"
     write_case(ds, path)
     before = path.read_bytes()
+    real = h5py.File
+    opened = []
 
-    def broken(self, *args, **kwargs):
-        raise OSError("disk full")
+    def broken(name, mode="r", *args, **kwargs):
+        if mode != "r":
+            opened.append(Path(name))
+            assert Path(name).is_file()          # the temporary file, declared
+            raise OSError("disk full")
+        return real(name, mode, *args, **kwargs)
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", broken)
+    monkeypatch.setattr(h5py, "File", broken)
     with pytest.raises(OSError, match="disk full"):
         write_case(ds, path)
-    assert path.read_bytes() == before
+    assert path.read_bytes() == before and len(opened) == 1 and opened[0] != path
     assert [p.name for p in tmp_path.iterdir()] == ["case.nc"]

@@ -165,24 +165,28 @@ def _enospc(*args, **kwargs):
 def test_a_full_disk_while_writing_cases_stops_in_one_line(tmp_path, monkeypatch, capsys):
     """The second case file hits a full disk: one line naming it, exit != 0, the first
     case kept, and a rerun (disk freed) computes only the rest."""
+    import netCDF4
+
     path = make_sweep(tmp_path, GRID)
-    real = xr.Dataset.to_netcdf
+    real = netCDF4.Dataset
     calls = []
 
-    def full_after_one(self, target, *args, **kwargs):
-        calls.append(target)
-        if len(calls) >= 2:
-            _enospc()
-        return real(self, target, *args, **kwargs)
+    class FullAfterOne(real):   # reading still works
+        def __init__(self, filename, mode="r", *args, **kwargs):
+            if mode != "r":
+                calls.append(filename)
+                if len(calls) >= 2:
+                    _enospc()
+            super().__init__(filename, mode, *args, **kwargs)
 
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", full_after_one)
+    monkeypatch.setattr(netCDF4, "Dataset", FullAfterOne)
     _synthetic_cli(monkeypatch)
     code = main(["sweep", str(path), "--out", str(tmp_path), "--serial", "--no-progress"])
     err = _one_line(capsys.readouterr().err)
     assert code != 0 and "No space left on device" in err and ".nc" in err, err
     out = tmp_path / "s"
     assert len(case_files(out)) == 1 and not list((out / "cases").glob(".*.tmp"))
-    monkeypatch.setattr(xr.Dataset, "to_netcdf", real)
+    monkeypatch.setattr(netCDF4, "Dataset", real)
     again = Counting()
     result = run_sweep(path, out, serial=True, case_fn=again, progress=False)
     assert result.ok and len(again.calls) == 3 and len(result.reused) == 1
