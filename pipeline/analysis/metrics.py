@@ -139,8 +139,9 @@ def open_results(directory, *, lazy: bool = False) -> xr.Dataset:
             if lazy:
                 ds = xr.open_dataset(path, engine="netcdf4")
                 lazy_ds = strip_encoding(ds)
-                for name in [n for n, v in lazy_ds.data_vars.items() if _per_case_values(v)]:
-                    lazy_ds[name] = lazy_ds[name].copy(data=read_in_slabs(lazy_ds[name].variable))
+                # one assignment of them all (one at a time merged the dataset again each time)
+                lazy_ds = lazy_ds.assign({name: v.copy(data=read_in_slabs(v.variable))
+                                          for name, v in lazy_ds.data_vars.items() if _per_case_values(v)})
                 lazy_ds.set_close(ds.close)
                 return lazy_ds
             with xr.open_dataset(path, engine="netcdf4") as ds:
