@@ -26,10 +26,14 @@ help:  ## list the targets
 
 # The package alone for the sweeps and reports; with its test extras (pytest, hypothesis,
 # compliance-checker and what they need: 1.6 s of an 18 s venv) for the tests, in one
-# install where the tests come first.
+# install where the tests come first. The venv's pip is the newest, put there by the
+# system's pip (`--python`, pip >= 22.3): 2 s, against 5 s for venv's own bundled pip and
+# its upgrade; where that cannot run, the bundled pip (ensurepip) is upgraded instead.
+# pip 26 installs the package in 12.8 s against 17.9 s for Python 3.11's bundled 23.2.
 define install
-	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(PYTHON) -m venv --without-pip $(VENV)
+	$(PYTHON) -m pip --python $(BIN)/python install --quiet --upgrade pip 2>/dev/null || \
+	  { $(BIN)/python -m ensurepip && $(BIN)/python -m pip install --quiet --upgrade pip; }
 	$(BIN)/python -m pip install --quiet --no-compile -e '$(1)'
 	$(BIN)/python tools/compile_bytecode.py
 endef
