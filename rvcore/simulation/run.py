@@ -98,8 +98,20 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     # the grid's speeds share it (rvcore.simulation.shared_start)
     t_split = shared_until(resolved, t_start, t_end, settings.output_rate)
     still = zero_speed(profile, op) if t_split > t_start else resolved
-    y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
-         else initial_state(model, still, t_start, seed=int(settings.seed), rings=rings if flexing else None))
+    # the start's initial state and peak load, which the speeds of a load and seed share
+    pre_key = (start_key("initial state", (model.params, model.rows, model.arcs, model.pockets) + still.arrays(),
+                         (t_start, int(settings.seed)))
+               if starts is not None and t_split > t_start and initial_state_vector is None and not flexing
+               else None)
+    pre = starts.initial(pre_key) if pre_key is not None else None
+    if pre is not None:
+        y, q_still = pre
+    else:
+        y = (np.array(initial_state_vector, dtype=float) if initial_state_vector is not None
+             else initial_state(model, still, t_start, seed=int(settings.seed), rings=rings if flexing else None))
+        q_still = peak_contact_load(model, still) if t_split > t_start else None
+        if pre_key is not None:
+            starts.keep_initial(pre_key, y, q_still)
     if y.shape != (model.n_states,):
         raise ValueError(f"initial state has {y.size} values; this bearing needs {model.n_states}")
 
@@ -108,7 +120,7 @@ def run_case(bearing, profile, op, settings: SolverSettings = SolverSettings(), 
     # the same times t_start + k/output_rate whatever its own stability limit; where the
     # loads and speed are held the step may be longer (rvcore.integrate.schedule). Each
     # part of a run in two is sized on its own profile's peak contact load.
-    parts = [(t_start, t_split, still, peak_contact_load(model, still))] if t_split > t_start else []
+    parts = [(t_start, t_split, still, q_still)] if t_split > t_start else []
     parts.append((t_split, t_end, resolved, q_peak))
     schedules = [step_schedule(method, model, q, res, a, b, settings.output_rate, safety=settings.step_safety,
                                time_step=settings.time_step) for a, b, res, q in parts]

@@ -79,21 +79,28 @@ def _same(a, b):
         assert a.info[key] == b.info[key], key
 
 
-def test_a_case_whose_start_was_copied_is_the_case_computed_alone():
+def test_a_case_whose_start_was_copied_is_the_case_computed_alone(monkeypatch):
     """The 12-ball section on the study cycle scaled to 46 ms (the ring still until 3 ms),
-    two seeds: the second speed of a load and seed takes the first's start from the store
-    and gives the same bits as computed alone; another load or seed computes its own."""
+    two seeds: the second speed of a load and seed takes the first's start, its initial
+    state and the start's peak load from the store (no statics solved for them) and gives
+    the same bits as computed alone; another load or seed computes its own."""
+    import rvcore.simulation.run as driver
+
+    solved = []
+    real = driver.initial_state
+    monkeypatch.setattr(driver, "initial_state", lambda *a, **k: solved.append(a[2]) or real(*a, **k))
     bearing = section_bearing()
     profile = scaled_study_profile(0.01)
     store = StartStore()
     slow = dataclasses.replace(OP, speed=math.radians(120.0))
     settings = SolverSettings(output_rate=1e4, seed=1)
     first = run_case(bearing, profile, OP, settings, starts=store)
-    assert (store.hits, store.misses) == (0, 1)
+    assert (store.hits, store.misses) == (0, 1) and len(solved) == 1
     assert first.info["shared_start_end"] == pytest.approx(0.003)
     shared = run_case(bearing, profile, slow, settings, starts=store)
-    assert (store.hits, store.misses) == (1, 1)
+    assert (store.hits, store.misses) == (1, 1) and len(solved) == 1
     _same(shared, run_case(bearing, profile, slow, settings, starts=None))
+    assert len(solved) == 2
     # the two speeds' outputs agree up to the start's end, and part after it
     start = first.time < first.info["shared_start_end"] - 5e-5
     assert start.sum() == 30
@@ -103,7 +110,7 @@ def test_a_case_whose_start_was_copied_is_the_case_computed_alone():
     # another seed or load: a start of its own
     run_case(bearing, profile, slow, dataclasses.replace(settings, seed=2), starts=store)
     run_case(bearing, profile, dataclasses.replace(slow, radial_load=20e3), settings, starts=store)
-    assert (store.hits, store.misses) == (1, 3)
+    assert (store.hits, store.misses) == (1, 3) and len(solved) == 4
 
 
 def test_two_processes_share_a_start_through_a_folder(tmp_path):
