@@ -384,11 +384,9 @@ def test_the_workers_share_their_starts_through_the_runs_folder(tmp_path, monkey
     the folder beside it (rvcore.simulation.shared_start) while they run, and only then; a
     run makes that folder, removes it at its end, and removes a killed run's first, but not
     a link of that name (nor what it points to)."""
+    import pipeline.run.cluster
     import rvcore.simulation.run as driver
-    from contextlib import ExitStack
-
-    from pipeline.run.cases import compute_and_write, starts_folder
-    from pipeline.run.runner import _here_marker
+    from pipeline.run.cases import compute_and_write
     from rvcore.simulation.shared_start import STARTS
 
     seen = []
@@ -398,23 +396,26 @@ def test_the_workers_share_their_starts_through_the_runs_folder(tmp_path, monkey
         return synthetic_case(*args, **kwargs)
 
     monkeypatch.setattr(driver, "run_case", core)
-    spec = read_sweep_file(make_sweep(tmp_path, GRID)).cases[0]
-    cases = tmp_path / "cases"
-    cases.mkdir()
+    monkeypatch.setattr(pipeline.run.cluster, "warm_up", lambda case_fn: 0.0)   # no kernels for a fake core
+    path = make_sweep(tmp_path, GRID)
+    cases = tmp_path / "s" / "cases"
+    cases.mkdir(parents=True)
     stale = cases / ".rvsweep-0ld.starts"
     stale.mkdir()
     (stale / "k.npz").write_bytes(b"x")
     keep = tmp_path / "keep"
     keep.mkdir()
     (cases / ".rvsweep-1ink.starts").symlink_to(keep)
-    with ExitStack() as stack:
-        marker = _here_marker(cases, stack)
-        folder = cases / starts_folder(marker)
-        assert folder.is_dir() and not stale.exists()
-        assert compute_and_write(spec, None, cases_dir=str(cases), marker=marker).written
-        assert compute_and_write(spec, None, cases_dir=str(cases), marker=".rvsweep-other.here").result is not None
-    assert seen == [folder, None] and STARTS.folder is None
-    assert not folder.exists() and keep.is_dir() and (cases / ".rvsweep-1ink.starts").is_symlink()
+    assert run_sweep(path, tmp_path / "s", serial=True, progress=False).ok
+    assert len(seen) == 4 and len(set(seen)) == 1 and seen[0] is not None
+    folder = seen[0]
+    assert folder.parent == cases and folder.name.startswith(".rvsweep-") and folder.name.endswith(".starts")
+    assert not folder.exists() and not stale.exists() and STARTS.folder is None
+    assert keep.is_dir() and (cases / ".rvsweep-1ink.starts").is_symlink()
+    # a worker that does not see this run's marker keeps its starts to itself
+    spec = read_sweep_file(path).cases[0]
+    assert compute_and_write(spec, None, cases_dir=str(cases), marker=".rvsweep-other.here").result is not None
+    assert seen[-1] is None
 
 
 # --------------------------------------------------------------------------- the report
