@@ -53,7 +53,7 @@ venv: $(TESTSTAMP)  ## create .venv and install the package with its test extras
 sweep: $(STAMP)  ## run SWEEP (default sweeps/study.toml) into OUT/<name>, then its report
 	$(BIN)/rvsweep sweep $(SWEEP) --out $(OUT) --report $(REPORTARGS)
 
-smoke:  ## the 3x3 smoke sweep (9 cases, about 20 s; a first run compiles numba first)
+smoke:  ## the 3x3 smoke sweep (9 cases, 8-16 s; a first run compiles numba first)
 	$(MAKE) sweep SWEEP=sweeps/smoke.toml
 
 report: $(STAMP)  ## the report for the last sweep of SWEEP (REPORTARGS: e.g. '--target-s0 2')
