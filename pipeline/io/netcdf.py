@@ -168,7 +168,9 @@ def write_netcdf(ds: xr.Dataset, path, encoding: dict) -> None:
 
     variables = ds.variables   # Variables, not DataArrays: 0.1 ms less each
     index = set(ds.indexes)
-    names = [k for k, v in variables.items() if k not in index and _filled_after(v, encoding.get(k, {}))]
+    # a variable's encoding is the one given for it, else its own (as xarray takes it)
+    names = [k for k, v in variables.items()
+             if k not in index and _filled_after(v, encoding[k] if k in encoding else v.encoding)]
     if not names or any(not isinstance(v.data, np.ndarray) for v in variables.values()):
         with dask.config.set(scheduler="synchronous"):
             ds.to_netcdf(path, engine="netcdf4", format="NETCDF4", encoding=encoding)

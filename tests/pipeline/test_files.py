@@ -210,12 +210,15 @@ def test_write_netcdf_gives_the_file_xarray_writes(tmp_path, monkeypatch):
          "flag": ("time", (t > 0.3).astype(np.int8), {"flag_values": np.array([0, 1], np.int8)}),
          "peak": ((), 3.5, {"units": "N"}),
          "packed": ("time", t * 2.0, {"units": "s"}),
+         "own": ("time", t * 3.0, {"units": "s"}),
          "none": ("empty", np.zeros(0))},
         coords={"time": ("time", t, {"units": "s"}), "speed": ((), 2.0, {"units": "rad s-1"}),
                 "position": ("sensor", np.array([0.1, 0.2])), "sensor": ("sensor", np.array(["a", "bb"]))},
         attrs={"Conventions": "CF-1.8", "title": "t"})
     enc = encoding_for(ds)
     enc["packed"] = {**enc["packed"], "dtype": "int16", "scale_factor": 0.01, "_FillValue": np.int16(-32768)}
+    del enc["own"]   # packed by its own encoding, which xarray takes where none is given
+    ds["own"].encoding = {"dtype": "int16", "scale_factor": 0.01, "_FillValue": np.int16(-32768)}
     ds.to_netcdf(tmp_path / "xarray.nc", engine="netcdf4", format="NETCDF4", encoding=enc)
     written = []
     real_open = h5py.h5d.open
