@@ -184,8 +184,9 @@ def run(args) -> int:
     check_out_option(args.out)   # before any work
     from .report import check_report_options, report_options_given, write_report
 
-    if not args.report and report_options_given(args):
-        raise UserError(f"{report_options_given(args)[0]}: a report option; it needs --report")
+    given = report_options_given(args)
+    if given and not args.report:
+        raise UserError(f"{given[0]}: a report option; it needs --report")
     targets = check_report_options(args) if args.report else {}
     sweep = read_sweep_file(sweep_path(args.sweep_file))   # every ConfigError before any case runs
     out = Path(args.out) / sweep.name
