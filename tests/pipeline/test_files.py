@@ -240,3 +240,23 @@ def test_write_netcdf_gives_the_file_xarray_writes(tmp_path, monkeypatch):
     write_netcdf(lazy, tmp_path / "lazy.nc", enc)
     assert written == []
     assert _netcdf_structure(tmp_path / "lazy.nc") == _netcdf_structure(tmp_path / "xarray.nc")
+
+
+def test_the_git_commit_is_asked_of_git_once_a_process(monkeypatch):
+    """A case file's ``git_commit`` is the tree's (``git rev-parse HEAD`` here, or '' outside
+    a checkout), and a worker's later cases take it without running git again."""
+    from pipeline.io import case
+
+    case.git_commit.cache_clear()
+    here = Path(case.__file__).resolve().parent
+    out = subprocess.run(["git", "rev-parse", "HEAD"], cwd=here, capture_output=True, text=True)
+    expected = out.stdout.strip() if out.returncode == 0 else ""
+    calls = []
+    run = subprocess.run
+    monkeypatch.setattr(case.subprocess, "run", lambda *a, **k: calls.append(a) or run(*a, **k))
+    try:
+        assert case.git_commit() == expected
+        assert case.git_commit() == expected
+        assert len(calls) == 1
+    finally:
+        case.git_commit.cache_clear()
