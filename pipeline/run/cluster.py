@@ -179,6 +179,22 @@ def client(*, workers, scheduler, scheduler_file, n_cases, allowed_failures):
         # The workers' sampling profiler wakes every 10 ms; on a machine with one core
         # per worker it takes its time from the cases.
         "distributed.worker.profile.enabled": False,
+        # Dask's own housekeeping, set for a sweep's long tasks on a cluster of a few
+        # processes (its loops run in the sweep's process, the scheduler's and the nannies',
+        # and in each worker beside its case): the event loops' health tick (20 ms by
+        # default, 50 wake-ups a second in every loop; its warning still comes after 3 s
+        # unresponsive), the memory monitors' polls (100 ms; a case's memory grows over
+        # seconds, and the nanny still stops a worker past 95 % of its limit), the system
+        # monitor's samples for a dashboard nobody reads (500 ms), and work stealing, which
+        # has nothing to steal with one task a worker and the rest queued on the scheduler.
+        # The sweep's process took 5-6 % of a core while the cases ran, 2.3-3.2 % so
+        # (docs/performance.md, "Dask's housekeeping").
+        "distributed.admin.tick.interval": "1s",
+        "distributed.worker.memory.monitor-interval": "1s",
+        "distributed.admin.system-monitor.interval": "5s",
+        "distributed.scheduler.work-stealing": False,
+        "distributed.deploy.cluster-repr-interval": "10s",
+        "distributed.scheduler.active-memory-manager.start": False,
     }
     with dask.config.set(settings):
         # Every listening socket on the loopback interface: the scheduler, the workers and
