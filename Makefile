@@ -25,7 +25,7 @@ help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  make %-10s %s\n", $$1, $$2}'
 
 # The package alone for the sweeps and reports; with its test extras (pytest, hypothesis,
-# compliance-checker and what they need: 1.6 s of an 18 s venv) for the tests, in one
+# compliance-checker and what they need) for the tests, in one
 # install where the tests come first. uv installs it (and a pip, for the venv's users):
 # the system's pip puts uv in the venv (`--python`, pip >= 22.3), and uv resolves and
 # links the wheels from its cache, 3.0-3.5 s for the venv against 9.5-12.4 s with pip 26
