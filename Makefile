@@ -25,22 +25,12 @@ help:  ## list the targets
 	@grep -E '^[a-z-]+:.*## ' $(MAKEFILE_LIST) | awk -F':.*## ' '{printf "  make %-10s %s\n", $$1, $$2}'
 
 # The package alone for the sweeps and reports; with its test extras (pytest, hypothesis,
-# compliance-checker and what they need) for the tests, in one
-# install where the tests come first. uv installs it (and a pip, for the venv's users):
-# the system's pip puts uv in the venv (`--python`, pip >= 22.3), and uv resolves and
-# links the wheels from its cache, 3.0-3.5 s for the venv against 9.5-12.4 s with pip 26
-# (three alternating fresh clones, 2026-11-29; the same versions). Where uv cannot be had
-# or cannot install (no wheel for the platform, an index only pip.conf names), pip does
-# it as before: the newest pip, put there by the system's pip, or venv's bundled one
-# (ensurepip) upgraded.
+# compliance-checker and what they need) for the tests, in one install where the tests
+# come first. tools/install_venv.sh makes the venv: uv installs, from a copy kept per user,
+# against the index at most once a day (pip where uv cannot); then the bytecode of what
+# the commands import (tools/compile_bytecode.py).
 define install
-	$(PYTHON) -m venv --without-pip $(VENV)
-	{ $(PYTHON) -m pip --python $(BIN)/python install --quiet uv 2>/dev/null && \
-	  $(BIN)/uv pip install --quiet --python $(BIN)/python -e '$(1)' pip; } || { \
-	  echo "uv unavailable: installing with pip"; \
-	  $(PYTHON) -m pip --python $(BIN)/python install --quiet --upgrade pip 2>/dev/null || \
-	  { $(BIN)/python -m ensurepip && $(BIN)/python -m pip install --quiet --upgrade pip; }; \
-	  $(BIN)/python -m pip install --quiet --no-compile -e '$(1)'; }
+	PYTHON=$(PYTHON) VENV=$(VENV) bash tools/install_venv.sh '$(1)'
 	$(BIN)/python tools/compile_bytecode.py
 endef
 
