@@ -11,6 +11,7 @@ never against numbers taken from the code under test.
 from __future__ import annotations
 
 import json
+import os
 import tracemalloc
 from pathlib import Path
 
@@ -35,6 +36,11 @@ def _grid(n_speeds: int, n_loads: int) -> str:
     speeds = ", ".join(f'"{120 + 60 * k} deg/s"' for k in range(n_speeds))
     loads = ", ".join(f'"{20 + k} kN"' for k in range(n_loads))
     return f'[axes]\nspeed = [{speeds}]\nradial_load = [{loads}]\n[fixed]\naxial_load = "10 kN"\n'
+
+
+#: 3 x 3 cases; failing_case fails the one at 660 deg/s, 40 kN.
+GRID_3X3 = ('[axes]\nspeed = ["120 deg/s", "390 deg/s", "660 deg/s"]\nradial_load = ["20 kN", "30 kN", "40 kN"]\n'
+            '[fixed]\naxial_load = "10 kN"\n')
 
 
 def uneven_case(bearing, profile, op, settings, sensors=()):
@@ -155,6 +161,111 @@ def test_the_combine_copies_the_case_files_chunks_and_reads_any_other(tmp_path, 
     memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
     streamed.attrs = {}
     assert memory.identical(streamed)
+
+
+def _noting_readers(monkeypatch, notes: Path):
+    """Each case file's read notes its process id in ``notes`` (the forked readers inherit it)."""
+    import pipeline.io.combine as combine
+
+    real = combine._case_slabs
+
+    def noted(*args, **kwargs):
+        with open(notes, "a") as f:
+            f.write(f"{os.getpid()}\n")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(combine, "_case_slabs", noted)
+
+
+def _values(path) -> xr.Dataset:
+    ds = xr.load_dataset(path)
+    ds.attrs.pop("history")
+    return ds
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
+@pytest.mark.parametrize("case_fn", [failing_case, uneven_case], ids=["same-times", "resampled"])
+def test_the_combine_reads_in_forked_readers_what_it_reads_here(tmp_path, monkeypatch, case_fn):
+    """9 cases, one failed: sweep.nc combined with its case files read in forked processes
+    holds what the combine reading them in this process writes: the same header, values and
+    attributes, and the same bytes but the history line's. The reads' process ids are not
+    this process's. In the second variant the cases' sample times differ: a reader finds the
+    file that differs from the first, and the combine starts again with every file scanned."""
+    import pipeline.io.combine as combine
+
+    path = make_sweep(tmp_path, GRID_3X3)
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=case_fn, progress=False,
+                       combine_at_end=False)
+    assert len(result.failed) == 1
+    notes = tmp_path / "pids"
+    _noting_readers(monkeypatch, notes)
+    forked = tmp_path / "forked.nc"
+    write_combined_sweep(result.sweep, result.out_dir, states=result.states).rename(forked)
+    pids = set(notes.read_text().split())
+    assert str(os.getpid()) not in pids and len(pids) >= 2, pids
+
+    notes.unlink()
+    monkeypatch.setattr(combine, "MAX_READERS", 1)
+    here = write_combined_sweep(result.sweep, result.out_dir, states=result.states)
+    assert set(notes.read_text().split()) == {str(os.getpid())}
+    assert ("comment" in _values(here)["radial_displacement"].attrs) == (case_fn is uneven_case)
+    assert _values(forked).identical(_values(here))
+    assert _header(forked) == _header(here)
+    # and both what the in-memory combiner makes of the case files
+    files = sorted((result.out_dir / "cases").glob("*.nc"))
+    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
+    axes, entries, fixed = grid_from_cases([xr.load_dataset(f) for f in files], asked)
+    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
+    bare = _values(forked)
+    bare.attrs = {}
+    assert memory.identical(bare)
+    a, b = forked.read_bytes(), here.read_bytes()
+    assert len(a) == len(b) and sum(x != y for x, y in zip(a, b)) < 40   # the history's time
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
+def test_a_reader_that_dies_leaves_the_rest_of_the_combine_to_the_parent(tmp_path, monkeypatch):
+    """A forked reader ends itself at the fifth case file: the combine reads that file and
+    the rest in this process, and sweep.nc holds every case."""
+    import pipeline.io.combine as combine
+
+    path = make_sweep(tmp_path, _grid(3, 3))
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False,
+                       combine_at_end=False)
+    files = sorted((result.out_dir / "cases").glob("*.nc"))
+    parent, real = os.getpid(), combine._case_slabs
+
+    def dying(p, *args, **kwargs):
+        if os.getpid() != parent and Path(p) == files[4]:
+            os._exit(3)
+        return real(p, *args, **kwargs)
+
+    monkeypatch.setattr(combine, "_case_slabs", dying)
+    combined = _values(write_combined_sweep(result.sweep, result.out_dir, states=result.states))
+    assert int((combined["case_status"] == 0).sum()) == 9
+    cases = [xr.load_dataset(f) for f in files]
+    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
+    axes, entries, fixed = grid_from_cases(cases, asked)
+    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
+    combined.attrs = {}
+    assert memory.identical(combined)
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
+def test_a_case_file_a_reader_cannot_read_is_named(tmp_path):
+    """The seventh of 9 case files truncated: the reader's error reaches the combine's
+    caller as one line naming the file."""
+    from pipeline.errors import UserError
+
+    path = make_sweep(tmp_path, _grid(3, 3))
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False,
+                       combine_at_end=False)
+    victim = sorted((result.out_dir / "cases").glob("*.nc"))[6]
+    victim.write_bytes(victim.read_bytes()[:2000])
+    with pytest.raises(UserError) as err:
+        write_combined_sweep(result.sweep, result.out_dir, states=result.states)
+    msg = str(err.value)
+    assert msg.startswith(str(victim)) and "\n" not in msg and "cannot be read" in msg
 
 
 def _combine_peak(tmp_path, n_speeds, n_loads) -> int:
