@@ -242,6 +242,36 @@ def test_write_netcdf_gives_the_file_xarray_writes(tmp_path, monkeypatch):
     assert _netcdf_structure(tmp_path / "lazy.nc") == _netcdf_structure(tmp_path / "xarray.nc")
 
 
+def test_a_layout_written_before_is_declared_from_its_bytes(tmp_path, monkeypatch):
+    """A second file of the same layout (the same dimensions, variables, attributes and
+    encodings) with other values and other global attributes: not declared again, copied
+    from the first's declaration, and still the file xarray writes of it, global attributes
+    (xarray's own ``coordinates`` after the dataset's) in their order. A layout that
+    differs (another attribute) is declared."""
+    import pipeline.io.netcdf as netcdf
+
+    t = np.linspace(0.0, 1.0, 40)
+
+    def case(k: int, unit: str = "m") -> xr.Dataset:
+        return xr.Dataset(
+            {"x": ("time", np.sin(k * t), {"units": unit, "long_name": "x"}), "peak": ((), 1.5 * k, {"units": "N"})},
+            coords={"time": ("time", t, {"units": "s"}), "position": ("sensor", np.array([0.1, 0.2 * k]))},
+            attrs={"Conventions": "CF-1.8", "history": f"case {k}" + " run" * k, "k": k})
+
+    declared = []
+    real = netcdf.declare_netcdf
+    monkeypatch.setattr(netcdf, "declare_netcdf", lambda *a: declared.append(1) or real(*a))
+    monkeypatch.setattr(netcdf, "_DECLARED", {})
+    for k, unit, new in ((1, "m", True), (2, "m", False), (3, "m", False), (4, "mm", True)):
+        ds = case(k, unit)
+        enc = netcdf.encoding_for(ds)
+        ds.to_netcdf(tmp_path / f"xarray{k}.nc", engine="netcdf4", format="NETCDF4", encoding=enc)
+        n = len(declared)
+        netcdf.write_netcdf(ds, tmp_path / f"fast{k}.nc", enc)
+        assert len(declared) == n + new, k
+        assert _netcdf_structure(tmp_path / f"fast{k}.nc") == _netcdf_structure(tmp_path / f"xarray{k}.nc"), k
+
+
 def test_the_git_commit_is_asked_of_git_once_a_process(monkeypatch):
     """A case file's ``git_commit`` is the tree's (``git rev-parse HEAD`` here, or '' outside
     a checkout), and a worker's later cases take it without running git again."""
