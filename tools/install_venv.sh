@@ -34,7 +34,9 @@ have_uv() {
     if "$PYTHON" -m pip install --quiet --target "$tmp" uv >/dev/null 2>&1 && [ -x "$tmp/bin/uv" ]; then
         touch "$tmp/.installed"
         [ -d "$UVHOME" ] && [ -z "$(find "$UVHOME/.installed" -mtime -30 2>/dev/null)" ] && rm -rf "$UVHOME"
-        mv -T "$tmp" "$UVHOME" 2>/dev/null || rm -rf "$tmp"
+        # a rename that fails where another make's copy is already in place
+        "$PYTHON" -c 'import os, sys; os.rename(sys.argv[1], sys.argv[2])' "$tmp" "$UVHOME" 2>/dev/null ||
+            rm -rf "$tmp"
     else
         rm -rf "$tmp"
     fi
