@@ -117,6 +117,16 @@ def test_the_streamed_sweep_nc_is_the_in_memory_combiners(tmp_path, case_fn):
     assert _header(reference) == _header(result.combined)
 
 
+def _in_memory(result) -> xr.Dataset:
+    """What the in-memory combiner (combine_cases, the path of a folder without sweep.nc)
+    makes of a run's case files, on the grid read off them."""
+    files = sorted((result.out_dir / "cases").glob("*.nc"))
+    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
+    axes, entries, fixed = grid_from_cases([xr.load_dataset(f) for f in files], asked)
+    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
+    return memory
+
+
 def test_the_combine_copies_the_case_files_chunks_and_reads_any_other(tmp_path, monkeypatch):
     """Each variable that a case file of this package stores as one compressed chunk is
     copied into sweep.nc as stored (one copy per such variable and file, counted here from
@@ -155,12 +165,8 @@ def test_the_combine_copies_the_case_files_chunks_and_reads_any_other(tmp_path, 
     assert len(copies) == stored_chunks(files[0])
 
     streamed = xr.load_dataset(combined)
-    cases = [xr.load_dataset(f) for f in files]
-    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
-    axes, entries, fixed = grid_from_cases(cases, asked)
-    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
     streamed.attrs = {}
-    assert memory.identical(streamed)
+    assert _in_memory(result).identical(streamed)
 
 
 def _noting_readers(monkeypatch, notes: Path):
@@ -212,13 +218,9 @@ def test_the_combine_reads_in_forked_readers_what_it_reads_here(tmp_path, monkey
     assert _values(forked).identical(_values(here))
     assert _header(forked) == _header(here)
     # and both what the in-memory combiner makes of the case files
-    files = sorted((result.out_dir / "cases").glob("*.nc"))
-    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
-    axes, entries, fixed = grid_from_cases([xr.load_dataset(f) for f in files], asked)
-    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
     bare = _values(forked)
     bare.attrs = {}
-    assert memory.identical(bare)
+    assert _in_memory(result).identical(bare)
     a, b = forked.read_bytes(), here.read_bytes()
     assert len(a) == len(b) and sum(x != y for x, y in zip(a, b)) < 40   # the history's time
 
@@ -243,12 +245,8 @@ def test_a_reader_that_dies_leaves_the_rest_of_the_combine_to_the_parent(tmp_pat
     monkeypatch.setattr(combine, "_case_slabs", dying)
     combined = _values(write_combined_sweep(result.sweep, result.out_dir, states=result.states))
     assert int((combined["case_status"] == 0).sum()) == 9
-    cases = [xr.load_dataset(f) for f in files]
-    asked = [(e, e["state"]) for e in read_status(result.out_dir).values()]
-    axes, entries, fixed = grid_from_cases(cases, asked)
-    memory, _ = combine_cases(axes, entries, output_rate=result.sweep.settings.output_rate, scalars=fixed)
     combined.attrs = {}
-    assert memory.identical(combined)
+    assert _in_memory(result).identical(combined)
 
 
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
