@@ -605,7 +605,7 @@ def _read_ahead(readers, jobs):
     window = deque()
 
     def fill():
-        while len(window) < _READ_AHEAD * readers._max_workers:
+        while len(window) < _READ_AHEAD * MAX_READERS:
             args = next(jobs, None)
             if args is None:
                 return

@@ -187,6 +187,8 @@ def _declare_as_before(layout, path, encoding: dict, lazy) -> None:
     else:
         with open(path, "wb") as f:
             f.write(blob)
+        if not layout.attrs:
+            return
     # the synchronous scheduler: a plain lock, not a distributed one (declare_netcdf)
     with dask.config.set(scheduler="synchronous"):
         store = NetCDF4DataStore.open(str(path), mode="a", format="NETCDF4")
