@@ -62,3 +62,68 @@ def test_compile_bytecode_writes_each_groups_modules_then_from_the_kept_list(tmp
     # but for a few that an import tried and that failed (dateutil's Windows zones, urllib3's
     # SOCKS), compiled then but not loaded, so not listed
     assert len(first_files - written(tmp_path / "again")) <= 0.01 * len(first_files)
+
+
+SMALL_SWEEP = """name = "tiny"
+bearing = "bearings/reduced-test.toml"
+profile = "profiles/short.toml"
+
+[axes]
+speed = ["120 deg/s", "660 deg/s"]
+radial_load = ["20 kN", "40 kN"]
+
+[fixed]
+axial_load = "10 kN"
+"""
+
+
+def test_scale_check_runs_the_sweep_its_combine_resume_and_report(tmp_path):
+    # The tool's four commands on a 2 x 2 sweep: every case computed once, the resume after
+    # sweep.nc is removed and the resume of the finished sweep computing none, sweep.nc
+    # written again by the combine, and the report; the figures it prints carry their units.
+    sweep = tmp_path / "tiny.toml"
+    sweep.write_text(SMALL_SWEEP, encoding="utf-8")
+    out = tmp_path / "out"
+    run = subprocess.run([sys.executable, str(ROOT / "tools" / "scale_check.py"), str(sweep), "--out", str(out),
+                          "--workers", "1", "--json"], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr
+    import json
+
+    figures = json.loads(run.stdout)
+    assert figures["cases"] == 4
+    logs = out / "tiny-scale-check"
+    assert "(4 computed, 0 reused)" in (logs / "1-sweep.log").read_text()
+    for log in ("2-combine.log", "3-resume.log"):
+        assert "(0 computed, 4 reused)" in (logs / log).read_text()
+    assert (out / "tiny" / "sweep.nc").is_file() and (out / "tiny" / "report" / "report.md").is_file()
+    assert figures["resume_and_combine_peak_rss_mb"] > 50 and figures["report_peak_rss_mb"] > 50
+    assert 0 < figures["resume_finished_s"] and 0 < figures["report_s"]
+    # the parent's CPU a case: a slope where it read two counts of finished cases apart, NaN
+    # (not a made-up figure) otherwise
+    per_case = figures["parent_cpu_ms_per_case"]
+    assert per_case >= 0 or (per_case != per_case and figures["readings"] < 8)
+
+
+def test_scale_checks_cpu_a_case_is_the_slope_through_the_middle_readings():
+    spec = importlib.util.spec_from_file_location("scale_check", ROOT / "tools" / "scale_check.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    # 2 ms a case from 5 to 95 % of 100 cases; a start before and a combine after that the
+    # line leaves out
+    readings = [(0, 0.0), (0, 3.0)] + [(n, 3.0 + 0.002 * n) for n in range(5, 96, 3)] + [(100, 9.0)]
+    assert abs(tool.cpu_per_case(readings, 100) - 0.002) < 1e-12
+    assert tool.cpu_per_case([(0, 1.0), (50, 2.0), (100, 3.0)], 100) != tool.cpu_per_case([(0, 1.0), (50, 2.0), (100, 3.0)], 100)
+
+
+def test_scale_checks_line_count_counts_only_whole_lines(tmp_path):
+    spec = importlib.util.spec_from_file_location("scale_check", ROOT / "tools" / "scale_check.py")
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    path = tmp_path / "status.jsonl"
+    count = tool.LineCount(path)
+    assert count() == 0
+    path.write_bytes(b'{"a": 1}\n{"b"')
+    assert count() == 1
+    with open(path, "ab") as f:
+        f.write(b': 2}\n{"c": 3}\n')
+    assert count() == 3
