@@ -1,5 +1,6 @@
-"""The repository's tools: ``tools/compile_bytecode.py`` (run by ``make venv``)."""
+"""The repository's tools: ``tools/compile_bytecode.py`` (run by ``make venv``) and ``tools/scale_check.py``."""
 import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -87,8 +88,6 @@ def test_scale_check_runs_the_sweep_its_combine_resume_and_report(tmp_path):
     run = subprocess.run([sys.executable, str(ROOT / "tools" / "scale_check.py"), str(sweep), "--out", str(out),
                           "--workers", "1", "--json"], capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr
-    import json
-
     figures = json.loads(run.stdout)
     assert figures["cases"] == 4
     logs = out / "tiny-scale-check"
@@ -127,3 +126,12 @@ def test_scale_checks_line_count_counts_only_whole_lines(tmp_path):
     with open(path, "ab") as f:
         f.write(b': 2}\n{"c": 3}\n')
     assert count() == 3
+
+
+def test_scale_check_refuses_a_worker_count_below_one_before_any_work(tmp_path):
+    run = subprocess.run([sys.executable, str(ROOT / "tools" / "scale_check.py"), str(tmp_path / "none.toml"),
+                          "--out", str(tmp_path / "out"), "--workers", "0"], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 2
+    lines = run.stderr.strip().splitlines()
+    assert "--workers" in lines[-1] and "'0'" in lines[-1] and "Traceback" not in run.stderr
+    assert not (tmp_path / "out").exists()

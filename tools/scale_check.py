@@ -117,11 +117,22 @@ def sweep_with_parent_cpu(command: list, status: Path, n_cases: int, log: Path) 
             "parent_cpu_ms_per_case": 1e3 * cpu_per_case(readings, n_cases)}
 
 
+def positive_int(text: str) -> int:
+    """``--workers``: a whole number of at least 1, else argparse's one-line error."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number of workers of at least 1")
+    return value
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("sweep", type=Path, help="the sweep file")
     ap.add_argument("--out", type=Path, required=True, help="the folder the sweep goes into (its NAME/ is replaced)")
-    ap.add_argument("--workers", type=int, default=None, help="local workers (default: one a core)")
+    ap.add_argument("--workers", type=positive_int, default=None, help="local workers (default: one a core)")
     ap.add_argument("--json", action="store_true", help="one JSON object instead of lines")
     args = ap.parse_args(argv)
     from pipeline.errors import UserError
