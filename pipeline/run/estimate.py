@@ -1,44 +1,58 @@
 """What a sweep will cost, said before it starts: case count, a rough time, compiling.
 
-The time is a rough model fitted to `make sweep` and `make smoke` on a fresh clone of
-this project's 2-core machine (MODEL_VERSION 9, RK4, step_safety 0.8; the seconds of each
-case in the sweep's status.json): a smoke case (12 balls, 0.46 s cycle, 30 kN) costs
-3.0 s of one core, a study case (51 balls, 4.6 s cycle, 2 sensors) 20.0, 26.8 and 31.5 s at
-20, 30 and 40 kN radial (means over speeds and draws). A case costs a fixed part (the
-statics, the start, the files: about 1.8 s) and a part per simulated second, which grows
-with the ball count's square root (each step costs in proportion to the balls, but more
-balls share the load and allow a longer step) and with the load (the derived step
-shrinks with the contact load, ``rvcore.integrate.rk4.rk4_time_step``; the peak contact load
-grows more slowly than the radial load beside a fixed axial one, hence a constant beside
-the load term). With a fixed ``time_step`` a step costs about 0.41 us per ball
-(``rvsweep bench``: 102 ns per ball per right-hand side, four per RK4 step). Another
-machine, a loaded one or another method moves it: it is for "a minute or an hour", not
-for planning.
+The time is a rough model of a case on one core of this project's 2-core machine, fitted
+per integrator (:data:`_MODEL`) to the cases' seconds in a sweep's ``status.json``:
+
+    seconds = per_case + T·√Z / step_safety · (per_cycle + per_cycle_load · P)
+
+with ``T`` the simulated time [s], ``Z`` the balls and ``P`` the larger of the radial and
+axial loads [N]. ``per_case`` is what a case costs whatever it simulates (its statics and
+file); the rest grows with the ball count's square root (each step costs in proportion
+to the balls, but more balls share the load and allow a longer step) and with the load
+(the derived step shrinks as the contact load grows, more slowly than the radial load
+beside a fixed axial one, hence the constant beside the load term). With a fixed
+``time_step`` a case costs ``per_ball_step`` a ball and a step instead. A flexible ring
+multiplies it by :data:`FLEXIBLE_COST`, the lubricated law by :data:`LUBRICATED_COST`.
+Another machine or a loaded one moves it: it is for "a minute or an hour", not for
+planning.
 """
 from __future__ import annotations
 
 import math
 import os
 import sys
+from typing import NamedTuple
 
-#: Seconds of one core per case, whatever it simulates.
-_PER_CASE = 1.8
-#: Seconds of one core per (second of cycle x sqrt(balls) / step_safety), at no load ...
-_PER_CYCLE = 0.164
-#: ... and per newton of peak load on top.
-_PER_CYCLE_LOAD = 1.40e-5
-#: Seconds of one core per ball per step at a fixed time_step (RK4).
-_PER_BALL_STEP = 0.41e-6
-#: IMEX's cost of a case relative to the RK4 model above, fitted to the study sweep's
-#: cases with IMEX, the default since MODEL_VERSION 12 (`make sweep` on a fresh clone,
-#: 2026-11-29, MODEL_VERSION 19: their cores took 821.5 s in all, 4.62 s a case at 20 kN
-#: and 6.63 s at 40 kN on average; 0.153 gave 820 s, 4.59 s and 6.35 s), times 0.874,
-#: what MODEL_VERSION 20's longer step where the loads are held took of 19's in `make
-#: sweep` runs side by side (768 s against 879.5 s of the cores), times 0.918, what
-#: MODEL_VERSION 21's start shared by a grid's speeds took of 20's (1,431.7 s against
-#: 1,559.7 s of the cores in two pairs; a sweep whose speeds share no start is
-#: overestimated by that much).
-_METHOD = {"rk4": 1.0, "imex": 0.123}
+
+class _Cost(NamedTuple):
+    per_case: float        # [s]
+    per_cycle: float       # [s] per (s of cycle × √balls / step_safety)
+    per_cycle_load: float  # [s N^-1] per (s of cycle × √balls / step_safety)
+    per_ball_step: float   # [s] per ball per step, at a fixed time_step
+
+
+#: Each integrator's model (module docstring), from `make sweep` and `make smoke` on a
+#: fresh clone of this project's 2-core machine:
+#:
+#: - ``imex``, the default: MODEL_VERSION 23, 2026-11-30. The study sweep's 150 cases
+#:   took 533.7 s of the cores, on average 3.30, 3.44, 3.44, 3.67 and 3.93 s at 20, 25,
+#:   30, 35 and 40 kN radial (51 balls, 4.6 s cycle); the smoke sweep's 0.29 s (12 balls,
+#:   0.46 s cycle). A ball-step 0.77–0.82 µs (``rvsweep bench --balls 51``, the short
+#:   cycle; docs/performance.md).
+#: - ``rk4``: MODEL_VERSION 9. A smoke case 3.0 s, a study case 20.0, 26.8 and 31.5 s at
+#:   20, 30 and 40 kN; a ball-step 0.41 µs (``rvsweep bench``: 102 ns a ball a right-hand
+#:   side, four a step).
+_MODEL = {
+    "imex": _Cost(per_case=0.14, per_cycle=0.0617, per_cycle_load=7.65e-7, per_ball_step=0.8e-6),
+    "rk4": _Cost(per_case=1.8, per_cycle=0.164, per_cycle_load=1.40e-5, per_ball_step=0.41e-6),
+}
+#: A case with a flexible ring against the same bearing with rigid rings [-]: ``rvsweep
+#: bench``'s ``flexible_cost_ratio``, 1.74–1.88× (docs/performance.md).
+FLEXIBLE_COST = 1.8
+#: A case with the lubricated law (``ehl_bair_winer``) against the dry one [-]: ``rvsweep
+#: bench``'s ``lubricated_cost_ratio``, 1.03× at 120 °/s to 1.20× at 660 °/s
+#: (docs/performance.md).
+LUBRICATED_COST = 1.1
 
 #: Above either, ``rvsweep sweep`` starts only with ``--yes``.
 CONFIRM_CASES = 1000
@@ -47,16 +61,20 @@ CONFIRM_SECONDS = 4 * 3600.0
 
 def case_seconds(spec) -> float:
     """The rough time of one case on one core [s] (module docstring)."""
+    from .cases import flexible
+
     s = spec.settings
+    cost = _MODEL.get(s.method, _MODEL["rk4"])
+    factor = ((FLEXIBLE_COST if flexible(spec.bearing) else 1.0)
+              * (LUBRICATED_COST if spec.bearing.contact.law == "ehl_bair_winer" else 1.0))
     duration = (s.end_time or spec.profile.duration) - s.start_time
     balls = sum(row.ball_count for row in spec.bearing.rows)
-    method = _METHOD.get(s.method, 1.0)
     if s.time_step > 0:
-        return _PER_CASE + _PER_BALL_STEP * balls * duration / s.time_step * method
+        return factor * (cost.per_case + cost.per_ball_step * balls * duration / s.time_step)
     op = spec.operating_point
     peak = max(abs(op.radial_load), abs(op.axial_load), 1e3)
     per_cycle = duration * math.sqrt(balls) / max(s.step_safety, 1e-9)
-    return _PER_CASE + per_cycle * (_PER_CYCLE + _PER_CYCLE_LOAD * peak) * method
+    return factor * (cost.per_case + per_cycle * (cost.per_cycle + cost.per_cycle_load * peak))
 
 
 def sweep_seconds(specs, workers: int) -> float:
