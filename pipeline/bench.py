@@ -421,12 +421,13 @@ def lubricated_cost(pairs: int = 2, speeds=LUBRICATED_COST_SPEEDS) -> dict:
     """
     import dataclasses
 
+    from rvcore.bearing.laws import LUBRICATED_LAW
     from rvcore.profile import OperatingPoint
     from rvcore.simulation.run import run_case
     from rvcore.simulation.settings import SolverSettings
 
     bearing, profile, op = _study()
-    wet = dataclasses.replace(bearing, contact=dataclasses.replace(bearing.contact, law="ehl_bair_winer"))
+    wet = dataclasses.replace(bearing, contact=dataclasses.replace(bearing.contact, law=LUBRICATED_LAW))
     settings = SolverSettings()
     run_case(wet, profile, op, dataclasses.replace(settings, end_time=0.01), starts=None)   # load every kernel
     out, worst = {}, None

@@ -24,13 +24,13 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from rvcore.bearing.laws import DRY_LAW, LUBRICATED_LAW
+
 from ..errors import UserError
 from .context import Context
 from .render import Bullets, Heading, Para, Table, Warning_, fmt_kn, fmt_number, fmt_speed
 from .select import finished_points, metric_stat
 
-#: The lubricated law's name (rvcore.bearing.laws.FRICTION_LAWS) and the dry one's.
-LUBRICATED_LAW, DRY_LAW = "ehl_bair_winer", "coulomb_step"
 #: The compared quantities: (metric, phase, column label, factor from SI, digits).
 QUANTITIES = (
     ("cage_slip", "steady", "cage slip, steady [%]", 100.0, 3),

@@ -61,12 +61,14 @@ CONFIRM_SECONDS = 4 * 3600.0
 
 def case_seconds(spec) -> float:
     """The rough time of one case on one core [s] (module docstring)."""
+    from rvcore.bearing.laws import LUBRICATED_LAW
+
     from .cases import flexible
 
     s = spec.settings
     cost = _MODEL.get(s.method, _MODEL["rk4"])
     factor = ((FLEXIBLE_COST if flexible(spec.bearing) else 1.0)
-              * (LUBRICATED_COST if spec.bearing.contact.law == "ehl_bair_winer" else 1.0))
+              * (LUBRICATED_COST if spec.bearing.contact.law == LUBRICATED_LAW else 1.0))
     duration = (s.end_time or spec.profile.duration) - s.start_time
     balls = sum(row.ball_count for row in spec.bearing.rows)
     if s.time_step > 0:

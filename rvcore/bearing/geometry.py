@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 from ..hertz import INNER, OUTER  # noqa: F401 (the ring labels live with Hertz theory)
 from .imperfections import PERFECT, Imperfections
+from .laws import DRY_LAW
 from .lubricant import (BALL_ROUGHNESS_DEFAULT, DENSITY_DEFAULT, PRESSURE_VISCOSITY_DEFAULT,
                         RACEWAY_ROUGHNESS_DEFAULT)
 
@@ -230,7 +231,7 @@ class ContactLaw:
     v_static: float = 0.1
     mu_dynamic: float = 0.02
     v_dynamic: float = 1.0
-    law: str = "coulomb_step"
+    law: str = DRY_LAW
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,8 @@ import numpy as np
 #: :mod:`rvcore.contact.traction_ehl`).
 FRICTION_LAWS = ("coulomb_step", "ehl_bair_winer")
 COULOMB_STEP, EHL_BAIR_WINER = 0, 1
+#: The two laws' names, as a bearing file spells them (``friction.law``).
+DRY_LAW, LUBRICATED_LAW = FRICTION_LAWS[COULOMB_STEP], FRICTION_LAWS[EHL_BAIR_WINER]
 #: Columns of the record: the law's index in FRICTION_LAWS, friction on (1) or off (0),
 #: μ_s [-], v_s [m s^-1], μ_d [-], v_d [m s^-1], 1/v_s [s m^-1]; then, from LAW_EHL0, the
 #: lubricated law's sub-record (EHL_* columns below; zeros for the Coulomb law).
@@ -99,7 +101,7 @@ def pack_ehl_traction_law(eta0: float, alpha: float, *, tau_l0: float = TAU_L0_D
 
 
 def pack_friction_law(mu_s: float, v_s: float, mu_d: float, v_d: float, *, on: bool = True,
-                      kind: str = "coulomb_step", ehl: np.ndarray | None = None) -> np.ndarray:
+                      kind: str = DRY_LAW, ehl: np.ndarray | None = None) -> np.ndarray:
     """The record of a friction law (layout above).
 
     Parameters
@@ -123,7 +125,7 @@ def pack_friction_law(mu_s: float, v_s: float, mu_d: float, v_d: float, *, on: b
     law[LAW_ON] = 1.0 if on else 0.0
     law[LAW_MU_S], law[LAW_V_S], law[LAW_MU_D], law[LAW_V_D] = mu_s, v_s, mu_d, v_d
     law[LAW_INV_VS] = 1.0 / v_s
-    if kind == "ehl_bair_winer":
+    if kind == LUBRICATED_LAW:
         if ehl is None or len(ehl) != EHL_LAW_SIZE:
             raise ValueError("the ehl_bair_winer law needs its sub-record (pack_ehl_traction_law)")
         law[LAW_EHL0:] = ehl

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import hertz
-from .laws import FRICTION_LAW_SIZE, pack_ehl_traction_law, pack_friction_law
+from .laws import FRICTION_LAW_SIZE, LUBRICATED_LAW, pack_ehl_traction_law, pack_friction_law
 from .lubricant import contact_lubricant, contamination_of, operating_viscosity
 from .imperfections import MAX_WAVINESS_TERMS, realize
 from .geometry import (INNER, OUTER, Bearing, arc_geometry, ball_inertia, ball_mass,
@@ -229,7 +229,7 @@ def _ehl_record(bearing: Bearing):
     their defaults (:func:`rvcore.bearing.laws.pack_ehl_traction_law`).
     """
     c = bearing.contact
-    if c.law != "ehl_bair_winer":
+    if c.law != LUBRICATED_LAW:
         return None
     eta0, alpha, sigma = contact_lubricant(bearing)
     return pack_ehl_traction_law(eta0, alpha, mu_b=c.mu_static, v_b=c.v_static,
