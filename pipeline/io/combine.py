@@ -602,19 +602,24 @@ def _read_ahead(readers, jobs):
         for args in jobs:
             yield _case_slabs(*args)
         return
-    window = deque()
+    window = deque()    # (args, its future, or None where the pool broke before it was sent)
 
     def fill():
-        while len(window) < _READ_AHEAD * MAX_READERS:
+        while len(window) < _READ_AHEAD * MAX_READERS and (not window or window[-1][1] is not None):
             args = next(jobs, None)
             if args is None:
                 return
-            window.append((args, readers.submit(_slabs_or_error, args)))
+            try:
+                window.append((args, readers.submit(_slabs_or_error, args)))
+            except BrokenProcessPool:   # a reader died since the last result was taken
+                window.append((args, None))
 
     fill()
     while window:
         args, future = window.popleft()
         try:
+            if future is None:
+                raise BrokenProcessPool("a reader died before this file was sent")
             case, error = future.result()
         except BrokenProcessPool:
             for args in [args] + [a for a, _ in window] + list(jobs):

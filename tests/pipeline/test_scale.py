@@ -250,6 +250,35 @@ def test_a_reader_that_dies_leaves_the_rest_of_the_combine_to_the_parent(tmp_pat
 
 
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
+def test_a_pool_found_broken_when_a_file_is_sent_leaves_the_rest_to_the_parent(tmp_path, monkeypatch):
+    """A reader that dies between two results breaks the pool before the next file is sent:
+    there the pool's ``submit`` raises, not a result. The pool here breaks at its seventh
+    submission (its first is the readers' start, then four files ahead and one a result),
+    every time; the combine reads that file and the rest in this process."""
+    import concurrent.futures
+    from concurrent.futures.process import BrokenProcessPool
+
+    class BreaksAtTheSeventhSubmit(concurrent.futures.ProcessPoolExecutor):
+        submitted = 0
+
+        def submit(self, fn, /, *args, **kwargs):
+            type(self).submitted += 1
+            if type(self).submitted >= 7:
+                raise BrokenProcessPool("a child process terminated abruptly")
+            return super().submit(fn, *args, **kwargs)
+
+    path = make_sweep(tmp_path, _grid(3, 3))
+    result = run_sweep(path, tmp_path / "s", serial=True, case_fn=synthetic_case, progress=False,
+                       combine_at_end=False)
+    monkeypatch.setattr(concurrent.futures, "ProcessPoolExecutor", BreaksAtTheSeventhSubmit)
+    combined = _values(write_combined_sweep(result.sweep, result.out_dir, states=result.states))
+    assert BreaksAtTheSeventhSubmit.submitted == 7
+    assert int((combined["case_status"] == 0).sum()) == 9
+    combined.attrs = {}
+    assert _in_memory(result).identical(combined)
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the readers are forked where there are two CPUs")
 def test_a_case_file_a_reader_cannot_read_is_named(tmp_path):
     """The seventh of 9 case files truncated: the reader's error reaches the combine's
     caller as one line naming the file."""
