@@ -28,8 +28,9 @@ asserts a time (these machines are noisy).
   default method on the study bearing scaled to hold Z balls (:func:`scaled_study_bearing`:
   its pitch circle and every radial dimension moved out so that the balls' spacing and
   the rings' and cage's sections stay the study's), over a window of the short cycle
-  (:func:`ball_scaling`): ``us_per_ball_step_<Z>``, and the steps taken again in
-  substeps and the tangents' refreshes per step at each Z.
+  (:func:`ball_scaling`): ``us_per_ball_step_<Z>`` and ``ball_scaling_ratio_<Z>``, the
+  medians of ``--rounds`` rounds timing the counts side by side, with the ratios' range,
+  and the steps taken again in substeps and the tangents' refreshes per step at each Z.
 - ``imperfection_cost_ratio``: the study case made to ISO 492's Normal class (its
   eccentricities, high points and ball sizes drawn from seed 0) against the perfect one,
   over the cycle's first 0.6 s (load ramp and start-up) with the default method, in
@@ -616,7 +617,12 @@ def scaled_study_bearing(balls: int):
                                outer_diameter=bearing.outer_diameter + delta, rows=tuple(rows), inner_ring=ring)
 
 
-def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float = 0.1) -> dict:
+#: Rounds of :func:`ball_scaling` (``rvsweep bench --balls``, ``--rounds``).
+BALL_ROUNDS = 5
+
+
+def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float = 0.1,
+                 rounds: int = BALL_ROUNDS) -> dict:
     """µs per ball-step of the default method at each ball count in ``balls`` [-].
 
     The bearing of :func:`scaled_study_bearing` on the short cycle (the study's shape,
@@ -627,6 +633,12 @@ def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float
     of the same case (which also loads every kernel), over the steps between them times
     the balls [µs]: the case's fixed costs and the machine's other load left out
     (``ball_scaling_wall_us_per_ball_step_<Z>``: the integrator's wall time instead).
+
+    The counts are timed side by side in ``rounds`` rounds, each count once a round, in
+    turn forward and backward: ``us_per_ball_step_<Z>`` is the median over the rounds,
+    ``ball_scaling_ratio_<Z>`` the median of each round's figure over that round's figure
+    at ``balls[0]``, and ``ball_scaling_ratio_range_<Z>`` their least and largest (one
+    run of a window this short moves by several percent with the machine).
     """
     import dataclasses
 
@@ -638,42 +650,51 @@ def ball_scaling(balls=(51, 102, 204), start_time: float = 0.03, end_time: float
 
     warm_up()
     profile = load_profile(shipped_file("profiles/short.toml"))
-    out = {"ball_scaling_counts": [int(z) for z in balls], "ball_scaling_window_s": [start_time, end_time]}
+    out = {"ball_scaling_counts": [int(z) for z in balls], "ball_scaling_window_s": [start_time, end_time],
+           "ball_scaling_rounds": int(rounds)}
     settings = SolverSettings(start_time=start_time, end_time=end_time)
+    short_settings = dataclasses.replace(settings, end_time=start_time + 2e-4)
+    cases = {}
     for z in balls:
-        bearing = scaled_study_bearing(int(z))
         s = z / STUDY_BALLS
-        op = OperatingPoint(math.radians(660.0), 30e3 * s, 10e3 * s)
+        cases[z] = (scaled_study_bearing(int(z)), OperatingPoint(math.radians(660.0), 30e3 * s, 10e3 * s))
         # an untimed short run first: whatever this bearing's first run does once (a kernel
-        # first reached with its shapes, the statics' caches) stays out of both timings
-        run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4), starts=None)
-        c0 = time.thread_time()
-        short = run_case(bearing, profile, op, dataclasses.replace(settings, end_time=start_time + 2e-4), starts=None)
-        c1 = time.thread_time()
-        r = run_case(bearing, profile, op, settings, starts=None)
-        c2 = time.thread_time()
-        steps = int(r.info["steps"])
-        # CPU time of this thread, the short run's taken off: what the extra steps cost,
-        # without the case's fixed costs (statics, outputs) and whatever else the machine runs
-        extra = max(steps - int(short.info["steps"]), 1)
-        out[f"us_per_ball_step_{z}"] = ((c2 - c1) - (c1 - c0)) / extra / z * 1e6
-        out[f"ball_scaling_wall_us_per_ball_step_{z}"] = r.info["wall_time"] / steps / z * 1e6
-        out[f"ball_scaling_wall_s_{z}"] = float(r.info["wall_time"])
-        out[f"ball_scaling_steps_{z}"] = steps
-        out[f"ball_scaling_substepped_per_step_{z}"] = int(r.info["substepped_steps"]) / steps
-        out[f"ball_scaling_refreshes_per_step_{z}"] = int(r.info["tangent_refreshes"]) / steps
-    first = out[f"us_per_ball_step_{balls[0]}"]
+        # first reached with its shapes, the statics' caches) stays out of every timing
+        run_case(cases[z][0], profile, cases[z][1], short_settings, starts=None)
+    per_round = {z: [] for z in balls}
+    for k in range(rounds):
+        for z in (balls if k % 2 == 0 else balls[::-1]):
+            bearing, op = cases[z]
+            c0 = time.thread_time()
+            short = run_case(bearing, profile, op, short_settings, starts=None)
+            c1 = time.thread_time()
+            r = run_case(bearing, profile, op, settings, starts=None)
+            c2 = time.thread_time()
+            steps = int(r.info["steps"])
+            # CPU time of this thread, the short run's taken off: what the extra steps cost,
+            # without the case's fixed costs (statics, outputs) and whatever else the machine runs
+            extra = max(steps - int(short.info["steps"]), 1)
+            per_round[z].append(((c2 - c1) - (c1 - c0)) / extra / z * 1e6)
+            out[f"ball_scaling_wall_us_per_ball_step_{z}"] = r.info["wall_time"] / steps / z * 1e6
+            out[f"ball_scaling_wall_s_{z}"] = float(r.info["wall_time"])
+            out[f"ball_scaling_steps_{z}"] = steps
+            out[f"ball_scaling_substepped_per_step_{z}"] = int(r.info["substepped_steps"]) / steps
+            out[f"ball_scaling_refreshes_per_step_{z}"] = int(r.info["tangent_refreshes"]) / steps
+    first = per_round[balls[0]]
     for z in balls:
-        out[f"ball_scaling_ratio_{z}"] = out[f"us_per_ball_step_{z}"] / first
+        ratios = [a / b for a, b in zip(per_round[z], first)]
+        out[f"us_per_ball_step_{z}"] = statistics.median(per_round[z])
+        out[f"ball_scaling_ratio_{z}"] = statistics.median(ratios)
+        out[f"ball_scaling_ratio_range_{z}"] = [min(ratios), max(ratios)]
     return out
 
 
-def run_all(*, quick: bool = False, balls=None, tasks=None) -> dict:
+def run_all(*, quick: bool = False, balls=None, tasks=None, rounds: int = BALL_ROUNDS) -> dict:
     """Every figure of the module docstring, as one flat dict (``rvsweep bench --json``);
     with ``balls`` (ball counts) only :func:`ball_scaling`'s, with ``tasks`` (case counts)
     only :func:`scheduler_cost`'s."""
     if balls:
-        return ball_scaling(tuple(balls))
+        return ball_scaling(tuple(balls), rounds=rounds)
     if tasks:
         return scheduler_cost(tuple(tasks))
     out = {}

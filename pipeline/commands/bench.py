@@ -41,6 +41,19 @@ def _ball_counts(text: str) -> tuple:
     return _counts(text, "--balls", "ball counts", 12, MAX_ROW_BALLS, "51,102,204")
 
 
+def _rounds(text: str) -> int:
+    """``--rounds 5``: the side-by-side rounds of ``--balls``, a whole number from 1 to 100."""
+    from ..errors import UserError
+
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if not 1 <= n <= 100:
+        raise UserError(f"--rounds {text!r}: expected a whole number of rounds from 1 to 100 (e.g. 5)")
+    return n
+
+
 def _task_counts(text: str) -> tuple:
     """``--tasks 1000,10000``: numbers of stand-in cases from 1 to 1,000,000."""
     return _counts(text, "--tasks", "numbers of cases", 1, 1_000_000, "1000,10000")
@@ -52,6 +65,9 @@ def add_arguments(parser):
     parser.add_argument("--balls", default=None, metavar="Z,Z,...",
                         help="only the cost per ball-step of the study bearing scaled to these ball counts "
                              "(e.g. 51,102,204), over 0.03-0.1 s of the short cycle")
+    parser.add_argument("--rounds", default=None, metavar="N",
+                        help="with --balls: rounds timing every count side by side (default 5); the "
+                             "figures are their medians, the ratio each round's own")
     parser.add_argument("--tasks", default=None, metavar="N,N,...",
                         help="only the parent's CPU per case on a 2-process local dask cluster, dask's "
                              "scheduler included, for N stand-in cases that compute nothing (e.g. 1000,10000)")
@@ -64,7 +80,14 @@ def run(args):
 
     balls = _ball_counts(args.balls) if args.balls is not None else None
     tasks = _task_counts(args.tasks) if args.tasks is not None else None
-    figures = run_all(quick=args.quick, balls=balls, tasks=tasks)
+    extra = {}
+    if args.rounds is not None:
+        if balls is None:
+            from ..errors import UserError
+
+            raise UserError(f"--rounds {args.rounds!r}: it counts the rounds of --balls, which is not given")
+        extra["rounds"] = _rounds(args.rounds)
+    figures = run_all(quick=args.quick, balls=balls, tasks=tasks, **extra)
     if args.json:
         print(json.dumps(figures, indent=1))
         return 0
@@ -80,12 +103,14 @@ def run(args):
     if balls:
         t0, t1 = f["ball_scaling_window_s"]
         print(f"Study bearing scaled to Z balls (same spacing, same load a ball), short cycle {t0:g}-{t1:g} s, "
-              "660 deg/s, one core")
-        print(f"  {'balls':>6s} {'us/ball-step':>13s} {'x Z=' + str(balls[0]):>8s} {'steps':>8s} "
+              f"660 deg/s, one core; medians of {f['ball_scaling_rounds']} rounds side by side")
+        print(f"  {'balls':>6s} {'us/ball-step':>13s} {'x Z=' + str(balls[0]):>8s} {'range':>11s} {'steps':>8s} "
               f"{'substepped/step':>16s} {'refreshes/step':>15s}")
         for z in balls:
+            lo, hi = f[f"ball_scaling_ratio_range_{z}"]
             print(f"  {z:6d} {f[f'us_per_ball_step_{z}']:13.3f} {f[f'ball_scaling_ratio_{z}']:8.2f} "
-                  f"{f[f'ball_scaling_steps_{z}']:8d} {f[f'ball_scaling_substepped_per_step_{z}']:16.4f} "
+                  f"{lo:5.2f}-{hi:<5.2f} {f[f'ball_scaling_steps_{z}']:8d} "
+                  f"{f[f'ball_scaling_substepped_per_step_{z}']:16.4f} "
                   f"{f[f'ball_scaling_refreshes_per_step_{z}']:15.4f}")
         return 0
     methods = [m for m in METHODS if f"{m}_full_cycle_wall_s" in f]

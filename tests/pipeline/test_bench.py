@@ -219,10 +219,14 @@ def test_the_scaled_study_bearing_keeps_the_study_spacing_and_sections():
 
 
 def test_ball_scaling_reports_a_cost_per_ball_step_at_each_count():
-    """A 0.5 ms window at 12 and 24 balls: each count's figures, the first count's ratio 1,
-    a whole number of steps over the window (no timing asserted)."""
-    f = bench.ball_scaling((12, 24), start_time=0.03, end_time=0.0305)
-    assert f["ball_scaling_counts"] == [12, 24]
+    """A 0.5 ms window at 12 and 24 balls, three rounds: each count's figures, the first
+    count's ratio 1 in every round, each ratio's median within its rounds' range, a whole
+    number of steps over the window (no timing asserted)."""
+    f = bench.ball_scaling((12, 24), start_time=0.03, end_time=0.0305, rounds=3)
+    assert f["ball_scaling_counts"] == [12, 24] and f["ball_scaling_rounds"] == 3
+    assert f["ball_scaling_ratio_range_12"] == [1.0, 1.0]
+    lo, hi = f["ball_scaling_ratio_range_24"]
+    assert lo <= f["ball_scaling_ratio_24"] <= hi
     for z in (12, 24):
         # a difference of two CPU times over a window this short may come out of either
         # sign (the case's fixed costs vary more): finite is all a test can say of it
@@ -238,6 +242,16 @@ def test_bench_balls_refuses_a_bad_list_in_one_line(text, capsys):
     assert main(["bench", "--balls", text]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--balls" in err and repr(text) in err
+
+
+@pytest.mark.parametrize("argv", [["--balls", "51,102", "--rounds", "x"], ["--balls", "51", "--rounds", "0"],
+                                  ["--balls", "51", "--rounds", "5,6"], ["--rounds", "3"]])
+def test_bench_rounds_refuses_a_bad_value_in_one_line(argv, capsys):
+    """A bad --rounds, or --rounds without --balls: one line naming --rounds and the value
+    as typed, before any work."""
+    assert main(["bench", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--rounds" in err and repr(argv[-1]) in err
 
 
 @pytest.mark.parametrize("text", ["1000,x", "0", "", "2000000", "10,,20"])
