@@ -112,6 +112,9 @@ def test_scale_checks_cpu_a_case_is_the_slope_through_the_middle_readings():
     readings = [(0, 0.0), (0, 3.0)] + [(n, 3.0 + 0.002 * n) for n in range(5, 96, 3)] + [(100, 9.0)]
     assert abs(tool.cpu_per_case(readings, 100) - 0.002) < 1e-12
     assert tool.cpu_per_case([(0, 1.0), (50, 2.0), (100, 3.0)], 100) != tool.cpu_per_case([(0, 1.0), (50, 2.0), (100, 3.0)], 100)
+    # a parent whose CPU did not move while the cases ran costs exactly nothing a case, not a
+    # round-off below zero (the readings of a tiny sweep, 1.23 s of CPU at every count)
+    assert tool.cpu_per_case([(n, 1.23) for n in range(5, 96, 7)], 100) == 0.0
 
 
 def test_scale_checks_line_count_counts_only_whole_lines(tmp_path):

@@ -81,7 +81,10 @@ def cpu_per_case(readings, n_cases: int) -> float:
     r = np.array([x for x in readings if 0.05 * n_cases <= x[0] <= 0.95 * n_cases], dtype=float).reshape(-1, 2)
     if np.unique(r[:, 0]).size < 2:
         return float("nan")
-    return float(np.polyfit(r[:, 0], r[:, 1], 1)[0])
+    # the slope from the centred readings: exactly 0 where the CPU did not move (a fit by
+    # np.polyfit gave −5e-14 there, a negative cost)
+    dx, dy = r[:, 0] - r[:, 0].mean(), r[:, 1] - r[:, 1].mean()
+    return float(np.dot(dx, dy) / np.dot(dx, dx))
 
 
 def run(command: list, log: Path) -> tuple[int, float, float]:
