@@ -92,7 +92,7 @@ The public API, importable from ``rvcore`` itself: :data:`PUBLIC`.
 #: Version of the model's equations and numerics. Part of every case id
 #: (:mod:`pipeline.schema.sweepfile`): bump it when a change to ``rvcore`` changes results,
 #: so that resumed sweeps recompute every case. What each version changed is in CHANGELOG.md.
-MODEL_VERSION = 23
+MODEL_VERSION = 24
 
 from ._numba import use_source_keyed_cache
 

@@ -191,8 +191,12 @@ A ball that strikes its cage pocket does so in about three steps (ω_p·h ≈ 1)
 step that cuts through the impact makes or loses a few per cent of its energy, implicit
 or not (:mod:`rvcore.integrate.pocket_check`). So each step checks every pocket it touched: where
 the pocket's elastic energy and the work the step gave its Hertz force disagree by more
-than a tolerance, the step is taken again from its start in substeps, each with its own
-tangents. The first try takes the fewest substeps (at least :data:`FIRST_SUBSTEPS`,
+than a tolerance, the step is taken again from its start in substeps. The first substep
+of each try takes the tangents at its start; a later one takes them again as a step does,
+where the race contacts' loads have moved from those they were taken at by the load
+tolerance or after :data:`TANGENT_MAX_STEPS` substeps, and keeps them otherwise: the
+pockets are explicit, so an impact alone does not stale them (docs/performance.md, "Retakes
+that keep their tangents"). The first try takes the fewest substeps (at least :data:`FIRST_SUBSTEPS`,
 doubling) that would bring the step's error ε to the tolerance if it fell as the
 square of the substeps' share of the step, the scheme's order (n substeps of h/n, each
 erring as (h/n)³): n² ≥ |ε|/tol. Then twice as many, until the substeps together keep
@@ -315,7 +319,7 @@ TANGENT_LOAD_TOL = 0.001
 #: each call of that function, so that a test can set it.
 POCKET_ENERGY_TOL = 2e-7
 #: The most substeps of a step taken again: an eighth of the step keeps a Hertz impact's
-#: energy to 5e-5 (tests/core/test_imex_conservation.py), each substep with its own
+#: energy to 5e-5 (tests/core/test_imex_conservation.py), then with every substep's own
 #: tangents.
 SUBSTEPS = 8
 #: The fewest substeps of a step's first retake; their number doubles until the step's
@@ -571,7 +575,9 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
     pocket the step touched did not keep its energy to the tolerance ``work[W_SET, 0]``
     (:func:`rvcore.integrate.pocket_check.pocket_energy_error`), or a race contact's load
     at a stage passed its onset limit (``W_QLIM``, :func:`onset_constant`), the
-    step is taken again from ``y`` in substeps, each with the tangents of its own start:
+    step is taken again from ``y`` in substeps, the first of each try with the tangents of
+    its start and a later one with its own where they are stale (module docstring, "Pocket
+    impacts"):
     first the fewest, from ``work[W_SET, 3]`` (:data:`FIRST_SUBSTEPS`) doubling, whose
     square reaches the step's error over the tolerance and the onset's ``h²·Q^⅓/c_on``
     (Q the largest such load), then twice as many until every
@@ -655,17 +661,30 @@ def imex_step(t, y, dt, params, rows, arcs, pockets, table, meta, diag, bdiag, w
             work[W_TOUCH, k] = 1.0 if work[W_PV0, k] > 0.0 else 0.0
         h = dt / n_sub
         total, total_power = 0.0, 0.0
+        since = 0       # substeps since this try's tangents were taken
         for s in range(n_sub):
             ts = t + s * h
-            rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * work[W_SET, SET_GAMMA], jwork,
-                    schur)
+            # the try's first substep takes the tangents at its start; a later one where the
+            # race loads moved from those they were taken at (W_QREF), as a step does
+            fresh = s == 0 or since >= TANGENT_MAX_STEPS or _tangents_stale(work, bdiag)
+            if fresh:
+                rhs_jac(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag, h * work[W_SET, SET_GAMMA], jwork,
+                        schur)
+                since = 0
+            else:
+                rhs(ts, y, work[W_F], params, rows, arcs, pockets, table, meta, diag, bdiag)
+                since += 1
             for m in range(inner.size):
                 inner[m] = -0.5 * (n_sub - 1) * diag[m] if s == 0 else inner[m] + diag[m]
             diag_torque, diag_power = diag[D_DRIVE_TORQUE], diag[D_DRIVE_POWER]
-            factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
-            if flexible(params):
-                factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * work[W_SET, SET_GAMMA],
-                             work[W_SF:].reshape(-1))
+            if fresh:
+                factor(jwork, schur, rows, work[W_M], work[W_SF:].reshape(-1))
+                if flexible(params):
+                    factor_modes(jwork, schur, rows, params, work[int(work[W_SET, 2]):], h * work[W_SET, SET_GAMMA],
+                                 work[W_SF:].reshape(-1))
+                for k in range(bdiag.shape[0]):
+                    work[W_QREF, k] = bdiag[k, B_QI]
+                    work[W_QREF + 1, k] = bdiag[k, B_QO]
             for k in range(bdiag.shape[0]):
                 work[W_PACC, k] = B1 * bdiag[k, B_PP]
                 if bdiag[k, B_PV] > 0.0:

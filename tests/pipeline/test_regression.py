@@ -1,6 +1,6 @@
 """REGRESSION TEST, labelled as such: pinned case ids and pinned reduced-case metrics.
 
-These numbers were copied from the code's own output (MODEL_VERSION 23, IMEX the default): they prove
+These numbers were copied from the code's own output (MODEL_VERSION 24, IMEX the default): they prove
 nothing about physics. They exist so that a change that alters results fails here, which
 forces a deliberate decision: either the change was meant to keep results (then it is a
 bug), or it was meant to change them (then bump ``MODEL_VERSION`` in
@@ -76,7 +76,10 @@ tenth of the step), the other weightless pins by at most 7.4e-4 (friction energy
 the pins in gravity by at most 6.3e-7: every pin taken again from its run.
 MODEL_VERSION 23 (issue 42: the held tableau and step in the unload, where the ring stands
 still and the loads fall, after the last phase) moved none of these pins, bit for bit: only
-the case ids, re-pinned.
+the case ids, re-pinned. MODEL_VERSION 24 (issue 42: a retake's later substeps keep the
+try's tangents until they are stale) moved the weightless pins by at most 4.4e-6 (the
+drive-torque peak) and those in gravity by at most 1.5e-10: every pin taken again from its
+run.
 """
 from __future__ import annotations
 
@@ -90,7 +93,7 @@ from pipeline.run import run_one_case
 from pipeline.schema import MODEL_VERSION, read_sweep_file
 from pipeline.schema.shipped import shipped_file
 
-PINNED_MODEL_VERSION = 23
+PINNED_MODEL_VERSION = 24
 
 #: (speed [deg/s], radial load [kN]) -> case id of the smoke sweep.
 #: The corners were pinned when the smoke sweep was 2 x 2; the middle points were added
@@ -103,36 +106,36 @@ PINNED_MODEL_VERSION = 23
 #: MODEL_VERSION 16 (issue 40: the lubricated law's film held through a step); the dry bearing's
 #: results did not move (PINNED_METRICS unchanged). Re-pinned at MODEL_VERSION 17 (issue 41: the
 #: case files' new ``ring_mode_truncation``); no result moved (PINNED_METRICS unchanged).
-#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, at 20, 21 and 22 with the metrics, and at 23
-#: (module docstring).
+#: Re-pinned at MODEL_VERSION 18 with the metrics, at 19, at 20, 21 and 22 with the metrics, at 23,
+#: and at 24 with the metrics (module docstring).
 PINNED_CASE_IDS = {
-    (120, 20): "6bda78e05219733e",
-    (120, 30): "9e7ef2b0527a40a9",
-    (120, 40): "a935199e523ee239",
-    (390, 20): "0bfa6a0ffe8881f2",
-    (390, 30): "4ca2befadc904d38",
-    (390, 40): "903bf72c9f6187dd",
-    (660, 20): "7bb61c0aaa203bfe",
-    (660, 30): "51479e27381e2f20",
-    (660, 40): "0ccd4499f6fa5982",
+    (120, 20): "62edab23f3c74dff",
+    (120, 30): "0732464bd68ff534",
+    (120, 40): "d9dc803702155189",
+    (390, 20): "ebd299295b4fb2f6",
+    (390, 30): "36c8890851e06c3e",
+    (390, 40): "64c10533eb9e521b",
+    (660, 20): "ae47d24d12e5e7ae",
+    (660, 30): "2470bd9a432ae937",
+    (660, 40): "69fbdea0eb2857b8",
 }
 
 #: The weightless run, per phase (start-up, steady, deceleration) where a list. SI: m,
 #: m, 1; N/m, N/m, N m/rad; N m, 1, J, 1; revolutions.
 PINNED_METRICS = {
-    "radial_displacement_range": [2.5512015751414762e-06, 6.85408681023184e-07, 2.880757591961522e-07],
-    "radial_displacement_mean": [0.00014765744230380734, 0.00014733926365774293, 0.00014723947942988727],
-    "axial_displacement_range": [6.860994079570652e-06, 8.700392749159578e-07, 2.6177637335841387e-07],
-    "axial_displacement_mean": [7.295338710368903e-05, 7.309454492318122e-05, 7.304631346346422e-05],
-    "cage_slip": [0.011465002082771791, 0.0015244078611446055, 0.0029870771476085967],
+    "radial_displacement_range": [2.5512015751883138e-06, 6.854091831183756e-07, 2.880757592382192e-07],
+    "radial_displacement_mean": [0.00014765744230364506, 0.0001473392636577085, 0.00014723947942984903],
+    "axial_displacement_range": [6.860994079570652e-06, 8.70038954056042e-07, 2.6177637338420433e-07],
+    "axial_displacement_mean": [7.295338710333648e-05, 7.309454492319611e-05, 7.304631346345889e-05],
+    "cage_slip": [0.011465002117618694, 0.001524407859185617, 0.0029870771475624114],
     "radial_stiffness": 862619633.1248139,
     "axial_stiffness": 226974930.92885756,
     "tilting_stiffness": 4335229.58086289,
-    "inner_ring_drive_torque_peak": [46.05968917635474, 3.322843350579077, 18.33762723030113],
-    "static_safety_factor_min": [2.4345323337254494, 2.4620851761544746, 2.552142308617319],
-    "friction_energy": [0.04726074479170042, 3.620745332821521, 0.7130902019907236],
-    "fatigue_damage": [5.012996227717411e-09, 5.968050641243953e-08, 4.950716088312806e-09],
-    "rating_life_L10r": 9213495.080882078,
+    "inner_ring_drive_torque_peak": [46.059689156287405, 3.322828619551761, 18.337627230555285],
+    "static_safety_factor_min": [2.4345323337254494, 2.4620852095221, 2.5521423086171895],
+    "friction_energy": [0.04726074552485801, 3.620745332104113, 0.7130902020263591],
+    "fatigue_damage": [5.012996227654221e-09, 5.968050641240204e-08, 4.950716088305753e-09],
+    "rating_life_L10r": 9213495.08089633,
     "reference_rating_life_L10r": 9129374.665455198,
     "basic_rating_life_L10": 12760404.244598672,
     "radial_stiffness_compliant": 585154743.6417171,
@@ -143,12 +146,12 @@ PINNED_METRICS = {
 
 #: The run in gravity: what its transients do not set (module docstring).
 PINNED_GRAVITY_METRICS = {
-    "radial_displacement_mean": [0.00014765486856101005, 0.0001473252549256296, 0.00014722960921331334],
-    "axial_displacement_mean": [7.294796463021194e-05, 7.309622885092682e-05, 7.304965314251213e-05],
+    "radial_displacement_mean": [0.00014765486856592192, 0.00014732525492007085, 0.00014722960921073613],
+    "axial_displacement_mean": [7.294796463777964e-05, 7.309622884775942e-05, 7.304965314289865e-05],
     "radial_stiffness": 862619756.337396,
     "axial_stiffness": 226974514.8623921,
     "tilting_stiffness": 4335219.537622654,
-    "rating_life_L10r": 9216787.208703784,
+    "rating_life_L10r": 9216787.21004828,
     "reference_rating_life_L10r": 9129370.875033876,
     "basic_rating_life_L10": 12760397.473857554,
     "radial_stiffness_compliant": 585155084.6687288,
