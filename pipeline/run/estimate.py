@@ -117,6 +117,6 @@ def say_if_compiling(stream=None) -> bool:
     """Print one line when the kernels are about to be compiled; True if they are."""
     if not kernels_need_compiling():
         return False
-    print("compiling the numba kernels (once after an install or an rvcore change; about "
-          "a minute on a 2-core machine) ...", file=stream or sys.stderr, flush=True)
+    print("compiling the numba kernels (once per rvcore's sources and CPU model, for every "
+          "clone; 1-2 minutes on a 2-core machine) ...", file=stream or sys.stderr, flush=True)
     return True
